@@ -1,0 +1,3 @@
+// Long 1D arrays in 2D textures, row-major (gpgpu/layout.h): element i at (i % width, i / width).
+ivec2 layout_texel(int i, int width) { return ivec2(i % width, i / width); }
+int layout_index(ivec2 texel, int width) { return texel.y * width + texel.x; }

@@ -1,0 +1,80 @@
+#include "gpgpu/compact.h"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace gpgpu {
+
+std::vector<float> Compacted::read_records() const {
+  if (count == 0) return {};
+  std::vector<float> v = records.read();
+  v.resize(size_t(count) * size_t(channels(records.format())));
+  return v;
+}
+
+std::vector<uint32_t> Compacted::read_source() const {
+  if (count == 0) return {};
+  std::vector<uint32_t> v = source.read_u32();
+  v.resize(size_t(count));
+  return v;
+}
+
+Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
+  if (predicate.width() != records.width() || predicate.height() != records.height())
+    throw std::invalid_argument(fmt::format("compact: predicate {}x{} and records {}x{} differ", predicate.width(),
+                                            predicate.height(), records.width(), records.height()));
+  if (is_integer(records.format()) || is_integer(predicate.format()))
+    throw std::invalid_argument("compact: predicate and records must be float or R8 textures");
+
+  // Build: reduce along rows by 4 until one column, then along the column by 4 until 1x1.
+  std::vector<PooledTexture> levels;
+  std::vector<std::pair<int, int>> axes;
+  const Texture* in = &predicate;
+  do {
+    const bool along_x = in->width() > 1;
+    const int w = along_x ? (in->width() + 3) / 4 : 1;
+    const int h = along_x ? in->height() : (in->height() + 3) / 4;
+    Program& p = gpu.program("histopyramid_build.frag", {{"FROM_PREDICATE", levels.empty() ? "1" : "0"}});
+    p.set("u_src_size", in->width(), in->height());
+    p.set("u_axis", along_x ? 1 : 0, along_x ? 0 : 1);
+    PooledTexture next = gpu.acquire(w, h, Format::R32UI);
+    const Input inputs[] = {{"u_src", in}};
+    Texture* outputs[] = {next.get()};
+    gpu.run("histopyramid_build", p, inputs, outputs);
+    axes.emplace_back(along_x ? 1 : 0, along_x ? 0 : 1);
+    levels.push_back(std::move(next));
+    in = levels.back().get();
+  } while (in->width() > 1 || in->height() > 1);
+
+  Compacted out;
+  out.levels = static_cast<int>(levels.size());
+  out.count = levels.back()->read_u32()[0];
+  for (size_t i = 0; i < levels.size(); ++i) gpu.dump(fmt::format("histopyramid_level{}", i), *levels[i]);
+
+  int max_size = gpu.info().max_texture_size;
+  out.layout = layout_for(out.count, max_size);
+  out.records = Texture(out.layout.width, out.layout.height, records.format() == Format::R8 ? Format::R32F : records.format());
+  out.source = Texture(out.layout.width, out.layout.height, Format::R32UI);
+  if (out.count == 0) return out;
+
+  const int units_needed = out.levels + 2;
+  if (units_needed > gpu.info().max_texture_units)
+    throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}",
+                                        out.levels, units_needed, gpu.info().max_texture_units));
+  Program& g = gpu.program("histopyramid_gather.frag", {{"NUM_LEVELS", std::to_string(out.levels)}});
+  std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
+  for (size_t i = 0; i < levels.size(); ++i) {
+    inputs.push_back({fmt::format("u_levels[{}]", i), levels[i].get()});
+    g.set(fmt::format("u_level_axis[{}]", i), axes[i].first, axes[i].second);
+  }
+  g.set("u_pred_size", predicate.width(), predicate.height());
+  g.set("u_out_width", out.layout.width);
+  g.set("u_count", static_cast<unsigned>(out.count));
+  Texture* outputs[] = {&out.records, &out.source};
+  gpu.run("histopyramid_gather", g, inputs, outputs);
+  gpu.dump("compacted_records", out.records);
+  return out;
+}
+
+}  // namespace gpgpu

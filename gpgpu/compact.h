@@ -1,0 +1,32 @@
+#pragma once
+/// \file compact.h
+/// Non-uniform stream reduction of Krishnamurthy et al. §1.1 (their ref. [6]), done in fragment
+/// passes as a HistoPyramid: count levels built in log4 passes along rows, then along the column
+/// (glsl/histopyramid_build.frag), one read-back of the total, then one gather pass in which output
+/// element k descends the pyramid to its source texel (glsl/histopyramid_gather.frag).
+/// Reducing rows before columns (instead of 2x2 blocks) keeps the output in row-major input order.
+#include "gpgpu/gpu.h"
+#include "gpgpu/layout.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace gpgpu {
+
+struct Compacted {
+  int64_t count = 0;   ///< kept elements
+  Layout2D layout;     ///< of the outputs below (near-square)
+  Texture records;     ///< the kept records, in input order (format of the input records)
+  Texture source;      ///< R32UI: row-major index of each kept texel in the input
+  int levels = 0;      ///< count-pyramid levels built
+
+  /// Reads the first `count` records (channels(format) floats each) / source indices back.
+  [[nodiscard]] std::vector<float> read_records() const;
+  [[nodiscard]] std::vector<uint32_t> read_source() const;
+};
+
+/// Keeps the texels of `records` where channel 0 of `predicate` (same size) is > 0 (R8 masks: set
+/// bytes; NaN is not kept). `records` must be a float format. count = 0 gives 1x1 placeholder outputs.
+Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records);
+
+}  // namespace gpgpu

@@ -1,0 +1,87 @@
+#pragma once
+/// \file context.h
+/// Headless (or windowed) OpenGL 4.5 core contexts: EGL surfaceless, EGL device platform, OSMesa,
+/// GLFW. One context is current per process; creating it loads the gl:: table (gl_api.h).
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gpgpu {
+
+enum class Backend {
+  Auto,       ///< Egl, then OSMesa
+  Egl,        ///< EGL: a hardware device if the device platform lists one, else surfaceless Mesa
+  EglDevice,  ///< EGL_EXT_platform_device only (NURBSGL_EGL_DEVICE=i picks the device)
+  OSMesa,     ///< Mesa's off-screen library (software), GL bound through OSMesaGetProcAddress
+  Glfw,       ///< a GLFW window (the viewer); needs a display
+};
+
+/// "auto", "egl", "egl-device", "osmesa", "glfw".
+std::string_view backend_name(Backend backend);
+/// Parses a backend name; throws std::invalid_argument listing the valid names.
+Backend parse_backend(std::string_view name);
+/// The backend named by the NURBSGL_GL environment variable, or `fallback` when it is unset/empty.
+Backend backend_from_env(Backend fallback = Backend::Auto);
+
+struct ContextOptions {
+  Backend backend = Backend::Auto;
+  int width = 64;  ///< window size for Glfw; default framebuffer size elsewhere
+  int height = 64;
+  bool visible = false;  ///< Glfw only
+  std::string title = "nurbsgl";
+};
+
+/// What `nurbsgl gpu-info` prints.
+struct ContextInfo {
+  std::string backend;  ///< backend_name of the backend that started
+  std::string detail;   ///< e.g. "EGL 1.5, surfaceless platform (Mesa)"
+  std::string gl_version;
+  std::string glsl_version;
+  std::string renderer;
+  std::string vendor;
+  int max_texture_size = 0;
+  int max_texture_units = 0;  ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment stage)
+  bool float_targets_ok = false;  ///< R32F/RG32F/RGBA32F attach, clear and read back unclamped
+  bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
+};
+
+/// Raised when no backend could start: one line naming each backend tried and why, and how to
+/// choose another. The CLI maps it to exit code 3.
+class NoGlError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Context {
+ public:
+  virtual ~Context() = default;
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  [[nodiscard]] const ContextInfo& info() const { return info_; }
+  /// The GLFWwindow* of a Glfw context, nullptr otherwise.
+  [[nodiscard]] virtual void* native_window() const { return nullptr; }
+  virtual void make_current() = 0;
+
+  /// Starts the requested backend (Auto: Egl, then OSMesa), makes it current, loads the gl:: table
+  /// and probes float render targets. Throws NoGlError when nothing starts.
+  static std::unique_ptr<Context> create(const ContextOptions& options = {});
+
+ protected:
+  Context() = default;
+  ContextInfo info_;
+};
+
+namespace detail {
+/// Each backend's factory: returns nullptr and sets `why` when it cannot start.
+std::unique_ptr<Context> create_egl(const ContextOptions& options, bool device_only, std::string& why);
+std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::string& why);
+std::unique_ptr<Context> create_glfw(const ContextOptions& options, std::string& why);
+/// Loads the gl:: table through `get_proc` (the backend's loader, for the context just made
+/// current) and fills the GL part of `info`. Throws std::runtime_error when a 4.5 entry is missing.
+void load_and_probe(void* (*get_proc)(const char* name), ContextInfo& info);
+}  // namespace detail
+
+}  // namespace gpgpu

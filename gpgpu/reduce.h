@@ -1,0 +1,46 @@
+#pragma once
+/// \file reduce.h
+/// Standard reductions of Krishnamurthy et al. §1.1: min, max, sum and argmin of a texture in
+/// ceil(log2(max(w, h))) passes of 2x2 blocks (glsl/reduce_2x2.frag, glsl/argmin_2x2.frag), any size
+/// (1x1, 1xN, Nx1, odd, prime), then one read-back of a single texel.
+///
+/// NaN policy (same on GPU and CPU twin): min/max/argmin ignore NaN entries; a sum containing NaN
+/// is NaN. Neutral elements: +inf (min), -inf (max), 0 (sum); argmin of no valid entry is not found.
+/// Sums are pairwise (a 2x2 tree) in float: relative error about log2(n) * 2^-24 of sum |x|.
+#include "gpgpu/gpu.h"
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+namespace gpgpu {
+
+enum class ReduceOp : int { Min = 0, Max = 1, Sum = 2 };
+using ReduceOps = std::array<ReduceOp, 4>;
+
+/// Reduces each channel of `src` with its operation. Channels the format lacks read as (0, 0, 0, 1).
+/// R8 and float formats only.
+std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops);
+
+/// Minimum / maximum / sum of channel `channel`.
+float reduce_min(Gpu& gpu, const Texture& src, int channel = 0);
+float reduce_max(Gpu& gpu, const Texture& src, int channel = 0);
+float reduce_sum(Gpu& gpu, const Texture& src, int channel = 0);
+
+struct ArgMin {
+  bool found = false;  ///< false when every entry is NaN
+  float value = 0.0f;
+  int x = -1, y = -1;  ///< texel of the minimum; ties go to the smallest row-major index
+  int64_t index = -1;  ///< y * width + x
+};
+
+/// Minimum of channel `channel` and where it is.
+ArgMin argmin(Gpu& gpu, const Texture& src, int channel = 0);
+
+// ---- CPU twins (double precision accumulation), the test oracle -------------------------------
+
+/// `texels` holds width*height texels of `n_channels` floats, row-major.
+std::array<double, 4> reduce_cpu(std::span<const float> texels, int n_channels, ReduceOps ops);
+ArgMin argmin_cpu(std::span<const float> texels, int width, int n_channels, int channel);
+
+}  // namespace gpgpu

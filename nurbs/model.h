@@ -1,0 +1,27 @@
+#pragma once
+/// \file model.h
+/// A model: named bodies of trimmed faces, each body with a rigid transform, plus what the reader
+/// saw (source file, unit scale, skipped entity types).
+#include "trimmed_surface.h"
+
+#include <glm/mat4x4.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace nurbs {
+
+struct Body {
+  std::string name;
+  std::vector<TrimmedSurface> faces;
+  glm::dmat4 transform{1.0};  ///< rigid: rotation + translation, applied to every face
+};
+
+struct Model {
+  std::vector<Body> bodies;
+  std::string source;              ///< file the model came from, or the generator's name
+  double unit_scale_to_mm = 1.0;   ///< from the IGES global section (parameter 14/15)
+  std::map<int, int> skipped_entities;  ///< IGES entity type -> count, for entities not read
+};
+
+}  // namespace nurbs
