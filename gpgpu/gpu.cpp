@@ -79,6 +79,8 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
   gl::check_error(std::string(name).c_str());
 }
 
+void Gpu::finish() { gl::Finish(); }
+
 PooledTexture Gpu::acquire(int width, int height, Format format) {
   auto it = pool_.find({width, height, static_cast<int>(format)});
   if (it != pool_.end()) {

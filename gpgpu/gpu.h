@@ -67,6 +67,9 @@ class Gpu {
   void run(std::string_view name, const Program& program, std::span<const Input> inputs,
            std::span<Texture* const> outputs, std::optional<Region> viewport = std::nullopt);
 
+  /// Waits until every submitted pass has finished (glFinish): for wall-clock timing.
+  void finish();
+
   /// A texture of this size and format from the pool (allocated when none is free).
   PooledTexture acquire(int width, int height, Format format);
   void release(Texture texture);

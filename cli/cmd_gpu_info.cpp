@@ -1,0 +1,40 @@
+// `nurbsgl gpu-info`: which backend started and what the GPU offers.
+#include "cli/commands.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace cli {
+
+void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
+  auto* cmd = app.add_subcommand("gpu-info", "Print the GL backend, version, renderer and limits");
+  auto json = std::make_shared<bool>(false);
+  cmd->add_flag("--json", *json, "Print one JSON object instead of text");
+  cmd->callback([&global, json] {
+    auto gpu = start_gpu(global);
+    const gpgpu::ContextInfo& i = gpu->info();
+    if (*json) {
+      nlohmann::json j{{"backend", i.backend},         {"context", i.detail},
+                       {"gl_version", i.gl_version},   {"glsl_version", i.glsl_version},
+                       {"renderer", i.renderer},       {"vendor", i.vendor},
+                       {"max_texture_size", i.max_texture_size}, {"max_texture_units", i.max_texture_units},
+                       {"float_targets_ok", i.float_targets_ok}, {"timer_queries", i.timer_queries}};
+      fmt::print("{}\n", j.dump(2));
+      return;
+    }
+    fmt::print("backend            {}\n", i.backend);
+    fmt::print("context            {}\n", i.detail);
+    fmt::print("GL version         {}\n", i.gl_version);
+    fmt::print("GLSL version       {}\n", i.glsl_version);
+    fmt::print("renderer           {}\n", i.renderer);
+    fmt::print("vendor             {}\n", i.vendor);
+    fmt::print("max texture size   {}\n", i.max_texture_size);
+    fmt::print("texture units      {}\n", i.max_texture_units);
+    fmt::print("float targets      {}\n", i.float_targets_ok ? "OK (R32F, RG32F, RGBA32F unclamped)" : "NOT OK");
+    fmt::print("timer queries      {}\n", i.timer_queries ? "yes" : "no");
+    report_profile(*gpu, global);
+    if (!i.float_targets_ok) throw CommandFailed("float render targets do not work on this GL");
+  });
+}
+
+}  // namespace cli

@@ -1,0 +1,22 @@
+#pragma once
+/// \file commands.h
+/// Each subcommand registers itself on the CLI11 app; its callback does the work and throws on
+/// failure (main maps the exception type to the exit code).
+#include "cli/common.h"
+
+#include <CLI/CLI.hpp>
+
+#include <stdexcept>
+
+namespace cli {
+
+/// A command ran but its result is wrong (a self-check mismatch): exit code 1.
+class CommandFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+void add_gpu_info(CLI::App& app, const GlobalOptions& global);
+void add_selftest(CLI::App& app, const GlobalOptions& global);
+
+}  // namespace cli

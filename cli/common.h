@@ -1,0 +1,32 @@
+#pragma once
+/// \file common.h
+/// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
+#include "gpgpu/gpu.h"
+
+#include <memory>
+#include <string>
+
+namespace cli {
+
+/// Exit codes of the nurbsgl executable (documented in README.md and --help).
+enum ExitCode : int {
+  kOk = 0,
+  kFailed = 1,     ///< a check failed, or an internal error
+  kBadInput = 2,   ///< bad command line or unreadable / malformed input file
+  kNoGl = 3,       ///< no OpenGL backend could start
+};
+
+struct GlobalOptions {
+  std::string gl = "";      ///< --gl; empty = NURBSGL_GL, else auto
+  std::string dump_dir;     ///< --dump DIR: EXR dumps of the textures a command produces
+  bool profile = false;     ///< --profile: per-pass GPU/CPU time table on stderr
+};
+
+/// Starts the GPU for a command (backend from --gl, else NURBSGL_GL, else auto), with dumps and
+/// profiling as asked. Throws gpgpu::NoGlError (exit 3) when nothing starts.
+std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options);
+
+/// Prints the profiler's per-pass table on stderr when --profile was given.
+void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options);
+
+}  // namespace cli

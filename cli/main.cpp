@@ -1,0 +1,39 @@
+// nurbsgl: geometric queries on trimmed NURBS models with OpenGL fragment-shader GPGPU.
+#include "cli/commands.h"
+
+#include <fmt/format.h>
+
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "nurbsgl: geometric queries on trimmed NURBS models with fragment-shader GPGPU.\n"
+      "Exit codes: 0 ok, 1 a check failed, 2 bad command line or input file, 3 no usable OpenGL.",
+      "nurbsgl"};
+  app.require_subcommand(1);
+  cli::GlobalOptions global;
+  app.add_option("--gl", global.gl, "GL backend: auto (EGL, then OSMesa), egl, egl-device, osmesa, glfw "
+                                     "(default: $NURBSGL_GL, else auto)")
+      ->check(CLI::IsMember({"auto", "egl", "egl-device", "osmesa", "glfw"}));
+  app.add_option("--dump", global.dump_dir, "Write the textures a command produces as OpenEXR files into DIR");
+  app.add_flag("--profile", global.profile, "Print GPU and CPU time per pass (synchronised) on stderr");
+  cli::add_gpu_info(app, global);
+  cli::add_selftest(app, global);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints help (rc 0) or the usage error
+    return rc == 0 ? cli::kOk : cli::kBadInput;
+  } catch (const gpgpu::NoGlError& e) {
+    fmt::print(stderr, "nurbsgl: {}\n", e.what());
+    return cli::kNoGl;
+  } catch (const cli::CommandFailed& e) {
+    fmt::print(stderr, "nurbsgl: FAILED: {}\n", e.what());
+    return cli::kFailed;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "nurbsgl: error: {}\n", e.what());
+    return cli::kFailed;
+  }
+  return cli::kOk;
+}

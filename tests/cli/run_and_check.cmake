@@ -1,0 +1,23 @@
+# ctest helper: runs CMD (a ;-list) under ENV (a ;-list of VAR=value, or VAR= to unset) and checks
+# the exit code (EXPECT_RC) and that stdout+stderr match EXPECT_REGEX (and not REJECT_REGEX).
+set(env_args)
+foreach(e IN LISTS ENV)
+  if(e MATCHES "^([A-Za-z_0-9]+)=$")
+    list(APPEND env_args --unset=${CMAKE_MATCH_1})
+  else()
+    list(APPEND env_args ${e})
+  endif()
+endforeach()
+execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env_args} ${CMD}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+set(all "${out}${err}")
+if(NOT rc STREQUAL "${EXPECT_RC}")
+  message(FATAL_ERROR "exit code ${rc}, expected ${EXPECT_RC}\n--- output ---\n${all}")
+endif()
+if(DEFINED EXPECT_REGEX AND NOT all MATCHES "${EXPECT_REGEX}")
+  message(FATAL_ERROR "output does not match '${EXPECT_REGEX}'\n--- output ---\n${all}")
+endif()
+if(DEFINED REJECT_REGEX AND all MATCHES "${REJECT_REGEX}")
+  message(FATAL_ERROR "output matches '${REJECT_REGEX}'\n--- output ---\n${all}")
+endif()
+message(STATUS "ok: exit ${rc}\n${all}")
