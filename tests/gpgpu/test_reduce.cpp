@@ -2,6 +2,7 @@
 // pyramid: 1x1, 1xN, Nx1, primes, 4097x3, random sizes; with +inf, -inf and NaN entries and ties.
 #include "gl_fixture.h"
 
+#include "gpgpu/array_texture.h"
 #include "gpgpu/reduce.h"
 
 #include <doctest/doctest.h>
@@ -124,4 +125,20 @@ TEST_CASE("argmin: value and index match the CPU twin, ties go to the smallest i
       CHECK(g.y == c.y);
     }
   }
+}
+
+TEST_CASE("reduce: a long 1D array laid out in 2D, padded with the neutral element") {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::mt19937_64 rng(14);
+  const size_t n = 1000003;  // prime: the last row is partial
+  auto v = test::random_floats(rng, n, 1.0f, 2.0f);
+  v[n - 1] = 0.5f;  // the minimum sits in the partial last row
+  const float inf = std::numeric_limits<float>::infinity();
+  const gpgpu::ArrayTexture a = gpgpu::upload_array(v, Format::R32F, gpu.info().max_texture_size, inf);
+  CHECK(a.layout.capacity() >= int64_t(n));
+  const gpgpu::ArgMin m = gpgpu::argmin(gpu, a.texture);
+  CHECK(m.value == 0.5f);
+  CHECK(m.index == int64_t(n - 1));
+  // Small-width layout (as on a GPU with a small GL_MAX_TEXTURE_SIZE): 1000003 > 1000^2 throws.
+  CHECK_THROWS_AS(gpgpu::upload_array(v, Format::R32F, 1000, inf), std::length_error);
 }

@@ -1,0 +1,21 @@
+#pragma once
+/// \file array_texture.h
+/// Upload of a long 1D array of records into a 2D texture (gpgpu/layout.h), padding the last row
+/// with a caller-chosen value (the neutral element of the reduction that will read it).
+#include "gpgpu/layout.h"
+#include "gpgpu/texture.h"
+
+#include <span>
+
+namespace gpgpu {
+
+struct ArrayTexture {
+  Layout2D layout;
+  Texture texture;
+};
+
+/// `values` holds count * channels(format) floats (float formats only). Texels past `count` get
+/// `pad` in every channel. `max_size` is GL_MAX_TEXTURE_SIZE (Gpu::info().max_texture_size).
+ArrayTexture upload_array(std::span<const float> values, Format format, int max_size, float pad);
+
+}  // namespace gpgpu
