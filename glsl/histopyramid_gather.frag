@@ -2,25 +2,50 @@
 // 1x1 top to the k-th kept input texel (levels built by histopyramid_build.frag, NUM_LEVELS of them,
 // level 0 built from the predicate). Writes that texel's record and its row-major source index.
 // Elements past u_count (padding of the output layout) get zeros and index 0xffffffff.
+// The descent is unrolled by the preprocessor (STEP) so every sampler index is a constant: a loop
+// over a sampler array is dynamic indexing, which llvmpipe runs several times slower.
 #include "lib_layout.glsl"
 
 uniform sampler2D u_pred;
 uniform sampler2D u_records;
 uniform usampler2D u_levels[NUM_LEVELS];
-uniform ivec2 u_level_axis[NUM_LEVELS];   // axis level i was reduced along
-uniform ivec2 u_pred_size;
+uniform ivec2 u_level_axis[NUM_LEVELS];  // axis level i was reduced along
 uniform int u_out_width;
 uniform uint u_count;
 layout(location = 0) out vec4 o_record;
 layout(location = 1) out uint o_index;
 
-uint count_at(int level, ivec2 t) {
-  // level -1 is the predicate itself
-  if (level < 0) return texelFetch(u_pred, t, 0).r > 0.0 ? 1u : 0u;
-  return texelFetch(u_levels[level], t, 0).r;
+// One level down: among the (up to 4) children of p along `axis`, find the one holding `rank`.
+void step_counts(usampler2D child, ivec2 axis, inout ivec2 p, inout uint rank) {
+  ivec2 size = textureSize(child, 0);
+  ivec2 first = p * (ivec2(1) + 3 * axis);
+  for (int j = 0; j < 4; ++j) {
+    ivec2 c = first + j * axis;
+    uint n = texelFetch(child, c, 0).r;
+    if (rank < n || j == 3 || any(greaterThanEqual(c + axis, size))) {
+      p = c;
+      return;
+    }
+    rank -= n;
+  }
 }
 
-ivec2 level_size(int level) { return level < 0 ? u_pred_size : textureSize(u_levels[level], 0); }
+// The last level down, onto the predicate (kept = channel 0 > 0).
+void step_predicate(ivec2 axis, inout ivec2 p, inout uint rank) {
+  ivec2 size = textureSize(u_pred, 0);
+  ivec2 first = p * (ivec2(1) + 3 * axis);
+  for (int j = 0; j < 4; ++j) {
+    ivec2 c = first + j * axis;
+    uint n = texelFetch(u_pred, c, 0).r > 0.0 ? 1u : 0u;
+    if (rank < n || j == 3 || any(greaterThanEqual(c + axis, size))) {
+      p = c;
+      return;
+    }
+    rank -= n;
+  }
+}
+
+#define STEP(i) step_counts(u_levels[i - 1], u_level_axis[i], p, rank);
 
 void main() {
   uint k = uint(layout_index(ivec2(gl_FragCoord.xy), u_out_width));
@@ -31,20 +56,55 @@ void main() {
   }
   ivec2 p = ivec2(0);
   uint rank = k;
-  for (int i = NUM_LEVELS - 1; i >= 0; --i) {
-    ivec2 axis = u_level_axis[i];
-    ivec2 child_size = level_size(i - 1);
-    ivec2 first = p * (ivec2(1) + 3 * axis);
-    for (int j = 0; j < 4; ++j) {
-      ivec2 c = first + j * axis;
-      uint n = count_at(i - 1, c);
-      if (rank < n || j == 3 || any(greaterThanEqual(c + axis, child_size))) {
-        p = c;
-        break;
-      }
-      rank -= n;
-    }
-  }
+#if NUM_LEVELS > 16
+#error at most 16 pyramid levels (a 65536^2 input)
+#endif
+#if NUM_LEVELS > 15
+  STEP(15)
+#endif
+#if NUM_LEVELS > 14
+  STEP(14)
+#endif
+#if NUM_LEVELS > 13
+  STEP(13)
+#endif
+#if NUM_LEVELS > 12
+  STEP(12)
+#endif
+#if NUM_LEVELS > 11
+  STEP(11)
+#endif
+#if NUM_LEVELS > 10
+  STEP(10)
+#endif
+#if NUM_LEVELS > 9
+  STEP(9)
+#endif
+#if NUM_LEVELS > 8
+  STEP(8)
+#endif
+#if NUM_LEVELS > 7
+  STEP(7)
+#endif
+#if NUM_LEVELS > 6
+  STEP(6)
+#endif
+#if NUM_LEVELS > 5
+  STEP(5)
+#endif
+#if NUM_LEVELS > 4
+  STEP(4)
+#endif
+#if NUM_LEVELS > 3
+  STEP(3)
+#endif
+#if NUM_LEVELS > 2
+  STEP(2)
+#endif
+#if NUM_LEVELS > 1
+  STEP(1)
+#endif
+  step_predicate(u_level_axis[0], p, rank);
   o_record = texelFetch(u_records, p, 0);
-  o_index = uint(layout_index(p, u_pred_size.x));
+  o_index = uint(layout_index(p, textureSize(u_pred, 0).x));
 }

@@ -68,7 +68,6 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
     inputs.push_back({fmt::format("u_levels[{}]", i), levels[i].get()});
     g.set(fmt::format("u_level_axis[{}]", i), axes[i].first, axes[i].second);
   }
-  g.set("u_pred_size", predicate.width(), predicate.height());
   g.set("u_out_width", out.layout.width);
   g.set("u_count", static_cast<unsigned>(out.count));
   Texture* outputs[] = {&out.records, &out.source};
