@@ -1,0 +1,102 @@
+#include "nurbs/bezier_extraction.h"
+
+#include "nurbs/knot_insertion.h"
+
+namespace nurbs {
+
+HomogeneousCurve refine_to_bezier(const HomogeneousCurve& curve) {
+  HomogeneousCurve h = clamp_curve(curve);
+  const int p = h.degree;
+  const Interval dom = knot_domain(h.knots, p, static_cast<int>(h.points.size()));
+  // Distinct interior knot values, collected first because insertion changes the vector.
+  std::vector<double> interior;
+  for (double k : h.knots) {
+    if (k > dom.min && k < dom.max && (interior.empty() || interior.back() != k)) interior.push_back(k);
+  }
+  for (double k : interior) h = insert_knot(h, k, p);  // capped at multiplicity p inside
+  return h;
+}
+
+namespace {
+
+/// The non-empty spans of a refined knot vector: values at indices p, 2p, ... up to the end.
+std::vector<Interval> bezier_ranges(const HomogeneousCurve& refined) {
+  std::vector<Interval> out;
+  const int p = refined.degree;
+  const int pieces = (static_cast<int>(refined.points.size()) - 1) / p;
+  for (int i = 0; i < pieces; ++i) {
+    out.push_back({refined.knots[static_cast<size_t>(p + i * p)], refined.knots[static_cast<size_t>(p + (i + 1) * p)]});
+  }
+  return out;
+}
+
+std::vector<double> bezier_knots(int p, Interval r) {
+  std::vector<double> k(static_cast<size_t>(2 * (p + 1)), r.min);
+  std::fill(k.begin() + p + 1, k.end(), r.max);
+  return k;
+}
+
+}  // namespace
+
+template <int D>
+std::vector<BezierSegment<D>> extract_bezier_segments(const Curve<D>& curve) {
+  const HomogeneousCurve h = refine_to_bezier(to_homogeneous(curve));
+  const int p = h.degree;
+  std::vector<BezierSegment<D>> out;
+  const auto ranges = bezier_ranges(h);
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    HomogeneousCurve seg{p, bezier_knots(p, ranges[i]),
+                         std::vector<glm::dvec4>(h.points.begin() + static_cast<std::ptrdiff_t>(i) * p,
+                                                 h.points.begin() + static_cast<std::ptrdiff_t>(i) * p + p + 1)};
+    out.push_back({from_homogeneous<D>(seg, curve.rational()), ranges[i]});
+  }
+  return out;
+}
+
+template std::vector<BezierSegment<2>> extract_bezier_segments(const Curve<2>&);
+template std::vector<BezierSegment<3>> extract_bezier_segments(const Curve<3>&);
+
+Surface refine_surface_to_bezier(const Surface& s) {
+  std::vector<HomogeneousCurve> rows;
+  for (int j = 0; j < s.count_v; ++j) rows.push_back(refine_to_bezier(surface_row(s, j)));
+  const Surface su = surface_from_rows(rows, s, s.rational());
+  std::vector<HomogeneousCurve> cols;
+  for (int i = 0; i < su.count_u; ++i) cols.push_back(refine_to_bezier(surface_column(su, i)));
+  return surface_from_columns(cols, su, s.rational());
+}
+
+std::vector<BezierPatch> extract_bezier_patches(const Surface& s) {
+  const Surface r = refine_surface_to_bezier(s);
+  const int p = r.degree_u, q = r.degree_v;
+  const auto ru = bezier_ranges({p, r.knots_u, std::vector<glm::dvec4>(static_cast<size_t>(r.count_u))});
+  const auto rv = bezier_ranges({q, r.knots_v, std::vector<glm::dvec4>(static_cast<size_t>(r.count_v))});
+  std::vector<BezierPatch> out;
+  out.reserve(ru.size() * rv.size());
+  for (size_t b = 0; b < rv.size(); ++b) {
+    for (size_t a = 0; a < ru.size(); ++a) {
+      BezierPatch patch;
+      patch.range_u = ru[a];
+      patch.range_v = rv[b];
+      patch.index_u = static_cast<int>(a);
+      patch.index_v = static_cast<int>(b);
+      Surface& ps = patch.surface;
+      ps.degree_u = p;
+      ps.degree_v = q;
+      ps.count_u = p + 1;
+      ps.count_v = q + 1;
+      ps.knots_u = bezier_knots(p, ru[a]);
+      ps.knots_v = bezier_knots(q, rv[b]);
+      for (int j = 0; j <= q; ++j) {
+        for (int i = 0; i <= p; ++i) {
+          const int ci = static_cast<int>(a) * p + i, cj = static_cast<int>(b) * q + j;
+          ps.points.push_back(r.point(ci, cj));
+          if (r.rational()) ps.weights.push_back(r.weight(ci, cj));
+        }
+      }
+      out.push_back(std::move(patch));
+    }
+  }
+  return out;
+}
+
+}  // namespace nurbs

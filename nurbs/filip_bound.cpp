@@ -1,0 +1,241 @@
+#include "nurbs/filip_bound.h"
+
+#include "nurbs/bezier_extraction.h"
+#include "nurbs/knot_insertion.h"
+#include "nurbs/surface_eval.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace nurbs {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Per-coordinate max |.| of a set of vectors.
+void max_abs(glm::dvec3& acc, const glm::dvec3& v) { acc = glm::max(acc, glm::abs(v)); }
+
+/// Distinct knot values within the domain, ends included.
+std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
+  std::vector<double> out;
+  for (double k : knots) {
+    if (k >= d.min && k <= d.max && (out.empty() || out.back() != k)) out.push_back(k);
+  }
+  return out;
+}
+
+/// Bounds of a Bézier patch split into parts x parts equal sub-patches (max over the pieces): the
+/// difference nets of smaller pieces converge to the derivatives, tightening mostly the rational bound.
+SecondDerivativeBounds split_patch_bounds(const BezierPatch& patch, int parts) {
+  if (parts <= 1) return bezier_patch_bounds(patch.surface, patch.range_u.width(), patch.range_v.width());
+  Surface r = patch.surface;
+  for (int k = 1; k < parts; ++k) r = insert_knot_u(r, patch.range_u.min + patch.range_u.width() * k / parts, r.degree_u);
+  for (int k = 1; k < parts; ++k) r = insert_knot_v(r, patch.range_v.min + patch.range_v.width() * k / parts, r.degree_v);
+  SecondDerivativeBounds mx;
+  for (const auto& piece : extract_bezier_patches(r)) {
+    const auto m = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
+    mx = {std::max(mx.m1, m.m1), std::max(mx.m2, m.m2), std::max(mx.m3, m.m3)};
+  }
+  return mx;
+}
+
+/// One-sided first derivatives agree along the common edge of two patches (see FilipBound::c1_u).
+bool c1_across(const Surface& left, const Surface& right, bool along_u, double at, Interval edge, int samples) {
+  for (int k = 0; k < samples; ++k) {
+    const double t = edge.min + edge.width() * (k + 0.5) / samples;
+    const SurfaceDerivatives l = along_u ? surface_derivatives(left, at, t) : surface_derivatives(left, t, at);
+    const SurfaceDerivatives r = along_u ? surface_derivatives(right, at, t) : surface_derivatives(right, t, at);
+    const glm::dvec3 dl = along_u ? l.su : l.sv, dr = along_u ? r.su : r.sv;
+    // 1e-9 relative: roundoff of A4.4 is ~1e-14; a real kink is far larger.
+    const double scale = std::max({glm::length(dl), glm::length(dr), 1e-300});
+    if (glm::length(dl - dr) > 1e-9 * scale) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv) {
+  const int p = patch.degree_u, q = patch.degree_v;
+  // Translation by the box centre c: derivatives unchanged, |S - c| <= R smallest.
+  glm::dvec3 lo(kInf), hi(-kInf);
+  double wmin = kInf;
+  for (int j = 0; j <= q; ++j) {
+    for (int i = 0; i <= p; ++i) {
+      lo = glm::min(lo, patch.point(i, j));
+      hi = glm::max(hi, patch.point(i, j));
+      wmin = std::min(wmin, patch.weight(i, j));
+    }
+  }
+  const glm::dvec3 c = 0.5 * (lo + hi), R = 0.5 * (hi - lo);
+  auto N = [&](int i, int j) { return patch.weight(i, j) * (patch.point(i, j) - c); };
+  auto W = [&](int i, int j) { return patch.weight(i, j); };
+  glm::dvec3 Au(0.0), Av(0.0), Auu(0.0), Auv(0.0), Avv(0.0);
+  double Wu = 0, Wv = 0, Wuu = 0, Wuv = 0, Wvv = 0;
+  const double fu = p / du, fv = q / dv;
+  const double fuu = p * (p - 1) / (du * du), fvv = q * (q - 1) / (dv * dv), fuv = p * q / (du * dv);
+  for (int j = 0; j <= q; ++j) {
+    for (int i = 0; i <= p; ++i) {
+      if (i + 1 <= p) {
+        max_abs(Au, fu * (N(i + 1, j) - N(i, j)));
+        Wu = std::max(Wu, std::abs(fu * (W(i + 1, j) - W(i, j))));
+      }
+      if (j + 1 <= q) {
+        max_abs(Av, fv * (N(i, j + 1) - N(i, j)));
+        Wv = std::max(Wv, std::abs(fv * (W(i, j + 1) - W(i, j))));
+      }
+      if (i + 2 <= p) {
+        max_abs(Auu, fuu * (N(i + 2, j) - 2.0 * N(i + 1, j) + N(i, j)));
+        Wuu = std::max(Wuu, std::abs(fuu * (W(i + 2, j) - 2.0 * W(i + 1, j) + W(i, j))));
+      }
+      if (j + 2 <= q) {
+        max_abs(Avv, fvv * (N(i, j + 2) - 2.0 * N(i, j + 1) + N(i, j)));
+        Wvv = std::max(Wvv, std::abs(fvv * (W(i, j + 2) - 2.0 * W(i, j + 1) + W(i, j))));
+      }
+      if (i + 1 <= p && j + 1 <= q) {
+        max_abs(Auv, fuv * (N(i + 1, j + 1) - N(i + 1, j) - N(i, j + 1) + N(i, j)));
+        Wuv = std::max(Wuv, std::abs(fuv * (W(i + 1, j + 1) - W(i + 1, j) - W(i, j + 1) + W(i, j))));
+      }
+    }
+  }
+  const glm::dvec3 Du = (Au + Wu * R) / wmin, Dv = (Av + Wv * R) / wmin;
+  const glm::dvec3 Muu = (Auu + 2.0 * Wu * Du + Wuu * R) / wmin;
+  const glm::dvec3 Muv = (Auv + Wu * Dv + Wv * Du + Wuv * R) / wmin;
+  const glm::dvec3 Mvv = (Avv + 2.0 * Wv * Dv + Wvv * R) / wmin;
+  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
+  return {cmax(Muu), cmax(Muv), cmax(Mvv)};
+}
+
+bool FilipBound::c1() const {
+  return std::all_of(c1_u.begin(), c1_u.end(), [](bool b) { return b; }) &&
+         std::all_of(c1_v.begin(), c1_v.end(), [](bool b) { return b; });
+}
+
+FilipBound filip_bound(const Surface& s, int subdivisions) {
+  FilipBound b;
+  b.domain_u = surface_domain_u(s);
+  b.domain_v = surface_domain_v(s);
+  b.breaks_u = breaks(s.knots_u, b.domain_u);
+  b.breaks_v = breaks(s.knots_v, b.domain_v);
+  const auto patches = extract_bezier_patches(s);
+  const size_t nu = b.breaks_u.size() - 1;
+  const int parts = subdivisions > 0 ? subdivisions : (s.rational() ? 4 : 1);
+  for (const auto& patch : patches) {
+    const auto m = split_patch_bounds(patch, parts);
+    b.patches.push_back(m);
+    b.whole.m1 = std::max(b.whole.m1, m.m1);
+    b.whole.m2 = std::max(b.whole.m2, m.m2);
+    b.whole.m3 = std::max(b.whole.m3, m.m3);
+  }
+  // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
+  b.c1_u.assign(b.breaks_u.size(), true);
+  b.c1_v.assign(b.breaks_v.size(), true);
+  const size_t nv = b.breaks_v.size() - 1;
+  for (size_t a = 1; a < nu; ++a) {
+    if (knot_multiplicity(s.knots_u, b.breaks_u[a]) < s.degree_u) continue;
+    for (size_t row = 0; row < nv && b.c1_u[a]; ++row) {
+      const auto& L = patches[row * nu + a - 1];
+      const auto& R = patches[row * nu + a];
+      b.c1_u[a] = c1_across(L.surface, R.surface, true, b.breaks_u[a], L.range_v, 2 * s.degree_v + 2);
+    }
+  }
+  for (size_t c = 1; c < nv; ++c) {
+    if (knot_multiplicity(s.knots_v, b.breaks_v[c]) < s.degree_v) continue;
+    for (size_t col = 0; col < nu && b.c1_v[c]; ++col) {
+      const auto& L = patches[(c - 1) * nu + col];
+      const auto& R = patches[c * nu + col];
+      b.c1_v[c] = c1_across(L.surface, R.surface, false, b.breaks_v[c], L.range_u, 2 * s.degree_u + 2);
+    }
+  }
+  return b;
+}
+
+double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v) {
+  return 0.125 * (h_u * h_u * m.m1 + 2.0 * h_u * h_v * m.m2 + h_v * h_v * m.m3);
+}
+
+namespace {
+
+/// Patch index range [first, last] overlapped by the open interval (lo, hi) of a cell, and whether
+/// a non-C^1 break lies strictly inside it. Breaks within 1e-12 of the width of a cell edge count
+/// as on the edge (the grid line is the knot up to roundoff).
+struct Overlap {
+  size_t first = 0, last = 0;
+  bool kink = false;
+};
+
+Overlap overlap(const std::vector<double>& br, const std::vector<bool>& c1, double lo, double hi) {
+  const double eps = 1e-12 * (br.back() - br.front());
+  Overlap o;
+  const auto it = std::upper_bound(br.begin(), br.end(), lo + eps);
+  o.first = static_cast<size_t>(std::max<std::ptrdiff_t>(it - br.begin() - 1, 0));
+  o.first = std::min(o.first, br.size() - 2);
+  o.last = o.first;
+  while (o.last + 2 < br.size() && br[o.last + 1] < hi - eps) {
+    if (!c1[o.last + 1]) o.kink = true;
+    ++o.last;
+  }
+  return o;
+}
+
+}  // namespace
+
+double filip_k_cell(const FilipBound& b, int n, int m, int i, int j) {
+  const double hu = b.domain_u.width() / n, hv = b.domain_v.width() / m;
+  const Overlap ou = overlap(b.breaks_u, b.c1_u, b.domain_u.min + i * hu, b.domain_u.min + (i + 1) * hu);
+  const Overlap ov = overlap(b.breaks_v, b.c1_v, b.domain_v.min + j * hv, b.domain_v.min + (j + 1) * hv);
+  if (ou.kink || ov.kink) return kInf;
+  const size_t nu = b.breaks_u.size() - 1;
+  SecondDerivativeBounds mx;
+  for (size_t pv = ov.first; pv <= ov.last; ++pv) {
+    for (size_t pu = ou.first; pu <= ou.last; ++pu) {
+      const auto& pm = b.patches[pv * nu + pu];
+      mx.m1 = std::max(mx.m1, pm.m1);
+      mx.m2 = std::max(mx.m2, pm.m2);
+      mx.m3 = std::max(mx.m3, pm.m3);
+    }
+  }
+  return filip_k(mx, hu, hv);
+}
+
+double filip_k_grid(const FilipBound& b, int n, int m) {
+  if (b.c1()) return filip_k(b.whole, b.domain_u.width() / n, b.domain_v.width() / m);
+  double k = 0.0;
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) k = std::max(k, filip_k_cell(b, n, m, i, j));
+  }
+  return k;
+}
+
+GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells) {
+  const double a = b.domain_u.width(), c = b.domain_v.width();
+  const SecondDerivativeBounds& M = b.whole;
+  GridChoice best{max_cells, max_cells, 0.0};
+  long long best_cells = static_cast<long long>(max_cells) * max_cells + 1;
+  for (int n = 1; n <= max_cells && n < best_cells; ++n) {
+    const double hu = a / n;
+    const double c0 = 0.125 * hu * hu * M.m1 - tolerance;
+    if (c0 > 0) continue;
+    // (c^2 M3 / 8) t^2 + (hu c M2 / 4) t + c0 <= 0 for t = 1/m: largest admissible t.
+    const double qa = 0.125 * c * c * M.m3, qb = 0.25 * hu * c * M.m2;
+    double m_needed = 1.0;
+    if (qa > 0 || qb > 0) {
+      const double t = qa > 0 ? (-qb + std::sqrt(qb * qb - 4 * qa * c0)) / (2 * qa) : -c0 / qb;
+      m_needed = t > 0 ? std::ceil(1.0 / t) : kInf;
+    }
+    if (!(m_needed <= max_cells)) continue;
+    int m = std::max(1, static_cast<int>(m_needed));
+    while (m < max_cells && filip_k(M, hu, c / m) > tolerance) ++m;  // guard against rounding in the root
+    if (static_cast<long long>(n) * m < best_cells) {
+      best_cells = static_cast<long long>(n) * m;
+      best = {n, m, 0.0};
+    }
+  }
+  best.k = filip_k_grid(b, best.n, best.m);
+  return best;
+}
+
+}  // namespace nurbs

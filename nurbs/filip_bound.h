@@ -1,0 +1,105 @@
+#pragma once
+/// \file filip_bound.h
+/// The Filip et al. deviation bound K of Krishnamurthy et al. §2.2, Eqs. (1)-(4): the distance,
+/// coordinate by coordinate, between a C^1 surface and its piecewise linear interpolant on a uniform
+/// (n+1) x (m+1) parameter grid. Used to grow grid-cell AABBs so they enclose the surface.
+///
+/// Units. M1, M2, M3 bound |d2x/du2| etc. with respect to the surface's own parameters (u, v), over
+/// the whole domain [u0, u1] x [v0, v1]. For a grid of n x m cells the steps are h_u = (u1 - u0) / n,
+/// h_v = (v1 - v0) / m, and
+///     K = (1/8) (h_u^2 M1 + 2 h_u h_v M2 + h_v^2 M3),
+/// which is Eq. (4) when the domain is the unit square (h_u = 1/n, h_v = 1/m).
+///
+/// Why it holds (Filip et al., the paper's ref. [28]; per coordinate f of S): for p in a grid triangle (or the bilinear
+/// patch) with vertices v_i and barycentric weights l_i, Taylor's theorem with integral remainder
+/// gives f(p) - L(p) = -1/2 sum l_i d_i^T H d_i with d_i = v_i - p, and sum l_i dx_i^2 <= h_u^2 / 4
+/// (a variance of values in an interval of width h_u), sum l_i |dx_i dy_i| <= h_u h_v / 4 (Cauchy-
+/// Schwarz). This needs f in C^1 with bounded piecewise-continuous second derivatives along segments
+/// of the cell: a B-spline surface qualifies across knots of multiplicity < degree; across a knot
+/// line where the surface is only C^0 it does not, which is why the bound is reported per cell and
+/// is +infinity for cells that straddle a C^0 knot line (grids whose lines hit the knots are fine).
+///
+/// Second-derivative bounds (true upper bounds, per Bézier patch of the surface):
+///  - Polynomial patch: S_uu is a Bézier patch with control net p(p-1)/du^2 (P_{i+2,j} - 2P_{i+1,j} +
+///    P_{i,j}) (du = patch width in u), S_uv has net p q/(du dv) (4-point difference), S_vv likewise;
+///    by the convex hull property each coordinate is bounded by the max |coordinate| of its net.
+///  - Rational patch S = N / w, N = sum w_ij (P_ij - c) B_ij (translated by the centre c of the
+///    control-point box, which changes no derivative), w = sum w_ij B_ij. Differentiating N = w S:
+///      S_u  = (N_u - w_u S) / w
+///      S_uu = (N_uu - 2 w_u S_u - w_uu S) / w
+///      S_uv = (N_uv - w_u S_v - w_v S_u - w_uv S) / w
+///      S_vv = (N_vv - 2 w_v S_v - w_vv S) / w
+///    Per coordinate k, with |N_*^k| <= A_*^k and |w_*| <= W_* (max |.| of the difference nets of the
+///    homogeneous numerator and of the weights, convex hull property), |S^k - c^k| <= R^k (half the
+///    box extent: S lies in the convex hull of the P_ij since all w_ij > 0) and w >= w_min (smallest
+///    patch weight, partition of unity):
+///      |S_u^k|  <= D_u^k = (A_u^k + W_u R^k) / w_min                      (same for v)
+///      |S_uu^k| <= (A_uu^k + 2 W_u D_u^k + W_uu R^k) / w_min
+///      |S_uv^k| <= (A_uv^k + W_u D_v^k + W_v D_u^k + W_uv R^k) / w_min
+///      |S_vv^k| <= (A_vv^k + 2 W_v D_v^k + W_vv R^k) / w_min
+///    For weights all equal this reduces to the polynomial bound. Splitting the patches first
+///    (`subdivisions`) tightens the rational bound (the nets converge to the derivatives).
+#include "nurbs/knot_vector.h"
+#include "nurbs/surface.h"
+
+#include <vector>
+
+namespace nurbs {
+
+/// Bounds of Eqs. (1)-(3): max over a region and over x, y, z of |S_uu|, |S_uv|, |S_vv|.
+struct SecondDerivativeBounds {
+  double m1 = 0.0;  ///< |d2/du2|, Eq. (1)
+  double m2 = 0.0;  ///< |d2/dudv|, Eq. (2)
+  double m3 = 0.0;  ///< |d2/dv2|, Eq. (3)
+};
+
+/// Bounds of one Bézier patch (degree p x q, (p+1) x (q+1) points, u fastest) over the parameter
+/// rectangle of width du x dv (see the file comment for the polynomial and rational formulas).
+[[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv);
+
+/// Bounds of a whole surface: per Bézier patch, their maximum, and where the surface is C^1.
+struct FilipBound {
+  Interval domain_u, domain_v;
+  std::vector<double> breaks_u, breaks_v;  ///< distinct knots in the domain, ends included
+  /// patches[b * (breaks_u.size() - 1) + a] bounds the knot rectangle [breaks_u[a], breaks_u[a+1]] x
+  /// [breaks_v[b], breaks_v[b+1]].
+  std::vector<SecondDerivativeBounds> patches;
+  SecondDerivativeBounds whole;  ///< max over patches: M1, M2, M3 of Eqs. (1)-(3)
+  /// c1_u[a] for interior break a (1 .. size-2): the surface is C^1 across the line u = breaks_u[a]
+  /// (index 0 and the last are unused and true). Checked exactly where the knot multiplicity reaches
+  /// the degree (elsewhere C^1 holds by the knot multiplicity), by comparing the one-sided first
+  /// derivatives at 2q + 2 points along the line (relative tolerance 1e-9).
+  std::vector<bool> c1_u, c1_v;
+  [[nodiscard]] bool c1() const;
+};
+
+/// Computes the bounds of a valid surface: Bézier extraction, then each patch split into
+/// subdivisions x subdivisions equal sub-patches whose bounds are maxed (tighter, still true).
+/// subdivisions <= 0 picks 1 for polynomial and 4 for rational surfaces: on the random family,
+/// splitting in 4 lowers the rational M1 by a median factor ~4.5 (polynomial M's change little).
+/// Cost O(patches x subdivisions^2 x (p+1)(q+1)).
+[[nodiscard]] FilipBound filip_bound(const Surface& s, int subdivisions = 0);
+
+/// K = (1/8)(h_u^2 M1 + 2 h_u h_v M2 + h_v^2 M3) for grid steps h_u, h_v (Eq. 4 in step form).
+[[nodiscard]] double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v);
+
+/// K for the n x m cell grid over the whole domain (Eq. 4) from the whole-surface M1-M3; when the
+/// surface is not C^1 everywhere, the max of filip_k_cell over the cells (+infinity if a cell
+/// straddles a C^0 knot line).
+[[nodiscard]] double filip_k_grid(const FilipBound& b, int n, int m);
+
+/// K for cell (i, j) of the n x m grid (i along u): Eq. (4) with the M's maxed over only the patches
+/// the cell overlaps, which is tighter than the whole-surface K; +infinity when a non-C^1 knot line
+/// passes through the cell's interior.
+[[nodiscard]] double filip_k_cell(const FilipBound& b, int n, int m, int i, int j);
+
+/// Smallest grid (n x m cells, minimum n * m) whose whole-surface K <= tolerance, n and m in
+/// [1, max_cells]. Returns the grid and its K; if even max_cells x max_cells is too coarse, returns
+/// that grid with its (larger) K.
+struct GridChoice {
+  int n = 1, m = 1;
+  double k = 0.0;
+};
+[[nodiscard]] GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells = 4096);
+
+}  // namespace nurbs

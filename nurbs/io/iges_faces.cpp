@@ -1,0 +1,188 @@
+#include "nurbs/io/iges_faces.h"
+
+#include "nurbs/io/curve_utils.h"
+#include "nurbs/io/loop_orientation.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace nurbs::io {
+namespace {
+
+constexpr std::initializer_list<int> kCurveTypes = {100, 102, 104, 110, 126};
+
+void append_reversed(std::vector<Curve2>& loop, std::vector<Curve2> piece, bool reverse) {
+  if (reverse) {
+    std::reverse(piece.begin(), piece.end());
+    for (Curve2& c : piece) c = reversed(c);
+  }
+  for (Curve2& c : piece) loop.push_back(std::move(c));
+}
+
+}  // namespace
+
+int IgesFaces::surface_pointer(int de) {
+  const IgesDirectoryEntry& e = g_.file().entry(de);
+  if (e.type == 128) return 0;
+  EntityParams p(g_.file(), e);
+  return p.pointer(e.type == 143 ? 2 : 1);
+}
+
+TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
+  const IgesDirectoryEntry& e = g_.file().entry(de);
+  TrimmedSurface f;
+  if (e.type == 128) {
+    f.surface = g_.surface(de, parent);
+  } else {
+    const glm::dmat4 m = parent * g_.transform(de);
+    EntityParams p(g_.file(), e);
+    switch (e.type) {
+      case 144: f = face_144(p, m); break;
+      case 143: f = face_143(p, m); break;
+      case 510: f = face_510(p, m); break;
+      default: g_.fail(de, "is not a face entity (128, 143, 144 or 510)");
+    }
+  }
+  f.face_id = de;
+  f.name = e.label;
+  finish(f);
+  return f;
+}
+
+void IgesFaces::finish(TrimmedSurface& f) {
+  for (TrimLoop& loop : f.loops)
+    if (orient_loop(loop)) ++log_.reoriented_loops;
+  const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
+  if (!has_outer && !f.loops.empty()) {
+    f.loops.insert(f.loops.begin(), domain_loop(f.surface));
+    ++log_.domain_loops_added;
+  }
+}
+
+void IgesFaces::no_parameter_curve(int de, const std::string& what) {
+  if (options_.skip_faces_without_parameter_curves)
+    throw SkipFace{fmt::format("trim curve D{} {}", de, what)};
+  g_.fail(de, what + "; trim curves only in model space are not supported");
+}
+
+// 144: PTS, N1 (0 = outer boundary is the domain boundary), N2, PTO, PTI(1..N2).
+TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
+  const int pts = g_.expect(p, 1, {128}, "a surface");
+  const int n1 = p.integer(2, 0, 1, "outer boundary flag N1");
+  const int n2 = p.integer(3, 0, std::max(0, p.size() - 4), "number of inner boundaries N2");
+  const int pto = n1 == 1 ? g_.expect(p, 4, {142}, "a curve on a parametric surface") : p.integer(4);
+  std::vector<int> holes;
+  for (int k = 0; k < n2; ++k) holes.push_back(g_.expect(p, 5 + k, {142}, "a curve on a parametric surface"));
+  p.check_trailing(4 + n2);
+  TrimmedSurface f;
+  f.surface = g_.surface(pts, m);
+  if (n1 == 1) f.loops.push_back(loop_142(pto, true));
+  for (int h : holes) f.loops.push_back(loop_142(h, false));
+  return f;
+}
+
+// 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF.
+TrimLoop IgesFaces::loop_142(int de, bool outer) {
+  EntityParams p(g_.file(), g_.file().entry(de));
+  p.integer(1);
+  p.pointer(2);
+  const int bptr = g_.expect(p, 3, kCurveTypes, "a curve", true);
+  p.pointer(4, true);
+  p.integer(5);
+  p.check_trailing(5);
+  if (bptr == 0) no_parameter_curve(de, "has no parameter-space curve (BPTR = 0)");
+  TrimLoop loop;
+  loop.outer = outer;
+  loop.curves = g_.parameter_curves(bptr);
+  return loop;
+}
+
+// 143: TYPE, SPTR, N, BDPT(1..N) pointing to 141s; the first boundary is taken as the outer one.
+TrimmedSurface IgesFaces::face_143(const EntityParams& p, const glm::dmat4& m) {
+  p.integer(1, 0, 1, "boundary type");
+  const int sptr = g_.expect(p, 2, {128}, "a surface");
+  const int n = p.integer(3, 1, std::max(1, p.size() - 3), "number of boundaries N");
+  std::vector<int> bounds;
+  for (int k = 0; k < n; ++k) bounds.push_back(g_.expect(p, 4 + k, {141}, "a boundary"));
+  p.check_trailing(3 + n);
+  TrimmedSurface f;
+  f.surface = g_.surface(sptr, m);
+  for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)], k == 0));
+  return f;
+}
+
+// 141: TYPE, PREF, SPTR, N, then per curve CRVPT, SENSE (1 same, 2 reversed), K, PSCPT(1..K).
+TrimLoop IgesFaces::loop_141(int de, bool outer) {
+  EntityParams p(g_.file(), g_.file().entry(de));
+  const int type = p.integer(1, 0, 1, "boundary type");
+  p.integer(2);
+  p.pointer(3);
+  const int n = p.integer(4, 1, std::max(1, p.size()), "number of curves N");
+  TrimLoop loop;
+  loop.outer = outer;
+  int i = 5;
+  for (int c = 0; c < n; ++c) {
+    p.pointer(i, true);
+    const int sense = p.integer(i + 1, 1, 2, "orientation SENSE");
+    const int k = p.integer(i + 2, 0, std::max(0, p.size() - i - 2), "number of parameter curves K");
+    if (type == 0 || k == 0) no_parameter_curve(de, fmt::format("curve {} has no parameter-space curve", c + 1));
+    std::vector<Curve2> piece;
+    for (int j = 0; j < k; ++j)
+      for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 3 + j, kCurveTypes, "a curve"))) piece.push_back(std::move(pc));
+    append_reversed(loop.curves, std::move(piece), sense == 2);
+    i += 3 + k;
+  }
+  p.check_trailing(i - 1);
+  return loop;
+}
+
+// 510: SURF, N, OF (1 = loop 1 is the outer loop), LOOP(1..N) pointing to 508s.
+TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
+  const int surf = g_.expect(p, 1, {128}, "a surface");
+  const int n = p.integer(2, 1, std::max(1, p.size() - 3), "number of loops N");
+  const int of = p.integer(3, 0, 1, "outer loop flag OF");
+  std::vector<int> loops;
+  for (int k = 0; k < n; ++k) loops.push_back(g_.expect(p, 4 + k, {508}, "a loop"));
+  p.check_trailing(3 + n);
+  TrimmedSurface f;
+  f.surface = g_.surface(surf, m);
+  for (int k = 0; k < n; ++k) f.loops.push_back(loop_508(loops[static_cast<size_t>(k)], of == 1 && k == 0));
+  return f;
+}
+
+int IgesFaces::edge_list_size(int de) {
+  if (auto it = list_sizes_.find(de); it != list_sizes_.end()) return it->second;
+  EntityParams p(g_.file(), g_.file().entry(de));
+  return list_sizes_[de] = p.integer(1, 1, std::max(1, p.size()), "number of list entries N");
+}
+
+// 508: N, then per edge TYPE (0 edge, 1 vertex), EDGE (504/502 list), NDX, OF (1 = agrees with
+// the edge's model curve), K, then K pairs (ISOP, CURV) of parameter-space curves.
+TrimLoop IgesFaces::loop_508(int de, bool outer) {
+  EntityParams p(g_.file(), g_.file().entry(de));
+  const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
+  TrimLoop loop;
+  loop.outer = outer;
+  int i = 2;
+  for (int c = 0; c < n; ++c) {
+    const int type = p.integer(i, 0, 1, "edge type");
+    const int list = type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
+    p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
+    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
+    const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
+    if (k == 0 && type == 0) no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve", c + 1));
+    std::vector<Curve2> piece;
+    for (int j = 0; j < k; ++j) {
+      p.integer(i + 5 + 2 * j);
+      for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 6 + 2 * j, kCurveTypes, "a curve")))
+        piece.push_back(std::move(pc));
+    }
+    append_reversed(loop.curves, std::move(piece), of == 0);
+    i += 5 + 2 * k;
+  }
+  p.check_trailing(i - 1);
+  return loop;
+}
+
+}  // namespace nurbs::io

@@ -1,0 +1,47 @@
+#pragma once
+/// \file iges_faces.h
+/// IGES face entities to TrimmedSurface: 144 (trimmed surface, loops from 142), 143 (bounded
+/// surface, loops from 141), 510 (B-rep face, loops from 508) and bare 128. Internal to the reader.
+#include "nurbs/io/iges_geometry.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/trimmed_surface.h"
+
+#include <string>
+#include <unordered_map>
+
+namespace nurbs::io {
+
+/// Thrown when a face is dropped (see IgesReadOptions); caught per face by the reader.
+struct SkipFace {
+  std::string reason;
+};
+
+class IgesFaces {
+ public:
+  IgesFaces(IgesGeometry& geometry, const IgesReadOptions& options, IgesReadLog& log)
+      : g_(geometry), options_(options), log_(log) {}
+
+  /// The face of entity `de` (type 144, 143, 510 or 128), model space = parent * own transforms.
+  TrimmedSurface face(int de, const glm::dmat4& parent);
+
+  /// The surface pointer of a face entity (0 for 128 itself); marks what is not a face of its own.
+  int surface_pointer(int de);
+
+ private:
+  TrimmedSurface face_144(const EntityParams& p, const glm::dmat4& m);
+  TrimmedSurface face_143(const EntityParams& p, const glm::dmat4& m);
+  TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
+  TrimLoop loop_142(int de, bool outer);
+  TrimLoop loop_141(int de, bool outer);
+  TrimLoop loop_508(int de, bool outer);
+  int edge_list_size(int de);
+  [[noreturn]] void no_parameter_curve(int de, const std::string& what);
+  void finish(TrimmedSurface& f);
+
+  IgesGeometry& g_;
+  const IgesReadOptions& options_;
+  IgesReadLog& log_;
+  std::unordered_map<int, int> list_sizes_;  // 502/504 entry counts, parsed once
+};
+
+}  // namespace nurbs::io

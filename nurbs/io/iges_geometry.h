@@ -1,0 +1,65 @@
+#pragma once
+/// \file iges_geometry.h
+/// IGES entities to NURBS geometry: transformation matrices (124), curves (100, 102, 104, 110,
+/// 126) and surfaces (128). Internal to the IGES reader, public for its tests.
+#include "nurbs/curve.h"
+#include "nurbs/io/iges_file.h"
+#include "nurbs/io/iges_params.h"
+#include "nurbs/surface.h"
+
+#include <glm/mat4x4.hpp>
+#include <initializer_list>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace nurbs::io {
+
+/// Thrown (and caught per face by the reader) when a face needs an entity of a legal IGES type
+/// that this reader does not convert, e.g. a 120 surface of revolution.
+struct UnsupportedEntity {
+  int de = 0;
+  int type = 0;
+};
+
+/// Entity types that may stand for a curve / surface in IGES but are not converted here.
+bool is_unsupported_curve_type(int type);
+bool is_unsupported_surface_type(int type);
+
+class IgesGeometry {
+ public:
+  explicit IgesGeometry(const IgesFile& file) : file_(file) {}
+
+  /// The matrix of the entry's transformation field (124 chain, IGES 5.3 §4.21), identity if 0.
+  /// Chained 124s compose outer * inner; cycles and wrong types throw ReadError.
+  glm::dmat4 transform(int de);
+
+  /// A curve entity as one or more 3D NURBS curves (composites flattened), each mapped by
+  /// parent * (its own transform chain). Throws ReadError on malformed data.
+  std::vector<Curve3> curves(int de, const glm::dmat4& parent, int depth = 0);
+
+  /// A curve entity used in a surface's parameter space: (x, y) of curves(de, identity).
+  std::vector<Curve2> parameter_curves(int de);
+
+  /// A 128 surface mapped by parent * (its own transform chain); checked (knots, weights, counts).
+  Surface surface(int de, const glm::dmat4& parent);
+
+  /// Pointer parameter `i` of `p` that must name an entity of one of `types` (`what` describes
+  /// them in the message). Types in the unsupported lists throw UnsupportedEntity; 0 is returned
+  /// only when `null_ok`.
+  int expect(const EntityParams& p, int i, std::initializer_list<int> types, const char* what, bool null_ok = false);
+
+  /// Throws ReadError at the directory line of `de`: "line L: entity Dn (type t): problem".
+  [[noreturn]] void fail(int de, const std::string& problem) const;
+
+  [[nodiscard]] const IgesFile& file() const { return file_; }
+
+ private:
+  glm::dmat4 matrix_124(int de, int depth);
+  Curve3 bspline_curve(const EntityParams& p);
+
+  const IgesFile& file_;
+  std::unordered_map<int, glm::dmat4> transforms_;
+};
+
+}  // namespace nurbs::io

@@ -1,0 +1,142 @@
+#include "nurbs/io/iges_reader.h"
+
+#include "nurbs/io/iges_faces.h"
+#include "nurbs/io/read_error.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace nurbs::io {
+namespace {
+
+// Types the reader converts or deliberately ignores; everything else is counted as skipped.
+bool is_read_type(int type) {
+  switch (type) {
+    case 0: case 100: case 102: case 104: case 110: case 124: case 126: case 128: case 141: case 142: case 143:
+    case 144: case 186: case 314: case 402: case 406: case 502: case 504: case 508: case 510: case 514:
+      return true;
+    default:
+      return false;
+  }
+}
+
+class ModelBuilder {
+ public:
+  ModelBuilder(const IgesFile& file, const IgesReadOptions& options, IgesReadLog& log)
+      : file_(file), g_(file), faces_(g_, options, log), log_(log), used_(file.entries.size(), 0) {}
+
+  std::vector<Body> build();
+
+ private:
+  size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
+  void add_face(Body& body, int de, const glm::dmat4& parent);
+  void add_shell(Body& body, int de, const glm::dmat4& parent);
+
+  const IgesFile& file_;
+  IgesGeometry g_;
+  IgesFaces faces_;
+  IgesReadLog& log_;
+  std::vector<char> used_;  // entry already part of a body (shells, faces, their surfaces)
+};
+
+void ModelBuilder::add_face(Body& body, int de, const glm::dmat4& parent) {
+  used_[index(de)] = 1;
+  try {
+    body.faces.push_back(faces_.face(de, parent));
+  } catch (const UnsupportedEntity& u) {
+    log_.warnings.push_back(fmt::format("face D{} dropped: it needs D{} of unsupported type {}", de, u.de, u.type));
+  } catch (const SkipFace& s) {
+    log_.warnings.push_back(fmt::format("face D{} dropped: {}", de, s.reason));
+  }
+}
+
+// 514: N, then N pairs (FACE pointer to a 510, OF orientation flag).
+void ModelBuilder::add_shell(Body& body, int de, const glm::dmat4& parent) {
+  used_[index(de)] = 1;
+  EntityParams p(file_, file_.entry(de));
+  const int n = p.integer(1, 1, std::max(1, p.size() / 2), "number of faces N");
+  std::vector<int> faces;
+  for (int k = 0; k < n; ++k) {
+    faces.push_back(g_.expect(p, 2 + 2 * k, {510}, "a face"));
+    p.integer(3 + 2 * k, 0, 1, "orientation flag");
+  }
+  p.check_trailing(1 + 2 * n);
+  const glm::dmat4 m = parent * g_.transform(de);
+  for (int f : faces) add_face(body, f, m);
+}
+
+std::vector<Body> ModelBuilder::build() {
+  std::vector<Body> bodies;
+  // Surfaces of face entities are not faces of their own.
+  for (const IgesDirectoryEntry& e : file_.entries)
+    if (e.type == 144 || e.type == 143 || e.type == 510)
+      if (int s = faces_.surface_pointer(e.de); s != 0) used_[index(s)] = 1;
+  // 186: SHELL, SOF, N, then N pairs (VOID shell, VOF): one body per solid.
+  for (const IgesDirectoryEntry& e : file_.entries) {
+    if (e.type != 186) continue;
+    used_[index(e.de)] = 1;
+    EntityParams p(file_, e);
+    std::vector<int> shells{g_.expect(p, 1, {514}, "a shell")};
+    p.integer(2, 0, 1, "orientation flag SOF");
+    const int n = p.integer(3, 0, std::max(0, p.size() / 2), "number of void shells N");
+    for (int k = 0; k < n; ++k) {
+      shells.push_back(g_.expect(p, 4 + 2 * k, {514}, "a shell"));
+      p.integer(5 + 2 * k, 0, 1, "orientation flag VOF");
+    }
+    p.check_trailing(3 + 2 * n);
+    Body body{e.label.empty() ? fmt::format("solid D{}", e.de) : e.label, {}, glm::dmat4(1.0)};
+    for (int s : shells) add_shell(body, s, g_.transform(e.de));
+    bodies.push_back(std::move(body));
+  }
+  for (const IgesDirectoryEntry& e : file_.entries) {
+    if (e.type != 514 || used_[index(e.de)]) continue;
+    Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0)};
+    add_shell(body, e.de, glm::dmat4(1.0));
+    bodies.push_back(std::move(body));
+  }
+  // Faces outside shells; a bare 128 is a face when no face uses it and it is not physically dependent.
+  Body loose{"faces", {}, glm::dmat4(1.0)};
+  for (const IgesDirectoryEntry& e : file_.entries) {
+    if (used_[index(e.de)]) continue;
+    const bool face = e.type == 144 || e.type == 143 || e.type == 510 ||
+                      (e.type == 128 && e.subordinate() != 1 && e.subordinate() != 3);
+    if (face) add_face(loose, e.de, glm::dmat4(1.0));
+  }
+  if (!loose.faces.empty()) bodies.push_back(std::move(loose));
+  return bodies;
+}
+
+}  // namespace
+
+Model read_iges_text(std::string text, const std::string& name, const IgesReadOptions& options, IgesReadLog* log) {
+  IgesReadLog local;
+  IgesReadLog& lg = log ? *log : local;
+  const IgesFile file = parse_iges_file(std::move(text), name);
+  lg.global = file.global;
+  Model model;
+  model.source = name;
+  model.unit_scale_to_mm = file.global.unit_scale_to_mm;
+  for (const IgesDirectoryEntry& e : file.entries)
+    if (!is_read_type(e.type)) ++model.skipped_entities[e.type];
+  model.bodies = ModelBuilder(file, options, lg).build();
+  if (options.convert_to_mm && model.unit_scale_to_mm != 1.0) {
+    for (Body& b : model.bodies)
+      for (TrimmedSurface& f : b.faces)
+        for (glm::dvec3& q : f.surface.points) q *= model.unit_scale_to_mm;
+    model.unit_scale_to_mm = 1.0;
+  }
+  return model;
+}
+
+Model read_iges(const std::filesystem::path& path, const IgesReadOptions& options, IgesReadLog* log) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ReadError(path.string(), "", "cannot open file");
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw ReadError(path.string(), "", "read error");
+  return read_iges_text(std::move(buf).str(), path.string(), options, log);
+}
+
+}  // namespace nurbs::io

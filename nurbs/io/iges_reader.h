@@ -1,0 +1,51 @@
+#pragma once
+/// \file iges_reader.h
+/// Native IGES 5.3 reader: trimmed NURBS faces of a file as a nurbs::Model.
+///
+/// Read: 128 surfaces; faces from 144 (trimmed surface), 143 (bounded surface), 510 (B-rep face,
+/// grouped by 514 shells and 186 solids into bodies) and independent 128s; trim loops from 142,
+/// 141 and 508 as parameter-space curves of types 100, 102, 104, 110 and 126, all as Curve2 in the
+/// surface's (u, v) plane. 124 transforms are applied to model-space geometry (chained, parents
+/// first). 314, 402, 406 and 0 are ignored; every other type is counted in
+/// Model::skipped_entities. Geometry stays in file units; Model::unit_scale_to_mm says what a
+/// unit is (G14/G15) unless options.convert_to_mm.
+///
+/// Loops: outer counter-clockwise, holes clockwise (reversed where the file differs). A face
+/// whose outer boundary is the domain boundary (144 N1 = 0, 510 with no outer loop) gets no loop
+/// when it has no holes (= untrimmed) and a 4-line domain-rectangle outer loop when it has holes,
+/// so that winding-number classification works on every face.
+#include "nurbs/io/iges_file.h"
+#include "nurbs/model.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nurbs::io {
+
+struct IgesReadOptions {
+  /// Scale all geometry to millimetres and set Model::unit_scale_to_mm = 1.
+  bool convert_to_mm = false;
+  /// Drop faces whose trim curves exist only in model space (142 with no parameter curve) or that
+  /// need an unsupported entity, with a warning, instead of throwing ReadError for the former.
+  /// Faces needing an unsupported surface/curve type are always dropped with a warning.
+  bool skip_faces_without_parameter_curves = false;
+};
+
+/// What the reader did besides the model: for `nurbsgl info` and tests.
+struct IgesReadLog {
+  IgesGlobal global;
+  int reoriented_loops = 0;    ///< loops reversed to get outer CCW / inner CW
+  int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only
+  std::vector<std::string> warnings;  ///< one per dropped face, naming it and the reason
+};
+
+/// Reads an IGES file. Throws ReadError ("FILE: line L: entity Dn (type t): problem") on any
+/// malformed record or geometry, and when the file cannot be opened.
+Model read_iges(const std::filesystem::path& path, const IgesReadOptions& options = {}, IgesReadLog* log = nullptr);
+
+/// Same as read_iges on text already in memory; `name` is used in messages and Model::source.
+Model read_iges_text(std::string text, const std::string& name, const IgesReadOptions& options = {},
+                     IgesReadLog* log = nullptr);
+
+}  // namespace nurbs::io

@@ -1,0 +1,104 @@
+#include "nurbs/io/model_summary.h"
+
+#include <fmt/format.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <nlohmann/json.hpp>
+
+#include <limits>
+
+namespace nurbs::io {
+
+ModelSummary summarize(const Model& model) {
+  ModelSummary s;
+  s.source = model.source;
+  s.unit_scale_to_mm = model.unit_scale_to_mm;
+  s.bodies = static_cast<int>(model.bodies.size());
+  s.skipped_entities = model.skipped_entities;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    const Body& body = model.bodies[b];
+    for (const TrimmedSurface& f : body.faces) {
+      FaceSummary fs;
+      fs.body = static_cast<int>(b);
+      fs.face_id = f.face_id;
+      fs.name = f.name;
+      fs.degree_u = f.surface.degree_u;
+      fs.degree_v = f.surface.degree_v;
+      fs.count_u = f.surface.count_u;
+      fs.count_v = f.surface.count_v;
+      fs.rational = f.surface.rational();
+      for (const TrimLoop& l : f.loops) {
+        (l.outer ? fs.outer_loops : fs.inner_loops) += 1;
+        fs.trim_curves += static_cast<int>(l.curves.size());
+      }
+      for (const glm::dvec3& p : f.surface.points) {
+        const glm::dvec3 q(body.transform * glm::dvec4(p, 1.0));
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+      }
+      s.faces += 1;
+      s.trimmed_faces += f.loops.empty() ? 0 : 1;
+      s.rational_faces += fs.rational ? 1 : 0;
+      s.control_points += static_cast<int>(f.surface.points.size());
+      s.max_degree_u = std::max(s.max_degree_u, fs.degree_u);
+      s.max_degree_v = std::max(s.max_degree_v, fs.degree_v);
+      s.outer_loops += fs.outer_loops;
+      s.inner_loops += fs.inner_loops;
+      s.trim_curves += fs.trim_curves;
+      s.face_list.push_back(std::move(fs));
+    }
+  }
+  if (s.control_points > 0) {
+    s.bbox_min = lo;
+    s.bbox_max = hi;
+    s.size = glm::length(hi - lo);
+  }
+  return s;
+}
+
+std::string to_text(const ModelSummary& s, bool per_face) {
+  std::string out = fmt::format("source: {}\nunit: {} mm\nbodies: {}\n", s.source, s.unit_scale_to_mm, s.bodies);
+  out += fmt::format("faces: {} ({} trimmed, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
+  out += fmt::format("max degree: {} x {}\ncontrol points: {}\n", s.max_degree_u, s.max_degree_v, s.control_points);
+  out += fmt::format("trim loops: {} outer, {} inner, {} curves\n", s.outer_loops, s.inner_loops, s.trim_curves);
+  out += fmt::format("bbox (control points): [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x, s.bbox_min.y,
+                     s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
+  out += fmt::format("model size (bbox diagonal): {:.6g}\n", s.size);
+  out += "skipped entities:";
+  if (s.skipped_entities.empty()) out += " none";
+  for (auto [type, count] : s.skipped_entities) out += fmt::format(" {}x{}", type, count);
+  out += '\n';
+  if (per_face)
+    for (const FaceSummary& f : s.face_list)
+      out += fmt::format("face {} (body {}{}{}): degree {}x{}, {}x{} points{}, loops {} outer {} inner, {} curves\n", f.face_id,
+                         f.body, f.name.empty() ? "" : ", ", f.name, f.degree_u, f.degree_v, f.count_u, f.count_v,
+                         f.rational ? ", rational" : "", f.outer_loops, f.inner_loops, f.trim_curves);
+  return out;
+}
+
+nlohmann::json to_json(const ModelSummary& s) {
+  nlohmann::json skipped = nlohmann::json::object();
+  for (auto [type, count] : s.skipped_entities) skipped[std::to_string(type)] = count;
+  nlohmann::json faces = nlohmann::json::array();
+  for (const FaceSummary& f : s.face_list)
+    faces.push_back({{"body", f.body}, {"face_id", f.face_id}, {"name", f.name}, {"degree", {f.degree_u, f.degree_v}},
+                     {"control_points", {f.count_u, f.count_v}}, {"rational", f.rational}, {"outer_loops", f.outer_loops},
+                     {"inner_loops", f.inner_loops}, {"trim_curves", f.trim_curves}});
+  return {{"source", s.source},
+          {"unit_scale_to_mm", s.unit_scale_to_mm},
+          {"bodies", s.bodies},
+          {"faces", s.faces},
+          {"trimmed_faces", s.trimmed_faces},
+          {"rational_faces", s.rational_faces},
+          {"control_points", s.control_points},
+          {"max_degree", {s.max_degree_u, s.max_degree_v}},
+          {"trim_loops", {{"outer", s.outer_loops}, {"inner", s.inner_loops}, {"curves", s.trim_curves}}},
+          {"bbox", {{"min", {s.bbox_min.x, s.bbox_min.y, s.bbox_min.z}}, {"max", {s.bbox_max.x, s.bbox_max.y, s.bbox_max.z}}}},
+          {"size", s.size},
+          {"skipped_entities", skipped},
+          {"face_list", faces}};
+}
+
+}  // namespace nurbs::io

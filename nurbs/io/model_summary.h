@@ -1,0 +1,54 @@
+#pragma once
+/// \file model_summary.h
+/// What `nurbsgl info MODEL [--json]` prints: faces, degrees, control-point counts, rational or
+/// not, trim loops, bounding box and model size, skipped IGES entities.
+#include "nurbs/model.h"
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace nurbs::io {
+
+struct FaceSummary {
+  int body = 0;       ///< index into Model::bodies
+  int face_id = -1;   ///< TrimmedSurface::face_id (IGES: directory entry number)
+  std::string name;
+  int degree_u = 0, degree_v = 0;
+  int count_u = 0, count_v = 0;  ///< control points along u and v
+  bool rational = false;
+  int outer_loops = 0, inner_loops = 0, trim_curves = 0;
+};
+
+struct ModelSummary {
+  std::string source;
+  double unit_scale_to_mm = 1.0;
+  int bodies = 0;
+  int faces = 0;
+  int trimmed_faces = 0;   ///< faces with at least one loop
+  int rational_faces = 0;
+  int control_points = 0;  ///< total over all faces
+  int max_degree_u = 0, max_degree_v = 0;
+  int outer_loops = 0, inner_loops = 0, trim_curves = 0;
+  /// Box of all control points after body transforms, in file units. It contains the surfaces
+  /// (convex hull property of positive weights) but may be larger than their tight box.
+  glm::dvec3 bbox_min{0.0}, bbox_max{0.0};
+  double size = 0.0;  ///< bbox diagonal (ACIS-style model size), file units
+  std::map<int, int> skipped_entities;
+  std::vector<FaceSummary> face_list;
+};
+
+/// Collects the summary of `model`.
+ModelSummary summarize(const Model& model);
+
+/// Human-readable text, one fact per line; with `per_face` a line per face follows.
+std::string to_text(const ModelSummary& s, bool per_face = false);
+
+/// JSON object with the same facts ("faces" is the count, "face_list" the per-face array,
+/// "skipped_entities" maps type numbers (as strings) to counts).
+nlohmann::json to_json(const ModelSummary& s);
+
+}  // namespace nurbs::io

@@ -1,0 +1,38 @@
+#pragma once
+/// \file surface_eval.h
+/// Evaluation of (rational) tensor-product B-spline surfaces of any degree: point, first and
+/// second partial derivatives, unit normal (The NURBS Book A3.6 on the homogeneous surface, then
+/// A4.4 for the rational quotient rule). Inputs are assumed valid (validate.h); (u, v) outside the
+/// domain are clamped to it.
+#include "nurbs/knot_vector.h"
+#include "nurbs/surface.h"
+
+#include <glm/vec3.hpp>
+
+namespace nurbs {
+
+/// Domain along u: [knots_u[p], knots_u[count_u]].
+[[nodiscard]] Interval surface_domain_u(const Surface& s);
+/// Domain along v: [knots_v[q], knots_v[count_v]].
+[[nodiscard]] Interval surface_domain_v(const Surface& s);
+
+/// S and its partial derivatives up to order 2, all wrt the surface's own parameters (u, v).
+struct SurfaceDerivatives {
+  glm::dvec3 s{0.0};
+  glm::dvec3 su{0.0}, sv{0.0};
+  glm::dvec3 suu{0.0}, suv{0.0}, svv{0.0};
+};
+
+/// Point S(u, v) (A4.3).
+[[nodiscard]] glm::dvec3 surface_point(const Surface& s, double u, double v);
+
+/// S, Su, Sv, Suu, Suv, Svv at (u, v) (A3.6 homogeneous derivatives + A4.4 quotient rule).
+[[nodiscard]] SurfaceDerivatives surface_derivatives(const Surface& s, double u, double v);
+
+/// Unit normal normalize(Su x Sv). At a degenerate point (Su or Sv vanishing, e.g. the pole of a
+/// sphere whose whole control row collapses) it takes the limit from inside the domain: +-Suv x Sv
+/// when Su = 0, +-Su x Suv when Sv = 0 (sign: + on the first half of the domain, - on the second, as
+/// Su(u, v0 + dv) ~ dv Suv). Returns (0, 0, 0) when that fails too.
+[[nodiscard]] glm::dvec3 surface_normal(const Surface& s, double u, double v);
+
+}  // namespace nurbs

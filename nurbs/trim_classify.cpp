@@ -1,0 +1,123 @@
+#include "nurbs/trim_classify.h"
+
+#include "nurbs/bezier_extraction.h"
+#include "nurbs/curve_eval.h"
+#include "nurbs/surface_eval.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace nurbs {
+namespace {
+
+double distance_to_chord(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+  const glm::dvec2 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  if (len2 == 0.0) return glm::length(p - a);
+  const double t = std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0);
+  return glm::length(p - (a + t * ab));
+}
+
+void push_unique(std::vector<glm::dvec2>& out, glm::dvec2 p) {
+  if (out.empty() || out.back() != p) out.push_back(p);
+}
+
+/// Appends points of (t0, t1] of a Bézier segment, bisecting until flat (depth <= 30 guards NaN).
+void flatten_piece(const Curve2& seg, double t0, glm::dvec2 p0, double t1, glm::dvec2 p1, double tol, int depth,
+                   std::vector<glm::dvec2>& out) {
+  const double tm = 0.5 * (t0 + t1);
+  const glm::dvec2 pm = curve_point(seg, tm);
+  const bool flat = depth >= 30 || (distance_to_chord(pm, p0, p1) <= tol &&
+                                    distance_to_chord(curve_point(seg, 0.5 * (t0 + tm)), p0, p1) <= tol &&
+                                    distance_to_chord(curve_point(seg, 0.5 * (tm + t1)), p0, p1) <= tol);
+  // Depth >= 2 always: a whole Bézier segment can be symmetric with its quarter points on the chord.
+  if (flat && depth >= 2) {
+    push_unique(out, p1);
+    return;
+  }
+  flatten_piece(seg, t0, p0, tm, pm, tol, depth + 1, out);
+  flatten_piece(seg, tm, pm, t1, p1, tol, depth + 1, out);
+}
+
+}  // namespace
+
+std::vector<glm::dvec2> flatten_curve(const Curve2& curve, double tolerance) {
+  std::vector<glm::dvec2> out;
+  for (const auto& seg : extract_bezier_segments(curve)) {
+    const glm::dvec2 a = curve_point(seg.curve, seg.range.min), b = curve_point(seg.curve, seg.range.max);
+    push_unique(out, a);
+    if (seg.curve.degree == 1 && !seg.curve.rational()) {
+      push_unique(out, b);
+    } else {
+      flatten_piece(seg.curve, seg.range.min, a, seg.range.max, b, tolerance, 0, out);
+    }
+  }
+  return out;
+}
+
+TrimPolygons flatten_trim(const TrimmedSurface& face, double tolerance) {
+  TrimPolygons t;
+  t.domain_u = surface_domain_u(face.surface);
+  t.domain_v = surface_domain_v(face.surface);
+  for (const auto& loop : face.loops) {
+    std::vector<glm::dvec2> poly;
+    for (const auto& c : loop.curves) {
+      for (const auto& p : flatten_curve(c, tolerance)) push_unique(poly, p);
+    }
+    if (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+    t.loops.push_back(std::move(poly));
+    t.outer.push_back(loop.outer);
+  }
+  return t;
+}
+
+int winding_number(const std::vector<glm::dvec2>& poly, glm::dvec2 p) {
+  int wn = 0;
+  const size_t n = poly.size();
+  for (size_t i = 0; i < n; ++i) {
+    const glm::dvec2 a = poly[i], b = poly[(i + 1) % n];
+    const double side = (b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y);  // > 0: p left of a->b
+    if (a.y <= p.y) {
+      if (b.y > p.y && side > 0) ++wn;
+    } else if (b.y <= p.y && side < 0) {
+      --wn;
+    }
+  }
+  return wn;
+}
+
+double signed_area(const std::vector<glm::dvec2>& poly) {
+  double a = 0.0;
+  const size_t n = poly.size();
+  // Relative to the first vertex: fewer cancellation digits for loops far from the origin.
+  for (size_t i = 1; i + 1 < n; ++i) {
+    const glm::dvec2 e1 = poly[i] - poly[0], e2 = poly[i + 1] - poly[0];
+    a += e1.x * e2.y - e2.x * e1.y;
+  }
+  return 0.5 * a;
+}
+
+bool is_material(const TrimPolygons& trim, glm::dvec2 uv) {
+  if (uv.x < trim.domain_u.min || uv.x > trim.domain_u.max || uv.y < trim.domain_v.min || uv.y > trim.domain_v.max) {
+    return false;
+  }
+  bool any_outer = false, in_outer = false;
+  for (size_t k = 0; k < trim.loops.size(); ++k) {
+    const bool inside = winding_number(trim.loops[k], uv) != 0;
+    if (trim.outer[k]) {
+      any_outer = true;
+      in_outer = in_outer || inside;
+    } else if (inside) {
+      return false;
+    }
+  }
+  return any_outer ? in_outer : true;
+}
+
+bool is_material(const TrimmedSurface& face, glm::dvec2 uv, double tolerance) {
+  return is_material(flatten_trim(face, tolerance), uv);
+}
+
+}  // namespace nurbs

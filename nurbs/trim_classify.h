@@ -1,0 +1,48 @@
+#pragma once
+/// \file trim_classify.h
+/// Point-in-trim classification of (u, v) against a face's trim loops (Krishnamurthy et al. §5.3:
+/// the CPU reference for the trim texture). Loops are flattened adaptively to polygons within a
+/// tolerance, then each loop's winding number is computed exactly on the polygon.
+#include "nurbs/knot_vector.h"
+#include "nurbs/trimmed_surface.h"
+
+#include <glm/vec2.hpp>
+#include <vector>
+
+namespace nurbs {
+
+/// Polyline through C(u) at parameters chosen by adaptive bisection of each Bézier segment until the
+/// curve points at 1/4, 1/2 and 3/4 of every piece lie within `tolerance` (parameter-space units) of
+/// the chord (degree-1 polynomial segments are exact). First and last points are C(u_min), C(u_max);
+/// consecutive duplicates are dropped.
+[[nodiscard]] std::vector<glm::dvec2> flatten_curve(const Curve2& curve, double tolerance);
+
+/// Flattened loops of a face; loop k is closed implicitly (last point joins the first).
+struct TrimPolygons {
+  std::vector<std::vector<glm::dvec2>> loops;
+  std::vector<bool> outer;  ///< copied from TrimLoop::outer
+  Interval domain_u, domain_v;
+};
+
+/// Flattens every loop (curves concatenated in order, junction duplicates dropped).
+[[nodiscard]] TrimPolygons flatten_trim(const TrimmedSurface& face, double tolerance);
+
+/// Winding number of a closed polygon around p (Sunday's crossing rule: upward edges count +1 when p
+/// is strictly left, downward edges -1 when strictly right, half-open in y so a vertex on the ray is
+/// counted once). CCW loops give +1 inside.
+[[nodiscard]] int winding_number(const std::vector<glm::dvec2>& polygon, glm::dvec2 p);
+
+/// Signed area (shoelace): > 0 for counter-clockwise polygons.
+[[nodiscard]] double signed_area(const std::vector<glm::dvec2>& polygon);
+
+/// True when (u, v) is material: inside the domain, inside some outer loop (or no outer loops: the
+/// domain rectangle is the outer boundary, as for untrimmed faces and IGES 144 faces with only holes)
+/// and inside no inner loop. "Inside a loop" = non-zero winding, so mis-oriented loops still classify
+/// right; orientation is checked and fixed separately (trim_loops.h). Points within the flattening
+/// tolerance of a trim curve may go either way.
+[[nodiscard]] bool is_material(const TrimPolygons& trim, glm::dvec2 uv);
+
+/// Convenience: flatten_trim + is_material for one point (flatten once for many points instead).
+[[nodiscard]] bool is_material(const TrimmedSurface& face, glm::dvec2 uv, double tolerance);
+
+}  // namespace nurbs

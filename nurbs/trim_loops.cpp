@@ -1,0 +1,145 @@
+#include "nurbs/trim_loops.h"
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/homogeneous.h"
+#include "nurbs/knot_insertion.h"
+#include "nurbs/knot_vector.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/validate.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+
+namespace nurbs {
+namespace {
+
+glm::dvec2 start_point(const Curve2& c) { return curve_point(c, curve_domain(c).min); }
+glm::dvec2 end_point(const Curve2& c) { return curve_point(c, curve_domain(c).max); }
+
+double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+
+/// Closed-segment intersection (touching counts), with the intersection or touching point.
+bool segments_meet(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d, glm::dvec2& where) {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+  const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+    where = a + (b - a) * (d1 / (d1 - d2));
+    return true;
+  }
+  auto on = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {  // r on segment pq, given collinear
+    return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y && r.y <= std::max(p.y, q.y);
+  };
+  if (d1 == 0 && on(a, b, c)) return where = c, true;
+  if (d2 == 0 && on(a, b, d)) return where = d, true;
+  if (d3 == 0 && on(c, d, a)) return where = a, true;
+  if (d4 == 0 && on(c, d, b)) return where = b, true;
+  return false;
+}
+
+struct Edge {
+  glm::dvec2 a, b;
+  size_t loop, index, loop_size;
+  double xmin, xmax;
+};
+
+bool adjacent(const Edge& e, const Edge& f) {
+  if (e.loop != f.loop) return false;
+  const size_t n = e.loop_size;
+  return (e.index + 1) % n == f.index || (f.index + 1) % n == e.index;
+}
+
+}  // namespace
+
+std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance, double flatten_tolerance) {
+  std::vector<std::string> out;
+  const int id = face.face_id;
+  bool curves_valid = true;
+  for (size_t k = 0; k < face.loops.size(); ++k) {
+    const auto& loop = face.loops[k];
+    if (loop.curves.empty()) out.push_back(fmt::format("face {}: loop {} has no curves", id, k));
+    for (size_t c = 0; c < loop.curves.size(); ++c) {
+      for (const auto& p : validate(loop.curves[c])) {
+        out.push_back(fmt::format("face {}: loop {} curve {}: {}", id, k, c, p));
+        curves_valid = false;
+      }
+    }
+  }
+  if (!curves_valid) return out;  // evaluation below assumes valid curves
+  for (size_t k = 0; k < face.loops.size(); ++k) {
+    const auto& curves = face.loops[k].curves;
+    for (size_t c = 0; c < curves.size(); ++c) {
+      const size_t next = (c + 1) % curves.size();
+      const double gap = glm::length(end_point(curves[c]) - start_point(curves[next]));
+      if (gap > gap_tolerance) {
+        out.push_back(fmt::format("face {}: loop {} does not close: curve {} ends {:.3g} from the start of curve {} "
+                                  "(tolerance {:.3g})",
+                                  id, k, c, gap, next, gap_tolerance));
+      }
+    }
+  }
+  const TrimPolygons polys = flatten_trim(face, flatten_tolerance);
+  std::vector<Edge> edges;
+  for (size_t k = 0; k < polys.loops.size(); ++k) {
+    const auto& poly = polys.loops[k];
+    for (size_t i = 0; i < poly.size() && poly.size() >= 2; ++i) {
+      const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+      edges.push_back({a, b, k, i, poly.size(), std::min(a.x, b.x), std::max(a.x, b.x)});
+    }
+  }
+  // Sweep in x: only edges whose x ranges overlap are tested.
+  std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) { return e.xmin < f.xmin; });
+  std::vector<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
+  for (size_t i = 0; i < edges.size(); ++i) {
+    for (size_t j = i + 1; j < edges.size() && edges[j].xmin <= edges[i].xmax; ++j) {
+      const Edge &e = edges[i], &f = edges[j];
+      if (adjacent(e, f)) continue;
+      glm::dvec2 where;
+      if (!segments_meet(e.a, e.b, f.a, f.b, where)) continue;
+      const std::pair<size_t, size_t> key{std::min(e.loop, f.loop), std::max(e.loop, f.loop)};
+      if (std::find(reported.begin(), reported.end(), key) != reported.end()) continue;
+      reported.push_back(key);
+      if (e.loop == f.loop) {
+        out.push_back(fmt::format("face {}: loop {} crosses itself near (u, v) = ({:.6g}, {:.6g})", id, e.loop, where.x, where.y));
+      } else {
+        out.push_back(fmt::format("face {}: loops {} and {} cross near (u, v) = ({:.6g}, {:.6g})", id, key.first,
+                                  key.second, where.x, where.y));
+      }
+    }
+  }
+  return out;
+}
+
+int repair_trim_gaps(TrimmedSurface& face, double tolerance) {
+  int repairs = 0;
+  for (auto& loop : face.loops) {
+    for (size_t c = 0; c < loop.curves.size(); ++c) {
+      Curve2& cur = loop.curves[c];
+      const glm::dvec2 target = start_point(loop.curves[(c + 1) % loop.curves.size()]);
+      const double gap = glm::length(end_point(cur) - target);
+      if (!(gap > 0.0 && gap <= tolerance)) continue;
+      if (!is_clamped(cur.knots, cur.degree)) cur = from_homogeneous<2>(clamp_curve(to_homogeneous(cur)), cur.rational());
+      cur.points.back() = target;  // clamped: the curve ends at its last control point
+      ++repairs;
+    }
+  }
+  return repairs;
+}
+
+int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance) {
+  const TrimPolygons polys = flatten_trim(face, flatten_tolerance);
+  int reversed_loops = 0;
+  for (size_t k = 0; k < face.loops.size(); ++k) {
+    const double area = signed_area(polys.loops[k]);
+    auto& loop = face.loops[k];
+    if ((loop.outer && area < 0) || (!loop.outer && area > 0)) {
+      std::reverse(loop.curves.begin(), loop.curves.end());
+      for (auto& c : loop.curves) c = reversed(c);
+      ++reversed_loops;
+    }
+  }
+  return reversed_loops;
+}
+
+}  // namespace nurbs

@@ -1,0 +1,31 @@
+#pragma once
+/// \file trim_loops.h
+/// Trim loop hygiene, as CAD readers need it: report loops that do not close or that cross (naming
+/// the face), close small gaps, and orient loops (outer counter-clockwise, inner clockwise, so the
+/// material is on the left; the convention of trimmed_surface.h and of IGES 141/142).
+#include "nurbs/trimmed_surface.h"
+
+#include <string>
+#include <vector>
+
+namespace nurbs {
+
+/// Everything wrong with a face's loops, empty when fine. Each message starts "face <face_id>:".
+/// Reports: invalid curves (validate()), empty loops, gaps > gap_tolerance between the end of a
+/// curve and the start of the next (and last -> first), and crossings: any two non-adjacent edges
+/// of the flattened loops (flatten_trim with flatten_tolerance) that intersect or touch, within a
+/// loop ("crosses itself") or between loops ("loops a and b cross"), with the (u, v) where.
+[[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
+                                                        double flatten_tolerance);
+
+/// Closes gaps of size in (0, tolerance] between consecutive curves of each loop by moving the end
+/// of the earlier curve onto the start of the next (its last control point, after clamping the curve
+/// if it was unclamped). Returns the number of gaps closed; larger gaps are left for the checker.
+int repair_trim_gaps(TrimmedSurface& face, double tolerance);
+
+/// Reverses loops whose flattened signed area has the wrong sign for their role (outer must be > 0,
+/// inner < 0): curve order reversed and each curve reparametrised backwards. Returns how many loops
+/// were reversed.
+int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance);
+
+}  // namespace nurbs

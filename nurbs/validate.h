@@ -1,0 +1,23 @@
+#pragma once
+/// \file validate.h
+/// Validation of curves and surfaces: an explicit call returning everything that is wrong, so
+/// readers can report it and evaluation code can assume valid input.
+#include "nurbs/curve.h"
+#include "nurbs/surface.h"
+
+#include <string>
+#include <vector>
+
+namespace nurbs {
+
+/// Problems of a curve, empty when valid: the knot vector (validate_knots, prefixed "knots: "),
+/// weights count equal to points count when rational, every weight finite and > 0, every control
+/// point coordinate finite.
+template <int D>
+[[nodiscard]] std::vector<std::string> validate(const Curve<D>& curve);
+
+/// Problems of a surface, empty when valid: both knot vectors ("knots_u: ", "knots_v: "),
+/// points.size() == count_u * count_v, weights (if any) of the same size, finite and > 0, finite points.
+[[nodiscard]] std::vector<std::string> validate(const Surface& surface);
+
+}  // namespace nurbs

@@ -1,0 +1,45 @@
+// Model summary as struct, text and JSON, on the exact sample model.
+#include "sample_models.h"
+
+#include "nurbs/io/model_summary.h"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+TEST_CASE("summary of the sample model") {
+  nurbs::Model m = nurbs::io::test::small_model();
+  m.skipped_entities[120] = 2;
+  const nurbs::io::ModelSummary s = nurbs::io::summarize(m);
+  CHECK(s.faces == 2);
+  CHECK(s.trimmed_faces == 1);
+  CHECK(s.rational_faces == 1);
+  CHECK(s.control_points == 9 + 16);
+  CHECK(s.max_degree_u == 3);
+  CHECK(s.outer_loops == 1);
+  CHECK(s.inner_loops == 1);
+  CHECK(s.trim_curves == 5);
+  // Control points: cylinder in [0,2]x[0,3]x[0,2], bump in [0,3]x[0,3]x[0,1]; exact small integers.
+  CHECK(s.bbox_min == glm::dvec3(0.0));
+  CHECK(s.bbox_max == glm::dvec3(3.0, 3.0, 2.0));
+  CHECK(s.size == doctest::Approx(std::sqrt(22.0)).epsilon(1e-15));  // one rounding in sqrt
+  const std::string text = nurbs::io::to_text(s, true);
+  CHECK(text.find("faces: 2 (1 trimmed, 1 rational)") != std::string::npos);
+  CHECK(text.find("skipped entities: 120x2") != std::string::npos);
+  CHECK(text.find("loops 1 outer 1 inner, 5 curves") != std::string::npos);
+  const nlohmann::json j = nurbs::io::to_json(s);
+  CHECK(j["faces"] == 2);
+  CHECK(j["skipped_entities"]["120"] == 2);
+  CHECK(j["face_list"].size() == 2);
+  CHECK(j["face_list"][0]["rational"] == true);
+  CHECK(j["bbox"]["max"][2] == 2.0);
+}
+
+TEST_CASE("summary: body transform moves the bbox") {
+  nurbs::Model m = nurbs::io::test::small_model();
+  m.bodies[0].transform[3] = glm::dvec4(10.0, 0.0, 0.0, 1.0);  // translate by +10 in x
+  const auto s = nurbs::io::summarize(m);
+  CHECK(s.bbox_min.x == 10.0);
+  CHECK(s.bbox_max.x == 13.0);
+}

@@ -1,0 +1,209 @@
+// Point-in-trim classification, loop checks (gaps, crossings, face id), gap repair and orientation.
+#include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
+#include "models/random_surfaces.h"
+#include "nurbs/curve_eval.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/trim_loops.h"
+
+#include <doctest/doctest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <string>
+
+using models::trim_line;
+
+namespace {
+
+/// Flattening tolerance in parameter units for faces on [0,1]^2: far below the feature sizes (0.1).
+constexpr double kFlat = 1e-5;
+
+nurbs::Surface unit_plane() {
+  nurbs::Surface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  return s;
+}
+
+nurbs::TrimLoop square_loop(glm::dvec2 lo, glm::dvec2 hi, bool ccw, bool outer) {
+  const glm::dvec2 a = lo, b(hi.x, lo.y), c = hi, d(lo.x, hi.y);
+  if (ccw) return {{trim_line(a, b), trim_line(b, c), trim_line(c, d), trim_line(d, a)}, outer};
+  return {{trim_line(a, d), trim_line(d, c), trim_line(c, b), trim_line(b, a)}, outer};
+}
+
+/// Unit square face with a circular hole of radius 0.2 at the centre.
+nurbs::TrimmedSurface square_with_hole(bool correctly_oriented) {
+  nurbs::TrimmedSurface f;
+  f.surface = unit_plane();
+  f.face_id = 17;
+  f.loops.push_back(square_loop({0, 0}, {1, 1}, correctly_oriented, true));
+  f.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.2, !correctly_oriented)}, false});
+  return f;
+}
+
+bool contains(const std::vector<std::string>& v, const std::string& needle) {
+  for (const auto& s : v) {
+    if (s.find(needle) != std::string::npos) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("winding number counts a vertex on the ray once") {
+  const std::vector<glm::dvec2> diamond = {{1, 0}, {2, 1}, {1, 2}, {0, 1}};  // CCW
+  CHECK(nurbs::winding_number(diamond, {1, 1}) == 1);
+  CHECK(nurbs::winding_number(diamond, {0.5, 1}) == 1);  // ray to +x passes through vertex (2, 1)
+  CHECK(nurbs::winding_number(diamond, {-0.5, 1}) == 0);  // ray passes through both side vertices
+  CHECK(nurbs::winding_number({{1, 0}, {0, 1}, {1, 2}, {2, 1}}, {1, 1}) == -1);  // CW
+  CHECK(nurbs::signed_area(diamond) == doctest::Approx(2.0).epsilon(1e-15));
+}
+
+TEST_CASE("square with hole: classification, CCW and CW") {
+  struct Case {
+    glm::dvec2 uv;
+    bool material;
+  };
+  const Case cases[] = {{{0.1, 0.1}, true},  {{0.5, 0.5}, false},   {{0.75, 0.5}, true}, {{0.5, 0.69}, false},
+                        {{0.5, 0.71}, true}, {{0.36, 0.36}, false}, {{1.5, 0.5}, false}, {{-0.01, 0.5}, false},
+                        {{0.99, 0.99}, true}};
+  for (bool oriented : {true, false}) {
+    const auto face = square_with_hole(oriented);
+    const auto polys = nurbs::flatten_trim(face, kFlat);
+    for (const auto& c : cases) {
+      CAPTURE(oriented);
+      CAPTURE(c.uv.x);
+      CAPTURE(c.uv.y);
+      CHECK(nurbs::is_material(polys, c.uv) == c.material);
+    }
+  }
+  // Orientation fix-up: the mis-oriented face has both loops reversed, then none.
+  auto bad = square_with_hole(false);
+  CHECK(nurbs::orient_trim_loops(bad, kFlat) == 2);
+  const auto polys = nurbs::flatten_trim(bad, kFlat);
+  CHECK(nurbs::signed_area(polys.loops[0]) == doctest::Approx(1.0).epsilon(1e-12));
+  // Hole area: pi r^2 minus the flattening loss (<= perimeter x tolerance).
+  CHECK(std::abs(nurbs::signed_area(polys.loops[1]) + M_PI * 0.04) < 2 * M_PI * 0.2 * kFlat);
+  CHECK(nurbs::orient_trim_loops(bad, kFlat) == 0);
+  CHECK(nurbs::check_trim_loops(bad, 1e-12, kFlat).empty());
+}
+
+TEST_CASE("untrimmed face and face with holes only") {
+  nurbs::TrimmedSurface f;
+  f.surface = unit_plane();
+  CHECK(nurbs::is_material(f, {0.3, 0.3}, kFlat));
+  CHECK(nurbs::is_material(f, {1.0, 1.0}, kFlat));  // the domain is closed
+  CHECK_FALSE(nurbs::is_material(f, {1.0001, 0.5}, kFlat));
+  f.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.2, false)}, false});
+  CHECK_FALSE(nurbs::is_material(f, {0.5, 0.5}, kFlat));
+  CHECK(nurbs::is_material(f, {0.1, 0.5}, kFlat));
+}
+
+TEST_CASE("flattening stays within its tolerance") {
+  const auto circle = models::rational_circle_2d({0.2, 0.3}, 0.5, true);
+  for (double tol : {1e-2, 1e-4, 1e-6}) {
+    const auto poly = nurbs::flatten_curve(circle, tol);
+    CAPTURE(tol);
+    for (size_t i = 0; i + 1 < poly.size(); ++i) {
+      // Vertices are curve points (roundoff); the chord sagitta of the arc between them is <= tol.
+      CHECK(std::abs(glm::length(poly[i] - glm::dvec2(0.2, 0.3)) - 0.5) < 1e-12);
+      const double half = 0.5 * glm::length(poly[i + 1] - poly[i]);
+      CHECK(0.5 - std::sqrt(0.25 - half * half) <= tol);
+    }
+    CHECK(glm::length(poly.front() - poly.back()) < 1e-12);  // a closed curve returns to its start
+  }
+}
+
+TEST_CASE("loop checks: gaps reported and repaired, crossings named with the face id") {
+  auto face = square_with_hole(true);
+  face.loops[0].curves[1].points[0] += glm::dvec2(0.0, 1e-7);  // curve 0 ends 1e-7 from curve 1's start
+  const auto problems = nurbs::check_trim_loops(face, 1e-9, kFlat);
+  REQUIRE(problems.size() == 1);
+  CHECK(contains(problems, "face 17: loop 0 does not close: curve 0 ends 1e-07 from the start of curve 1"));
+  CHECK(nurbs::repair_trim_gaps(face, 1e-9) == 0);  // above the repair tolerance: left alone
+  CHECK(nurbs::repair_trim_gaps(face, 1e-6) == 1);
+  CHECK(nurbs::check_trim_loops(face, 1e-9, kFlat).empty());
+  CHECK(nurbs::repair_trim_gaps(face, 1e-6) == 0);  // nothing left to repair
+
+  // Two gaps, one in each loop, repaired together; a large gap remains reported.
+  auto two = square_with_hole(true);
+  two.loops[0].curves[3].points[1] += glm::dvec2(2e-8, 0.0);
+  two.loops[1].curves[0].points.back() += glm::dvec2(0.0, 3e-8);
+  two.loops[0].curves[2].points[1] += glm::dvec2(0.05, 0.0);
+  CHECK(nurbs::repair_trim_gaps(two, 1e-6) == 2);
+  const auto left = nurbs::check_trim_loops(two, 1e-6, kFlat);
+  REQUIRE(left.size() == 1);
+  CHECK(contains(left, "face 17: loop 0 does not close: curve 2 ends 0.05"));
+
+  // Two holes that overlap, and a figure-eight outer loop.
+  auto crossing = square_with_hole(true);
+  crossing.loops.push_back({{models::rational_circle_2d({0.65, 0.5}, 0.2, false)}, false});
+  const auto cp = nurbs::check_trim_loops(crossing, 1e-9, kFlat);
+  REQUIRE(cp.size() == 1);
+  CHECK(contains(cp, "face 17: loops 1 and 2 cross near (u, v) = (0.57"));
+  nurbs::TrimmedSurface eight;
+  eight.surface = unit_plane();
+  eight.face_id = 4;
+  eight.loops.push_back({{trim_line({0.1, 0.1}, {0.9, 0.9}), trim_line({0.9, 0.9}, {0.9, 0.1}),
+                          trim_line({0.9, 0.1}, {0.1, 0.9}), trim_line({0.1, 0.9}, {0.1, 0.1})},
+                         true});
+  const auto ep = nurbs::check_trim_loops(eight, 1e-9, kFlat);
+  REQUIRE(ep.size() == 1);
+  CHECK(contains(ep, "face 4: loop 0 crosses itself near (u, v) = (0.5, 0.5)"));
+  // An invalid trim curve is reported with its loop and curve index.
+  eight.loops[0].curves[2].knots = {0, 1, 0, 1};
+  CHECK(contains(nurbs::check_trim_loops(eight, 1e-9, kFlat), "face 4: loop 0 curve 2: knots: knots decrease"));
+}
+
+TEST_CASE("random trimmed faces: classification agrees with the exact shapes") {
+  int checked = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    const auto face = models::random_trimmed_surface(seed);
+    CAPTURE(seed);
+    CHECK(nurbs::check_trim_loops(face, 1e-12, 1e-6).empty());
+    auto copy = face;
+    CHECK(nurbs::orient_trim_loops(copy, 1e-6) == 0);  // the generator orients its loops
+    const auto polys = nurbs::flatten_trim(face, 1e-7);
+    models::Random rng(seed + 99);
+    for (int k = 0; k < 50; ++k) {
+      const glm::dvec2 uv(rng.uniform(polys.domain_u.min, polys.domain_u.max),
+                          rng.uniform(polys.domain_v.min, polys.domain_v.max));
+      // Exact answer: the outer loop is a polygon (flattening is exact), holes are circles.
+      bool material = true;
+      bool near = false;
+      for (size_t l = 0; l < face.loops.size(); ++l) {
+        if (face.loops[l].outer) {
+          material = material && nurbs::winding_number(polys.loops[l], uv) != 0;
+        } else {
+          const auto& pts = face.loops[l].curves[0].points;
+          const glm::dvec2 centre = 0.5 * (pts[0] + pts[4]);  // 9-point circle: P0 and P4 are opposite
+          const double r = 0.5 * glm::length(pts[0] - pts[4]);
+          const double d = glm::length(uv - centre);
+          if (d < r) material = false;
+          near = near || std::abs(d - r) < 1e-6;  // within the flattening band: either answer is right
+        }
+      }
+      if (near) continue;
+      CHECK(nurbs::is_material(polys, uv) == material);
+      ++checked;
+    }
+  }
+  CHECK(checked > 9000);
+}
+
+TEST_CASE("the trimmed paper surface has clean loops") {
+  const auto face = models::trimmed_wavy_surface_100x105();
+  CHECK(face.loops.size() == 4);
+  CHECK(nurbs::check_trim_loops(face, 1e-12, 1e-6).empty());
+  auto copy = face;
+  CHECK(nurbs::orient_trim_loops(copy, 1e-6) == 0);
+  const auto polys = nurbs::flatten_trim(face, 1e-6);
+  CHECK(nurbs::is_material(polys, {0.5, 0.5}));
+  CHECK_FALSE(nurbs::is_material(polys, {0.3, 0.3}));   // first hole centre
+  CHECK_FALSE(nurbs::is_material(polys, {0.7, 0.65}));  // second hole centre
+  CHECK_FALSE(nurbs::is_material(polys, {0.3, 0.72}));  // blob
+  CHECK_FALSE(nurbs::is_material(polys, {0.02, 0.5}));  // outside the outer loop
+}
