@@ -1,0 +1,102 @@
+#include "queries/surface_grid.h"
+
+#include "nurbs/filip_bound.h"
+#include "nurbs/surface_eval.h"
+
+#include <fmt/format.h>
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace queries {
+namespace {
+
+gpgpu::Texture normalised_knots(const std::vector<double>& knots, nurbs::Interval domain) {
+  std::vector<float> k(knots.size());
+  for (size_t i = 0; i < knots.size(); ++i) k[i] = static_cast<float>((knots[i] - domain.min) / domain.width());
+  gpgpu::Texture t(static_cast<int>(k.size()), 1, gpgpu::Format::R32F);
+  t.upload(k);
+  return t;
+}
+
+}  // namespace
+
+GpuSurface upload_surface(const nurbs::Surface& s, int max_texture_size) {
+  const auto max_knots = static_cast<size_t>(max_texture_size);
+  if (s.knots_u.size() > max_knots || s.knots_v.size() > max_knots)
+    throw std::invalid_argument(fmt::format("surface with {}x{} knots exceeds GL_MAX_TEXTURE_SIZE {}",
+                                            s.knots_u.size(), s.knots_v.size(), max_texture_size));
+  GpuSurface g;
+  g.count_u = s.count_u;
+  g.count_v = s.count_v;
+  g.degree_u = s.degree_u;
+  g.degree_v = s.degree_v;
+  glm::dvec3 lo = s.points.front(), hi = s.points.front();
+  for (const glm::dvec3& p : s.points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  g.origin = 0.5 * (lo + hi);
+  std::vector<float> pw(s.points.size() * 4);
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const double w = s.weights.empty() ? 1.0 : s.weights[i];
+    const glm::dvec3 local = (s.points[i] - g.origin) * w;
+    pw[4 * i + 0] = static_cast<float>(local.x);
+    pw[4 * i + 1] = static_cast<float>(local.y);
+    pw[4 * i + 2] = static_cast<float>(local.z);
+    pw[4 * i + 3] = static_cast<float>(w);
+  }
+  g.control = gpgpu::Texture(s.count_u, s.count_v, gpgpu::Format::RGBA32F);
+  g.control.upload(pw);
+  g.knots_u = normalised_knots(s.knots_u, nurbs::surface_domain_u(s));
+  g.knots_v = normalised_knots(s.knots_v, nurbs::surface_domain_v(s));
+  return g;
+}
+
+SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& s, int n, int m) {
+  SurfaceGrid grid;
+  grid.n = n;
+  grid.m = m;
+  grid.points = gpgpu::Texture(n + 1, m + 1, gpgpu::Format::RGBA32F);
+  grid.normals = gpgpu::Texture(n + 1, m + 1, gpgpu::Format::RGBA32F);
+  gpgpu::Program& p =
+      gpu.program("surface_eval.frag", {{"MAX_DEGREE", std::to_string(std::max(s.degree_u, s.degree_v))}});
+  p.set("u_count", s.count_u, s.count_v);
+  p.set("u_degree", s.degree_u, s.degree_v);
+  p.set("u_grid", n + 1, m + 1);
+  p.set("u_origin", float(s.origin.x), float(s.origin.y), float(s.origin.z));
+  const gpgpu::Input inputs[] = {{"u_knots_u", &s.knots_u}, {"u_knots_v", &s.knots_v}, {"u_ctrl", &s.control}};
+  gpgpu::Texture* outputs[] = {&grid.points, &grid.normals};
+  gpu.run("surface_eval", p, inputs, outputs);
+  gpu.dump("surface_points", grid.points);
+  gpu.dump("surface_normals", grid.normals);
+  return grid;
+}
+
+SurfaceGridCpu evaluate_surface_cpu(const nurbs::Surface& s, int n, int m) {
+  SurfaceGridCpu g;
+  g.n = n;
+  g.m = m;
+  const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+  g.points.reserve(size_t(n + 1) * size_t(m + 1));
+  g.normals.reserve(g.points.capacity());
+  for (int j = 0; j <= m; ++j) {
+    const double v = j == m ? dv.max : dv.min + dv.width() * j / m;
+    for (int i = 0; i <= n; ++i) {
+      const double u = i == n ? du.max : du.min + du.width() * i / n;
+      g.points.push_back(nurbs::surface_point(s, u, v));
+      g.normals.push_back(nurbs::surface_normal(s, u, v));
+    }
+  }
+  return g;
+}
+
+GridForTolerance grid_for_tolerance(const nurbs::Surface& surface, double tolerance, int max_samples) {
+  const nurbs::FilipBound b = nurbs::filip_bound(surface);
+  const nurbs::GridChoice c = nurbs::choose_grid(b, tolerance, max_samples - 1);
+  return {c.n, c.m, c.k};
+}
+
+}  // namespace queries
