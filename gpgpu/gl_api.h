@@ -74,6 +74,21 @@ namespace gpgpu::gl {
   X(void, EndQuery, (GLenum))                                                                        \
   X(void, GetQueryObjectui64v, (GLuint, GLenum, GLuint64*))                                          \
   X(void, GetQueryObjectiv, (GLuint, GLenum, GLint*))                                             \
+  X(void, CreateBuffers, (GLsizei, GLuint*))                                                        \
+  X(void, DeleteBuffers, (GLsizei, const GLuint*))                                                   \
+  X(void, NamedBufferData, (GLuint, GLsizeiptr, const void*, GLenum))                                \
+  X(void, VertexArrayVertexBuffer, (GLuint, GLuint, GLuint, GLintptr, GLsizei))                      \
+  X(void, VertexArrayAttribFormat, (GLuint, GLuint, GLint, GLenum, GLboolean, GLuint))               \
+  X(void, VertexArrayAttribBinding, (GLuint, GLuint, GLuint))                                        \
+  X(void, EnableVertexArrayAttrib, (GLuint, GLuint))                                                 \
+  X(void, StencilFunc, (GLenum, GLint, GLuint))                                                      \
+  X(void, StencilOp, (GLenum, GLenum, GLenum))                                                       \
+  X(void, StencilMask, (GLuint))                                                                     \
+  X(void, ClearNamedFramebufferiv, (GLuint, GLenum, GLint, const GLint*))                            \
+  X(void, CreateRenderbuffers, (GLsizei, GLuint*))                                                   \
+  X(void, DeleteRenderbuffers, (GLsizei, const GLuint*))                                             \
+  X(void, NamedRenderbufferStorage, (GLuint, GLenum, GLsizei, GLsizei))                              \
+  X(void, NamedFramebufferRenderbuffer, (GLuint, GLenum, GLenum, GLuint))                            \
   X(void, GetQueryiv, (GLenum, GLenum, GLint*))                                                     \
   X(void, ClearNamedFramebufferfv, (GLuint, GLenum, GLint, const GLfloat*))
 

@@ -42,10 +42,14 @@ Gpu::~Gpu() {
 }
 
 Program& Gpu::program(const std::string& fragment, const Defines& defines) {
-  std::string key = fragment;
+  return program("fullscreen.vert", fragment, defines);
+}
+
+Program& Gpu::program(const std::string& vertex, const std::string& fragment, const Defines& defines) {
+  std::string key = vertex + "+" + fragment;
   for (const auto& [k, v] : defines) key += fmt::format("|{}={}", k, v);
   auto it = programs_.find(key);
-  if (it == programs_.end()) it = programs_.emplace(key, Program(shaders_, "fullscreen.vert", fragment, defines)).first;
+  if (it == programs_.end()) it = programs_.emplace(key, Program(shaders_, vertex, fragment, defines)).first;
   return it->second;
 }
 

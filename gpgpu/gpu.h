@@ -60,6 +60,8 @@ class Gpu {
 
   /// The program fullscreen.vert + `fragment` with `defines`, compiled once and cached.
   Program& program(const std::string& fragment, const Defines& defines = {});
+  /// The same with another vertex stage (e.g. polygon.vert for rasterised geometry).
+  Program& program(const std::string& vertex, const std::string& fragment, const Defines& defines);
 
   /// Runs one pass: binds `outputs` (checked for completeness), the viewport (whole first output
   /// unless `viewport` is given), `inputs` on texture units 0..n-1, blend/depth/scissor/stencil off,
