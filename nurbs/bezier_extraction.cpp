@@ -57,12 +57,7 @@ template std::vector<BezierSegment<2>> extract_bezier_segments(const Curve<2>&);
 template std::vector<BezierSegment<3>> extract_bezier_segments(const Curve<3>&);
 
 Surface refine_surface_to_bezier(const Surface& s) {
-  std::vector<HomogeneousCurve> rows;
-  for (int j = 0; j < s.count_v; ++j) rows.push_back(refine_to_bezier(surface_row(s, j)));
-  const Surface su = surface_from_rows(rows, s, s.rational());
-  std::vector<HomogeneousCurve> cols;
-  for (int i = 0; i < su.count_u; ++i) cols.push_back(refine_to_bezier(surface_column(su, i)));
-  return surface_from_columns(cols, su, s.rational());
+  return apply_to_columns(apply_to_rows(s, refine_to_bezier), refine_to_bezier);
 }
 
 std::vector<BezierPatch> extract_bezier_patches(const Surface& s) {

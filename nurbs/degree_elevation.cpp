@@ -119,15 +119,11 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int t) {
 }
 
 Surface elevate_degree_u(const Surface& s, int t) {
-  std::vector<HomogeneousCurve> rows;
-  for (int j = 0; j < s.count_v; ++j) rows.push_back(elevate_degree(surface_row(s, j), t));
-  return surface_from_rows(rows, s, s.rational());
+  return apply_to_rows(s, [t](const HomogeneousCurve& h) { return elevate_degree(h, t); });
 }
 
 Surface elevate_degree_v(const Surface& s, int t) {
-  std::vector<HomogeneousCurve> cols;
-  for (int i = 0; i < s.count_u; ++i) cols.push_back(elevate_degree(surface_column(s, i), t));
-  return surface_from_columns(cols, s, s.rational());
+  return apply_to_columns(s, [t](const HomogeneousCurve& h) { return elevate_degree(h, t); });
 }
 
 }  // namespace nurbs

@@ -35,12 +35,15 @@ template HomogeneousCurve to_homogeneous(const Curve<3>&);
 template Curve<2> from_homogeneous<2>(const HomogeneousCurve&, bool);
 template Curve<3> from_homogeneous<3>(const HomogeneousCurve&, bool);
 
-HomogeneousCurve reversed(const HomogeneousCurve& h) {
-  HomogeneousCurve r{h.degree, std::vector<double>(h.knots.rbegin(), h.knots.rend()),
-                     std::vector<glm::dvec4>(h.points.rbegin(), h.points.rend())};
-  const double sum = h.knots.front() + h.knots.back();
-  for (double& k : r.knots) k = sum - k;
+std::vector<double> reversed_knots(const std::vector<double>& knots) {
+  std::vector<double> r(knots.rbegin(), knots.rend());
+  const double sum = knots.front() + knots.back();
+  for (double& k : r) k = sum - k;
   return r;
+}
+
+HomogeneousCurve reversed(const HomogeneousCurve& h) {
+  return {h.degree, reversed_knots(h.knots), std::vector<glm::dvec4>(h.points.rbegin(), h.points.rend())};
 }
 
 namespace {

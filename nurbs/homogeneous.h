@@ -26,12 +26,17 @@ template <int D>
 template <int D>
 [[nodiscard]] Curve<D> from_homogeneous(const HomogeneousCurve& h, bool rational);
 
+/// Knots of the reversed parametrisation u -> a + b - u over the knot range [a, b], in order.
+[[nodiscard]] std::vector<double> reversed_knots(const std::vector<double>& knots);
+
 /// The same curve traversed backwards: parameter u -> a + b - u over its knot range [a, b],
-/// control points and knots reversed. Used to clamp curve ends and to orient trim loops.
+/// control points (and weights) and knots reversed. Used to clamp curve ends and to orient trim
+/// loops. The curve form copies points and weights exactly (no trip through P^w).
 [[nodiscard]] HomogeneousCurve reversed(const HomogeneousCurve& h);
 template <int D>
 [[nodiscard]] Curve<D> reversed(const Curve<D>& c) {
-  return from_homogeneous<D>(reversed(to_homogeneous(c)), c.rational());
+  return {c.degree, reversed_knots(c.knots), {c.points.rbegin(), c.points.rend()},
+          {c.weights.rbegin(), c.weights.rend()}};
 }
 
 /// Row j of the control net (points (0..count_u-1, j)) as a homogeneous curve along u.
@@ -47,5 +52,25 @@ template <int D>
 /// Same from columns sharing one knot vector along v; `like` supplies the u data.
 [[nodiscard]] Surface surface_from_columns(const std::vector<HomogeneousCurve>& cols, const Surface& like,
                                            bool rational);
+
+/// A curve algorithm `op` (HomogeneousCurve -> HomogeneousCurve, the same knot vector out for every
+/// input) applied to every row of the control net: the surface operation along u (The NURBS Book
+/// ch. 5: surface knot insertion, refinement and degree elevation are the curve ones row by row).
+template <typename Op>
+[[nodiscard]] Surface apply_to_rows(const Surface& s, Op op) {
+  std::vector<HomogeneousCurve> rows;
+  rows.reserve(static_cast<size_t>(s.count_v));
+  for (int j = 0; j < s.count_v; ++j) rows.push_back(op(surface_row(s, j)));
+  return surface_from_rows(rows, s, s.rational());
+}
+
+/// Same for every column: the surface operation along v.
+template <typename Op>
+[[nodiscard]] Surface apply_to_columns(const Surface& s, Op op) {
+  std::vector<HomogeneousCurve> cols;
+  cols.reserve(static_cast<size_t>(s.count_u));
+  for (int i = 0; i < s.count_u; ++i) cols.push_back(op(surface_column(s, i)));
+  return surface_from_columns(cols, s, s.rational());
+}
 
 }  // namespace nurbs

@@ -86,25 +86,16 @@ HomogeneousCurve clamp_curve(const HomogeneousCurve& c) {
 }
 
 Surface insert_knot_u(const Surface& s, double u, int times) {
-  std::vector<HomogeneousCurve> rows;
-  for (int j = 0; j < s.count_v; ++j) rows.push_back(insert_knot(surface_row(s, j), u, times));
-  return surface_from_rows(rows, s, s.rational());
+  return apply_to_rows(s, [u, times](const HomogeneousCurve& h) { return insert_knot(h, u, times); });
 }
 
 Surface insert_knot_v(const Surface& s, double v, int times) {
-  std::vector<HomogeneousCurve> cols;
-  for (int i = 0; i < s.count_u; ++i) cols.push_back(insert_knot(surface_column(s, i), v, times));
-  return surface_from_columns(cols, s, s.rational());
+  return apply_to_columns(s, [v, times](const HomogeneousCurve& h) { return insert_knot(h, v, times); });
 }
 
 Surface clamp_surface(const Surface& s) {
   if (is_clamped(s.knots_u, s.degree_u) && is_clamped(s.knots_v, s.degree_v)) return s;
-  std::vector<HomogeneousCurve> rows;
-  for (int j = 0; j < s.count_v; ++j) rows.push_back(clamp_curve(surface_row(s, j)));
-  const Surface su = surface_from_rows(rows, s, s.rational());
-  std::vector<HomogeneousCurve> cols;
-  for (int i = 0; i < su.count_u; ++i) cols.push_back(clamp_curve(surface_column(su, i)));
-  return surface_from_columns(cols, su, s.rational());
+  return apply_to_columns(apply_to_rows(s, clamp_curve), clamp_curve);
 }
 
 }  // namespace nurbs

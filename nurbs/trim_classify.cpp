@@ -24,14 +24,19 @@ void push_unique(std::vector<glm::dvec2>& out, glm::dvec2 p) {
   if (out.empty() || out.back() != p) out.push_back(p);
 }
 
-/// Appends points of (t0, t1] of a Bézier segment, bisecting until flat (depth <= 30 guards NaN).
+/// Appends points of (t0, t1] of a Bézier segment, bisecting until flat. Depth <= 30 bounds the
+/// recursion for tiny tolerances; a non-finite deviation (overflowing or NaN points, from a damaged
+/// file) counts as flat: bisection cannot fix it, and every branch would run to depth 30 (2^30 points).
 void flatten_piece(const Curve2& seg, double t0, glm::dvec2 p0, double t1, glm::dvec2 p1, double tol, int depth,
                    std::vector<glm::dvec2>& out) {
   const double tm = 0.5 * (t0 + t1);
   const glm::dvec2 pm = curve_point(seg, tm);
-  const bool flat = depth >= 30 || (distance_to_chord(pm, p0, p1) <= tol &&
-                                    distance_to_chord(curve_point(seg, 0.5 * (t0 + tm)), p0, p1) <= tol &&
-                                    distance_to_chord(curve_point(seg, 0.5 * (tm + t1)), p0, p1) <= tol);
+  auto flat_at = [&](glm::dvec2 p) {
+    const double d = distance_to_chord(p, p0, p1);
+    return d <= tol || !std::isfinite(d);
+  };
+  const bool flat = depth >= 30 || (flat_at(pm) && flat_at(curve_point(seg, 0.5 * (t0 + tm))) &&
+                                    flat_at(curve_point(seg, 0.5 * (tm + t1))));
   // Depth >= 2 always: a whole Bézier segment can be symmetric with its quarter points on the chord.
   if (flat && depth >= 2) {
     push_unique(out, p1);

@@ -1,30 +1,12 @@
 #pragma once
 /// \file curve_utils.h
-/// Small curve helpers the readers need before the NURBS core exists: reversal, a de Boor point
-/// evaluation (for orientation tests only), and 2D/3D conversion. Not a general NURBS library.
+/// Small curve helpers of the readers and writers: 2D/3D conversion, affine maps of control points
+/// and IGES 110 line segments. Evaluation and reversal are the core's (curve_eval.h, homogeneous.h).
 #include "nurbs/curve.h"
 
 #include <glm/mat4x4.hpp>
 
 namespace nurbs::io {
-
-/// The same curve traversed backwards: knots k -> a + b - k (a, b the end knots) in reverse order,
-/// points and weights reversed. The parameter interval is unchanged.
-template <int D>
-Curve<D> reversed(const Curve<D>& c) {
-  Curve<D> r;
-  r.degree = c.degree;
-  const double sum = c.knots.front() + c.knots.back();
-  r.knots.assign(c.knots.rbegin(), c.knots.rend());
-  for (double& k : r.knots) k = sum - k;
-  r.points.assign(c.points.rbegin(), c.points.rend());
-  r.weights.assign(c.weights.rbegin(), c.weights.rend());
-  return r;
-}
-
-/// Point of a 2D curve at parameter t (clamped to the domain), by de Boor's algorithm in
-/// homogeneous coordinates (The NURBS Book, A2.1 + A4.1). Assumes a structurally valid curve.
-glm::dvec2 curve_point(const Curve2& c, double t);
 
 /// The (x, y) of a 3D curve: how IGES parameter-space curves (z = 0) become trim curves.
 Curve2 to_2d(const Curve3& c);

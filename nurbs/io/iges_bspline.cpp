@@ -1,5 +1,4 @@
 // IGES 126 (rational B-spline curve, spec §4.23) and 128 (rational B-spline surface, §4.24).
-#include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/read_error.h"
 

@@ -1,11 +1,15 @@
 #include "nurbs/io/iges_faces.h"
 
+#include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
-#include "nurbs/io/loop_orientation.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_loops.h"
 
 #include <fmt/format.h>
+#include <glm/common.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace nurbs::io {
 namespace {
@@ -18,6 +22,32 @@ void append_reversed(std::vector<Curve2>& loop, std::vector<Curve2> piece, bool 
     for (Curve2& c : piece) c = reversed(c);
   }
   for (Curve2& c : piece) loop.push_back(std::move(c));
+}
+
+// Flattening tolerance for orienting the face's loops: only the sign of each loop's area matters,
+// so 1e-3 of the extent of all trim control points (which bounds the curves) suffices, whatever the
+// file's units; flatten_curve cuts every Bézier segment into >= 4 chords, so small holes keep their
+// sign too. Relative to the curves rather than to the domain, so that a damaged file with huge trim
+// coordinates is flattened in a few levels instead of to the depth limit.
+double orientation_tolerance(const TrimmedSurface& f) {
+  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const TrimLoop& loop : f.loops)
+    for (const Curve2& c : loop.curves)
+      for (const glm::dvec2& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  const double tol = 1e-3 * std::max(hi.x - lo.x, hi.y - lo.y);
+  return tol > 0.0 ? tol : 1.0;  // a loop collapsed to a point (or NaN data): any positive value
+}
+
+// The boundary of the surface's parameter domain as an outer loop of four lines, counter-clockwise
+// from (u0, v0): the outer loop of faces that have holes but no outer boundary in the file.
+TrimLoop domain_loop(const Surface& s) {
+  const Interval u = surface_domain_u(s), v = surface_domain_v(s);
+  const glm::dvec2 corners[4] = {{u.min, v.min}, {u.max, v.min}, {u.max, v.max}, {u.min, v.max}};
+  TrimLoop loop;
+  loop.outer = true;
+  for (int i = 0; i < 4; ++i)
+    loop.curves.push_back(to_2d(line_segment({corners[i], 0.0}, {corners[(i + 1) % 4], 0.0})));
+  return loop;
 }
 
 }  // namespace
@@ -51,8 +81,7 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
 }
 
 void IgesFaces::finish(TrimmedSurface& f) {
-  for (TrimLoop& loop : f.loops)
-    if (orient_loop(loop)) ++log_.reoriented_loops;
+  if (!f.loops.empty()) log_.reoriented_loops += orient_trim_loops(f, orientation_tolerance(f));
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
   if (!has_outer && !f.loops.empty()) {
     f.loops.insert(f.loops.begin(), domain_loop(f.surface));

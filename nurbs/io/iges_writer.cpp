@@ -1,7 +1,5 @@
 #include "nurbs/io/iges_writer.h"
 
-#include "nurbs/io/curve_utils.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -3,12 +3,14 @@
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/curve_eval.h"
+#include "nurbs/homogeneous.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/trim_loops.h"
 
 #include <doctest/doctest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -114,6 +116,31 @@ TEST_CASE("flattening stays within its tolerance") {
       CHECK(0.5 - std::sqrt(0.25 - half * half) <= tol);
     }
     CHECK(glm::length(poly.front() - poly.back()) < 1e-12);  // a closed curve returns to its start
+  }
+}
+
+TEST_CASE("flattening stops at once on non-finite points") {
+  // A NaN control point (an overflow in a damaged file) makes every deviation NaN: each of the four
+  // pieces a Bézier segment is always cut into ends there (start + 4 points), not at depth 30.
+  nurbs::Curve2 c;
+  c.degree = 2;
+  c.knots = {0, 0, 0, 1, 1, 1};
+  c.points = {{0, 0}, {std::nan(""), 0}, {1, 0}};
+  CHECK(nurbs::flatten_curve(c, 1e-6).size() == 5);
+}
+
+TEST_CASE("reversed curves: exact copies backwards, C_r(u) = C(a + b - u)") {
+  const auto circle = models::rational_circle_2d({0.2, 0.3}, 0.5, true);
+  const nurbs::Curve2 r = nurbs::reversed(circle);
+  CHECK(std::equal(r.points.begin(), r.points.end(), circle.points.rbegin()));  // copies: bit-exact
+  CHECK(std::equal(r.weights.begin(), r.weights.end(), circle.weights.rbegin()));
+  const nurbs::Curve2 rr = nurbs::reversed(r);
+  CHECK(rr.knots == circle.knots);  // a + b - (a + b - k) = k exactly for these dyadic knots
+  const nurbs::Interval d = nurbs::curve_domain(circle);
+  for (double t : {0.0, 0.1, 0.37, 0.5, 0.99, 1.0}) {
+    const double u = d.min + t * (d.max - d.min);
+    // Roundoff of two evaluations of a unit-size curve.
+    CHECK(glm::length(nurbs::curve_point(r, u) - nurbs::curve_point(circle, d.min + d.max - u)) < 1e-14);
   }
 }
 

@@ -2,6 +2,7 @@
 // Small exact models shared by the I/O tests: the base of the malformed-IGES corpus and of the
 // writer round trips.
 #include "nurbs/io/conic_arcs.h"
+#include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/model.h"
 

@@ -4,6 +4,7 @@
 #include "iges_edit.h"
 #include "sample_models.h"
 
+#include "nurbs/curve_eval.h"
 #include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_reader.h"
@@ -37,7 +38,7 @@ double conic_residual(const nurbs::Curve3& c, const std::array<double, 6>& k) {
   double worst = 0.0;
   for (int i = 0; i <= 64; ++i) {
     const double t = c.knots.front() + (c.knots.back() - c.knots.front()) * i / 64.0;
-    const glm::dvec2 p = nurbs::io::curve_point(c2, t);
+    const glm::dvec2 p = nurbs::curve_point(c2, t);
     worst = std::max(worst, std::abs(k[0] * p.x * p.x + k[1] * p.x * p.y + k[2] * p.y * p.y + k[3] * p.x + k[4] * p.y + k[5]));
   }
   return worst;
@@ -133,5 +134,5 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   CHECK(log.reoriented_loops == 1);
   // The circle is centred at (0.5, 0.5) with radius 0.2 in (u, v); round-off 1e-12.
   const nurbs::Curve2& q = bounded.loops[1].curves[0];
-  CHECK(std::abs(glm::length(nurbs::io::curve_point(q, 0.5 * (q.knots.front() + q.knots.back())) - glm::dvec2(0.5)) - 0.2) < 1e-12);
+  CHECK(std::abs(glm::length(nurbs::curve_point(q, 0.5 * (q.knots.front() + q.knots.back())) - glm::dvec2(0.5)) - 0.2) < 1e-12);
 }
