@@ -18,5 +18,8 @@ class CommandFailed : public std::runtime_error {
 
 void add_gpu_info(CLI::App& app, const GlobalOptions& global);
 void add_selftest(CLI::App& app, const GlobalOptions& global);
+void add_info(CLI::App& app, const GlobalOptions& global);
+void add_generate(CLI::App& app, const GlobalOptions& global);
+void add_evaluate(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

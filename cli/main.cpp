@@ -1,5 +1,6 @@
 // nurbsgl: geometric queries on trimmed NURBS models with OpenGL fragment-shader GPGPU.
 #include "cli/commands.h"
+#include "nurbs/io/read_error.h"
 
 #include <fmt/format.h>
 
@@ -19,6 +20,9 @@ int main(int argc, char** argv) {
   app.add_flag("--profile", global.profile, "Print GPU and CPU time per pass (synchronised) on stderr");
   cli::add_gpu_info(app, global);
   cli::add_selftest(app, global);
+  cli::add_info(app, global);
+  cli::add_generate(app, global);
+  cli::add_evaluate(app, global);
 
   try {
     app.parse(argc, argv);
@@ -28,6 +32,9 @@ int main(int argc, char** argv) {
   } catch (const gpgpu::NoGlError& e) {
     fmt::print(stderr, "nurbsgl: {}\n", e.what());
     return cli::kNoGl;
+  } catch (const nurbs::io::ReadError& e) {
+    fmt::print(stderr, "nurbsgl: {}\n", e.what());
+    return cli::kBadInput;
   } catch (const cli::CommandFailed& e) {
     fmt::print(stderr, "nurbsgl: FAILED: {}\n", e.what());
     return cli::kFailed;

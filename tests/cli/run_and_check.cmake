@@ -1,5 +1,9 @@
 # ctest helper: runs CMD (a ;-list) under ENV (a ;-list of VAR=value, or VAR= to unset) and checks
-# the exit code (EXPECT_RC) and that stdout+stderr match EXPECT_REGEX (and not REJECT_REGEX).
+# the exit code (EXPECT_RC) and that stdout+stderr match EXPECT_REGEX (and not REJECT_REGEX);
+# every path in FILES_EXIST (a ;-list of globs) must match at least one file afterwards.
+if(DEFINED CLEAN_DIR)
+  file(REMOVE_RECURSE ${CLEAN_DIR})
+endif()
 set(env_args)
 foreach(e IN LISTS ENV)
   if(e MATCHES "^([A-Za-z_0-9]+)=$")
@@ -20,4 +24,10 @@ endif()
 if(DEFINED REJECT_REGEX AND all MATCHES "${REJECT_REGEX}")
   message(FATAL_ERROR "output matches '${REJECT_REGEX}'\n--- output ---\n${all}")
 endif()
+foreach(pattern IN LISTS FILES_EXIST)
+  file(GLOB found ${pattern})
+  if(NOT found)
+    message(FATAL_ERROR "no file matches ${pattern}\n--- output ---\n${all}")
+  endif()
+endforeach()
 message(STATUS "ok: exit ${rc}\n${all}")

@@ -1,0 +1,21 @@
+#include "nurbs/io/read_model.h"
+
+#include "nurbs/io/bpt_reader.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/read_error.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace nurbs::io {
+
+Model read_model(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (!std::filesystem::exists(path)) throw ReadError(path.string(), "", "no such file");
+  if (ext == ".igs" || ext == ".iges") return read_iges(path);
+  if (ext == ".bpt") return read_bpt(path);
+  throw ReadError(path.string(), "", "unknown model format '" + ext + "' (nurbsgl reads .igs, .iges and .bpt)");
+}
+
+}  // namespace nurbs::io

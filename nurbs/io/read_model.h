@@ -1,0 +1,14 @@
+#pragma once
+/// \file read_model.h
+/// One entry point for every model format nurbsgl reads, chosen by file extension.
+#include "nurbs/model.h"
+
+#include <filesystem>
+
+namespace nurbs::io {
+
+/// .igs / .iges (any case): IGES 5.3 (iges_reader.h); .bpt: Bézier patches (bpt_reader.h).
+/// Throws ReadError naming the file for a missing file, an unknown extension or malformed content.
+Model read_model(const std::filesystem::path& path);
+
+}  // namespace nurbs::io

@@ -1,0 +1,64 @@
+#include "nurbs/model_ops.h"
+
+#include "nurbs/surface_eval.h"
+
+#include <fmt/format.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include <cmath>
+
+namespace nurbs {
+
+std::vector<std::string> validate_rigid(const glm::dmat4& m) {
+  std::vector<std::string> problems;
+  const glm::dmat3 r(m);
+  const glm::dmat3 rtr = glm::transpose(r) * r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::fabs(rtr[i][j] - (i == j ? 1.0 : 0.0)) > 1e-9) {
+        problems.push_back(fmt::format("rotation part is not orthonormal (R^T R [{}][{}] = {})", i, j, rtr[i][j]));
+        i = j = 3;
+      }
+  if (std::fabs(glm::determinant(r) - 1.0) > 1e-9) problems.push_back(fmt::format("det R = {} (not 1)", glm::determinant(r)));
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+    problems.push_back("last row is not (0, 0, 0, 1): a projective map");
+  return problems;
+}
+
+TrimmedSurface transformed(const TrimmedSurface& face, const glm::dmat4& m) {
+  TrimmedSurface out = face;
+  for (glm::dvec3& p : out.surface.points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+  return out;
+}
+
+std::vector<TrimmedSurface> world_faces(const Model& model) {
+  std::vector<TrimmedSurface> faces;
+  for (const Body& b : model.bodies)
+    for (const TrimmedSurface& f : b.faces) faces.push_back(b.transform == glm::dmat4(1.0) ? f : transformed(f, b.transform));
+  return faces;
+}
+
+double Box::diagonal() const { return glm::length(max - min); }
+
+Box model_box(const Model& model) {
+  Box box;
+  bool first = true;
+  constexpr int kSamples = 16;  // 17 x 17 points per face
+  for (const TrimmedSurface& f : world_faces(model)) {
+    const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+    for (int j = 0; j <= kSamples; ++j)
+      for (int i = 0; i <= kSamples; ++i) {
+        const glm::dvec3 p = surface_point(f.surface, du.min + du.width() * i / kSamples, dv.min + dv.width() * j / kSamples);
+        box.min = first ? p : glm::min(box.min, p);
+        box.max = first ? p : glm::max(box.max, p);
+        first = false;
+      }
+  }
+  return box;
+}
+
+double model_size(const Model& model) { return model_box(model).diagonal(); }
+
+}  // namespace nurbs

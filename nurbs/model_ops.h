@@ -1,0 +1,36 @@
+#pragma once
+/// \file model_ops.h
+/// Whole-model operations: rigid transforms applied to faces, and the model size (bounding-box
+/// diagonal, as ACIS defines its tolerance) that every relative tolerance in nurbsgl refers to.
+#include "nurbs/model.h"
+
+#include <glm/mat4x4.hpp>
+#include <string>
+#include <vector>
+
+namespace nurbs {
+
+/// What is wrong with `m` as a rigid transform (rotation + translation, no scale/shear/projection);
+/// empty when it is one (tolerance 1e-9 on R^T R = I and det R = 1).
+[[nodiscard]] std::vector<std::string> validate_rigid(const glm::dmat4& m);
+
+/// The face moved by the affine map `m`: control points mapped, weights kept, which is exact for
+/// NURBS (affine invariance). Trim curves live in (u, v) and do not change.
+[[nodiscard]] TrimmedSurface transformed(const TrimmedSurface& face, const glm::dmat4& m);
+
+/// The faces of every body with their body's transform applied, in body order.
+[[nodiscard]] std::vector<TrimmedSurface> world_faces(const Model& model);
+
+/// Axis-aligned box of the model in world coordinates from its surfaces' sample points (a 17 x 17
+/// grid per face) united with nothing else: a tight box, slightly inside the true one on curved
+/// faces. Returns {min, max}; both zero for an empty model.
+struct Box {
+  glm::dvec3 min{0.0}, max{0.0};
+  [[nodiscard]] double diagonal() const;
+};
+[[nodiscard]] Box model_box(const Model& model);
+
+/// Model size = model_box(model).diagonal().
+[[nodiscard]] double model_size(const Model& model);
+
+}  // namespace nurbs
