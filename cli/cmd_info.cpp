@@ -20,13 +20,17 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_flag("--json", *json, "Print one JSON object instead of text");
   cmd->add_flag("--faces", *per_face, "Also list every face");
   cmd->callback([path, json, per_face] {
-    const nurbs::Model model = nurbs::io::read_model(*path);
+    nurbs::io::IgesReadLog log;
+    const nurbs::Model model = nurbs::io::read_model(*path, &log);
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
     const nurbs::Box box = nurbs::model_box(model);
     if (*json) {
       nlohmann::json j = nurbs::io::to_json(s);
       j["sampled_bbox"] = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
       j["model_size"] = box.diagonal();
+      j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"domain_loops_added", log.domain_loops_added},
+                     {"gaps_closed", log.gaps_closed}, {"trim_problems", log.trim_problems},
+                     {"faces_dropped", log.warnings}};
       fmt::print("{}\n", j.dump(2));
       return;
     }
@@ -35,6 +39,12 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
                box.max.x, box.max.y, box.max.z);
     fmt::print("model size         {:.6g} (diagonal of the sampled bbox; relative tolerances refer to it)\n",
                box.diagonal());
+    fmt::print("reader             {} loops reoriented, {} domain loops added, {} trim gaps closed\n",
+               log.reoriented_loops, log.domain_loops_added, log.gaps_closed);
+    fmt::print("trim problems      {}\n", log.trim_problems.size());
+    for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);
+    if (log.trim_problems.size() > 20) fmt::print("  ... ({} more; --json lists all)\n", log.trim_problems.size() - 20);
+    for (const std::string& w : log.warnings) fmt::print("dropped            {}\n", w);
   });
 }
 

@@ -111,14 +111,14 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
   return out;
 }
 
-int repair_trim_gaps(TrimmedSurface& face, double tolerance) {
+int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
   int repairs = 0;
   for (auto& loop : face.loops) {
     for (size_t c = 0; c < loop.curves.size(); ++c) {
       Curve2& cur = loop.curves[c];
       const glm::dvec2 target = start_point(loop.curves[(c + 1) % loop.curves.size()]);
       const double gap = glm::length(end_point(cur) - target);
-      if (!(gap > 0.0 && gap <= tolerance)) continue;
+      if (!(gap > min_gap && gap <= tolerance)) continue;
       if (!is_clamped(cur.knots, cur.degree)) cur = from_homogeneous<2>(clamp_curve(to_homogeneous(cur)), cur.rational());
       cur.points.back() = target;  // clamped: the curve ends at its last control point
       ++repairs;

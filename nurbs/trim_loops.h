@@ -18,10 +18,11 @@ namespace nurbs {
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
                                                         double flatten_tolerance);
 
-/// Closes gaps of size in (0, tolerance] between consecutive curves of each loop by moving the end
-/// of the earlier curve onto the start of the next (its last control point, after clamping the curve
-/// if it was unclamped). Returns the number of gaps closed; larger gaps are left for the checker.
-int repair_trim_gaps(TrimmedSurface& face, double tolerance);
+/// Closes gaps of size in (min_gap, tolerance] between consecutive curves of each loop by moving the
+/// end of the earlier curve onto the start of the next (its last control point, after clamping the
+/// curve if it was unclamped). Returns the number of gaps closed; larger gaps are left for the
+/// checker, and gaps <= min_gap (rounding of joined end points) are left untouched and uncounted.
+int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap = 0.0);
 
 /// Reverses loops whose flattened signed area has the wrong sign for their role (outer must be > 0,
 /// inner < 0): curve order reversed and each curve reparametrised backwards. Returns how many loops

@@ -81,7 +81,14 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
 }
 
 void IgesFaces::finish(TrimmedSurface& f) {
-  if (!f.loops.empty()) log_.reoriented_loops += orient_trim_loops(f, orientation_tolerance(f));
+  if (!f.loops.empty()) {
+    // orientation_tolerance is 1e-3 of the trim extent: scale it to the repair and check tolerances.
+    const double extent = orientation_tolerance(f) * 1e3;
+    log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
+    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, 1e-3 * extent))
+      log_.trim_problems.push_back(std::move(problem));
+    log_.reoriented_loops += orient_trim_loops(f, orientation_tolerance(f));
+  }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
   if (!has_outer && !f.loops.empty()) {
     f.loops.insert(f.loops.begin(), domain_loop(f.surface));

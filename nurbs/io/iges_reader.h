@@ -37,8 +37,17 @@ struct IgesReadLog {
   IgesGlobal global;
   int reoriented_loops = 0;    ///< loops reversed to get outer CCW / inner CW
   int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only
+  int gaps_closed = 0;         ///< trim-curve gaps closed (see kTrimGapRepair)
+  /// Loops that still do not close, or cross (check_trim_loops), each "face N: ...".
+  std::vector<std::string> trim_problems;
   std::vector<std::string> warnings;  ///< one per dropped face, naming it and the reason
 };
+
+/// Gaps between consecutive trim curves up to this fraction of the face's trim extent are closed
+/// (as CAD readers do, counted in IgesReadLog::gaps_closed); larger ones are reported. Gaps up to
+/// kTrimGapRounding of the extent are rounding of joined end points: left as they are, not counted.
+inline constexpr double kTrimGapRepair = 1e-4;
+inline constexpr double kTrimGapRounding = 1e-12;
 
 /// Reads an IGES file. Throws ReadError ("FILE: line L: entity Dn (type t): problem") on any
 /// malformed record or geometry, and when the file cannot be opened.

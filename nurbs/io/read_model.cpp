@@ -9,11 +9,11 @@
 
 namespace nurbs::io {
 
-Model read_model(const std::filesystem::path& path) {
+Model read_model(const std::filesystem::path& path, IgesReadLog* log) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (!std::filesystem::exists(path)) throw ReadError(path.string(), "", "no such file");
-  if (ext == ".igs" || ext == ".iges") return read_iges(path);
+  if (ext == ".igs" || ext == ".iges") return read_iges(path, {}, log);
   if (ext == ".bpt") return read_bpt(path);
   throw ReadError(path.string(), "", "unknown model format '" + ext + "' (nurbsgl reads .igs, .iges and .bpt)");
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// \file read_model.h
 /// One entry point for every model format nurbsgl reads, chosen by file extension.
+#include "nurbs/io/iges_reader.h"
 #include "nurbs/model.h"
 
 #include <filesystem>
@@ -9,6 +10,7 @@ namespace nurbs::io {
 
 /// .igs / .iges (any case): IGES 5.3 (iges_reader.h); .bpt: Bézier patches (bpt_reader.h).
 /// Throws ReadError naming the file for a missing file, an unknown extension or malformed content.
-Model read_model(const std::filesystem::path& path);
+/// `log` (optional) receives what the IGES reader repaired and found (empty for .bpt).
+Model read_model(const std::filesystem::path& path, IgesReadLog* log = nullptr);
 
 }  // namespace nurbs::io
