@@ -29,6 +29,7 @@ struct Options {
   double rel_tolerance = 1e-4;
   std::string obj;
   bool json = false;
+  queries::EvalMethod method = queries::EvalMethod::Tabulated;
 };
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -69,10 +70,10 @@ void run(const GlobalOptions& global, const Options& o) {
       k = g.k;
     }
     const queries::GpuSurface g = queries::upload_surface(f.surface, max_samples);
-    (void)queries::evaluate_surface(*gpu, g, 1, 1);  // compiles the program for this degree: not timed
+    (void)queries::evaluate_surface(*gpu, g, 1, 1, o.method);  // compiles the program for this degree: not timed
     gpu->finish();
     auto t0 = std::chrono::steady_clock::now();
-    queries::SurfaceGrid grid = queries::evaluate_surface(*gpu, g, n, m);
+    queries::SurfaceGrid grid = queries::evaluate_surface(*gpu, g, n, m, o.method);
     gpu->finish();
     const double eval_ms = ms_since(t0);
     double trim_ms = 0;
@@ -125,6 +126,11 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--grid", o->grid, "Samples per direction (overrides --tolerance)")->check(CLI::Range(2, 16384));
   cmd->add_option("--tolerance", o->rel_tolerance, "Bound on K relative to the model size")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--method", o->method, "GPU evaluation: tabulated (basis tables, 3 passes) or per-fragment (1 pass)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, queries::EvalMethod>{{"tabulated", queries::EvalMethod::Tabulated},
+                                                     {"per-fragment", queries::EvalMethod::PerFragment}}))
       ->capture_default_str();
   cmd->add_option("--obj", o->obj, "Write the evaluated grids to this OBJ file");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");

@@ -55,21 +55,48 @@ GpuSurface upload_surface(const nurbs::Surface& s, int max_texture_size) {
   return g;
 }
 
-SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& s, int n, int m) {
+namespace {
+
+/// Pass 1 of EvalMethod::Tabulated for one direction: samples x (degree + 1) basis table.
+gpgpu::PooledTexture basis_table(gpgpu::Gpu& gpu, const gpgpu::Texture& knots, int count, int degree, int samples) {
+  gpgpu::PooledTexture table = gpu.acquire(samples, degree + 1, gpgpu::Format::RGBA32F);
+  gpgpu::Program& p = gpu.program("surface_basis.frag", {{"MAX_DEGREE", std::to_string(degree)}});
+  p.set("u_count", count);
+  p.set("u_degree", degree);
+  p.set("u_samples", samples);
+  const gpgpu::Input inputs[] = {{"u_knots", &knots}};
+  gpgpu::Texture* outputs[] = {table.get()};
+  gpu.run("surface_basis", p, inputs, outputs);
+  return table;
+}
+
+}  // namespace
+
+SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& s, int n, int m, EvalMethod method) {
   SurfaceGrid grid;
   grid.n = n;
   grid.m = m;
   grid.points = gpgpu::Texture(n + 1, m + 1, gpgpu::Format::RGBA32F);
   grid.normals = gpgpu::Texture(n + 1, m + 1, gpgpu::Format::RGBA32F);
-  gpgpu::Program& p =
-      gpu.program("surface_eval.frag", {{"MAX_DEGREE", std::to_string(std::max(s.degree_u, s.degree_v))}});
-  p.set("u_count", s.count_u, s.count_v);
-  p.set("u_degree", s.degree_u, s.degree_v);
-  p.set("u_grid", n + 1, m + 1);
-  p.set("u_origin", float(s.origin.x), float(s.origin.y), float(s.origin.z));
-  const gpgpu::Input inputs[] = {{"u_knots_u", &s.knots_u}, {"u_knots_v", &s.knots_v}, {"u_ctrl", &s.control}};
   gpgpu::Texture* outputs[] = {&grid.points, &grid.normals};
-  gpu.run("surface_eval", p, inputs, outputs);
+  if (method == EvalMethod::PerFragment) {
+    gpgpu::Program& p =
+        gpu.program("surface_eval.frag", {{"MAX_DEGREE", std::to_string(std::max(s.degree_u, s.degree_v))}});
+    p.set("u_count", s.count_u, s.count_v);
+    p.set("u_degree", s.degree_u, s.degree_v);
+    p.set("u_grid", n + 1, m + 1);
+    p.set("u_origin", float(s.origin.x), float(s.origin.y), float(s.origin.z));
+    const gpgpu::Input inputs[] = {{"u_knots_u", &s.knots_u}, {"u_knots_v", &s.knots_v}, {"u_ctrl", &s.control}};
+    gpu.run("surface_eval", p, inputs, outputs);
+  } else {
+    gpgpu::PooledTexture bu = basis_table(gpu, s.knots_u, s.count_u, s.degree_u, n + 1);
+    gpgpu::PooledTexture bv = basis_table(gpu, s.knots_v, s.count_v, s.degree_v, m + 1);
+    gpgpu::Program& p = gpu.program("surface_eval_tabulated.frag");
+    p.set("u_degree", s.degree_u, s.degree_v);
+    p.set("u_origin", float(s.origin.x), float(s.origin.y), float(s.origin.z));
+    const gpgpu::Input inputs[] = {{"u_basis_u", bu.get()}, {"u_basis_v", bv.get()}, {"u_ctrl", &s.control}};
+    gpu.run("surface_eval_tabulated", p, inputs, outputs);
+  }
   gpu.dump("surface_points", grid.points);
   gpu.dump("surface_normals", grid.normals);
   return grid;

@@ -35,8 +35,18 @@ struct SurfaceGrid {
   gpgpu::Texture normals;     ///< RGBA32F (nx, ny, nz, 0), zero where undefined
 };
 
-/// Evaluates on the GPU (one pass, two render targets). n, m >= 1, n + 1 and m + 1 <= max size.
-SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& surface, int n, int m);
+/// How the GPU evaluates the grid.
+enum class EvalMethod {
+  /// One pass; every fragment finds its knot spans and runs Cox-de Boor in u and v.
+  PerFragment,
+  /// Two passes: basis functions tabulated once per grid column and row (surface_basis.frag),
+  /// then each fragment only combines (p+1)(q+1) control points (surface_eval_tabulated.frag).
+  Tabulated,
+};
+
+/// Evaluates on the GPU (two render targets). n, m >= 1, n + 1 and m + 1 <= max size.
+SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& surface, int n, int m,
+                             EvalMethod method = EvalMethod::Tabulated);
 
 /// CPU twin in double: points and unit normals, row-major (i fastest), (n+1)(m+1) each.
 struct SurfaceGridCpu {

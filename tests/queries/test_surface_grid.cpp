@@ -28,9 +28,9 @@ struct Errors {
   double normal_cos = 1.0;  // min cos(angle) between GPU and CPU normals where well defined
 };
 
-Errors compare(gpgpu::Gpu& gpu, const nurbs::Surface& s, int n, int m) {
+Errors compare(gpgpu::Gpu& gpu, const nurbs::Surface& s, int n, int m, queries::EvalMethod method) {
   const queries::GpuSurface g = queries::upload_surface(s, gpu.info().max_texture_size);
-  const queries::SurfaceGrid grid = queries::evaluate_surface(gpu, g, n, m);
+  const queries::SurfaceGrid grid = queries::evaluate_surface(gpu, g, n, m, method);
   const queries::SurfaceGridCpu cpu = queries::evaluate_surface_cpu(s, n, m);
   const auto pts = grid.points.read();
   const auto nrm = grid.normals.read();
@@ -50,6 +50,8 @@ Errors compare(gpgpu::Gpu& gpu, const nurbs::Surface& s, int n, int m) {
 
 TEST_CASE("surface grid: GPU evaluation matches the CPU twin, degrees 1-7") {
   gpgpu::Gpu& gpu = test::gpu();
+  for (queries::EvalMethod method : {queries::EvalMethod::PerFragment, queries::EvalMethod::Tabulated}) {
+  CAPTURE(int(method));
   double worst = 0.0;
   int compared = 0;
   for (int degree_u = 1; degree_u <= 7; ++degree_u) {
@@ -62,7 +64,7 @@ TEST_CASE("surface grid: GPU evaluation matches the CPU twin, degrees 1-7") {
           CAPTURE(degree_v);
           CAPTURE(rational);
           CAPTURE(seed);
-          const Errors e = compare(gpu, s, 40, 23);
+          const Errors e = compare(gpu, s, 40, 23, method);
           // Float budget (surface_grid.h): ~1.2e-6 of the control box for degree <= 7; allowed 1e-5.
           CHECK(e.point <= 1e-5);
           worst = std::max(worst, e.point);
@@ -71,7 +73,9 @@ TEST_CASE("surface grid: GPU evaluation matches the CPU twin, degrees 1-7") {
       }
     }
   }
-  MESSAGE("max GPU-CPU point error / model size over " << compared << " surfaces: " << worst);
+  MESSAGE("method " << int(method) << ": max GPU-CPU point error / model size over " << compared
+                     << " surfaces: " << worst);
+  }
 }
 
 TEST_CASE("surface grid: normals agree where the surface is regular") {
@@ -79,7 +83,7 @@ TEST_CASE("surface grid: normals agree where the surface is regular") {
   for (uint64_t seed = 0; seed < 20; ++seed) {
     const nurbs::Surface s = models::random_surface(seed, 3, 3, seed % 2 == 1);
     CAPTURE(seed);
-    const Errors e = compare(gpu, s, 31, 31);
+    const Errors e = compare(gpu, s, 31, 31, queries::EvalMethod::Tabulated);
     // Random nets fold: near-degenerate normals are ill-conditioned in float; 1e-4 ~ 0.8 degree.
     CHECK(e.normal_cos >= 1.0 - 1e-4);
   }
