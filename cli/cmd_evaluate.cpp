@@ -2,8 +2,14 @@
 // normal textures on a grid chosen by tolerance through the Filip bound K, renders trim masks,
 // and reports per face the grid, K, K / model size and the times. --dump writes the textures as
 // EXR, --obj the evaluated grids as OBJ.
-#include "cli/commands.h"
+#include <fmt/format.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
 #include "nurbs/filip_bound.h"
 #include "nurbs/io/obj_writer.h"
 #include "nurbs/io/read_model.h"
@@ -12,20 +18,13 @@
 #include "queries/surface_grid.h"
 #include "queries/trim_texture.h"
 
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-
-#include <chrono>
-#include <cmath>
-#include <unistd.h>
-
 namespace cli {
 namespace {
 
 struct Options {
   std::string path;
-  std::vector<int> faces;   ///< indices into the model's face list; empty = all
-  int grid = 0;             ///< samples per direction; 0 = from the tolerance
+  std::vector<int> faces;  ///< indices into the model's face list; empty = all
+  int grid = 0;            ///< samples per direction; 0 = from the tolerance
   double rel_tolerance = 1e-4;
   std::string obj;
   bool json = false;
@@ -79,17 +78,24 @@ void run(const GlobalOptions& global, const Options& o) {
     double trim_ms = 0;
     if (!f.loops.empty()) {
       t0 = std::chrono::steady_clock::now();
-      const double step = std::min(nurbs::surface_domain_u(f.surface).width() / n,
-                                   nurbs::surface_domain_v(f.surface).width() / m);
+      const double step =
+          std::min(nurbs::surface_domain_u(f.surface).width() / n, nurbs::surface_domain_v(f.surface).width() / m);
       (void)queries::trim_texture(*gpu, f, n, m, 0.1 * step);
       gpu->finish();
       trim_ms = ms_since(t0);
     }
-    rows.push_back({{"face", index}, {"face_id", f.face_id}, {"degree", {f.surface.degree_u, f.surface.degree_v}},
-                    {"control_points", {f.surface.count_u, f.surface.count_v}}, {"grid", {n + 1, m + 1}},
-                    {"K", k}, {"K_over_size", k / size}, {"eval_ms", eval_ms}, {"trim_ms", trim_ms},
+    rows.push_back({{"face", index},
+                    {"face_id", f.face_id},
+                    {"degree", {f.surface.degree_u, f.surface.degree_v}},
+                    {"control_points", {f.surface.count_u, f.surface.count_v}},
+                    {"grid", {n + 1, m + 1}},
+                    {"K", k},
+                    {"K_over_size", k / size},
+                    {"eval_ms", eval_ms},
+                    {"trim_ms", trim_ms},
                     {"trimmed", !f.loops.empty()}});
-    if (progress) fmt::print(stderr, "\r[{}/{}] faces evaluated", c + 1, chosen.size());
+    if (progress)
+      fmt::print(stderr, "\r[{}/{}] faces evaluated", c + 1, chosen.size());
     else if (!o.json)
       fmt::print("{:>5} {:>3}x{:<3} {:>5}x{:<5} {:>5}x{:<5} {:>11.4g} {:>11.3g} {:>9.2f} {:>9.2f}\n", index,
                  f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, n + 1, m + 1, k,
@@ -104,8 +110,11 @@ void run(const GlobalOptions& global, const Options& o) {
   if (progress) fmt::print(stderr, "\n");
   if (!o.obj.empty()) nurbs::io::write_obj_file(o.obj, grids);
   if (o.json) {
-    fmt::print("{}\n", nlohmann::json{{"model", o.path}, {"model_size", size}, {"backend", gpu->info().backend},
-                                      {"renderer", gpu->info().renderer}, {"faces", rows}}
+    fmt::print("{}\n", nlohmann::json{{"model", o.path},
+                                      {"model_size", size},
+                                      {"backend", gpu->info().backend},
+                                      {"renderer", gpu->info().renderer},
+                                      {"faces", rows}}
                            .dump(2));
   } else if (progress) {
     double total = 0;
@@ -128,9 +137,8 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--method", o->method, "GPU evaluation: tabulated (basis tables, 3 passes) or per-fragment (1 pass)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, queries::EvalMethod>{{"tabulated", queries::EvalMethod::Tabulated},
-                                                     {"per-fragment", queries::EvalMethod::PerFragment}}))
+      ->transform(CLI::CheckedTransformer(std::map<std::string, queries::EvalMethod>{
+          {"tabulated", queries::EvalMethod::Tabulated}, {"per-fragment", queries::EvalMethod::PerFragment}}))
       ->capture_default_str();
   cmd->add_option("--obj", o->obj, "Write the evaluated grids to this OBJ file");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");

@@ -1,16 +1,15 @@
 // `nurbsgl generate NAME -o FILE`: writes one of the generated test models as IGES (our writer),
 // e.g. the paper's test pair. No GPU needed.
-#include "cli/commands.h"
-
-#include "models/exact_shapes.h"
-#include "models/paper_surfaces.h"
-#include "models/random_surfaces.h"
-#include "nurbs/io/iges_writer.h"
-
 #include <fmt/format.h>
 
 #include <functional>
 #include <map>
+
+#include "cli/commands.h"
+#include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
+#include "models/random_surfaces.h"
+#include "nurbs/io/iges_writer.h"
 
 namespace cli {
 namespace {

@@ -1,8 +1,9 @@
 // `nurbsgl gpu-info`: which backend started and what the GPU offers.
-#include "cli/commands.h"
-
 #include <fmt/format.h>
+
 #include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
 
 namespace cli {
 
@@ -14,11 +15,16 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
     auto gpu = start_gpu(global);
     const gpgpu::ContextInfo& i = gpu->info();
     if (*json) {
-      nlohmann::json j{{"backend", i.backend},         {"context", i.detail},
-                       {"gl_version", i.gl_version},   {"glsl_version", i.glsl_version},
-                       {"renderer", i.renderer},       {"vendor", i.vendor},
-                       {"max_texture_size", i.max_texture_size}, {"max_texture_units", i.max_texture_units},
-                       {"float_targets_ok", i.float_targets_ok}, {"timer_queries", i.timer_queries}};
+      nlohmann::json j{{"backend", i.backend},
+                       {"context", i.detail},
+                       {"gl_version", i.gl_version},
+                       {"glsl_version", i.glsl_version},
+                       {"renderer", i.renderer},
+                       {"vendor", i.vendor},
+                       {"max_texture_size", i.max_texture_size},
+                       {"max_texture_units", i.max_texture_units},
+                       {"float_targets_ok", i.float_targets_ok},
+                       {"timer_queries", i.timer_queries}};
       fmt::print("{}\n", j.dump(2));
       return;
     }

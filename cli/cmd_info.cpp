@@ -1,13 +1,13 @@
 // `nurbsgl info MODEL`: what a model file holds (faces, degrees, control points, trims, box,
 // model size, skipped IGES entities). No GPU needed.
-#include "cli/commands.h"
+#include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
 #include "nurbs/io/model_summary.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
-
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 namespace cli {
 
@@ -28,8 +28,10 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
       nlohmann::json j = nurbs::io::to_json(s);
       j["sampled_bbox"] = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
       j["model_size"] = box.diagonal();
-      j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"domain_loops_added", log.domain_loops_added},
-                     {"gaps_closed", log.gaps_closed}, {"trim_problems", log.trim_problems},
+      j["reader"] = {{"loops_reoriented", log.reoriented_loops},
+                     {"domain_loops_added", log.domain_loops_added},
+                     {"gaps_closed", log.gaps_closed},
+                     {"trim_problems", log.trim_problems},
                      {"faces_dropped", log.warnings}};
       fmt::print("{}\n", j.dump(2));
       return;

@@ -1,15 +1,14 @@
 // `nurbsgl selftest`: the GPU co-processor end to end on random data — one min reduction, one
 // argmin and one stream compaction, each against its CPU twin, with wall-clock timings.
-#include "cli/commands.h"
-
-#include "gpgpu/compact.h"
-#include "gpgpu/reduce.h"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <random>
+
+#include "cli/commands.h"
+#include "gpgpu/compact.h"
+#include "gpgpu/reduce.h"
 
 namespace cli {
 namespace {
@@ -60,8 +59,8 @@ void run(const GlobalOptions& global, const Options& o) {
   });
   gpu->dump("selftest_data", data);
 
-  const auto cmin = gpgpu::reduce_cpu(values, 1, {gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min,
-                                                  gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min});
+  const auto cmin = gpgpu::reduce_cpu(
+      values, 1, {gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min});
   const gpgpu::ArgMin carg = gpgpu::argmin_cpu(values, n, 1, 0);
   std::vector<float> expect;
   for (size_t i = 0; i < values.size(); ++i)
@@ -72,7 +71,9 @@ void run(const GlobalOptions& global, const Options& o) {
   const double mtex = double(n) * n * 1e-3;  // texels / ms -> Mtexel/s
 
   if (o.json) {
-    nlohmann::json j{{"backend", gpu->info().backend}, {"renderer", gpu->info().renderer}, {"size", n},
+    nlohmann::json j{{"backend", gpu->info().backend},
+                     {"renderer", gpu->info().renderer},
+                     {"size", n},
                      {"min", {{"ok", ok_min}, {"ms", t_min}, {"value", gmin}}},
                      {"argmin", {{"ok", ok_arg}, {"ms", t_arg}, {"index", garg.index}}},
                      {"compaction", {{"ok", ok_cmp}, {"ms", t_cmp}, {"kept", comp.count}, {"levels", comp.levels}}}};
@@ -96,7 +97,9 @@ void add_selftest(CLI::App& app, const GlobalOptions& global) {
   auto* cmd = app.add_subcommand(
       "selftest", "Run a min reduction, an argmin and a stream compaction on the GPU against their CPU twins");
   auto o = std::make_shared<Options>();
-  cmd->add_option("--size", o->size, "Side of the square test texture")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--size", o->size, "Side of the square test texture")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
   cmd->add_option("--density", o->density, "Fraction of texels the compaction keeps")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

@@ -2,11 +2,10 @@
 /// \file commands.h
 /// Each subcommand registers itself on the CLI11 app; its callback does the work and throws on
 /// failure (main maps the exception type to the exit code).
-#include "cli/common.h"
-
 #include <CLI/CLI.hpp>
-
 #include <stdexcept>
+
+#include "cli/common.h"
 
 namespace cli {
 

@@ -1,25 +1,25 @@
 #pragma once
 /// \file common.h
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
-#include "gpgpu/gpu.h"
-
 #include <memory>
 #include <string>
+
+#include "gpgpu/gpu.h"
 
 namespace cli {
 
 /// Exit codes of the nurbsgl executable (documented in README.md and --help).
 enum ExitCode : int {
   kOk = 0,
-  kFailed = 1,     ///< a check failed, or an internal error
-  kBadInput = 2,   ///< bad command line or unreadable / malformed input file
-  kNoGl = 3,       ///< no OpenGL backend could start
+  kFailed = 1,    ///< a check failed, or an internal error
+  kBadInput = 2,  ///< bad command line or unreadable / malformed input file
+  kNoGl = 3,      ///< no OpenGL backend could start
 };
 
 struct GlobalOptions {
-  std::string gl = "";      ///< --gl; empty = NURBSGL_GL, else auto
-  std::string dump_dir;     ///< --dump DIR: EXR dumps of the textures a command produces
-  bool profile = false;     ///< --profile: per-pass GPU/CPU time table on stderr
+  std::string gl = "";   ///< --gl; empty = NURBSGL_GL, else auto
+  std::string dump_dir;  ///< --dump DIR: EXR dumps of the textures a command produces
+  bool profile = false;  ///< --profile: per-pass GPU/CPU time table on stderr
 };
 
 /// Starts the GPU for a command (backend from --gl, else NURBSGL_GL, else auto), with dumps and

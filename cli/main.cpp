@@ -1,10 +1,10 @@
 // nurbsgl: geometric queries on trimmed NURBS models with OpenGL fragment-shader GPGPU.
-#include "cli/commands.h"
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <exception>
+
+#include "cli/commands.h"
+#include "nurbs/io/read_error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -13,8 +13,9 @@ int main(int argc, char** argv) {
       "nurbsgl"};
   app.require_subcommand(1);
   cli::GlobalOptions global;
-  app.add_option("--gl", global.gl, "GL backend: auto (EGL, then OSMesa), egl, egl-device, osmesa, glfw "
-                                     "(default: $NURBSGL_GL, else auto)")
+  app.add_option("--gl", global.gl,
+                 "GL backend: auto (EGL, then OSMesa), egl, egl-device, osmesa, glfw "
+                 "(default: $NURBSGL_GL, else auto)")
       ->check(CLI::IsMember({"auto", "egl", "egl-device", "osmesa", "glfw"}));
   app.add_option("--dump", global.dump_dir, "Write the textures a command produces as OpenEXR files into DIR");
   app.add_flag("--profile", global.profile, "Print GPU and CPU time per pass (synchronised) on stderr");

@@ -1,17 +1,17 @@
 // Benchmark of the gpgpu/ layer (not a test: it prints figures, asserts nothing about speed).
 // Per backend: per-pass overhead, min-reduction and compaction throughput at 256^2..4096^2,
 // upload and read-back bandwidth. Run once per backend: `bench_gpgpu --gl egl`, `--gl osmesa`.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <random>
+
 #include "gpgpu/compact.h"
 #include "gpgpu/gpu.h"
 #include "gpgpu/reduce.h"
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
-#include <chrono>
-#include <random>
 
 namespace {
 
@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   gpgpu::Gpu gpu(gpgpu::ContextOptions{gpgpu::parse_backend(backend)});
-  nlohmann::json out{{"backend", gpu.info().backend}, {"renderer", gpu.info().renderer}, {"context", gpu.info().detail}};
+  nlohmann::json out{
+      {"backend", gpu.info().backend}, {"renderer", gpu.info().renderer}, {"context", gpu.info().detail}};
   auto say = [&](const std::string& s) {
     if (!json) fmt::print("{}\n", s);
   };
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
   }
 
   std::mt19937_64 rng(3);
-  say(fmt::format("{:>6} {:>12} {:>12} {:>14} {:>14} {:>12} {:>12}", "size", "min ms", "min Mtex/s",
-                  "compact1% ms", "compact50% ms", "upload GB/s", "read GB/s"));
+  say(fmt::format("{:>6} {:>12} {:>12} {:>14} {:>14} {:>12} {:>12}", "size", "min ms", "min Mtex/s", "compact1% ms",
+                  "compact50% ms", "upload GB/s", "read GB/s"));
   for (int n = 256; n <= max_size; n *= 2) {
     const size_t count = size_t(n) * n;
     std::vector<float> v(count * 4);

@@ -10,8 +10,8 @@ namespace gpgpu {
 ArrayTexture upload_array(std::span<const float> values, Format format, int max_size, float pad) {
   const int ch = channels(format);
   if (is_integer(format) || format == Format::R8 || values.size() % size_t(ch) != 0)
-    throw std::invalid_argument(fmt::format("upload_array: {} values do not make {} records", values.size(),
-                                            format_name(format)));
+    throw std::invalid_argument(
+        fmt::format("upload_array: {} values do not make {} records", values.size(), format_name(format)));
   ArrayTexture a{layout_for(int64_t(values.size() / size_t(ch)), max_size), {}};
   a.texture = Texture(a.layout.width, a.layout.height, format);
   const size_t full = size_t(a.layout.width) * size_t(a.layout.height) * size_t(ch);

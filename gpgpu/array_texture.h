@@ -2,10 +2,10 @@
 /// \file array_texture.h
 /// Upload of a long 1D array of records into a 2D texture (gpgpu/layout.h), padding the last row
 /// with a caller-chosen value (the neutral element of the reduction that will read it).
+#include <span>
+
 #include "gpgpu/layout.h"
 #include "gpgpu/texture.h"
-
-#include <span>
 
 namespace gpgpu {
 

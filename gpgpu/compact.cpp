@@ -54,14 +54,15 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
 
   int max_size = gpu.info().max_texture_size;
   out.layout = layout_for(out.count, max_size);
-  out.records = Texture(out.layout.width, out.layout.height, records.format() == Format::R8 ? Format::R32F : records.format());
+  out.records =
+      Texture(out.layout.width, out.layout.height, records.format() == Format::R8 ? Format::R32F : records.format());
   out.source = Texture(out.layout.width, out.layout.height, Format::R32UI);
   if (out.count == 0) return out;
 
   const int units_needed = out.levels + 2;
   if (units_needed > gpu.info().max_texture_units)
-    throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}",
-                                        out.levels, units_needed, gpu.info().max_texture_units));
+    throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}", out.levels,
+                                        units_needed, gpu.info().max_texture_units));
   Program& g = gpu.program("histopyramid_gather.frag", {{"NUM_LEVELS", std::to_string(out.levels)}});
   std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
   for (size_t i = 0; i < levels.size(); ++i) {

@@ -5,20 +5,20 @@
 /// (glsl/histopyramid_build.frag), one read-back of the total, then one gather pass in which output
 /// element k descends the pyramid to its source texel (glsl/histopyramid_gather.frag).
 /// Reducing rows before columns (instead of 2x2 blocks) keeps the output in row-major input order.
-#include "gpgpu/gpu.h"
-#include "gpgpu/layout.h"
-
 #include <cstdint>
 #include <vector>
+
+#include "gpgpu/gpu.h"
+#include "gpgpu/layout.h"
 
 namespace gpgpu {
 
 struct Compacted {
-  int64_t count = 0;   ///< kept elements
-  Layout2D layout;     ///< of the outputs below (near-square)
-  Texture records;     ///< the kept records, in input order (format of the input records)
-  Texture source;      ///< R32UI: row-major index of each kept texel in the input
-  int levels = 0;      ///< count-pyramid levels built
+  int64_t count = 0;  ///< kept elements
+  Layout2D layout;    ///< of the outputs below (near-square)
+  Texture records;    ///< the kept records, in input order (format of the input records)
+  Texture source;     ///< R32UI: row-major index of each kept texel in the input
+  int levels = 0;     ///< count-pyramid levels built
 
   /// Reads the first `count` records (channels(format) floats each) / source indices back.
   [[nodiscard]] std::vector<float> read_records() const;

@@ -1,11 +1,11 @@
 #include "gpgpu/context.h"
 
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
 
 #include <array>
 #include <cstdlib>
+
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 
@@ -97,11 +97,20 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     std::string why;
     std::unique_ptr<Context> ctx;
     switch (b) {
-      case Backend::Egl: ctx = detail::create_egl(options, false, why); break;
-      case Backend::EglDevice: ctx = detail::create_egl(options, true, why); break;
-      case Backend::OSMesa: ctx = detail::create_osmesa(options, why); break;
-      case Backend::Glfw: ctx = detail::create_glfw(options, why); break;
-      case Backend::Auto: break;
+      case Backend::Egl:
+        ctx = detail::create_egl(options, false, why);
+        break;
+      case Backend::EglDevice:
+        ctx = detail::create_egl(options, true, why);
+        break;
+      case Backend::OSMesa:
+        ctx = detail::create_osmesa(options, why);
+        break;
+      case Backend::Glfw:
+        ctx = detail::create_glfw(options, why);
+        break;
+      case Backend::Auto:
+        break;
     }
     if (ctx) {
       ctx->info_.backend = std::string(backend_name(b));
@@ -109,10 +118,10 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     }
     tried += fmt::format("{}{}: {}", tried.empty() ? "" : "; ", backend_name(b), why);
   }
-  throw NoGlError(fmt::format(
-      "no usable OpenGL 4.5 core context ({}); choose another backend with --gl "
-      "egl|egl-device|osmesa|glfw or NURBSGL_GL",
-      tried));
+  throw NoGlError(
+      fmt::format("no usable OpenGL 4.5 core context ({}); choose another backend with --gl "
+                  "egl|egl-device|osmesa|glfw or NURBSGL_GL",
+                  tried));
 }
 
 }  // namespace gpgpu

@@ -42,7 +42,7 @@ struct ContextInfo {
   std::string renderer;
   std::string vendor;
   int max_texture_size = 0;
-  int max_texture_units = 0;  ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment stage)
+  int max_texture_units = 0;      ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment stage)
   bool float_targets_ok = false;  ///< R32F/RG32F/RGBA32F attach, clear and read back unclamped
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
 };

@@ -2,14 +2,14 @@
 // llvmpipe ("EGL_MESA_device_software") and headless NVIDIA alike. EGL extension entry points come
 // from libepoxy; GL entry points from eglGetProcAddress (Mesa and NVIDIA return core functions too,
 // EGL_KHR_get_all_proc_addresses).
-#include "gpgpu/context.h"
-
 #include <epoxy/egl.h>
 #include <fmt/format.h>
 
 #include <cstdlib>
 #include <cstring>
 #include <string>
+
+#include "gpgpu/context.h"
 
 namespace gpgpu::detail {
 namespace {
@@ -26,8 +26,7 @@ void* egl_proc(const char* name) { return reinterpret_cast<void*>(eglGetProcAddr
 
 class EglContext final : public Context {
  public:
-  EglContext(EGLDisplay display, EGLContext context, std::string detail)
-      : display_(display), context_(context) {
+  EglContext(EGLDisplay display, EGLContext context, std::string detail) : display_(display), context_(context) {
     info_.detail = std::move(detail);
   }
   ~EglContext() override {
@@ -75,9 +74,9 @@ std::unique_ptr<Context> start_on(EGLDisplay display, const std::string& what, s
     why = fmt::format("{}: no OpenGL-renderable EGL config", what);
     return nullptr;
   }
-  const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                EGL_NONE};
+  const EGLint ctx_attribs[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   EGLContext ctx = eglCreateContext(display, no_config ? EGL_NO_CONFIG_KHR : config, EGL_NO_CONTEXT, ctx_attribs);
   if (ctx == EGL_NO_CONTEXT) {
     why = fmt::format("{}: no OpenGL 4.5 core context ({})", what, egl_error());
@@ -138,8 +137,8 @@ std::unique_ptr<Context> create_egl(const ContextOptions& /*options*/, bool devi
   }
   std::string reasons;
   auto note = [&](const std::string& r) { reasons += (reasons.empty() ? "" : ", ") + r; };
-  const bool device_platform = has_extension(client, "EGL_EXT_platform_device") &&
-                               has_extension(client, "EGL_EXT_device_enumeration");
+  const bool device_platform =
+      has_extension(client, "EGL_EXT_platform_device") && has_extension(client, "EGL_EXT_device_enumeration");
   // 1. A hardware device (headless NVIDIA), or any device when the device platform was asked for.
   if (device_platform) {
     std::string w;

@@ -1,11 +1,11 @@
 // GLFW backend: a window (hidden unless asked) with a 4.5 core context, for the viewer and for
 // running the GL tests under a real window system (xvfb-run in CI).
-#include "gpgpu/context.h"
-
 #include <GLFW/glfw3.h>
 #include <fmt/format.h>
 
 #include <string>
+
+#include "gpgpu/context.h"
 
 namespace gpgpu::detail {
 namespace {

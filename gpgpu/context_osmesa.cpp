@@ -1,11 +1,11 @@
 // OSMesa backend. libepoxy cannot be used here (it aborts without a GLX or EGL context), so the
 // GL table is loaded through OSMesaGetProcAddress, which returns libOSMesa's own entry points.
-#include "gpgpu/context.h"
-
 #include <GL/osmesa.h>
 #include <fmt/format.h>
 
 #include <vector>
+
+#include "gpgpu/context.h"
 
 namespace gpgpu::detail {
 namespace {
@@ -36,9 +36,19 @@ class OSMesaCtx final : public Context {
 }  // namespace
 
 std::unique_ptr<Context> create_osmesa(const ContextOptions& /*options*/, std::string& why) {
-  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                         OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 4,
-                         OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS,
+                         0,
+                         OSMESA_STENCIL_BITS,
+                         0,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         4,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         5,
+                         0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
   if (ctx == nullptr) {
     why = "OSMesaCreateContextAttribs refused a 4.5 core context";

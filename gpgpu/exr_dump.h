@@ -3,10 +3,10 @@
 /// OpenEXR dumps of textures for inspection (`--dump DIR`). Float textures become FLOAT channels
 /// R, G, B, A (as many as the format has); R32UI becomes a UINT channel R; R8 a FLOAT channel R in
 /// 0..1. EXR row y holds texel row y (no flip), so pixel (x, y) in a viewer is texel (x, y).
-#include "gpgpu/texture.h"
-
 #include <filesystem>
 #include <vector>
+
+#include "gpgpu/texture.h"
 
 namespace gpgpu {
 

@@ -1,10 +1,10 @@
 #include "gpgpu/framebuffer.h"
 
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
 
 #include <vector>
+
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 

@@ -2,12 +2,12 @@
 /// \file framebuffer.h
 /// A framebuffer object over colour textures (RAII). Completeness is checked when it is created:
 /// an incomplete one throws FramebufferError naming the GL status.
-#include "gpgpu/texture.h"
-
 #include <GL/glcorearb.h>
 
 #include <span>
 #include <stdexcept>
+
+#include "gpgpu/texture.h"
 
 namespace gpgpu {
 

@@ -13,6 +13,7 @@
 
 namespace gpgpu::gl {
 
+// clang-format off
 // X(return type, name without the "gl" prefix, parameter list)
 #define NURBSGL_GL_FUNCTIONS(X)                                                                       \
   X(const GLubyte*, GetString, (GLenum))                                                             \
@@ -92,7 +93,10 @@ namespace gpgpu::gl {
   X(void, GetQueryiv, (GLenum, GLenum, GLint*))                                                     \
   X(void, ClearNamedFramebufferfv, (GLuint, GLenum, GLint, const GLfloat*))
 
-#define NURBSGL_DECLARE_GL(ret, name, params) using name##_t = ret(APIENTRYP) params; extern name##_t name;
+// clang-format on
+#define NURBSGL_DECLARE_GL(ret, name, params) \
+  using name##_t = ret(APIENTRYP) params;     \
+  extern name##_t name;
 NURBSGL_GL_FUNCTIONS(NURBSGL_DECLARE_GL)
 #undef NURBSGL_DECLARE_GL
 

@@ -1,11 +1,11 @@
 #include "gpgpu/gpu.h"
 
-#include "gpgpu/exr_dump.h"
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
 
 #include <vector>
+
+#include "gpgpu/exr_dump.h"
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 

@@ -3,12 +3,6 @@
 /// The GPU co-processor of Krishnamurthy et al. §1.1 (Fig. 3): a context, the embedded kernels, a
 /// pass runner (full-screen triangle into target textures, every piece of state set explicitly and
 /// reset afterwards), a texture pool for ping-pong and pyramid levels, the profiler and EXR dumps.
-#include "gpgpu/context.h"
-#include "gpgpu/framebuffer.h"
-#include "gpgpu/profiler.h"
-#include "gpgpu/program.h"
-#include "gpgpu/texture.h"
-
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -16,6 +10,12 @@
 #include <span>
 #include <string>
 #include <tuple>
+
+#include "gpgpu/context.h"
+#include "gpgpu/framebuffer.h"
+#include "gpgpu/profiler.h"
+#include "gpgpu/program.h"
+#include "gpgpu/texture.h"
 
 namespace gpgpu {
 

@@ -2,9 +2,9 @@
 /// \file ping_pong.h
 /// Two same-size textures for iterative passes: read src(), write dst(), then swap(). A texture is
 /// never read and written in one pass (that would be a feedback loop, undefined in GL).
-#include "gpgpu/texture.h"
-
 #include <utility>
+
+#include "gpgpu/texture.h"
 
 namespace gpgpu {
 

@@ -5,10 +5,10 @@
 /// centre is inside an odd number of polygons; a second pass writes 1 there, 0 elsewhere. This is
 /// how trim textures are made (Krishnamurthy et al. §5.3, their ref. [27]). Texels whose centre
 /// lies on an edge follow GL's rasterisation rule.
-#include "gpgpu/gpu.h"
-
 #include <glm/vec2.hpp>
 #include <vector>
+
+#include "gpgpu/gpu.h"
 
 namespace gpgpu {
 

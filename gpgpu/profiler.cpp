@@ -1,11 +1,11 @@
 #include "gpgpu/profiler.h"
 
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <limits>
+
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 

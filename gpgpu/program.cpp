@@ -1,8 +1,8 @@
 #include "gpgpu/program.h"
 
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
+
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 namespace {

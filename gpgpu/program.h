@@ -2,13 +2,13 @@
 /// \file program.h
 /// A linked GL program (RAII) built from assembled sources, with uniform setters that do not touch
 /// context state (glProgramUniform*). Compile and link failures throw ShaderError with the log.
-#include "gpgpu/shader_library.h"
-
 #include <GL/glcorearb.h>
 
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+
+#include "gpgpu/shader_library.h"
 
 namespace gpgpu {
 
@@ -23,7 +23,8 @@ class Program {
  public:
   Program() = default;
   /// Compiles `vertex` and `fragment` (names in `library`) with `defines` and links them.
-  Program(const ShaderLibrary& library, std::string_view vertex, std::string_view fragment, const Defines& defines = {});
+  Program(const ShaderLibrary& library, std::string_view vertex, std::string_view fragment,
+          const Defines& defines = {});
   ~Program();
   Program(Program&& other) noexcept;
   Program& operator=(Program&& other) noexcept;

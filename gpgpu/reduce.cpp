@@ -84,9 +84,15 @@ std::array<double, 4> reduce_cpu(std::span<const float> texels, int n_channels, 
       const double v = texels[i * size_t(n_channels) + size_t(c)];
       double& a = acc[size_t(c)];
       switch (ops[size_t(c)]) {
-        case ReduceOp::Sum: a += v; break;
-        case ReduceOp::Min: if (!std::isnan(v)) a = std::min(a, v); break;
-        case ReduceOp::Max: if (!std::isnan(v)) a = std::max(a, v); break;
+        case ReduceOp::Sum:
+          a += v;
+          break;
+        case ReduceOp::Min:
+          if (!std::isnan(v)) a = std::min(a, v);
+          break;
+        case ReduceOp::Max:
+          if (!std::isnan(v)) a = std::max(a, v);
+          break;
       }
     }
   }

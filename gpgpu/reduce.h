@@ -7,11 +7,11 @@
 /// NaN policy (same on GPU and CPU twin): min/max/argmin ignore NaN entries; a sum containing NaN
 /// is NaN. Neutral elements: +inf (min), -inf (max), 0 (sum); argmin of no valid entry is not found.
 /// Sums are pairwise (a 2x2 tree) in float: relative error about log2(n) * 2^-24 of sum |x|.
-#include "gpgpu/gpu.h"
-
 #include <array>
 #include <cstdint>
 #include <span>
+
+#include "gpgpu/gpu.h"
 
 namespace gpgpu {
 

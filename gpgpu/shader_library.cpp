@@ -46,8 +46,8 @@ void ShaderLibrary::expand(std::string_view name, AssembledSource& out, std::vec
         throw std::runtime_error(fmt::format("{}:{}: malformed #include", it->second.display_name, line_no));
       std::string lib(line.substr(a + 1, b - a - 1));
       if (!contains(lib))
-        throw std::runtime_error(fmt::format("{}:{}: #include \"{}\" is not an embedded GLSL file",
-                                             it->second.display_name, line_no, lib));
+        throw std::runtime_error(
+            fmt::format("{}:{}: #include \"{}\" is not an embedded GLSL file", it->second.display_name, line_no, lib));
       if (std::find(included.begin(), included.end(), lib) == included.end()) expand(lib, out, included);
       out.text += fmt::format("#line {}\n", id * kLineFileStride + line_no + 1);
       continue;

@@ -1,22 +1,27 @@
 #include "gpgpu/texture.h"
 
-#include "gpgpu/gl_api.h"
-
 #include <fmt/format.h>
 
 #include <stdexcept>
 #include <utility>
+
+#include "gpgpu/gl_api.h"
 
 namespace gpgpu {
 namespace {
 
 GLenum internal_format(Format f) {
   switch (f) {
-    case Format::R8: return GL_R8;
-    case Format::R32F: return GL_R32F;
-    case Format::RG32F: return GL_RG32F;
-    case Format::RGBA32F: return GL_RGBA32F;
-    case Format::R32UI: return GL_R32UI;
+    case Format::R8:
+      return GL_R8;
+    case Format::R32F:
+      return GL_R32F;
+    case Format::RG32F:
+      return GL_RG32F;
+    case Format::RGBA32F:
+      return GL_RGBA32F;
+    case Format::R32UI:
+      return GL_R32UI;
   }
   return GL_NONE;
 }
@@ -24,10 +29,14 @@ GLenum internal_format(Format f) {
 GLenum pixel_format(Format f) {
   switch (f) {
     case Format::R8:
-    case Format::R32F: return GL_RED;
-    case Format::RG32F: return GL_RG;
-    case Format::RGBA32F: return GL_RGBA;
-    case Format::R32UI: return GL_RED_INTEGER;
+    case Format::R32F:
+      return GL_RED;
+    case Format::RG32F:
+      return GL_RG;
+    case Format::RGBA32F:
+      return GL_RGBA;
+    case Format::R32UI:
+      return GL_RED_INTEGER;
   }
   return GL_NONE;
 }
@@ -38,11 +47,16 @@ int channels(Format f) { return f == Format::RG32F ? 2 : f == Format::RGBA32F ? 
 bool is_integer(Format f) { return f == Format::R32UI; }
 std::string_view format_name(Format f) {
   switch (f) {
-    case Format::R8: return "R8";
-    case Format::R32F: return "R32F";
-    case Format::RG32F: return "RG32F";
-    case Format::RGBA32F: return "RGBA32F";
-    case Format::R32UI: return "R32UI";
+    case Format::R8:
+      return "R8";
+    case Format::R32F:
+      return "R32F";
+    case Format::RG32F:
+      return "RG32F";
+    case Format::RGBA32F:
+      return "RGBA32F";
+    case Format::R32UI:
+      return "R32UI";
   }
   return "?";
 }
@@ -85,8 +99,8 @@ Region Texture::clip(Region r) const {
   if (r.width <= 0) r.width = width_ - r.x;
   if (r.height <= 0) r.height = height_ - r.y;
   if (r.x < 0 || r.y < 0 || r.width < 1 || r.height < 1 || r.x + r.width > width_ || r.y + r.height > height_)
-    throw std::out_of_range(fmt::format("region {}x{} at ({}, {}) outside a {}x{} texture", r.width, r.height, r.x,
-                                        r.y, width_, height_));
+    throw std::out_of_range(
+        fmt::format("region {}x{} at ({}, {}) outside a {}x{} texture", r.width, r.height, r.x, r.y, width_, height_));
   return r;
 }
 

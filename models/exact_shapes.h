@@ -3,11 +3,11 @@
 /// Exact rational NURBS shapes (The NURBS Book §7.5 circle, §8.5 surfaces of revolution): the
 /// closed-form references for evaluation tests. Circles use the standard 9-point construction:
 /// degree 2, knots {0,0,0,1/4,1/4,1/2,1/2,3/4,3/4,1,1,1}, corner weights sqrt(2)/2.
-#include "nurbs/curve.h"
-#include "nurbs/surface.h"
-
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include "nurbs/curve.h"
+#include "nurbs/surface.h"
 
 namespace models {
 

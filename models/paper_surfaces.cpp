@@ -1,9 +1,9 @@
 #include "models/paper_surfaces.h"
 
-#include "models/exact_shapes.h"
-
 #include <cmath>
 #include <numbers>
+
+#include "models/exact_shapes.h"
 
 namespace models {
 
@@ -16,8 +16,8 @@ std::vector<double> clamped_uniform_knots(int degree, int count) {
   return k;
 }
 
-nurbs::Surface wavy_surface(int count_u, int count_v, double size_u, double size_v, double amplitude,
-                            double wave_x, double wave_y, double phase, double z_offset) {
+nurbs::Surface wavy_surface(int count_u, int count_v, double size_u, double size_v, double amplitude, double wave_x,
+                            double wave_y, double phase, double z_offset) {
   constexpr double two_pi = 2.0 * std::numbers::pi;
   nurbs::Surface s;
   s.degree_u = s.degree_v = 3;

@@ -1,11 +1,11 @@
 #include "models/random_surfaces.h"
 
-#include "models/exact_shapes.h"
-#include "models/paper_surfaces.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
 
 namespace models {
 namespace {
@@ -81,7 +81,8 @@ nurbs::TrimmedSurface random_trimmed_surface(std::uint64_t seed) {
       corners.push_back(mid + glm::dvec2(r * std::cos(ang) * size.x, r * std::sin(ang) * size.y) * 1.0);
     }
     nurbs::TrimLoop outer;
-    for (int i = 0; i < sides; ++i) outer.curves.push_back(trim_line(corners[static_cast<size_t>(i)], corners[static_cast<size_t>((i + 1) % sides)]));
+    for (int i = 0; i < sides; ++i)
+      outer.curves.push_back(trim_line(corners[static_cast<size_t>(i)], corners[static_cast<size_t>((i + 1) % sides)]));
     t.loops.push_back(std::move(outer));
   }
   // Holes: circles in distinct cells of a 3x3 grid of spacing 0.08 about the centre, radius <= 0.03

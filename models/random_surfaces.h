@@ -3,10 +3,10 @@
 /// A reproducible random family of surfaces and trimmed faces for property tests. Reproducible
 /// across compilers and standard libraries: only the raw 64-bit output of std::mt19937_64 (fully
 /// specified by the standard) is used, never std::uniform_*_distribution (implementation-defined).
-#include "nurbs/trimmed_surface.h"
-
 #include <cstdint>
 #include <random>
+
+#include "nurbs/trimmed_surface.h"
 
 namespace models {
 
@@ -32,7 +32,8 @@ class Random {
 
 /// A random trimmed face: random_surface with degrees in [1, 4] and rational or not drawn from the
 /// seed, an outer CCW loop (a random star-shaped polygon of 4-7 degree-1 edges, or none, one seed in
-/// four), and 0-3 circular CW holes placed in separate cells about the centre so loops never cross. face_id = seed % 1000.
+/// four), and 0-3 circular CW holes placed in separate cells about the centre so loops never cross. face_id = seed %
+/// 1000.
 [[nodiscard]] nurbs::TrimmedSurface random_trimmed_surface(std::uint64_t seed);
 
 }  // namespace models

@@ -6,10 +6,10 @@
 /// interior multiplicities all equal p is a Bézier piece). Unclamped inputs are clamped first.
 /// Each piece keeps its parameter interval of the original curve/surface, so derivatives of the
 /// piece wrt its own knots are derivatives wrt the original parameters.
+#include <vector>
+
 #include "nurbs/homogeneous.h"
 #include "nurbs/knot_vector.h"
-
-#include <vector>
 
 namespace nurbs {
 

@@ -13,9 +13,9 @@ template <int D>
 struct Curve {
   using Point = glm::vec<D, double>;
   int degree = 0;
-  std::vector<double> knots;   ///< size = points.size() + degree + 1, non-decreasing
-  std::vector<Point> points;   ///< Euclidean control points (not pre-multiplied by weights)
-  std::vector<double> weights; ///< empty = polynomial (all weights 1); else same size as points, > 0
+  std::vector<double> knots;    ///< size = points.size() + degree + 1, non-decreasing
+  std::vector<Point> points;    ///< Euclidean control points (not pre-multiplied by weights)
+  std::vector<double> weights;  ///< empty = polynomial (all weights 1); else same size as points, > 0
 
   [[nodiscard]] bool rational() const { return !weights.empty(); }
 };

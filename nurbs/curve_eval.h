@@ -3,10 +3,10 @@
 /// Evaluation of (rational) B-spline curves of any degree: points and derivatives
 /// (The NURBS Book A3.2 on the homogeneous curve, then A4.2 for the rational quotient rule).
 /// Inputs are assumed valid (see validate.h); parameters outside the domain are clamped to it.
+#include <vector>
+
 #include "nurbs/curve.h"
 #include "nurbs/knot_vector.h"
-
-#include <vector>
 
 namespace nurbs {
 

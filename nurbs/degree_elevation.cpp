@@ -1,9 +1,9 @@
 #include "nurbs/degree_elevation.h"
 
+#include <algorithm>
+
 #include "nurbs/knot_insertion.h"
 #include "nurbs/knot_vector.h"
-
-#include <algorithm>
 
 namespace nurbs {
 
@@ -23,10 +23,12 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int t) {
   bezalfs[0][0] = bezalfs[idx(ph)][idx(p)] = 1.0;
   for (int i = 1; i <= ph2; ++i) {
     const double inv = 1.0 / binomial(ph, i);
-    for (int j = std::max(0, i - t); j <= std::min(p, i); ++j) bezalfs[idx(i)][idx(j)] = inv * binomial(p, j) * binomial(t, i - j);
+    for (int j = std::max(0, i - t); j <= std::min(p, i); ++j)
+      bezalfs[idx(i)][idx(j)] = inv * binomial(p, j) * binomial(t, i - j);
   }
   for (int i = ph2 + 1; i <= ph - 1; ++i) {
-    for (int j = std::max(0, i - t); j <= std::min(p, i); ++j) bezalfs[idx(i)][idx(j)] = bezalfs[idx(ph - i)][idx(p - j)];
+    for (int j = std::max(0, i - t); j <= std::min(p, i); ++j)
+      bezalfs[idx(i)][idx(j)] = bezalfs[idx(ph - i)][idx(p - j)];
   }
 
   // Output sizes: at most (number of segments) * (ph) + 1 points; trimmed at the end.
@@ -68,7 +70,8 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int t) {
     // Elevate the Bézier segment.
     for (int i = lbz; i <= ph; ++i) {
       ebpts[idx(i)] = glm::dvec4(0.0);
-      for (int j = std::max(0, i - t); j <= std::min(p, i); ++j) ebpts[idx(i)] += bezalfs[idx(i)][idx(j)] * bpts[idx(j)];
+      for (int j = std::max(0, i - t); j <= std::min(p, i); ++j)
+        ebpts[idx(i)] += bezalfs[idx(i)][idx(j)] * bpts[idx(j)];
     }
     if (oldr > 1) {
       // Remove knot u = ua oldr - 1 times (it was inserted by the previous pass).

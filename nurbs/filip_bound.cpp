@@ -1,14 +1,13 @@
 #include "nurbs/filip_bound.h"
 
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+
 #include "nurbs/bezier_extraction.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/surface_eval.h"
-
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 namespace nurbs {
 namespace {
@@ -32,8 +31,10 @@ std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
 SecondDerivativeBounds split_patch_bounds(const BezierPatch& patch, int parts) {
   if (parts <= 1) return bezier_patch_bounds(patch.surface, patch.range_u.width(), patch.range_v.width());
   Surface r = patch.surface;
-  for (int k = 1; k < parts; ++k) r = insert_knot_u(r, patch.range_u.min + patch.range_u.width() * k / parts, r.degree_u);
-  for (int k = 1; k < parts; ++k) r = insert_knot_v(r, patch.range_v.min + patch.range_v.width() * k / parts, r.degree_v);
+  for (int k = 1; k < parts; ++k)
+    r = insert_knot_u(r, patch.range_u.min + patch.range_u.width() * k / parts, r.degree_u);
+  for (int k = 1; k < parts; ++k)
+    r = insert_knot_v(r, patch.range_v.min + patch.range_v.width() * k / parts, r.degree_v);
   SecondDerivativeBounds mx;
   for (const auto& piece : extract_bezier_patches(r)) {
     const auto m = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());

@@ -39,10 +39,10 @@
 ///      |S_vv^k| <= (A_vv^k + 2 W_v D_v^k + W_vv R^k) / w_min
 ///    For weights all equal this reduces to the polynomial bound. Splitting the patches first
 ///    (`subdivisions`) tightens the rational bound (the nets converge to the derivatives).
+#include <vector>
+
 #include "nurbs/knot_vector.h"
 #include "nurbs/surface.h"
-
-#include <vector>
 
 namespace nurbs {
 

@@ -86,7 +86,8 @@ Surface surface_from_rows(const std::vector<HomogeneousCurve>& rows, const Surfa
   s.points.resize(static_cast<size_t>(s.count_u) * static_cast<size_t>(s.count_v));
   if (rational) s.weights.resize(s.points.size());
   for (int j = 0; j < s.count_v; ++j) {
-    for (int i = 0; i < s.count_u; ++i) store(s, i, j, rows[static_cast<size_t>(j)].points[static_cast<size_t>(i)], rational);
+    for (int i = 0; i < s.count_u; ++i)
+      store(s, i, j, rows[static_cast<size_t>(j)].points[static_cast<size_t>(i)], rational);
   }
   return s;
 }
@@ -102,7 +103,8 @@ Surface surface_from_columns(const std::vector<HomogeneousCurve>& cols, const Su
   s.points.resize(static_cast<size_t>(s.count_u) * static_cast<size_t>(s.count_v));
   if (rational) s.weights.resize(s.points.size());
   for (int i = 0; i < s.count_u; ++i) {
-    for (int j = 0; j < s.count_v; ++j) store(s, i, j, cols[static_cast<size_t>(i)].points[static_cast<size_t>(j)], rational);
+    for (int j = 0; j < s.count_v; ++j)
+      store(s, i, j, cols[static_cast<size_t>(i)].points[static_cast<size_t>(j)], rational);
   }
   return s;
 }

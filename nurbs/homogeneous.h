@@ -3,11 +3,11 @@
 /// Homogeneous (4D, weight-premultiplied) form of curves and surface rows/columns: P^w = (w x, w y,
 /// w z, w) (The NURBS Book §4.2). Knot insertion, degree elevation and Bézier extraction are linear
 /// maps on P^w, so one implementation serves polynomial and rational, 2D and 3D geometry.
-#include "nurbs/curve.h"
-#include "nurbs/surface.h"
-
 #include <glm/vec4.hpp>
 #include <vector>
+
+#include "nurbs/curve.h"
+#include "nurbs/surface.h"
 
 namespace nurbs {
 
@@ -35,8 +35,8 @@ template <int D>
 [[nodiscard]] HomogeneousCurve reversed(const HomogeneousCurve& h);
 template <int D>
 [[nodiscard]] Curve<D> reversed(const Curve<D>& c) {
-  return {c.degree, reversed_knots(c.knots), {c.points.rbegin(), c.points.rend()},
-          {c.weights.rbegin(), c.weights.rend()}};
+  return {
+      c.degree, reversed_knots(c.knots), {c.points.rbegin(), c.points.rend()}, {c.weights.rbegin(), c.weights.rend()}};
 }
 
 /// Row j of the control net (points (0..count_u-1, j)) as a homogeneous curve along u.

@@ -1,8 +1,8 @@
 #include "nurbs/knot_insertion.h"
 
-#include "nurbs/knot_vector.h"
-
 #include <algorithm>
+
+#include "nurbs/knot_vector.h"
 
 namespace nurbs {
 

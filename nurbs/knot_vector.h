@@ -19,9 +19,9 @@ struct Interval {
 };
 
 /// Everything wrong with `knots` as the knot vector of a degree-`degree` B-spline with `count`
-/// control points; empty when valid. Checks: degree >= 1, count >= degree + 1, size == count + degree + 1, finite values, non-decreasing, multiplicity of a
-/// knot inside the domain <= degree (C0 limit), multiplicity of any value <= degree + 1, and a
-/// non-degenerate domain U[p] < U[count]. Each message names the index or value at fault.
+/// control points; empty when valid. Checks: degree >= 1, count >= degree + 1, size == count + degree + 1, finite
+/// values, non-decreasing, multiplicity of a knot inside the domain <= degree (C0 limit), multiplicity of any value <=
+/// degree + 1, and a non-degenerate domain U[p] < U[count]. Each message names the index or value at fault.
 [[nodiscard]] std::vector<std::string> validate_knots(const std::vector<double>& knots, int degree, int count);
 
 /// True when the first degree+1 knots are equal and so are the last degree+1 (the curve interpolates

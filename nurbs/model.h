@@ -2,12 +2,12 @@
 /// \file model.h
 /// A model: named bodies of trimmed faces, each body with a rigid transform, plus what the reader
 /// saw (source file, unit scale, skipped entity types).
-#include "trimmed_surface.h"
-
 #include <glm/mat4x4.hpp>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "trimmed_surface.h"
 
 namespace nurbs {
 
@@ -19,8 +19,8 @@ struct Body {
 
 struct Model {
   std::vector<Body> bodies;
-  std::string source;              ///< file the model came from, or the generator's name
-  double unit_scale_to_mm = 1.0;   ///< from the IGES global section (parameter 14/15)
+  std::string source;                   ///< file the model came from, or the generator's name
+  double unit_scale_to_mm = 1.0;        ///< from the IGES global section (parameter 14/15)
   std::map<int, int> skipped_entities;  ///< IGES entity type -> count, for entities not read
 };
 

@@ -1,13 +1,13 @@
 #include "nurbs/model_ops.h"
 
-#include "nurbs/surface_eval.h"
-
 #include <fmt/format.h>
+
+#include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
-#include <cmath>
+#include "nurbs/surface_eval.h"
 
 namespace nurbs {
 
@@ -21,7 +21,8 @@ std::vector<std::string> validate_rigid(const glm::dmat4& m) {
         problems.push_back(fmt::format("rotation part is not orthonormal (R^T R [{}][{}] = {})", i, j, rtr[i][j]));
         i = j = 3;
       }
-  if (std::fabs(glm::determinant(r) - 1.0) > 1e-9) problems.push_back(fmt::format("det R = {} (not 1)", glm::determinant(r)));
+  if (std::fabs(glm::determinant(r) - 1.0) > 1e-9)
+    problems.push_back(fmt::format("det R = {} (not 1)", glm::determinant(r)));
   if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
     problems.push_back("last row is not (0, 0, 0, 1): a projective map");
   return problems;
@@ -36,7 +37,8 @@ TrimmedSurface transformed(const TrimmedSurface& face, const glm::dmat4& m) {
 std::vector<TrimmedSurface> world_faces(const Model& model) {
   std::vector<TrimmedSurface> faces;
   for (const Body& b : model.bodies)
-    for (const TrimmedSurface& f : b.faces) faces.push_back(b.transform == glm::dmat4(1.0) ? f : transformed(f, b.transform));
+    for (const TrimmedSurface& f : b.faces)
+      faces.push_back(b.transform == glm::dmat4(1.0) ? f : transformed(f, b.transform));
   return faces;
 }
 
@@ -50,7 +52,8 @@ Box model_box(const Model& model) {
     const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
     for (int j = 0; j <= kSamples; ++j)
       for (int i = 0; i <= kSamples; ++i) {
-        const glm::dvec3 p = surface_point(f.surface, du.min + du.width() * i / kSamples, dv.min + dv.width() * j / kSamples);
+        const glm::dvec3 p =
+            surface_point(f.surface, du.min + du.width() * i / kSamples, dv.min + dv.width() * j / kSamples);
         box.min = first ? p : glm::min(box.min, p);
         box.max = first ? p : glm::max(box.max, p);
         first = false;

@@ -2,11 +2,11 @@
 /// \file model_ops.h
 /// Whole-model operations: rigid transforms applied to faces, and the model size (bounding-box
 /// diagonal, as ACIS defines its tolerance) that every relative tolerance in nurbsgl refers to.
-#include "nurbs/model.h"
-
 #include <glm/mat4x4.hpp>
 #include <string>
 #include <vector>
+
+#include "nurbs/model.h"
 
 namespace nurbs {
 

@@ -10,8 +10,8 @@ namespace nurbs {
 struct Surface {
   int degree_u = 0;
   int degree_v = 0;
-  int count_u = 0;  ///< control points along u
-  int count_v = 0;  ///< control points along v
+  int count_u = 0;              ///< control points along u
+  int count_v = 0;              ///< control points along v
   std::vector<double> knots_u;  ///< size count_u + degree_u + 1
   std::vector<double> knots_v;  ///< size count_v + degree_v + 1
   /// Euclidean control points, row-major with u fastest: point(i, j) = points[j * count_u + i].

@@ -1,9 +1,8 @@
 #include "nurbs/surface_eval.h"
 
+#include <algorithm>
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
-
-#include <algorithm>
 #include <vector>
 
 namespace nurbs {
@@ -39,7 +38,8 @@ void homogeneous_derivatives(const Surface& s, double u, double v, int order, gl
     }
     for (int k = 0; k + l <= order; ++k) {
       glm::dvec4 acc(0.0);
-      for (int i = 0; i <= p; ++i) acc += nu[static_cast<size_t>(k) * wu + static_cast<size_t>(i)] * temp[static_cast<size_t>(i)];
+      for (int i = 0; i <= p; ++i)
+        acc += nu[static_cast<size_t>(k) * wu + static_cast<size_t>(i)] * temp[static_cast<size_t>(i)];
       a[k][l] = acc;
     }
   }
@@ -90,8 +90,10 @@ glm::dvec3 surface_normal(const Surface& s, double u, double v) {
     const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
     const double sv_side = v < 0.5 * (dv.min + dv.max) ? 1.0 : -1.0;
     const double su_side = u < 0.5 * (du.min + du.max) ? 1.0 : -1.0;
-    if (glm::length(d.su) <= eps) n = sv_side * glm::cross(d.suv, d.sv);
-    else if (glm::length(d.sv) <= eps) n = su_side * glm::cross(d.su, d.suv);
+    if (glm::length(d.su) <= eps)
+      n = sv_side * glm::cross(d.suv, d.sv);
+    else if (glm::length(d.sv) <= eps)
+      n = su_side * glm::cross(d.su, d.suv);
   }
   const double len = glm::length(n);
   return len > 0.0 ? n / len : glm::dvec3(0.0);

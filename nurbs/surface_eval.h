@@ -4,10 +4,10 @@
 /// second partial derivatives, unit normal (The NURBS Book A3.6 on the homogeneous surface, then
 /// A4.4 for the rational quotient rule). Inputs are assumed valid (validate.h); (u, v) outside the
 /// domain are clamped to it.
+#include <glm/vec3.hpp>
+
 #include "nurbs/knot_vector.h"
 #include "nurbs/surface.h"
-
-#include <glm/vec3.hpp>
 
 namespace nurbs {
 

@@ -1,13 +1,12 @@
 #include "nurbs/trim_classify.h"
 
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
 #include "nurbs/bezier_extraction.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/surface_eval.h"
-
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
 
 namespace nurbs {
 namespace {

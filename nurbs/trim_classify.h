@@ -3,11 +3,11 @@
 /// Point-in-trim classification of (u, v) against a face's trim loops (Krishnamurthy et al. §5.3:
 /// the CPU reference for the trim texture). Loops are flattened adaptively to polygons within a
 /// tolerance, then each loop's winding number is computed exactly on the polygon.
-#include "nurbs/knot_vector.h"
-#include "nurbs/trimmed_surface.h"
-
 #include <glm/vec2.hpp>
 #include <vector>
+
+#include "nurbs/knot_vector.h"
+#include "nurbs/trimmed_surface.h"
 
 namespace nurbs {
 

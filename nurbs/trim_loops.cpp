@@ -1,16 +1,16 @@
 #include "nurbs/trim_loops.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/geometric.hpp>
+
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/knot_vector.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/validate.h"
-
-#include <fmt/format.h>
-#include <glm/geometric.hpp>
-
-#include <algorithm>
 
 namespace nurbs {
 namespace {
@@ -29,7 +29,8 @@ bool segments_meet(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d, glm::
     return true;
   }
   auto on = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {  // r on segment pq, given collinear
-    return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y && r.y <= std::max(p.y, q.y);
+    return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y &&
+           r.y <= std::max(p.y, q.y);
   };
   if (d1 == 0 && on(a, b, c)) return where = c, true;
   if (d2 == 0 && on(a, b, d)) return where = d, true;
@@ -73,9 +74,10 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
       const size_t next = (c + 1) % curves.size();
       const double gap = glm::length(end_point(curves[c]) - start_point(curves[next]));
       if (gap > gap_tolerance) {
-        out.push_back(fmt::format("face {}: loop {} does not close: curve {} ends {:.3g} from the start of curve {} "
-                                  "(tolerance {:.3g})",
-                                  id, k, c, gap, next, gap_tolerance));
+        out.push_back(
+            fmt::format("face {}: loop {} does not close: curve {} ends {:.3g} from the start of curve {} "
+                        "(tolerance {:.3g})",
+                        id, k, c, gap, next, gap_tolerance));
       }
     }
   }
@@ -101,7 +103,8 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
       if (std::find(reported.begin(), reported.end(), key) != reported.end()) continue;
       reported.push_back(key);
       if (e.loop == f.loop) {
-        out.push_back(fmt::format("face {}: loop {} crosses itself near (u, v) = ({:.6g}, {:.6g})", id, e.loop, where.x, where.y));
+        out.push_back(fmt::format("face {}: loop {} crosses itself near (u, v) = ({:.6g}, {:.6g})", id, e.loop, where.x,
+                                  where.y));
       } else {
         out.push_back(fmt::format("face {}: loops {} and {} cross near (u, v) = ({:.6g}, {:.6g})", id, key.first,
                                   key.second, where.x, where.y));
@@ -119,7 +122,8 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
       const glm::dvec2 target = start_point(loop.curves[(c + 1) % loop.curves.size()]);
       const double gap = glm::length(end_point(cur) - target);
       if (!(gap > min_gap && gap <= tolerance)) continue;
-      if (!is_clamped(cur.knots, cur.degree)) cur = from_homogeneous<2>(clamp_curve(to_homogeneous(cur)), cur.rational());
+      if (!is_clamped(cur.knots, cur.degree))
+        cur = from_homogeneous<2>(clamp_curve(to_homogeneous(cur)), cur.rational());
       cur.points.back() = target;  // clamped: the curve ends at its last control point
       ++repairs;
     }

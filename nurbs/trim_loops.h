@@ -3,10 +3,10 @@
 /// Trim loop hygiene, as CAD readers need it: report loops that do not close or that cross (naming
 /// the face), close small gaps, and orient loops (outer counter-clockwise, inner clockwise, so the
 /// material is on the left; the convention of trimmed_surface.h and of IGES 141/142).
-#include "nurbs/trimmed_surface.h"
-
 #include <string>
 #include <vector>
+
+#include "nurbs/trimmed_surface.h"
 
 namespace nurbs {
 

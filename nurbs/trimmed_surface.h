@@ -2,11 +2,11 @@
 /// \file trimmed_surface.h
 /// A face: a NURBS surface and trim loops of 2D NURBS curves in its (u, v) parameter plane.
 /// Convention: outer loops counter-clockwise, inner loops (holes) clockwise, material on the left.
-#include "curve.h"
-#include "surface.h"
-
 #include <string>
 #include <vector>
+
+#include "curve.h"
+#include "surface.h"
 
 namespace nurbs {
 
@@ -19,8 +19,8 @@ struct TrimmedSurface {
   Surface surface;
   /// No loops = the whole parameter rectangle is material (an untrimmed face).
   std::vector<TrimLoop> loops;
-  int face_id = -1;     ///< index in the model, or the IGES directory entry number of the face
-  std::string name;     ///< optional label from the file
+  int face_id = -1;  ///< index in the model, or the IGES directory entry number of the face
+  std::string name;  ///< optional label from the file
 };
 
 }  // namespace nurbs

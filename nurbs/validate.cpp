@@ -1,10 +1,10 @@
 #include "nurbs/validate.h"
 
-#include "nurbs/knot_vector.h"
-
 #include <fmt/format.h>
 
 #include <cmath>
+
+#include "nurbs/knot_vector.h"
 
 namespace nurbs {
 namespace {

@@ -2,11 +2,11 @@
 /// \file validate.h
 /// Validation of curves and surfaces: an explicit call returning everything that is wrong, so
 /// readers can report it and evaluation code can assume valid input.
-#include "nurbs/curve.h"
-#include "nurbs/surface.h"
-
 #include <string>
 #include <vector>
+
+#include "nurbs/curve.h"
+#include "nurbs/surface.h"
 
 namespace nurbs {
 

@@ -1,14 +1,14 @@
 #include "queries/surface_grid.h"
 
-#include "nurbs/filip_bound.h"
-#include "nurbs/surface_eval.h"
-
 #include <fmt/format.h>
-#include <glm/common.hpp>
 
 #include <algorithm>
+#include <glm/common.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "nurbs/filip_bound.h"
+#include "nurbs/surface_eval.h"
 
 namespace queries {
 namespace {
@@ -26,8 +26,8 @@ gpgpu::Texture normalised_knots(const std::vector<double>& knots, nurbs::Interva
 GpuSurface upload_surface(const nurbs::Surface& s, int max_texture_size) {
   const auto max_knots = static_cast<size_t>(max_texture_size);
   if (s.knots_u.size() > max_knots || s.knots_v.size() > max_knots)
-    throw std::invalid_argument(fmt::format("surface with {}x{} knots exceeds GL_MAX_TEXTURE_SIZE {}",
-                                            s.knots_u.size(), s.knots_v.size(), max_texture_size));
+    throw std::invalid_argument(fmt::format("surface with {}x{} knots exceeds GL_MAX_TEXTURE_SIZE {}", s.knots_u.size(),
+                                            s.knots_v.size(), max_texture_size));
   GpuSurface g;
   g.count_u = s.count_u;
   g.count_v = s.count_v;

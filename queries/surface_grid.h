@@ -8,12 +8,12 @@
 /// (relative error 2^-24), control points are sent relative to the centre of their box, and the
 /// basis functions of degree p carry about p rounding errors each. For degrees <= 7 the position
 /// error stays below about 20 * 2^-24 ~ 1.2e-6 of the control box; tests allow 1e-5 x model size.
-#include "gpgpu/gpu.h"
-#include "nurbs/surface.h"
-
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <vector>
+
+#include "gpgpu/gpu.h"
+#include "nurbs/surface.h"
 
 namespace queries {
 
@@ -30,9 +30,9 @@ GpuSurface upload_surface(const nurbs::Surface& surface, int max_texture_size);
 
 /// The evaluated grid: texel (i, j) is S(u_i, v_j) with u_i = u0 + (u1 - u0) i / n.
 struct SurfaceGrid {
-  int n = 0, m = 0;           ///< intervals; the textures are (n+1) x (m+1)
-  gpgpu::Texture points;      ///< RGBA32F (x, y, z, w): w = rational denominator
-  gpgpu::Texture normals;     ///< RGBA32F (nx, ny, nz, 0), zero where undefined
+  int n = 0, m = 0;        ///< intervals; the textures are (n+1) x (m+1)
+  gpgpu::Texture points;   ///< RGBA32F (x, y, z, w): w = rational denominator
+  gpgpu::Texture normals;  ///< RGBA32F (nx, ny, nz, 0), zero where undefined
 };
 
 /// How the GPU evaluates the grid.

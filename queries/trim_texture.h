@@ -6,18 +6,17 @@
 /// (gpgpu/polygon_fill.h), which equals the CPU classification for properly nested loops (outer
 /// loops containing their holes, as in a valid B-rep face) except at samples within about one grid
 /// cell of a trim curve (flattening and rasterisation of edges through sample points).
+#include <vector>
+
 #include "gpgpu/gpu.h"
 #include "nurbs/trimmed_surface.h"
-
-#include <vector>
 
 namespace queries {
 
 /// Renders the trim mask of `face` on the n x m grid. Faces without loops are all material; faces
 /// with holes but no outer loop get the domain rectangle as outer boundary. `flatten_tolerance` is
 /// in parameter units (a fraction of a grid step is enough).
-gpgpu::Texture trim_texture(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face, int n, int m,
-                            double flatten_tolerance);
+gpgpu::Texture trim_texture(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face, int n, int m, double flatten_tolerance);
 
 /// Reference classification of the same samples by nurbs::is_material (winding numbers), row-major
 /// with i fastest: 1 = material.

@@ -1,7 +1,5 @@
 #include "nurbs/io/bpt_reader.h"
 
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <charconv>
@@ -9,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 #include <vector>
+
+#include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
 namespace {
@@ -56,8 +56,10 @@ class LineReader {
   int trailing_line() const {
     int line = line_no_ + 1;
     for (size_t i = pos_; i < text_.size(); ++i) {
-      if (text_[i] == '\n') ++line;
-      else if (text_[i] != ' ' && text_[i] != '\t' && text_[i] != '\r') return line;
+      if (text_[i] == '\n')
+        ++line;
+      else if (text_[i] != ' ' && text_[i] != '\t' && text_[i] != '\r')
+        return line;
     }
     return 0;
   }
@@ -74,7 +76,8 @@ class LineReader {
 };
 
 int as_int(double v, int lo, int hi, const std::string& what, const LineReader& r) {
-  if (v != std::floor(v) || v < lo || v > hi) r.fail(fmt::format("{} is {}, expected an integer in [{}, {}]", what, v, lo, hi));
+  if (v != std::floor(v) || v < lo || v > hi)
+    r.fail(fmt::format("{} is {}, expected an integer in [{}, {}]", what, v, lo, hi));
   return static_cast<int>(v);
 }
 
@@ -114,7 +117,8 @@ Model read_bpt_text(const std::string& text, const std::string& name) {
     body.faces.push_back(std::move(face));
   }
   if (int extra = r.trailing_line(); extra != 0)
-    throw ReadError(name, fmt::format("line {}", extra), fmt::format("data after the {} patches announced on line 1", count));
+    throw ReadError(name, fmt::format("line {}", extra),
+                    fmt::format("data after the {} patches announced on line 1", count));
   Model model;
   model.source = name;
   model.bodies.push_back(std::move(body));

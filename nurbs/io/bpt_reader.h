@@ -3,10 +3,10 @@
 /// Reader of the Bézier patch text format of the Utah teapot (`.bpt`): first line the patch
 /// count; per patch a line "n m" (degrees in u and v) and then (n+1)(m+1) lines "x y z", row-major
 /// with row i = u index (point (i, j) is row i * (m + 1) + j).
-#include "nurbs/model.h"
-
 #include <filesystem>
 #include <string>
+
+#include "nurbs/model.h"
 
 namespace nurbs::io {
 

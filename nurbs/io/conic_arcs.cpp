@@ -1,9 +1,8 @@
 #include "nurbs/io/conic_arcs.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -66,8 +65,12 @@ Curve3 conic_arc(const std::array<double, 6>& k, const glm::dvec2& s, const glm:
   const auto [A, B, C, D, E, F] = k;
   const double disc = B * B - 4.0 * A * C;
   if (form == 0) form = disc < 0.0 ? 1 : (disc > 0.0 ? 2 : 3);
-  auto value = [&](const glm::dvec2& p) { return A * p.x * p.x + B * p.x * p.y + C * p.y * p.y + D * p.x + E * p.y + F; };
-  auto gradient = [&](const glm::dvec2& p) { return glm::dvec2(2.0 * A * p.x + B * p.y + D, B * p.x + 2.0 * C * p.y + E); };
+  auto value = [&](const glm::dvec2& p) {
+    return A * p.x * p.x + B * p.x * p.y + C * p.y * p.y + D * p.x + E * p.y + F;
+  };
+  auto gradient = [&](const glm::dvec2& p) {
+    return glm::dvec2(2.0 * A * p.x + B * p.y + D, B * p.x + 2.0 * C * p.y + E);
+  };
 
   if (form == 1) {
     if (!(disc < 0.0)) throw std::invalid_argument("form 1 (ellipse) but B^2 - 4AC >= 0");
@@ -112,7 +115,8 @@ Curve3 conic_arc(const std::array<double, 6>& k, const glm::dvec2& s, const glm:
       sigma = (r1 > 0.0 && r1 < 1.0) ? r1 : r2;
     }
   }
-  if (!(sigma > 0.0 && sigma < 1.0)) throw std::invalid_argument("conic arc end points do not lie on one branch of the conic");
+  if (!(sigma > 0.0 && sigma < 1.0))
+    throw std::invalid_argument("conic arc end points do not lie on one branch of the conic");
   Curve3 c;
   c.degree = 2;
   c.knots = {0.0, 0.0, 0.0, 1.0, 1.0, 1.0};

@@ -3,10 +3,10 @@
 /// Exact rational quadratic NURBS for IGES circular arcs (100) and conic arcs (104). Both are
 /// given in a plane z = const of their definition space and run counter-clockwise from start to
 /// end (IGES 5.3 §4.3 and §4.5). Invalid input throws std::invalid_argument with the reason.
-#include "nurbs/curve.h"
-
 #include <array>
 #include <glm/vec2.hpp>
+
+#include "nurbs/curve.h"
 
 namespace nurbs::io {
 

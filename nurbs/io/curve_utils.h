@@ -2,9 +2,9 @@
 /// \file curve_utils.h
 /// Small curve helpers of the readers and writers: 2D/3D conversion, affine maps of control points
 /// and IGES 110 line segments. Evaluation and reversal are the core's (curve_eval.h, homogeneous.h).
-#include "nurbs/curve.h"
-
 #include <glm/mat4x4.hpp>
+
+#include "nurbs/curve.h"
 
 namespace nurbs::io {
 

@@ -1,12 +1,11 @@
 // IGES 126 (rational B-spline curve, spec §4.23) and 128 (rational B-spline surface, §4.24).
-#include "nurbs/io/iges_geometry.h"
-#include "nurbs/io/read_error.h"
-
-#include "nurbs/validate.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
+
+#include "nurbs/io/iges_geometry.h"
+#include "nurbs/io/read_error.h"
+#include "nurbs/validate.h"
 
 namespace nurbs::io {
 namespace {
@@ -21,11 +20,12 @@ std::vector<double> read_knots(const EntityParams& p, int first, int count, int 
     if (i == 0) continue;
     const double prev = k[static_cast<size_t>(i - 1)], cur = k[static_cast<size_t>(i)];
     if (cur < prev)
-      p.fail(first + i, fmt::format("{}knot {} ({}) is less than knot {} ({}): knots must be non-decreasing", dir, i, cur,
-                                    i - 1, prev));
+      p.fail(first + i, fmt::format("{}knot {} ({}) is less than knot {} ({}): knots must be non-decreasing", dir, i,
+                                    cur, i - 1, prev));
     multiplicity = cur == prev ? multiplicity + 1 : 1;
     if (multiplicity > degree + 1)
-      p.fail(first + i, fmt::format("{}knot {} is repeated {} times, more than degree + 1 = {}", dir, cur, multiplicity, degree + 1));
+      p.fail(first + i, fmt::format("{}knot {} is repeated {} times, more than degree + 1 = {}", dir, cur, multiplicity,
+                                    degree + 1));
   }
   if (!(k[static_cast<size_t>(degree)] < k[static_cast<size_t>(count - degree - 1)]))
     p.fail(first, fmt::format("{}knot vector has an empty domain [{}, {}]", dir, k[static_cast<size_t>(degree)],
@@ -49,8 +49,9 @@ std::vector<double> read_weights(const EntityParams& p, int first, int count) {
 // that a huge count in a malformed file fails cleanly instead of exhausting memory.
 void require_count(const EntityParams& p, long long needed) {
   if (needed > p.size())
-    p.fail(p.size(), fmt::format("bad parameter count: the counts and degrees in the record need {} parameters, it has {}",
-                                 needed, p.size()));
+    p.fail(p.size(),
+           fmt::format("bad parameter count: the counts and degrees in the record need {} parameters, it has {}",
+                       needed, p.size()));
 }
 
 // Last line of defence after the field-level checks: the core's own validation (nurbs/validate.h).
@@ -76,7 +77,8 @@ Curve3 IgesGeometry::bspline_curve(const EntityParams& p) {
   c.knots = read_knots(p, 7, nk, m, "");
   c.weights = read_weights(p, w0, n);
   c.points.resize(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) c.points[static_cast<size_t>(i)] = {p.real(p0 + 3 * i), p.real(p0 + 3 * i + 1), p.real(p0 + 3 * i + 2)};
+  for (int i = 0; i < n; ++i)
+    c.points[static_cast<size_t>(i)] = {p.real(p0 + 3 * i), p.real(p0 + 3 * i + 1), p.real(p0 + 3 * i + 2)};
   const double a = p.real(v0), b = p.real(v0 + 1);
   if (!(a < b)) p.fail(v0, fmt::format("parameter range V(0) = {} is not less than V(1) = {}", a, b));
   // The unit normal of planar curves follows; writers of non-planar curves sometimes leave it out.
@@ -123,8 +125,7 @@ Surface IgesGeometry::surface(int de, const glm::dmat4& parent) {
   }
   const int r0 = p0 + 3 * static_cast<int>(count);
   const double u0 = p.real(r0), u1 = p.real(r0 + 1), v0 = p.real(r0 + 2), v1 = p.real(r0 + 3);
-  if (!(u0 < u1) || !(v0 < v1))
-    p.fail(r0, fmt::format("parameter range [{}, {}] x [{}, {}] is empty", u0, u1, v0, v1));
+  if (!(u0 < u1) || !(v0 < v1)) p.fail(r0, fmt::format("parameter range [{}, {}] x [{}, {}] is empty", u0, u1, v0, v1));
   p.check_trailing(r0 + 3);
   check_valid(p, s);
   return s;

@@ -1,14 +1,14 @@
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <stdexcept>
+
 #include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/read_error.h"
-
-#include <fmt/format.h>
-#include <glm/mat3x3.hpp>
-#include <glm/matrix.hpp>
-
-#include <algorithm>
-#include <stdexcept>
 
 namespace nurbs::io {
 namespace {
@@ -28,9 +28,20 @@ bool is_unsupported_curve_type(int type) { return type == 106 || type == 112 || 
 
 bool is_unsupported_surface_type(int type) {
   switch (type) {
-    case 108: case 114: case 118: case 120: case 122: case 140:
-    case 190: case 192: case 194: case 196: case 198: return true;
-    default: return false;
+    case 108:
+    case 114:
+    case 118:
+    case 120:
+    case 122:
+    case 140:
+    case 190:
+    case 192:
+    case 194:
+    case 196:
+    case 198:
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -39,7 +50,8 @@ void IgesGeometry::fail(int de, const std::string& problem) const {
   throw ReadError(file_.name, fmt::format("line {}", e.line), entity_name(e) + ": " + problem);
 }
 
-int IgesGeometry::expect(const EntityParams& p, int i, std::initializer_list<int> types, const char* what, bool null_ok) {
+int IgesGeometry::expect(const EntityParams& p, int i, std::initializer_list<int> types, const char* what,
+                         bool null_ok) {
   const int de = p.pointer(i, null_ok);
   if (de == 0) return 0;
   const int type = file_.entry(de).type;
@@ -108,7 +120,7 @@ std::vector<Curve3> IgesGeometry::curves(int de, const glm::dmat4& parent, int d
       out.push_back(line_segment(a, b));
       break;
     }
-    case 100:  // circular arc: ZT, centre, start, end (counter-clockwise)
+    case 100:    // circular arc: ZT, centre, start, end (counter-clockwise)
     case 104: {  // conic arc: A..F, ZT, start, end
       const bool circle = e.type == 100;
       const int base = circle ? 1 : 7;

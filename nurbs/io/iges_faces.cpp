@@ -1,15 +1,15 @@
 #include "nurbs/io/iges_faces.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/common.hpp>
+#include <limits>
+
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
-
-#include <fmt/format.h>
-#include <glm/common.hpp>
-
-#include <algorithm>
-#include <limits>
 
 namespace nurbs::io {
 namespace {
@@ -68,10 +68,17 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
     const glm::dmat4 m = parent * g_.transform(de);
     EntityParams p(g_.file(), e);
     switch (e.type) {
-      case 144: f = face_144(p, m); break;
-      case 143: f = face_143(p, m); break;
-      case 510: f = face_510(p, m); break;
-      default: g_.fail(de, "is not a face entity (128, 143, 144 or 510)");
+      case 144:
+        f = face_144(p, m);
+        break;
+      case 143:
+        f = face_143(p, m);
+        break;
+      case 510:
+        f = face_510(p, m);
+        break;
+      default:
+        g_.fail(de, "is not a face entity (128, 143, 144 or 510)");
     }
   }
   f.face_id = de;
@@ -97,8 +104,7 @@ void IgesFaces::finish(TrimmedSurface& f) {
 }
 
 void IgesFaces::no_parameter_curve(int de, const std::string& what) {
-  if (options_.skip_faces_without_parameter_curves)
-    throw SkipFace{fmt::format("trim curve D{} {}", de, what)};
+  if (options_.skip_faces_without_parameter_curves) throw SkipFace{fmt::format("trim curve D{} {}", de, what)};
   g_.fail(de, what + "; trim curves only in model space are not supported");
 }
 
@@ -165,7 +171,8 @@ TrimLoop IgesFaces::loop_141(int de, bool outer) {
     if (type == 0 || k == 0) no_parameter_curve(de, fmt::format("curve {} has no parameter-space curve", c + 1));
     std::vector<Curve2> piece;
     for (int j = 0; j < k; ++j)
-      for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 3 + j, kCurveTypes, "a curve"))) piece.push_back(std::move(pc));
+      for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 3 + j, kCurveTypes, "a curve")))
+        piece.push_back(std::move(pc));
     append_reversed(loop.curves, std::move(piece), sense == 2);
     i += 3 + k;
   }
@@ -203,7 +210,8 @@ TrimLoop IgesFaces::loop_508(int de, bool outer) {
   int i = 2;
   for (int c = 0; c < n; ++c) {
     const int type = p.integer(i, 0, 1, "edge type");
-    const int list = type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
+    const int list =
+        type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
     p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
     const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
     const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");

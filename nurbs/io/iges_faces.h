@@ -2,12 +2,12 @@
 /// \file iges_faces.h
 /// IGES face entities to TrimmedSurface: 144 (trimmed surface, loops from 142), 143 (bounded
 /// surface, loops from 141), 510 (B-rep face, loops from 508) and bare 128. Internal to the reader.
+#include <string>
+#include <unordered_map>
+
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/trimmed_surface.h"
-
-#include <string>
-#include <unordered_map>
 
 namespace nurbs::io {
 

@@ -1,11 +1,11 @@
 #include "nurbs/io/iges_file.h"
 
-#include "nurbs/io/iges_tokens.h"
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <array>
+
+#include "nurbs/io/iges_tokens.h"
+#include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
 namespace {
@@ -34,12 +34,12 @@ std::vector<Record> split_records(std::string_view text, const std::string& name
     lines.emplace_back(s, ++line);
     pos = end + 1;
   }
-  while (!lines.empty() && lines.back().first.find_first_not_of(" \t\x1a") == std::string_view::npos)
-    lines.pop_back();
+  while (!lines.empty() && lines.back().first.find_first_not_of(" \t\x1a") == std::string_view::npos) lines.pop_back();
   for (const auto& [s, n] : lines) {
     if (s.size() != 80)
-      throw ReadError(name, at_line(n),
-                      fmt::format("record has {} columns, expected 80 ({})", s.size(), s.size() < 80 ? "truncated" : "too long"));
+      throw ReadError(
+          name, at_line(n),
+          fmt::format("record has {} columns, expected 80 ({})", s.size(), s.size() < 80 ? "truncated" : "too long"));
     records.push_back({s, n});
   }
   return records;
@@ -47,7 +47,9 @@ std::vector<Record> split_records(std::string_view text, const std::string& name
 
 int parse_sequence(const Record& r, const std::string& name) {
   auto v = parse_iges_int(r.text.substr(73, 7));
-  if (!v) throw ReadError(name, at_line(r.line), fmt::format("bad sequence number '{}' in columns 74-80", r.text.substr(73, 7)));
+  if (!v)
+    throw ReadError(name, at_line(r.line),
+                    fmt::format("bad sequence number '{}' in columns 74-80", r.text.substr(73, 7)));
   return *v;
 }
 
@@ -56,8 +58,9 @@ int de_field(const Record& r, int field, const std::string& name, int de, bool s
   std::string_view s = r.text.substr(static_cast<size_t>(field) * 8, 8);
   auto v = parse_iges_int(s);
   if (!v)
-    throw ReadError(name, at_line(r.line), fmt::format("directory entry D{}: field {} '{}' is not an integer", de,
-                                                       field + (second ? 11 : 1), s));
+    throw ReadError(
+        name, at_line(r.line),
+        fmt::format("directory entry D{}: field {} '{}' is not an integer", de, field + (second ? 11 : 1), s));
   return *v;
 }
 
@@ -75,7 +78,8 @@ IgesDirectoryEntry parse_entry(const Record& a, const Record& b, int de, const s
   int type2 = de_field(b, 0, name, de, true);
   if (type2 != e.type)
     throw ReadError(name, at_line(b.line),
-                    fmt::format("directory entry D{}: type {} on its second line differs from type {} on its first", de, type2, e.type));
+                    fmt::format("directory entry D{}: type {} on its second line differs from type {} on its first", de,
+                                type2, e.type));
   std::string_view label = b.text.substr(56, 8);
   while (!label.empty() && label.front() == ' ') label.remove_prefix(1);
   while (!label.empty() && label.back() == ' ') label.remove_suffix(1);
@@ -99,18 +103,20 @@ IgesFile parse_iges_file(std::string text_in, std::string name) {
     char letter = r.text[72];
     size_t idx = kSectionOrder.find(letter);
     if (letter == 'C' || letter == 'B' || letter == 'F')
-      throw ReadError(fname, at_line(r.line), "compressed or binary IGES is not supported (section letter in column 73)");
+      throw ReadError(fname, at_line(r.line),
+                      "compressed or binary IGES is not supported (section letter in column 73)");
     if (idx == std::string_view::npos)
       throw ReadError(fname, at_line(r.line), fmt::format("unknown section letter '{}' in column 73", letter));
     if (idx < current)
-      throw ReadError(fname, at_line(r.line), fmt::format("section '{}' after section '{}'", letter, kSectionOrder[current]));
-    if (current == 4 && !sections[4].empty())
-      throw ReadError(fname, at_line(r.line), "more than one Terminate record");
+      throw ReadError(fname, at_line(r.line),
+                      fmt::format("section '{}' after section '{}'", letter, kSectionOrder[current]));
+    if (current == 4 && !sections[4].empty()) throw ReadError(fname, at_line(r.line), "more than one Terminate record");
     current = idx;
     auto& sec = sections[idx];
     int seq = parse_sequence(r, fname);
     if (seq != static_cast<int>(sec.size()) + 1)
-      throw ReadError(fname, at_line(r.line), fmt::format("sequence number {}{} out of order, expected {}", letter, seq, sec.size() + 1));
+      throw ReadError(fname, at_line(r.line),
+                      fmt::format("sequence number {}{} out of order, expected {}", letter, seq, sec.size() + 1));
     sec.push_back(r);
   }
   const auto& [s_sec, g_sec, d_sec, p_sec, t_sec] = sections;

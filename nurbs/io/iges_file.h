@@ -54,8 +54,8 @@ struct IgesFile {
   std::string name;                         ///< file name used in error messages
   std::unique_ptr<const std::string> text;  ///< the bytes the string_views point into
   IgesGlobal global;
-  std::vector<IgesDirectoryEntry> entries;       ///< entries[(de - 1) / 2]
-  std::vector<IgesParameterLine> parameters;     ///< parameters[sequence number - 1]
+  std::vector<IgesDirectoryEntry> entries;    ///< entries[(de - 1) / 2]
+  std::vector<IgesParameterLine> parameters;  ///< parameters[sequence number - 1]
 
   /// The entry whose first line has sequence number `de`; `de` must be valid (see has_entry).
   [[nodiscard]] const IgesDirectoryEntry& entry(int de) const { return entries[static_cast<size_t>(de - 1) / 2]; }

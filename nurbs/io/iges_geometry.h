@@ -2,16 +2,16 @@
 /// \file iges_geometry.h
 /// IGES entities to NURBS geometry: transformation matrices (124), curves (100, 102, 104, 110,
 /// 126) and surfaces (128). Internal to the IGES reader, public for its tests.
-#include "nurbs/curve.h"
-#include "nurbs/io/iges_file.h"
-#include "nurbs/io/iges_params.h"
-#include "nurbs/surface.h"
-
 #include <glm/mat4x4.hpp>
 #include <initializer_list>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include "nurbs/curve.h"
+#include "nurbs/io/iges_file.h"
+#include "nurbs/io/iges_params.h"
+#include "nurbs/surface.h"
 
 namespace nurbs::io {
 

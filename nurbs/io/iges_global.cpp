@@ -1,13 +1,13 @@
-#include "nurbs/io/iges_file.h"
-#include "nurbs/io/iges_tokens.h"
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+
+#include "nurbs/io/iges_file.h"
+#include "nurbs/io/iges_tokens.h"
+#include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
 namespace {
@@ -30,7 +30,8 @@ constexpr std::array<UnitName, 13> kUnits{{{"IN", 25.4},
                                            {"UIN", 2.54e-5},
                                            {"MICRON", 1.0e-3},
                                            {"MICROINCH", 2.54e-5}}};
-constexpr std::array<double, 12> kFlagMm{0.0, 25.4, 1.0, 0.0, 304.8, 1609344.0, 1000.0, 1.0e6, 0.0254, 1.0e-3, 10.0, 2.54e-5};
+constexpr std::array<double, 12> kFlagMm{0.0,    25.4,  1.0,    0.0,    304.8, 1609344.0,
+                                         1000.0, 1.0e6, 0.0254, 1.0e-3, 10.0,  2.54e-5};
 
 }  // namespace
 
@@ -49,7 +50,9 @@ double iges_unit_to_mm(int flag, std::string_view name) {
 IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int first_line) {
   IgesGlobal g;
   // Line of a character offset: G records contribute 72 columns each.
-  auto where = [&](size_t offset) { return fmt::format("line {}: global section", first_line + static_cast<int>(offset / 72)); };
+  auto where = [&](size_t offset) {
+    return fmt::format("line {}: global section", first_line + static_cast<int>(offset / 72));
+  };
   // G1 and G2 define the delimiters themselves, so they are read before general tokenizing.
   size_t pos = 0;
   auto read_delimiter = [&](char fallback, int index) {
@@ -58,7 +61,8 @@ IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int
       d = text[pos + 2];
       pos += 3;
     } else if (pos < text.size() && text[pos] != g.parameter_delimiter && text[pos] != fallback) {
-      throw ReadError(name, where(pos), fmt::format("parameter {} must be empty or 1Hc (a delimiter character)", index));
+      throw ReadError(name, where(pos),
+                      fmt::format("parameter {} must be empty or 1Hc (a delimiter character)", index));
     }
     return d;
   };
@@ -74,8 +78,13 @@ IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int
   if (!tokens.terminated) throw ReadError(name, where(text.size()), "no record delimiter (section truncated?)");
   // tokens.fields[0] is the (empty) remainder of G2, so G-number k is fields[k - 2].
   const auto& f = tokens.fields;
-  auto field = [&](int k) -> const IgesToken* { return k - 2 < static_cast<int>(f.size()) ? &f[static_cast<size_t>(k - 2)] : nullptr; };
-  auto str = [&](int k) { const IgesToken* t = field(k); return t ? std::string(t->text) : std::string(); };
+  auto field = [&](int k) -> const IgesToken* {
+    return k - 2 < static_cast<int>(f.size()) ? &f[static_cast<size_t>(k - 2)] : nullptr;
+  };
+  auto str = [&](int k) {
+    const IgesToken* t = field(k);
+    return t ? std::string(t->text) : std::string();
+  };
   auto real = [&](int k, double fallback) {
     const IgesToken* t = field(k);
     if (!t || t->text.empty()) return fallback;
@@ -101,9 +110,11 @@ IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int
   g.version = integer(23, 0);
   g.unit_scale_to_mm = iges_unit_to_mm(g.unit_flag, g.unit_name);
   if (g.unit_scale_to_mm == 0.0 && g.unit_flag != 3)
-    throw ReadError(name, where(field(14) ? field(14)->offset : 0), fmt::format("parameter 14: unknown unit flag {}", g.unit_flag));
+    throw ReadError(name, where(field(14) ? field(14)->offset : 0),
+                    fmt::format("parameter 14: unknown unit flag {}", g.unit_flag));
   if (g.unit_scale_to_mm == 0.0)
-    throw ReadError(name, where(field(15) ? field(15)->offset : 0), fmt::format("parameter 15: unknown unit name '{}'", g.unit_name));
+    throw ReadError(name, where(field(15) ? field(15)->offset : 0),
+                    fmt::format("parameter 15: unknown unit name '{}'", g.unit_name));
   return g;
 }
 

@@ -1,10 +1,10 @@
 #include "nurbs/io/iges_params.h"
 
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <cmath>
+
+#include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
 
@@ -16,15 +16,16 @@ EntityParams::EntityParams(const IgesFile& file, const IgesDirectoryEntry& entry
   const int available = static_cast<int>(file.parameters.size());
   if (first < 1 || count < 1 || first > available || count > available - first + 1)
     throw ReadError(file.name, fmt::format("line {}", entry.line),
-                    fmt::format("{}: parameter lines {}..{} are outside the parameter section (P1..P{})", entity_name(entry),
-                                first, first + count - 1, available));
+                    fmt::format("{}: parameter lines {}..{} are outside the parameter section (P1..P{})",
+                                entity_name(entry), first, first + count - 1, available));
   first_line_ = file.parameters[static_cast<size_t>(first - 1)].line;
   data_.reserve(static_cast<size_t>(count) * 64);
   for (int k = 0; k < count; ++k) {
     const IgesParameterLine& p = file.parameters[static_cast<size_t>(first - 1 + k)];
     if (p.de != entry.de)
-      throw ReadError(file.name, fmt::format("line {}", p.line),
-                      fmt::format("parameter line P{} belongs to D{}, but {} claims it", first + k, p.de, entity_name(entry)));
+      throw ReadError(
+          file.name, fmt::format("line {}", p.line),
+          fmt::format("parameter line P{} belongs to D{}, but {} claims it", first + k, p.de, entity_name(entry)));
     data_.append(p.data);
   }
   IgesTokens t = tokenize_iges(data_, 0, file.global.parameter_delimiter, file.global.record_delimiter);
@@ -38,18 +39,21 @@ EntityParams::EntityParams(const IgesFile& file, const IgesDirectoryEntry& entry
   fields_ = std::move(t.fields);
   auto type = parse_iges_int(fields_.front().text);
   if (!type || *type != entry.type)
-    fail(0, fmt::format("parameter record starts with '{}', expected the entity type {}", fields_.front().text, entry.type));
+    fail(0, fmt::format("parameter record starts with '{}', expected the entity type {}", fields_.front().text,
+                        entry.type));
 }
 
 std::string EntityParams::where(int i) const {
-  size_t offset = (i >= 0 && i < static_cast<int>(fields_.size())) ? fields_[static_cast<size_t>(i)].offset : data_.size() - 1;
+  size_t offset =
+      (i >= 0 && i < static_cast<int>(fields_.size())) ? fields_[static_cast<size_t>(i)].offset : data_.size() - 1;
   return fmt::format("line {}: {}", first_line_ + static_cast<int>(offset / 64), entity_name(entry_));
 }
 
 void EntityParams::fail(int i, const std::string& problem) const {
   std::string where_text = where(i);
   size_t colon = where_text.find(": ");
-  std::string what = i > 0 ? fmt::format("{}, parameter {}", where_text.substr(colon + 2), i) : where_text.substr(colon + 2);
+  std::string what =
+      i > 0 ? fmt::format("{}, parameter {}", where_text.substr(colon + 2), i) : where_text.substr(colon + 2);
   throw ReadError(file_.name, where_text.substr(0, colon), what + ": " + problem);
 }
 
@@ -107,7 +111,8 @@ void EntityParams::check_trailing(int used) const {
     }
     i += n + 1;
   }
-  if (i <= size()) fail(i, fmt::format("bad parameter count: {} extra parameters after the entity data", size() - used));
+  if (i <= size())
+    fail(i, fmt::format("bad parameter count: {} extra parameters after the entity data", size() - used));
 }
 
 }  // namespace nurbs::io

@@ -2,11 +2,11 @@
 /// \file iges_params.h
 /// Typed access to the Parameter Data record of one directory entry, with every failure turned
 /// into a ReadError that names the file, the line, the entity (D-number and type) and the field.
-#include "nurbs/io/iges_file.h"
-#include "nurbs/io/iges_tokens.h"
-
 #include <string>
 #include <vector>
+
+#include "nurbs/io/iges_file.h"
+#include "nurbs/io/iges_tokens.h"
 
 namespace nurbs::io {
 
@@ -46,7 +46,7 @@ class EntityParams {
  private:
   const IgesFile& file_;
   const IgesDirectoryEntry& entry_;
-  std::string data_;              // the data columns of all lines, 64 per line
+  std::string data_;               // the data columns of all lines, 64 per line
   std::vector<IgesToken> fields_;  // fields_[0] is the type
   int first_line_ = 0;
 };

@@ -1,12 +1,12 @@
 #include "nurbs/io/iges_reader.h"
 
-#include "nurbs/io/iges_faces.h"
-#include "nurbs/io/read_error.h"
-
 #include <fmt/format.h>
 
 #include <fstream>
 #include <sstream>
+
+#include "nurbs/io/iges_faces.h"
+#include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
 namespace {
@@ -14,8 +14,27 @@ namespace {
 // Types the reader converts or deliberately ignores; everything else is counted as skipped.
 bool is_read_type(int type) {
   switch (type) {
-    case 0: case 100: case 102: case 104: case 110: case 124: case 126: case 128: case 141: case 142: case 143:
-    case 144: case 186: case 314: case 402: case 406: case 502: case 504: case 508: case 510: case 514:
+    case 0:
+    case 100:
+    case 102:
+    case 104:
+    case 110:
+    case 124:
+    case 126:
+    case 128:
+    case 141:
+    case 142:
+    case 143:
+    case 144:
+    case 186:
+    case 314:
+    case 402:
+    case 406:
+    case 502:
+    case 504:
+    case 508:
+    case 510:
+    case 514:
       return true;
     default:
       return false;

@@ -14,12 +14,12 @@
 /// whose outer boundary is the domain boundary (144 N1 = 0, 510 with no outer loop) gets no loop
 /// when it has no holes (= untrimmed) and a 4-line domain-rectangle outer loop when it has holes,
 /// so that winding-number classification works on every face.
-#include "nurbs/io/iges_file.h"
-#include "nurbs/model.h"
-
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "nurbs/io/iges_file.h"
+#include "nurbs/model.h"
 
 namespace nurbs::io {
 

@@ -85,7 +85,8 @@ int Writer::curve(const Curve2& c) {
   check_sizes(c.points.size(), c.knots.size(), c.degree, c.weights.size(), "trim curve");
   const int d = add(126, 10500);  // physically dependent, used in 2D parameter space
   auto& p = params(d);
-  for (int v : {static_cast<int>(c.points.size()) - 1, c.degree, 1, 0, c.rational() ? 0 : 1, 0}) p.push_back(std::to_string(v));
+  for (int v : {static_cast<int>(c.points.size()) - 1, c.degree, 1, 0, c.rational() ? 0 : 1, 0})
+    p.push_back(std::to_string(v));
   for (double k : c.knots) p.push_back(real(k));
   for (size_t i = 0; i < c.points.size(); ++i) p.push_back(real(c.rational() ? c.weights[i] : 1.0));
   for (const glm::dvec2& q : c.points) {
@@ -117,28 +118,30 @@ void Writer::face(const TrimmedSurface& f, const glm::dmat4& m) {
   }
   const auto outer_count = std::count_if(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
   if (outer_count > 1)
-    throw std::invalid_argument(fmt::format("write_iges: face {} has {} outer loops, a 144 holds one", f.face_id, outer_count));
+    throw std::invalid_argument(
+        fmt::format("write_iges: face {} has {} outer loops, a 144 holds one", f.face_id, outer_count));
   const int trimmed = add(144, 0);
   const int s = surface(f.surface, m, 10000);
   int outer = 0;
   std::vector<int> holes;
   for (const TrimLoop& l : f.loops) {
     const int d = loop(l, s);
-    if (l.outer) outer = d;
-    else holes.push_back(d);
+    if (l.outer)
+      outer = d;
+    else
+      holes.push_back(d);
   }
   auto& p = params(trimmed);
   for (int v : {s, outer != 0 ? 1 : 0, static_cast<int>(holes.size()), outer}) p.push_back(std::to_string(v));
   for (int h : holes) p.push_back(std::to_string(h));
 }
 
-
 struct UnitCode {
   double mm;
   int flag;
   const char* name;
 };
-constexpr UnitCode kUnitCodes[] = {{1.0, 2, "MM"}, {25.4, 1, "IN"}, {10.0, 10, "CM"}, {1000.0, 6, "M"},
+constexpr UnitCode kUnitCodes[] = {{1.0, 2, "MM"},   {25.4, 1, "IN"},   {10.0, 10, "CM"},  {1000.0, 6, "M"},
                                    {304.8, 4, "FT"}, {1.0e-3, 9, "UM"}, {0.0254, 8, "MIL"}};
 
 // Lines of `width` data columns from fields joined by ',' and ended by ';'. A field is not split
@@ -171,10 +174,31 @@ void Writer::write(std::ostream& out, const std::string& file_name, double unit_
   record(out, "nurbsgl IGES writer", 'S', 1);
   // Fixed dates keep the output byte-for-byte reproducible for generated models.
   const std::string date = hollerith("20000101.000000");
-  const std::vector<std::string> global = {
-      hollerith(","), hollerith(";"), hollerith("nurbsgl"), hollerith(file_name), hollerith("nurbsgl"), hollerith("0.1"),
-      "32", "308", "15", "308", "15", hollerith(file_name), "1.", std::to_string(unit->flag), hollerith(unit->name), "1",
-      "0.01", date, "1E-07", real(max_coord_), hollerith("nurbsgl"), "", "11", "0", date};
+  const std::vector<std::string> global = {hollerith(","),
+                                           hollerith(";"),
+                                           hollerith("nurbsgl"),
+                                           hollerith(file_name),
+                                           hollerith("nurbsgl"),
+                                           hollerith("0.1"),
+                                           "32",
+                                           "308",
+                                           "15",
+                                           "308",
+                                           "15",
+                                           hollerith(file_name),
+                                           "1.",
+                                           std::to_string(unit->flag),
+                                           hollerith(unit->name),
+                                           "1",
+                                           "0.01",
+                                           date,
+                                           "1E-07",
+                                           real(max_coord_),
+                                           hollerith("nurbsgl"),
+                                           "",
+                                           "11",
+                                           "0",
+                                           date};
   int g = 0;
   for (const std::string& line : pack(global, 72)) record(out, line, 'G', ++g);
   // Directory: parameter line numbers first, since the DE lines point at them.
@@ -184,7 +208,8 @@ void Writer::write(std::ostream& out, const std::string& file_name, double unit_
   for (size_t i = 0; i < entities_.size(); ++i) {
     const Entity& e = entities_[i];
     record(out, fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:08}", e.type, p, 0, 0, 0, 0, 0, 0, e.status), 'D', ++d);
-    record(out, fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}", e.type, 0, 0, plines[i].size(), 0, "", "", "", 0), 'D', ++d);
+    record(out, fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}", e.type, 0, 0, plines[i].size(), 0, "", "", "", 0),
+           'D', ++d);
     p += static_cast<int>(plines[i].size());
   }
   p = 0;

@@ -4,11 +4,11 @@
 /// untrimmed faces as independent 128 surfaces; trimmed faces as 144 over a 128, each loop a 142
 /// whose parameter-space curve is a 102 composite of 126 curves (z = 0). Body transforms are
 /// applied to the control points; bodies are not kept (all faces are written flat).
-#include "nurbs/model.h"
-
 #include <filesystem>
 #include <ostream>
 #include <string>
+
+#include "nurbs/model.h"
 
 namespace nurbs::io {
 

@@ -1,12 +1,12 @@
 #include "nurbs/io/model_summary.h"
 
 #include <fmt/format.h>
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
-#include <nlohmann/json.hpp>
-
 #include <limits>
+#include <nlohmann/json.hpp>
 
 namespace nurbs::io {
 
@@ -63,8 +63,8 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   out += fmt::format("faces: {} ({} trimmed, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
   out += fmt::format("max degree: {} x {}\ncontrol points: {}\n", s.max_degree_u, s.max_degree_v, s.control_points);
   out += fmt::format("trim loops: {} outer, {} inner, {} curves\n", s.outer_loops, s.inner_loops, s.trim_curves);
-  out += fmt::format("bbox (control points): [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x, s.bbox_min.y,
-                     s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
+  out += fmt::format("bbox (control points): [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x,
+                     s.bbox_min.y, s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
   out += fmt::format("model size (bbox diagonal): {:.6g}\n", s.size);
   out += "skipped entities:";
   if (s.skipped_entities.empty()) out += " none";
@@ -72,9 +72,9 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   out += '\n';
   if (per_face)
     for (const FaceSummary& f : s.face_list)
-      out += fmt::format("face {} (body {}{}{}): degree {}x{}, {}x{} points{}, loops {} outer {} inner, {} curves\n", f.face_id,
-                         f.body, f.name.empty() ? "" : ", ", f.name, f.degree_u, f.degree_v, f.count_u, f.count_v,
-                         f.rational ? ", rational" : "", f.outer_loops, f.inner_loops, f.trim_curves);
+      out += fmt::format("face {} (body {}{}{}): degree {}x{}, {}x{} points{}, loops {} outer {} inner, {} curves\n",
+                         f.face_id, f.body, f.name.empty() ? "" : ", ", f.name, f.degree_u, f.degree_v, f.count_u,
+                         f.count_v, f.rational ? ", rational" : "", f.outer_loops, f.inner_loops, f.trim_curves);
   return out;
 }
 
@@ -83,9 +83,15 @@ nlohmann::json to_json(const ModelSummary& s) {
   for (auto [type, count] : s.skipped_entities) skipped[std::to_string(type)] = count;
   nlohmann::json faces = nlohmann::json::array();
   for (const FaceSummary& f : s.face_list)
-    faces.push_back({{"body", f.body}, {"face_id", f.face_id}, {"name", f.name}, {"degree", {f.degree_u, f.degree_v}},
-                     {"control_points", {f.count_u, f.count_v}}, {"rational", f.rational}, {"outer_loops", f.outer_loops},
-                     {"inner_loops", f.inner_loops}, {"trim_curves", f.trim_curves}});
+    faces.push_back({{"body", f.body},
+                     {"face_id", f.face_id},
+                     {"name", f.name},
+                     {"degree", {f.degree_u, f.degree_v}},
+                     {"control_points", {f.count_u, f.count_v}},
+                     {"rational", f.rational},
+                     {"outer_loops", f.outer_loops},
+                     {"inner_loops", f.inner_loops},
+                     {"trim_curves", f.trim_curves}});
   return {{"source", s.source},
           {"unit_scale_to_mm", s.unit_scale_to_mm},
           {"bodies", s.bodies},
@@ -95,7 +101,8 @@ nlohmann::json to_json(const ModelSummary& s) {
           {"control_points", s.control_points},
           {"max_degree", {s.max_degree_u, s.max_degree_v}},
           {"trim_loops", {{"outer", s.outer_loops}, {"inner", s.inner_loops}, {"curves", s.trim_curves}}},
-          {"bbox", {{"min", {s.bbox_min.x, s.bbox_min.y, s.bbox_min.z}}, {"max", {s.bbox_max.x, s.bbox_max.y, s.bbox_max.z}}}},
+          {"bbox",
+           {{"min", {s.bbox_min.x, s.bbox_min.y, s.bbox_min.z}}, {"max", {s.bbox_max.x, s.bbox_max.y, s.bbox_max.z}}}},
           {"size", s.size},
           {"skipped_entities", skipped},
           {"face_list", faces}};

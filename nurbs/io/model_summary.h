@@ -2,20 +2,19 @@
 /// \file model_summary.h
 /// What `nurbsgl info MODEL [--json]` prints: faces, degrees, control-point counts, rational or
 /// not, trim loops, bounding box and model size, skipped IGES entities.
-#include "nurbs/model.h"
-
 #include <glm/vec3.hpp>
-#include <nlohmann/json_fwd.hpp>
-
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
+
+#include "nurbs/model.h"
 
 namespace nurbs::io {
 
 struct FaceSummary {
-  int body = 0;       ///< index into Model::bodies
-  int face_id = -1;   ///< TrimmedSurface::face_id (IGES: directory entry number)
+  int body = 0;      ///< index into Model::bodies
+  int face_id = -1;  ///< TrimmedSurface::face_id (IGES: directory entry number)
   std::string name;
   int degree_u = 0, degree_v = 0;
   int count_u = 0, count_v = 0;  ///< control points along u and v
@@ -28,7 +27,7 @@ struct ModelSummary {
   double unit_scale_to_mm = 1.0;
   int bodies = 0;
   int faces = 0;
-  int trimmed_faces = 0;   ///< faces with at least one loop
+  int trimmed_faces = 0;  ///< faces with at least one loop
   int rational_faces = 0;
   int control_points = 0;  ///< total over all faces
   int max_degree_u = 0, max_degree_v = 0;

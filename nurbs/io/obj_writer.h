@@ -2,9 +2,8 @@
 /// \file obj_writer.h
 /// Wavefront OBJ export of sampled surface grids, for looking at geometry in other tools. The
 /// grids are sampled by the caller (e.g. with nurbs/surface_eval.h), so this file knows no NURBS.
-#include <glm/vec3.hpp>
-
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <ostream>
 #include <string>
 #include <vector>

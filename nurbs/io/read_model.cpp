@@ -1,11 +1,11 @@
 #include "nurbs/io/read_model.h"
 
+#include <algorithm>
+#include <cctype>
+
 #include "nurbs/io/bpt_reader.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/read_error.h"
-
-#include <algorithm>
-#include <cctype>
 
 namespace nurbs::io {
 

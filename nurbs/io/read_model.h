@@ -1,10 +1,10 @@
 #pragma once
 /// \file read_model.h
 /// One entry point for every model format nurbsgl reads, chosen by file extension.
+#include <filesystem>
+
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/model.h"
-
-#include <filesystem>
 
 namespace nurbs::io {
 

@@ -1,10 +1,10 @@
 #pragma once
 // One headless context per test program (STYLE.md): created on first use from NURBSGL_GL, so ctest
 // runs this program once per backend (egl, osmesa, glfw under xvfb).
-#include "gpgpu/gpu.h"
-
 #include <random>
 #include <vector>
+
+#include "gpgpu/gpu.h"
 
 namespace test {
 

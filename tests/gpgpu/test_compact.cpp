@@ -1,13 +1,12 @@
 // Stream compaction against std::copy_if at densities 0, 1e-4, 0.5 and 1, sizes up to 4096^2:
 // same count, same records, same order.
-#include "gl_fixture.h"
-
-#include "gpgpu/compact.h"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <numeric>
+
+#include "gl_fixture.h"
+#include "gpgpu/compact.h"
 
 using gpgpu::Format;
 

@@ -1,17 +1,17 @@
 // Context backends: the one under test (NURBSGL_GL) starts with a 4.5 core context and float
 // render targets; backend names parse; an unknown name is rejected with the valid list.
-#include "gl_fixture.h"
-
 #include <doctest/doctest.h>
 
 #include <cstdlib>
+
+#include "gl_fixture.h"
 
 TEST_CASE("context: 4.5 core with float render targets") {
   const gpgpu::ContextInfo& info = test::gpu().info();
   CHECK(!info.renderer.empty());
   CHECK(info.gl_version.rfind("4.", 0) == 0);
-  CHECK(info.max_texture_size >= 4096);       // GL 4.5 minimum is 16384; Mesa gives 16384
-  CHECK(info.max_texture_units >= 16);        // GL 4.5 minimum
+  CHECK(info.max_texture_size >= 4096);  // GL 4.5 minimum is 16384; Mesa gives 16384
+  CHECK(info.max_texture_units >= 16);   // GL 4.5 minimum
   CHECK(info.float_targets_ok);
   // The backend asked for is the one that started (no silent fallback).
   if (const char* env = std::getenv("NURBSGL_GL"); env && *env && std::string(env) != "auto")

@@ -1,11 +1,10 @@
 // EXR dumps: every format round-trips through write_exr/read_exr, and Gpu::dump names files.
-#include "gl_fixture.h"
-
-#include "gpgpu/exr_dump.h"
-
 #include <doctest/doctest.h>
 
 #include <filesystem>
+
+#include "gl_fixture.h"
+#include "gpgpu/exr_dump.h"
 
 using gpgpu::Format;
 
@@ -23,8 +22,8 @@ TEST_CASE("exr: float, mask and count textures round-trip") {
   CHECK(img.height == 4);
   // OpenEXR stores channels sorted by name: A, B, G, R.
   REQUIRE(img.channels == std::vector<std::string>{"A", "B", "G", "R"});
-  CHECK(img.values[3] == data[0]);   // R of texel (0,0)
-  CHECK(img.values[0] == data[3]);   // A of texel (0,0)
+  CHECK(img.values[3] == data[0]);                              // R of texel (0,0)
+  CHECK(img.values[0] == data[3]);                              // A of texel (0,0)
   CHECK(img.values[size_t(4 * 9 + 3)] == data[size_t(4 * 9)]);  // R of texel (0,1): no row flip
 
   gpgpu::Texture counts(3, 1, Format::R32UI);

@@ -1,16 +1,14 @@
 // Even-odd stencil fill against its CPU twin: random star polygons, nested loops (holes), and
 // self-intersecting polygons; texels may differ only where an edge passes (numerically) through
 // the texel centre.
-#include "gl_fixture.h"
-
-#include "gpgpu/polygon_fill.h"
-
 #include <doctest/doctest.h>
-
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+
+#include "gl_fixture.h"
+#include "gpgpu/polygon_fill.h"
 
 namespace {
 
@@ -47,7 +45,8 @@ TEST_CASE("polygon fill: even-odd stencil fill matches the CPU twin") {
     std::vector<std::vector<glm::vec2>> polys;
     polys.push_back(star(rng, {w * 0.5f, h * 0.5f}, 0.48f * float(std::min(w, h)), 5 + trial, false));
     polys.push_back(star(rng, {w * 0.5f, h * 0.5f}, 0.15f * float(std::min(w, h)), 7, true));  // a hole
-    if (trial % 3 == 0) polys.push_back({{0.f, 0.f}, {float(w), float(h)}, {float(w), 0.f}, {0.f, float(h)}});  // bow tie
+    if (trial % 3 == 0)
+      polys.push_back({{0.f, 0.f}, {float(w), float(h)}, {float(w), 0.f}, {0.f, float(h)}});  // bow tie
     if (trial % 4 == 1) polys.push_back({{2.f, 2.f}, {9.f, 2.f}});  // degenerate: ignored by both
     gpgpu::Texture mask(w, h, gpgpu::Format::R8);
     gpgpu::fill_polygons_even_odd(gpu, polys, mask);

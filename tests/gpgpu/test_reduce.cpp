@@ -1,14 +1,13 @@
 // Standard reductions against their CPU twins (double accumulation) on sizes that stress the 2x2
 // pyramid: 1x1, 1xN, Nx1, primes, 4097x3, random sizes; with +inf, -inf and NaN entries and ties.
-#include "gl_fixture.h"
-
-#include "gpgpu/array_texture.h"
-#include "gpgpu/reduce.h"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "gl_fixture.h"
+#include "gpgpu/array_texture.h"
+#include "gpgpu/reduce.h"
 
 using gpgpu::Format;
 using gpgpu::ReduceOp;
@@ -20,8 +19,8 @@ struct Size {
 };
 
 std::vector<Size> sizes() {
-  std::vector<Size> s{{1, 1}, {1, 2}, {2, 1}, {1, 1000}, {1000, 1}, {2, 2}, {3, 5}, {7, 13},
-                      {127, 131}, {4097, 3}, {3, 4097}, {509, 257}, {1024, 1024}};
+  std::vector<Size> s{{1, 1},  {1, 2},     {2, 1},    {1, 1000}, {1000, 1},  {2, 2},      {3, 5},
+                      {7, 13}, {127, 131}, {4097, 3}, {3, 4097}, {509, 257}, {1024, 1024}};
   std::mt19937_64 rng(2024);
   for (int i = 0; i < 8; ++i) s.push_back({int(1 + rng() % 700), int(1 + rng() % 700)});
   return s;

@@ -1,10 +1,9 @@
 // Shader assembly: a compile error names the glsl file and line (also after an #include), a missing
 // include names the including file and line, a link error throws with the log.
-#include "gl_fixture.h"
-
-#include "gpgpu/shader_library.h"
-
 #include <doctest/doctest.h>
+
+#include "gl_fixture.h"
+#include "gpgpu/shader_library.h"
 
 namespace {
 // Line 4 of broken.frag uses an undeclared identifier, after an #include of an embedded library.
@@ -12,8 +11,9 @@ constexpr gpgpu::ShaderFile kTestFiles[] = {
     {"broken.frag", "#include \"lib_float.glsl\"\nout vec4 o;\nvoid main() {\n  o = vec4(undeclared_thing);\n}\n"},
     {"bad_include.frag", "// comment\n#include \"no_such_lib.glsl\"\nvoid main() {}\n"},
     {"ok.frag", "out vec4 o;\nvoid main() { o = vec4(1.0); }\n"},
-    {"link_mismatch.vert", "out vec3 v_only_in_vs_mismatch;\nvoid main() { v_only_in_vs_mismatch = vec3(0); "
-                           "gl_Position = vec4(0); }\n"},
+    {"link_mismatch.vert",
+     "out vec3 v_only_in_vs_mismatch;\nvoid main() { v_only_in_vs_mismatch = vec3(0); "
+     "gl_Position = vec4(0); }\n"},
     {"link_mismatch.frag", "in vec4 v_only_in_vs_mismatch;\nout vec4 o;\nvoid main() { o = v_only_in_vs_mismatch; }\n"},
 };
 }  // namespace

@@ -1,14 +1,13 @@
 // Textures, layouts, framebuffers and the pass runner.
-#include "gl_fixture.h"
+#include <doctest/doctest.h>
 
+#include <numeric>
+
+#include "gl_fixture.h"
 #include "gpgpu/framebuffer.h"
 #include "gpgpu/gl_api.h"
 #include "gpgpu/layout.h"
 #include "gpgpu/ping_pong.h"
-
-#include <doctest/doctest.h>
-
-#include <numeric>
 
 using gpgpu::Format;
 

@@ -1,15 +1,15 @@
 // CPU evaluation against closed forms (rational circle, sphere, torus) and finite differences.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/validate.h"
-
-#include <doctest/doctest.h>
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
 
 TEST_CASE("rational quarter circle has radius 1 and the right derivatives") {
   const auto c = models::rational_quarter_circle(1.0);

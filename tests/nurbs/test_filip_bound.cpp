@@ -2,19 +2,19 @@
 // (degrees 1-5, rational and not, fixed seeds) the sampled deviation of the surface from the
 // piecewise linear interpolant of an (n+1) x (m+1) grid never exceeds K, and M1-M3 bound the sampled
 // second derivatives.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <vector>
+
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
-
-#include <doctest/doctest.h>
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <vector>
 
 namespace {
 
@@ -77,14 +77,17 @@ TEST_CASE("Filip K bounds the deviation from the grid triangles on 1000 random s
           ++cells_infinite;
           continue;
         }
-        auto at = [&](int a, int b) { return grid[static_cast<size_t>((cj * kSamples + b) * W + ci * kSamples + a)].s; };
+        auto at = [&](int a, int b) {
+          return grid[static_cast<size_t>((cj * kSamples + b) * W + ci * kSamples + a)].s;
+        };
         const glm::dvec3 p00 = at(0, 0), p10 = at(kSamples, 0), p01 = at(0, kSamples), p11 = at(kSamples, kSamples);
         double dev = 0.0;
         for (int b = 0; b <= kSamples; ++b) {
           for (int a = 0; a <= kSamples; ++a) {
             const double x = static_cast<double>(a) / kSamples, y = static_cast<double>(b) / kSamples;
             // Two triangles split along the (0,0)-(1,1) diagonal, and the bilinear interpolant.
-            const glm::dvec3 tri = x >= y ? p00 + x * (p10 - p00) + y * (p11 - p10) : p00 + y * (p01 - p00) + x * (p11 - p01);
+            const glm::dvec3 tri =
+                x >= y ? p00 + x * (p10 - p00) + y * (p11 - p10) : p00 + y * (p01 - p00) + x * (p11 - p01);
             const glm::dvec3 bil = (1 - y) * ((1 - x) * p00 + x * p10) + y * ((1 - x) * p01 + x * p11);
             dev = std::max({dev, max_coord(at(a, b) - tri), max_coord(at(a, b) - bil)});
           }

@@ -1,12 +1,12 @@
 // Knot vector validation, span search and basis functions (The NURBS Book §2, A2.1-A2.3).
-#include "nurbs/knot_vector.h"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "nurbs/knot_vector.h"
 
 using nurbs::validate_knots;
 
@@ -74,8 +74,8 @@ TEST_CASE("find_span (A2.1) including u = u_max") {
     double u;
     int span;
   };
-  const Case cases[] = {{0.0, 2}, {0.5, 2}, {1.0, 3}, {2.5, 4}, {3.999, 5}, {4.0, 7}, {4.5, 7}, {5.0, 7},
-                        {-1.0, 2}, {6.0, 7}};
+  const Case cases[] = {{0.0, 2}, {0.5, 2}, {1.0, 3}, {2.5, 4},  {3.999, 5},
+                        {4.0, 7}, {4.5, 7}, {5.0, 7}, {-1.0, 2}, {6.0, 7}};
   for (const auto& c : cases) {
     CAPTURE(c.u);
     CHECK(nurbs::find_span(U, 2, 8, c.u) == c.span);
@@ -99,7 +99,8 @@ TEST_CASE("basis functions: The NURBS Book Ex 2.3 at u = 5/2") {
   const auto D = nurbs::basis_function_derivatives(U, 2, span, 2.5, 3);
   const double expected[4][3] = {{0.125, 0.75, 0.125}, {-0.5, 0.0, 0.5}, {1.0, -2.0, 1.0}, {0.0, 0.0, 0.0}};
   for (int k = 0; k <= 3; ++k) {
-    for (int j = 0; j < 3; ++j) CHECK(D[static_cast<size_t>(k * 3 + j)] == doctest::Approx(expected[k][j]).epsilon(1e-14));
+    for (int j = 0; j < 3; ++j)
+      CHECK(D[static_cast<size_t>(k * 3 + j)] == doctest::Approx(expected[k][j]).epsilon(1e-14));
   }
 }
 

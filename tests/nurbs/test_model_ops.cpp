@@ -1,13 +1,13 @@
 // Model operations: rigid-transform validation, transformed faces (affine invariance: evaluating
 // the moved surface equals moving the evaluated point), world faces and the model size.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-
-#include <doctest/doctest.h>
-#include <glm/gtc/matrix_transform.hpp>
-
-#include <cmath>
 
 TEST_CASE("model ops: validate_rigid accepts rotations and translations only") {
   const glm::dmat4 rigid = glm::translate(glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 2, 3)), glm::dvec3(4, -5, 6));

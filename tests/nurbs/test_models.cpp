@@ -1,16 +1,16 @@
 // Generators in models/: valid surfaces with the stated control-point counts, reproducible seeds.
+#include <doctest/doctest.h>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <random>
+
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/validate.h"
-
-#include <doctest/doctest.h>
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
-
-#include <random>
 
 TEST_CASE("paper pair and trimmed surface: sizes and validity") {
   struct Case {

@@ -1,6 +1,12 @@
 // Knot insertion (A5.1), degree elevation (A5.9), clamping and Bézier extraction leave the geometry
 // unchanged. Sampled comparison at 1e-12 relative to the control-net size (the brief's tolerance;
 // each algorithm is a short chain of convex combinations, so roundoff is ~1e-15).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/bezier_extraction.h"
@@ -9,12 +15,6 @@
 #include "nurbs/knot_insertion.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/validate.h"
-
-#include <doctest/doctest.h>
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
 
 namespace {
 
@@ -133,8 +133,10 @@ TEST_CASE("surface knot insertion, elevation and Bézier patches preserve the su
     CHECK(surface_gap(s, ev) < kTol);
     const auto patches = nurbs::extract_bezier_patches(s);
     int spans_u = 0, spans_v = 0;
-    for (size_t i = 1; i < s.knots_u.size(); ++i) spans_u += s.knots_u[i] > s.knots_u[i - 1] && s.knots_u[i] > du.min && s.knots_u[i - 1] < du.max;
-    for (size_t i = 1; i < s.knots_v.size(); ++i) spans_v += s.knots_v[i] > s.knots_v[i - 1] && s.knots_v[i] > dv.min && s.knots_v[i - 1] < dv.max;
+    for (size_t i = 1; i < s.knots_u.size(); ++i)
+      spans_u += s.knots_u[i] > s.knots_u[i - 1] && s.knots_u[i] > du.min && s.knots_u[i - 1] < du.max;
+    for (size_t i = 1; i < s.knots_v.size(); ++i)
+      spans_v += s.knots_v[i] > s.knots_v[i - 1] && s.knots_v[i] > dv.min && s.knots_v[i - 1] < dv.max;
     CHECK(patches.size() == static_cast<size_t>(spans_u * spans_v));
     for (const auto& patch : patches) {
       CHECK(nurbs::validate(patch.surface).empty());

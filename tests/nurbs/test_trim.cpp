@@ -1,4 +1,11 @@
 // Point-in-trim classification, loop checks (gaps, crossings, face id), gap repair and orientation.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <string>
+
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
@@ -6,13 +13,6 @@
 #include "nurbs/homogeneous.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/trim_loops.h"
-
-#include <doctest/doctest.h>
-#include <glm/geometric.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <string>
 
 using models::trim_line;
 
@@ -58,7 +58,7 @@ bool contains(const std::vector<std::string>& v, const std::string& needle) {
 TEST_CASE("winding number counts a vertex on the ray once") {
   const std::vector<glm::dvec2> diamond = {{1, 0}, {2, 1}, {1, 2}, {0, 1}};  // CCW
   CHECK(nurbs::winding_number(diamond, {1, 1}) == 1);
-  CHECK(nurbs::winding_number(diamond, {0.5, 1}) == 1);  // ray to +x passes through vertex (2, 1)
+  CHECK(nurbs::winding_number(diamond, {0.5, 1}) == 1);   // ray to +x passes through vertex (2, 1)
   CHECK(nurbs::winding_number(diamond, {-0.5, 1}) == 0);  // ray passes through both side vertices
   CHECK(nurbs::winding_number({{1, 0}, {0, 1}, {1, 2}, {2, 1}}, {1, 1}) == -1);  // CW
   CHECK(nurbs::signed_area(diamond) == doctest::Approx(2.0).epsilon(1e-15));
@@ -69,9 +69,9 @@ TEST_CASE("square with hole: classification, CCW and CW") {
     glm::dvec2 uv;
     bool material;
   };
-  const Case cases[] = {{{0.1, 0.1}, true},  {{0.5, 0.5}, false},   {{0.75, 0.5}, true}, {{0.5, 0.69}, false},
-                        {{0.5, 0.71}, true}, {{0.36, 0.36}, false}, {{1.5, 0.5}, false}, {{-0.01, 0.5}, false},
-                        {{0.99, 0.99}, true}};
+  const Case cases[] = {{{0.1, 0.1}, true},   {{0.5, 0.5}, false},   {{0.75, 0.5}, true},
+                        {{0.5, 0.69}, false}, {{0.5, 0.71}, true},   {{0.36, 0.36}, false},
+                        {{1.5, 0.5}, false},  {{-0.01, 0.5}, false}, {{0.99, 0.99}, true}};
   for (bool oriented : {true, false}) {
     const auto face = square_with_hole(oriented);
     const auto polys = nurbs::flatten_trim(face, kFlat);

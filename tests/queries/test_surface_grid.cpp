@@ -1,16 +1,15 @@
 // GPU surface evaluation against its CPU twin (double) on random surfaces of degrees 1-7, rational
 // and not, clamped and unclamped; and on the exact sphere, where the GPU points must lie on it.
-#include "../gpgpu/gl_fixture.h"
-
-#include "models/exact_shapes.h"
-#include "models/random_surfaces.h"
-#include "queries/surface_grid.h"
-
 #include <doctest/doctest.h>
+
+#include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include <cmath>
+#include "../gpgpu/gl_fixture.h"
+#include "models/exact_shapes.h"
+#include "models/random_surfaces.h"
+#include "queries/surface_grid.h"
 
 namespace {
 
@@ -51,30 +50,30 @@ Errors compare(gpgpu::Gpu& gpu, const nurbs::Surface& s, int n, int m, queries::
 TEST_CASE("surface grid: GPU evaluation matches the CPU twin, degrees 1-7") {
   gpgpu::Gpu& gpu = test::gpu();
   for (queries::EvalMethod method : {queries::EvalMethod::PerFragment, queries::EvalMethod::Tabulated}) {
-  CAPTURE(int(method));
-  double worst = 0.0;
-  int compared = 0;
-  for (int degree_u = 1; degree_u <= 7; ++degree_u) {
-    for (int degree_v = 1; degree_v <= 7; degree_v += 2) {
-      for (bool rational : {false, true}) {
-        for (uint64_t seed = 0; seed < 3; ++seed) {
-          const nurbs::Surface s =
-              models::random_surface(seed * 1000 + uint64_t(degree_u * 10 + degree_v), degree_u, degree_v, rational);
-          CAPTURE(degree_u);
-          CAPTURE(degree_v);
-          CAPTURE(rational);
-          CAPTURE(seed);
-          const Errors e = compare(gpu, s, 40, 23, method);
-          // Float budget (surface_grid.h): ~1.2e-6 of the control box for degree <= 7; allowed 1e-5.
-          CHECK(e.point <= 1e-5);
-          worst = std::max(worst, e.point);
-          ++compared;
+    CAPTURE(int(method));
+    double worst = 0.0;
+    int compared = 0;
+    for (int degree_u = 1; degree_u <= 7; ++degree_u) {
+      for (int degree_v = 1; degree_v <= 7; degree_v += 2) {
+        for (bool rational : {false, true}) {
+          for (uint64_t seed = 0; seed < 3; ++seed) {
+            const nurbs::Surface s =
+                models::random_surface(seed * 1000 + uint64_t(degree_u * 10 + degree_v), degree_u, degree_v, rational);
+            CAPTURE(degree_u);
+            CAPTURE(degree_v);
+            CAPTURE(rational);
+            CAPTURE(seed);
+            const Errors e = compare(gpu, s, 40, 23, method);
+            // Float budget (surface_grid.h): ~1.2e-6 of the control box for degree <= 7; allowed 1e-5.
+            CHECK(e.point <= 1e-5);
+            worst = std::max(worst, e.point);
+            ++compared;
+          }
         }
       }
     }
-  }
-  MESSAGE("method " << int(method) << ": max GPU-CPU point error / model size over " << compared
-                     << " surfaces: " << worst);
+    MESSAGE("method " << int(method) << ": max GPU-CPU point error / model size over " << compared
+                      << " surfaces: " << worst);
   }
 }
 
@@ -97,7 +96,8 @@ TEST_CASE("surface grid: GPU points of the exact rational sphere lie on it") {
   const auto pts = grid.points.read();
   double worst = 0.0;
   for (size_t k = 0; k < pts.size(); k += 4)
-    worst = std::max(worst, std::fabs(glm::length(glm::dvec3(pts[k], pts[k + 1], pts[k + 2]) - glm::dvec3(1, -2, 3)) - 2.5));
+    worst = std::max(worst,
+                     std::fabs(glm::length(glm::dvec3(pts[k], pts[k + 1], pts[k + 2]) - glm::dvec3(1, -2, 3)) - 2.5));
   CHECK(worst <= 1e-5 * 2 * 2.5 * std::sqrt(3.0));  // 1e-5 x model size (box diagonal)
   MESSAGE("sphere radius error (float GPU): " << worst);
 }

@@ -1,17 +1,16 @@
 // Trim textures against the CPU winding-number classification on the random trimmed family and
 // the paper's trimmed 100x105 surface: equal everywhere except within one grid cell of a trim curve.
-#include "../gpgpu/gl_fixture.h"
+#include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
+#include "../gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/trim_texture.h"
-
-#include <doctest/doctest.h>
-
-#include <algorithm>
-#include <cmath>
 
 namespace {
 

@@ -12,7 +12,7 @@ namespace nurbs::io::test {
 
 struct IgesEdit {
   struct Entity {
-    std::string d1, d2;  // columns 1-72 of the two directory lines
+    std::string d1, d2;               // columns 1-72 of the two directory lines
     std::vector<std::string> fields;  // parameter fields, fields[0] = type
     int pstart_override = 0;          // nonzero: written instead of the real first P line
     bool unterminated = false;        // true: the record delimiter ';' is left out
@@ -74,7 +74,8 @@ struct IgesEdit {
   int append(int type, std::vector<std::string> f, int form = 0) {
     f.insert(f.begin(), std::to_string(type));
     entities.push_back({fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}", type, 0, 0, 0, 0, 0, 0, 0, "00010000"),
-                        fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}", type, 0, 0, 0, form, "", "", "", 0), f, 0, false});
+                        fmt::format("{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}{:8}", type, 0, 0, 0, form, "", "", "", 0), f, 0,
+                        false});
     return static_cast<int>(2 * entities.size() - 1);
   }
 

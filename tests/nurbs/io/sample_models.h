@@ -1,12 +1,12 @@
 #pragma once
 // Small exact models shared by the I/O tests: the base of the malformed-IGES corpus and of the
 // writer round trips.
-#include "nurbs/io/conic_arcs.h"
+#include <cmath>
+
 #include "nurbs/homogeneous.h"
+#include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/model.h"
-
-#include <cmath>
 
 namespace nurbs::io::test {
 

@@ -1,12 +1,12 @@
 // The teapot's Bézier patch format: the shared teapot and a table of malformed files.
-#include "nurbs/io/bpt_reader.h"
-#include "nurbs/io/read_error.h"
-
 #include <doctest/doctest.h>
 
 #include <chrono>
 #include <filesystem>
 #include <string>
+
+#include "nurbs/io/bpt_reader.h"
+#include "nurbs/io/read_error.h"
 
 namespace fs = std::filesystem;
 
@@ -18,8 +18,8 @@ TEST_CASE("bpt: Newell teapot has 32 bicubic patches") {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const nurbs::Model m = nurbs::io::read_bpt(path);
-  MESSAGE("newell_teapot.bpt: read " << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()
-                                     << " ms");
+  MESSAGE("newell_teapot.bpt: read "
+          << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() << " ms");
   REQUIRE(m.bodies.size() == 1);
   REQUIRE(m.bodies[0].faces.size() == 32);
   for (const auto& f : m.bodies[0].faces) {
@@ -71,7 +71,9 @@ TEST_CASE("bpt: malformed files give their specific error") {
     CHECK_MESSAGE(message.find(c.expect) == 0, message);
   }
   CHECK(nurbs::io::read_bpt_text(one, "t.bpt").bodies[0].faces.size() == 1);
-  CHECK_THROWS_WITH(nurbs::io::read_bpt_text(one + "\n7\n", "t.bpt"), "t.bpt: line 20: data after the 1 patches announced on line 1");
-  CHECK_THROWS_WITH(nurbs::io::read_bpt_text("2\n" + patch, "t.bpt"), "t.bpt: line 19: patch 2 degrees: unexpected end of file");
+  CHECK_THROWS_WITH(nurbs::io::read_bpt_text(one + "\n7\n", "t.bpt"),
+                    "t.bpt: line 20: data after the 1 patches announced on line 1");
+  CHECK_THROWS_WITH(nurbs::io::read_bpt_text("2\n" + patch, "t.bpt"),
+                    "t.bpt: line 19: patch 2 degrees: unexpected end of file");
   CHECK_THROWS_WITH(nurbs::io::read_bpt("/nonexistent/t.bpt"), "/nonexistent/t.bpt: cannot open file");
 }

@@ -1,20 +1,18 @@
 // Entities beyond what the writer emits: 124 chains, 100/104/110 arcs and lines in parameter
 // space, 141/143 bounded surfaces, the 186/514/510/508/504/502 B-rep chain, skipped and
 // unsupported types. Files are built by appending entities to a written one-surface file.
-#include "iges_edit.h"
-#include "sample_models.h"
+#include <doctest/doctest.h>
 
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "iges_edit.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/iges_writer.h"
-
-#include <doctest/doctest.h>
-
-#include <glm/geometric.hpp>
-
-#include <cmath>
+#include "sample_models.h"
 
 using nurbs::io::test::IgesEdit;
 
@@ -39,7 +37,8 @@ double conic_residual(const nurbs::Curve3& c, const std::array<double, 6>& k) {
   for (int i = 0; i <= 64; ++i) {
     const double t = c.knots.front() + (c.knots.back() - c.knots.front()) * i / 64.0;
     const glm::dvec2 p = nurbs::curve_point(c2, t);
-    worst = std::max(worst, std::abs(k[0] * p.x * p.x + k[1] * p.x * p.y + k[2] * p.y * p.y + k[3] * p.x + k[4] * p.y + k[5]));
+    worst = std::max(worst,
+                     std::abs(k[0] * p.x * p.x + k[1] * p.x * p.y + k[2] * p.y * p.y + k[3] * p.x + k[4] * p.y + k[5]));
   }
   return worst;
 }
@@ -74,7 +73,8 @@ TEST_CASE("conic arcs are exact rational quadratics") {
 
 TEST_CASE("IGES: chained 124 transforms act on the surface") {
   IgesEdit e = one_surface();
-  const int inner = e.append(124, {"0.", "-1.", "0.", "1.", "1.", "0.", "0.", "0.", "0.", "0.", "1.", "0."});  // +90° about z, +1 x
+  const int inner =
+      e.append(124, {"0.", "-1.", "0.", "1.", "1.", "0.", "0.", "0.", "0.", "0.", "1.", "0."});  // +90° about z, +1 x
   const int outer = e.append(124, {"1.", "0.", "0.", "0.", "0.", "1.", "0.", "0.", "0.", "0.", "1.", "10."});  // +10 z
   e.set_de_field(1, 7, inner);
   e.set_de_field(inner, 7, outer);
@@ -106,8 +106,8 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   const int face = e.append(510, {"1", "2", "1", s(loop), s(loop_e)}, 1);
   const int shell = e.append(514, {"1", s(face), "1"}, 1);
   e.append(186, {s(shell), "1", "0"});
-  e.append(116, {"0.", "0.", "0.", "0"});  // point: skipped and counted
-  e.append(406, {"1", "4HNAME"}, 15);      // property: ignored
+  e.append(116, {"0.", "0.", "0.", "0"});                 // point: skipped and counted
+  e.append(406, {"1", "4HNAME"}, 15);                     // property: ignored
   const int rev = e.append(120, {"1", "1", "0.", "1."});  // surface of revolution: unsupported
   e.append(144, {s(rev), "0", "0", "0"});
 
@@ -134,5 +134,6 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   CHECK(log.reoriented_loops == 1);
   // The circle is centred at (0.5, 0.5) with radius 0.2 in (u, v); round-off 1e-12.
   const nurbs::Curve2& q = bounded.loops[1].curves[0];
-  CHECK(std::abs(glm::length(nurbs::curve_point(q, 0.5 * (q.knots.front() + q.knots.back())) - glm::dvec2(0.5)) - 0.2) < 1e-12);
+  CHECK(std::abs(glm::length(nurbs::curve_point(q, 0.5 * (q.knots.front() + q.knots.back())) - glm::dvec2(0.5)) - 0.2) <
+        1e-12);
 }

@@ -1,19 +1,18 @@
 // Random single-character damage to a valid file: the reader either reads it or throws
 // ReadError, nothing else (run under ASan + UBSan this also checks for memory errors and UB).
-#include "sample_models.h"
-
-#include "nurbs/io/iges_reader.h"
-#include "nurbs/io/iges_writer.h"
-#include "nurbs/io/read_error.h"
-
 #include <doctest/doctest.h>
 
 #include <random>
 
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/iges_writer.h"
+#include "nurbs/io/read_error.h"
+#include "sample_models.h"
+
 TEST_CASE("IGES fuzz: random character damage gives ReadError or a model") {
   const std::string base = nurbs::io::write_iges_text(nurbs::io::test::small_model(), "fuzz.igs");
   const std::string alphabet = "0123456789,;.-+EDH ;,9";  // characters that keep records plausible
-  std::mt19937 rng(12345);  // fixed seed: reproducible corpus
+  std::mt19937 rng(12345);                                // fixed seed: reproducible corpus
   std::uniform_int_distribution<size_t> where(0, base.size() - 1), what(0, alphabet.size() - 1);
   int errors = 0, models = 0;
   for (int trial = 0; trial < 2000; ++trial) {

@@ -1,17 +1,16 @@
 // The malformed-IGES corpus: every case damages one thing in a small valid file written by
 // iges_writer (sample_models.h) and expects ReadError with the file name, the place (line or
 // entity) and the specific problem in its message.
-#include "iges_edit.h"
-#include "sample_models.h"
-
-#include "nurbs/io/iges_reader.h"
-#include "nurbs/io/iges_writer.h"
-#include "nurbs/io/read_error.h"
-
 #include <doctest/doctest.h>
 
 #include <functional>
 #include <sstream>
+
+#include "iges_edit.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/iges_writer.h"
+#include "nurbs/io/read_error.h"
+#include "sample_models.h"
 
 using nurbs::io::test::IgesEdit;
 
@@ -75,62 +74,307 @@ size_t surface_point_index(const std::vector<std::string>& f) {
 }
 
 const Case kCases[] = {
-    raw("truncated line", [](auto& l) { l.back().resize(40); return std::vector<std::string>{at(int(l.size())), "40 columns, expected 80 (truncated)"}; }),
-    raw("overlong line", [](auto& l) { l[0] += "  "; return std::vector<std::string>{at(1), "82 columns", "too long"}; }),
-    raw("no terminate section", [](auto& l) { l.pop_back(); return std::vector<std::string>{"no Terminate section"}; }),
-    raw("terminate count wrong", [](auto& l) { l.back().replace(24, 8, "P      1"); return std::vector<std::string>{at(int(l.size())), "Terminate record says 'P      1'"}; }),
-    raw("sequence out of order", [](auto& l) { int d = first_line(l, 'D'); l[d + 1].replace(73, 7, "      9"); return std::vector<std::string>{at(d + 2), "sequence number D9 out of order, expected 3"}; }),
-    raw("unknown section letter", [](auto& l) { int d = first_line(l, 'D'); l[d].replace(72, 1, "X"); return std::vector<std::string>{at(d + 1), "unknown section letter 'X'"}; }),
-    raw("compressed format", [](auto& l) { l[1].replace(72, 1, "C"); return std::vector<std::string>{at(2), "compressed or binary IGES"}; }),
-    raw("sections out of order", [](auto& l) { int p = first_line(l, 'P'); l[p - 1][72] = 'G'; return std::vector<std::string>{at(p), "section 'G' after section 'D'"}; }),
-    raw("empty file", [](auto& l) { l.clear(); return std::vector<std::string>{"empty file"}; }),
-    raw("directory type not a number", [](auto& l) { int d = first_line(l, 'D'); l[d - 1].replace(0, 8, "   1x4  "); return std::vector<std::string>{at(d), "directory entry D1: field 1 '   1x4  ' is not an integer"}; }),
-    raw("directory lines disagree on type", [](auto& l) { int d = first_line(l, 'D'); l[d].replace(0, 8, "     128"); return std::vector<std::string>{at(d + 1), "type 128 on its second line differs from type 144"}; }),
-    raw("unknown unit flag", [](auto& l) { int g = first_line(l, 'G'); std::string all; for (int i = g - 1; l[i][72] == 'G'; ++i) all += l[i].substr(0, 72);
-          size_t p = all.find(",2,2HMM,"); all.replace(p, 3, ",99,");  // one column longer: the last G line loses a trailing blank
-          for (int i = g - 1; l[i][72] == 'G'; ++i) { l[i].replace(0, 72, all.substr(0, 72)); all.erase(0, 72); }
-          return std::vector<std::string>{"global section", "parameter 14: unknown unit flag 99"}; }),
-    raw("global section unterminated", [](auto& l) { int g = first_line(l, 'G'); for (int i = g - 1; l[i][72] == 'G'; ++i) for (char& c : l[i]) if (c == ';' && &c < &l[i][72]) c = ' ';
-          return std::vector<std::string>{"global section", "no record delimiter"}; }),
-    edit("parameter record truncated", [](IgesEdit& e) { int s = e.find(128); e.fields(s).resize(20); e.at(s).unterminated = true;
-          return std::vector<std::string>{"parameter record of " + ent(s, 128) + " truncated (no ';'"}; }),
-    edit("pointer out of range", [](IgesEdit& e) { int t = e.find(144); e.fields(t)[1] = "999"; return std::vector<std::string>{ent(t, 144), "parameter 1: pointer 999 does not name a directory entry"}; }),
-    edit("even pointer", [](IgesEdit& e) { int t = e.find(144); e.fields(t)[1] = "2"; return std::vector<std::string>{ent(t, 144), "pointer 2 does not name a directory entry"}; }),
-    edit("pointer to wrong type", [](IgesEdit& e) { int t = e.find(144); e.fields(t)[1] = std::to_string(e.find(142)); return std::vector<std::string>{ent(t, 144), "is an entity of type 142, expected a surface (128)"}; }),
-    edit("too few parameters", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f.resize(f.size() - 4); return std::vector<std::string>{ent(s, 128), "bad parameter count"}; }),
-    edit("extra parameters", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f.insert(f.end(), {"1.", "2.", "3."}); return std::vector<std::string>{ent(s, 128), "bad parameter count"}; }),
-    edit("NaN coordinate", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f[surface_point_index(f)] = "nan"; return std::vector<std::string>{ent(s, 128), "'nan' is not a finite number"}; }),
-    edit("infinite coordinate", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f[surface_point_index(f) + 4] = "1.E999"; return std::vector<std::string>{ent(s, 128), "'1.E999' is not a finite number"}; }),
-    edit("zero surface weight", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f[10 + 6 + 6] = "0."; return std::vector<std::string>{ent(s, 128), "parameter 22: weight 0 is 0, weights must be > 0"}; }),
-    edit("negative curve weight", [](IgesEdit& e) { int c = e.find(126); auto& f = e.fields(c); f[7 + 4 + 1] = "-1."; return std::vector<std::string>{ent(c, 126), "weight 1 is -1, weights must be > 0"}; }),
-    edit("decreasing surface knots", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f[13] = "0.5"; f[14] = "0.25"; return std::vector<std::string>{ent(s, 128), "u knot 4 (0.25) is less than knot 3 (0.5)"}; }),
-    edit("decreasing curve knots", [](IgesEdit& e) { int c = e.find(126); auto& f = e.fields(c); f[7] = "0.5"; return std::vector<std::string>{ent(c, 126), "knot 1 (0) is less than knot 0 (0.5)"}; }),
-    edit("wrong knot count (K1 + 1)", [](IgesEdit& e) { int s = e.find(128); e.fields(s)[1] = "3"; return std::vector<std::string>{ent(s, 128), "bad parameter count"}; }),
-    edit("wrong knot count (K - 1)", [](IgesEdit& e) { int c = e.find(126, 4); e.fields(c)[1] = "7"; return std::vector<std::string>{ent(c, 126)}; }),
-    edit("degree zero", [](IgesEdit& e) { int s = e.find(128); e.fields(s)[3] = "0"; return std::vector<std::string>{ent(s, 128), "degree M1 is 0"}; }),
-    edit("knot multiplicity above degree + 1", [](IgesEdit& e) { int s = e.find(128, 1); auto& f = e.fields(s); f[14] = "0."; return std::vector<std::string>{ent(s, 128), "u knot 0 is repeated 5 times, more than degree + 1 = 4"}; }),
-    edit("word in a real field", [](IgesEdit& e) { int s = e.find(128); auto& f = e.fields(s); f[surface_point_index(f) + 1] = "abc"; return std::vector<std::string>{ent(s, 128), "expected a real number, got 'abc'"}; }),
-    edit("fraction in an integer field", [](IgesEdit& e) { int s = e.find(128); e.fields(s)[2] = "2.5"; return std::vector<std::string>{ent(s, 128), "parameter 2: expected an integer, got '2.5'"}; }),
-    edit("record starts with another type", [](IgesEdit& e) { int s = e.find(128); e.fields(s)[0] = "126"; return std::vector<std::string>{ent(s, 128), "parameter record starts with '126', expected the entity type 128"}; }),
-    edit("trim curve without parameter curve", [](IgesEdit& e) { int c = e.find(142); e.fields(c)[3] = "0"; return std::vector<std::string>{ent(c, 142), "no parameter-space curve"}; }),
-    edit("bad outer boundary flag", [](IgesEdit& e) { int t = e.find(144); e.fields(t)[2] = "2"; return std::vector<std::string>{ent(t, 144), "outer boundary flag N1 is 2, must be in [0, 1]"}; }),
-    edit("composite of a surface", [](IgesEdit& e) { int c = e.find(102); e.fields(c)[2] = std::to_string(e.find(128)); return std::vector<std::string>{ent(c, 102), "is an entity of type 128, expected a curve"}; }),
-    edit("composite containing itself", [](IgesEdit& e) { int c = e.find(102); e.fields(c)[2] = std::to_string(c); return std::vector<std::string>{ent(c, 102), "nested more than 64 deep"}; }),
-    edit("empty composite", [](IgesEdit& e) { int c = e.find(102); e.fields(c)[1] = "0"; return std::vector<std::string>{ent(c, 102), "number of curves N is 0"}; }),
-    edit("transform pointer to a curve", [](IgesEdit& e) { int s = e.find(128); e.set_de_field(s, 7, e.find(126)); return std::vector<std::string>{ent(s, 128), "is an entity of type 126, expected 124"}; }),
-    edit("singular transform", [](IgesEdit& e) { int m = e.append(124, {"1.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "1.", "0."}); e.set_de_field(e.find(128), 7, m);
-          return std::vector<std::string>{ent(m, 124), "singular transformation matrix"}; }),
-    edit("transform cycle", [](IgesEdit& e) { int m = e.append(124, {"1.", "0.", "0.", "0.", "0.", "1.", "0.", "0.", "0.", "0.", "1.", "0."}); e.set_de_field(m, 7, m); e.set_de_field(e.find(128), 7, m);
-          return std::vector<std::string>{ent(m, 124), "chained transformation matrices (cycle?)"}; }),
-    edit("empty curve range", [](IgesEdit& e) { int c = e.find(126); auto& f = e.fields(c); f[f.size() - 4] = f[f.size() - 5]; return std::vector<std::string>{ent(c, 126), "is not less than V(1)"}; }),
-    edit("empty knot domain", [](IgesEdit& e) { int s = e.find(128, 1); auto& f = e.fields(s); for (int i = 20; i < 24; ++i) f[static_cast<size_t>(i)] = "0.5"; /* 0 0 .5 .5 .5 .5 1 1 */ return std::vector<std::string>{ent(s, 128), "v knot vector has an empty domain"}; }),
-    edit("Hollerith past the end", [](IgesEdit& e) { int t = e.find(144); e.fields(t)[4] = "99Habc"; return std::vector<std::string>{ent(t, 144), "Hollerith string of 99 characters runs past the end"}; }),
-    edit("parameter line of another entity", [](IgesEdit& e) { int s = e.find(128); e.at(s).pstart_override = 1; return std::vector<std::string>{"belongs to D1, but " + ent(s, 128) + " claims it"}; }),
-    edit("parameter lines outside the section", [](IgesEdit& e) { int s = e.find(128); e.at(s).pstart_override = 9999; return std::vector<std::string>{ent(s, 128), "outside the parameter section"}; }),
-    edit("zero-radius arc", [](IgesEdit& e) { int a = e.append(100, {"0.", "0.5", "0.5", "0.5", "0.5", "0.5", "0.5"}); e.fields(e.find(102))[2] = std::to_string(a);
-          return std::vector<std::string>{ent(a, 100), "zero radius"}; }),
-    edit("zero-length line", [](IgesEdit& e) { int a = e.append(110, {"0.", "0.", "0.", "0.", "0.", "0."}); e.fields(e.find(102))[2] = std::to_string(a);
-          return std::vector<std::string>{ent(a, 110), "line has zero length"}; }),
+    raw("truncated line",
+        [](auto& l) {
+          l.back().resize(40);
+          return std::vector<std::string>{at(int(l.size())), "40 columns, expected 80 (truncated)"};
+        }),
+    raw("overlong line",
+        [](auto& l) {
+          l[0] += "  ";
+          return std::vector<std::string>{at(1), "82 columns", "too long"};
+        }),
+    raw("no terminate section",
+        [](auto& l) {
+          l.pop_back();
+          return std::vector<std::string>{"no Terminate section"};
+        }),
+    raw("terminate count wrong",
+        [](auto& l) {
+          l.back().replace(24, 8, "P      1");
+          return std::vector<std::string>{at(int(l.size())), "Terminate record says 'P      1'"};
+        }),
+    raw("sequence out of order",
+        [](auto& l) {
+          int d = first_line(l, 'D');
+          l[d + 1].replace(73, 7, "      9");
+          return std::vector<std::string>{at(d + 2), "sequence number D9 out of order, expected 3"};
+        }),
+    raw("unknown section letter",
+        [](auto& l) {
+          int d = first_line(l, 'D');
+          l[d].replace(72, 1, "X");
+          return std::vector<std::string>{at(d + 1), "unknown section letter 'X'"};
+        }),
+    raw("compressed format",
+        [](auto& l) {
+          l[1].replace(72, 1, "C");
+          return std::vector<std::string>{at(2), "compressed or binary IGES"};
+        }),
+    raw("sections out of order",
+        [](auto& l) {
+          int p = first_line(l, 'P');
+          l[p - 1][72] = 'G';
+          return std::vector<std::string>{at(p), "section 'G' after section 'D'"};
+        }),
+    raw("empty file",
+        [](auto& l) {
+          l.clear();
+          return std::vector<std::string>{"empty file"};
+        }),
+    raw("directory type not a number",
+        [](auto& l) {
+          int d = first_line(l, 'D');
+          l[d - 1].replace(0, 8, "   1x4  ");
+          return std::vector<std::string>{at(d), "directory entry D1: field 1 '   1x4  ' is not an integer"};
+        }),
+    raw("directory lines disagree on type",
+        [](auto& l) {
+          int d = first_line(l, 'D');
+          l[d].replace(0, 8, "     128");
+          return std::vector<std::string>{at(d + 1), "type 128 on its second line differs from type 144"};
+        }),
+    raw("unknown unit flag",
+        [](auto& l) {
+          int g = first_line(l, 'G');
+          std::string all;
+          for (int i = g - 1; l[i][72] == 'G'; ++i) all += l[i].substr(0, 72);
+          size_t p = all.find(",2,2HMM,");
+          all.replace(p, 3, ",99,");  // one column longer: the last G line loses a trailing blank
+          for (int i = g - 1; l[i][72] == 'G'; ++i) {
+            l[i].replace(0, 72, all.substr(0, 72));
+            all.erase(0, 72);
+          }
+          return std::vector<std::string>{"global section", "parameter 14: unknown unit flag 99"};
+        }),
+    raw("global section unterminated",
+        [](auto& l) {
+          int g = first_line(l, 'G');
+          for (int i = g - 1; l[i][72] == 'G'; ++i)
+            for (char& c : l[i])
+              if (c == ';' && &c < &l[i][72]) c = ' ';
+          return std::vector<std::string>{"global section", "no record delimiter"};
+        }),
+    edit("parameter record truncated",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.fields(s).resize(20);
+           e.at(s).unterminated = true;
+           return std::vector<std::string>{"parameter record of " + ent(s, 128) + " truncated (no ';'"};
+         }),
+    edit("pointer out of range",
+         [](IgesEdit& e) {
+           int t = e.find(144);
+           e.fields(t)[1] = "999";
+           return std::vector<std::string>{ent(t, 144), "parameter 1: pointer 999 does not name a directory entry"};
+         }),
+    edit("even pointer",
+         [](IgesEdit& e) {
+           int t = e.find(144);
+           e.fields(t)[1] = "2";
+           return std::vector<std::string>{ent(t, 144), "pointer 2 does not name a directory entry"};
+         }),
+    edit("pointer to wrong type",
+         [](IgesEdit& e) {
+           int t = e.find(144);
+           e.fields(t)[1] = std::to_string(e.find(142));
+           return std::vector<std::string>{ent(t, 144), "is an entity of type 142, expected a surface (128)"};
+         }),
+    edit("too few parameters",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f.resize(f.size() - 4);
+           return std::vector<std::string>{ent(s, 128), "bad parameter count"};
+         }),
+    edit("extra parameters",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f.insert(f.end(), {"1.", "2.", "3."});
+           return std::vector<std::string>{ent(s, 128), "bad parameter count"};
+         }),
+    edit("NaN coordinate",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f[surface_point_index(f)] = "nan";
+           return std::vector<std::string>{ent(s, 128), "'nan' is not a finite number"};
+         }),
+    edit("infinite coordinate",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f[surface_point_index(f) + 4] = "1.E999";
+           return std::vector<std::string>{ent(s, 128), "'1.E999' is not a finite number"};
+         }),
+    edit("zero surface weight",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f[10 + 6 + 6] = "0.";
+           return std::vector<std::string>{ent(s, 128), "parameter 22: weight 0 is 0, weights must be > 0"};
+         }),
+    edit("negative curve weight",
+         [](IgesEdit& e) {
+           int c = e.find(126);
+           auto& f = e.fields(c);
+           f[7 + 4 + 1] = "-1.";
+           return std::vector<std::string>{ent(c, 126), "weight 1 is -1, weights must be > 0"};
+         }),
+    edit("decreasing surface knots",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f[13] = "0.5";
+           f[14] = "0.25";
+           return std::vector<std::string>{ent(s, 128), "u knot 4 (0.25) is less than knot 3 (0.5)"};
+         }),
+    edit("decreasing curve knots",
+         [](IgesEdit& e) {
+           int c = e.find(126);
+           auto& f = e.fields(c);
+           f[7] = "0.5";
+           return std::vector<std::string>{ent(c, 126), "knot 1 (0) is less than knot 0 (0.5)"};
+         }),
+    edit("wrong knot count (K1 + 1)",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.fields(s)[1] = "3";
+           return std::vector<std::string>{ent(s, 128), "bad parameter count"};
+         }),
+    edit("wrong knot count (K - 1)",
+         [](IgesEdit& e) {
+           int c = e.find(126, 4);
+           e.fields(c)[1] = "7";
+           return std::vector<std::string>{ent(c, 126)};
+         }),
+    edit("degree zero",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.fields(s)[3] = "0";
+           return std::vector<std::string>{ent(s, 128), "degree M1 is 0"};
+         }),
+    edit("knot multiplicity above degree + 1",
+         [](IgesEdit& e) {
+           int s = e.find(128, 1);
+           auto& f = e.fields(s);
+           f[14] = "0.";
+           return std::vector<std::string>{ent(s, 128), "u knot 0 is repeated 5 times, more than degree + 1 = 4"};
+         }),
+    edit("word in a real field",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           auto& f = e.fields(s);
+           f[surface_point_index(f) + 1] = "abc";
+           return std::vector<std::string>{ent(s, 128), "expected a real number, got 'abc'"};
+         }),
+    edit("fraction in an integer field",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.fields(s)[2] = "2.5";
+           return std::vector<std::string>{ent(s, 128), "parameter 2: expected an integer, got '2.5'"};
+         }),
+    edit("record starts with another type",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.fields(s)[0] = "126";
+           return std::vector<std::string>{ent(s, 128),
+                                           "parameter record starts with '126', expected the entity type 128"};
+         }),
+    edit("trim curve without parameter curve",
+         [](IgesEdit& e) {
+           int c = e.find(142);
+           e.fields(c)[3] = "0";
+           return std::vector<std::string>{ent(c, 142), "no parameter-space curve"};
+         }),
+    edit("bad outer boundary flag",
+         [](IgesEdit& e) {
+           int t = e.find(144);
+           e.fields(t)[2] = "2";
+           return std::vector<std::string>{ent(t, 144), "outer boundary flag N1 is 2, must be in [0, 1]"};
+         }),
+    edit("composite of a surface",
+         [](IgesEdit& e) {
+           int c = e.find(102);
+           e.fields(c)[2] = std::to_string(e.find(128));
+           return std::vector<std::string>{ent(c, 102), "is an entity of type 128, expected a curve"};
+         }),
+    edit("composite containing itself",
+         [](IgesEdit& e) {
+           int c = e.find(102);
+           e.fields(c)[2] = std::to_string(c);
+           return std::vector<std::string>{ent(c, 102), "nested more than 64 deep"};
+         }),
+    edit("empty composite",
+         [](IgesEdit& e) {
+           int c = e.find(102);
+           e.fields(c)[1] = "0";
+           return std::vector<std::string>{ent(c, 102), "number of curves N is 0"};
+         }),
+    edit("transform pointer to a curve",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.set_de_field(s, 7, e.find(126));
+           return std::vector<std::string>{ent(s, 128), "is an entity of type 126, expected 124"};
+         }),
+    edit("singular transform",
+         [](IgesEdit& e) {
+           int m = e.append(124, {"1.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "0.", "1.", "0."});
+           e.set_de_field(e.find(128), 7, m);
+           return std::vector<std::string>{ent(m, 124), "singular transformation matrix"};
+         }),
+    edit("transform cycle",
+         [](IgesEdit& e) {
+           int m = e.append(124, {"1.", "0.", "0.", "0.", "0.", "1.", "0.", "0.", "0.", "0.", "1.", "0."});
+           e.set_de_field(m, 7, m);
+           e.set_de_field(e.find(128), 7, m);
+           return std::vector<std::string>{ent(m, 124), "chained transformation matrices (cycle?)"};
+         }),
+    edit("empty curve range",
+         [](IgesEdit& e) {
+           int c = e.find(126);
+           auto& f = e.fields(c);
+           f[f.size() - 4] = f[f.size() - 5];
+           return std::vector<std::string>{ent(c, 126), "is not less than V(1)"};
+         }),
+    edit("empty knot domain",
+         [](IgesEdit& e) {
+           int s = e.find(128, 1);
+           auto& f = e.fields(s);
+           for (int i = 20; i < 24; ++i) f[static_cast<size_t>(i)] = "0.5"; /* 0 0 .5 .5 .5 .5 1 1 */
+           return std::vector<std::string>{ent(s, 128), "v knot vector has an empty domain"};
+         }),
+    edit("Hollerith past the end",
+         [](IgesEdit& e) {
+           int t = e.find(144);
+           e.fields(t)[4] = "99Habc";
+           return std::vector<std::string>{ent(t, 144), "Hollerith string of 99 characters runs past the end"};
+         }),
+    edit("parameter line of another entity",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.at(s).pstart_override = 1;
+           return std::vector<std::string>{"belongs to D1, but " + ent(s, 128) + " claims it"};
+         }),
+    edit("parameter lines outside the section",
+         [](IgesEdit& e) {
+           int s = e.find(128);
+           e.at(s).pstart_override = 9999;
+           return std::vector<std::string>{ent(s, 128), "outside the parameter section"};
+         }),
+    edit("zero-radius arc",
+         [](IgesEdit& e) {
+           int a = e.append(100, {"0.", "0.5", "0.5", "0.5", "0.5", "0.5", "0.5"});
+           e.fields(e.find(102))[2] = std::to_string(a);
+           return std::vector<std::string>{ent(a, 100), "zero radius"};
+         }),
+    edit("zero-length line",
+         [](IgesEdit& e) {
+           int a = e.append(110, {"0.", "0.", "0.", "0.", "0.", "0."});
+           e.fields(e.find(102))[2] = std::to_string(a);
+           return std::vector<std::string>{ent(a, 110), "line has zero length"};
+         }),
 };
 
 }  // namespace

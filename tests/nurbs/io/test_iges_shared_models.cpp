@@ -1,17 +1,16 @@
 // Every IGES file in the shared model folder reads, with the face counts of OpenCASCADE 7.6.3
 // (../shared/models/occt_reference.txt). Skips cleanly when the folder is absent.
-#include "nurbs/io/iges_reader.h"
-#include "nurbs/io/model_summary.h"
-
 #include <doctest/doctest.h>
-
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <glm/geometric.hpp>
 #include <map>
 #include <string>
+
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/model_summary.h"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +29,15 @@ struct SharedModel {
 // From occt_reference.txt (OCCT 7.6.3); units from each file's G14 (2 = MM, 1 = IN).
 const SharedModel kModels[] = {
     {"iges/occt_bearing.iges", 213, 0, 3000, 8, 3, {-0.04849, -0.06849, -3.254e-07}, {0.05249, 0.05349, 0.03135}, 1.0},
-    {"iges/occt_hammer.iges", 45, 27, 850, 3, 2, {-1.094e+04, 1.705e+04, -1.371e+04}, {2240, 2.134e+04, 2.472e+04}, 1.0},
+    {"iges/occt_hammer.iges",
+     45,
+     27,
+     850,
+     3,
+     2,
+     {-1.094e+04, 1.705e+04, -1.371e+04},
+     {2240, 2.134e+04, 2.472e+04},
+     1.0},
     {"iges/pythonocc_example_45_faces.iges", 45, 0, 862, 5, 5, {-150, -38, -0.6}, {150, 74, 35.4}, 1.0},
     {"iges/pythonocc_sunglasses_lens.igs", 9, 0, 2304, 3, 3, {-355.9, -69.67, 37.05}, {-293, -36.22, 57.03}, 25.4},
     {"generated/teapot_bezier32.igs", 32, 0, 512, 3, 3, {-3, -2, -1e-07}, {3.434, 2, 3.15}, 1.0},
@@ -69,10 +76,11 @@ TEST_CASE("shared IGES models read with OCCT's face counts") {
     nurbs::Model model = nurbs::io::read_iges(path, {}, &log);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::string skipped;
-    for (auto [type, count] : model.skipped_entities) skipped += " " + std::to_string(type) + "x" + std::to_string(count);
-    MESSAGE(std::string(sm.path) << ": " << face_count(model) << " faces (OCCT " << sm.occt_faces << "), " << trimmed_count(model)
-                                << " with loops, read " << ms
-                    << " ms, loops reoriented " << log.reoriented_loops << ", skipped:" << (skipped.empty() ? " none" : skipped));
+    for (auto [type, count] : model.skipped_entities)
+      skipped += " " + std::to_string(type) + "x" + std::to_string(count);
+    MESSAGE(std::string(sm.path) << ": " << face_count(model) << " faces (OCCT " << sm.occt_faces << "), "
+                                 << trimmed_count(model) << " with loops, read " << ms << " ms, loops reoriented "
+                                 << log.reoriented_loops << ", skipped:" << (skipped.empty() ? " none" : skipped));
     CHECK(face_count(model) == static_cast<size_t>(sm.occt_faces));
     CHECK(log.warnings.empty());
     CHECK(model.unit_scale_to_mm == sm.unit_mm);  // exact: table constants

@@ -1,15 +1,14 @@
 // Writer round trips: sample model and shared models read back bit-identical; orientation and
 // domain-loop rules of the reader on written files.
-#include "sample_models.h"
-
-#include "nurbs/io/iges_reader.h"
-#include "nurbs/io/iges_writer.h"
-#include "nurbs/trim_classify.h"
-
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <stdexcept>
+
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/iges_writer.h"
+#include "nurbs/trim_classify.h"
+#include "sample_models.h"
 
 namespace fs = std::filesystem;
 using nurbs::Model;
@@ -48,7 +47,8 @@ void check_same(const Model& a, const Model& b) {
     for (size_t k = 0; k < fa[i]->loops.size(); ++k) {
       CHECK(fa[i]->loops[k].outer == fb[i]->loops[k].outer);
       REQUIRE(fa[i]->loops[k].curves.size() == fb[i]->loops[k].curves.size());
-      for (size_t c = 0; c < fa[i]->loops[k].curves.size(); ++c) check_same_curve(fa[i]->loops[k].curves[c], fb[i]->loops[k].curves[c]);
+      for (size_t c = 0; c < fa[i]->loops[k].curves.size(); ++c)
+        check_same_curve(fa[i]->loops[k].curves[c], fb[i]->loops[k].curves[c]);
     }
   }
 }

@@ -1,12 +1,11 @@
 // Model summary as struct, text and JSON, on the exact sample model.
-#include "sample_models.h"
-
-#include "nurbs/io/model_summary.h"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "nurbs/io/model_summary.h"
+#include "sample_models.h"
 
 TEST_CASE("summary of the sample model") {
   nurbs::Model m = nurbs::io::test::small_model();

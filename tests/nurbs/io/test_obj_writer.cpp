@@ -1,10 +1,10 @@
 // OBJ export of sampled grids: counts of vertices and faces, index order, bad sizes.
-#include "nurbs/io/obj_writer.h"
-
 #include <doctest/doctest.h>
 
 #include <sstream>
 #include <stdexcept>
+
+#include "nurbs/io/obj_writer.h"
 
 namespace {
 int count_prefix(const std::string& text, const std::string& prefix) {

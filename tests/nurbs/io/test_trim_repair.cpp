@@ -1,12 +1,11 @@
 // The reader's trim repair: gaps between trim curves up to kTrimGapRepair of the trim extent are
 // closed and counted; larger gaps and crossing loops are reported naming the face; rounding-level
 // gaps are left alone (so round trips stay exact).
-#include "sample_models.h"
+#include <doctest/doctest.h>
 
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/iges_writer.h"
-
-#include <doctest/doctest.h>
+#include "sample_models.h"
 
 namespace {
 
