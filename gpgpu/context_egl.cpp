@@ -2,6 +2,7 @@
 // llvmpipe ("EGL_MESA_device_software") and headless NVIDIA alike. EGL extension entry points come
 // from libepoxy; GL entry points from eglGetProcAddress (Mesa and NVIDIA return core functions too,
 // EGL_KHR_get_all_proc_addresses).
+#include <dlfcn.h>
 #include <epoxy/egl.h>
 #include <fmt/format.h>
 
@@ -130,6 +131,12 @@ DeviceChoice choose_device(bool allow_software, std::string& why) {
 }  // namespace
 
 std::unique_ptr<Context> create_egl(const ContextOptions& /*options*/, bool device_only, std::string& why) {
+  // libepoxy loads libEGL on the first EGL call and aborts the process when it cannot: look first.
+  if (dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL) == nullptr) {
+    const char* err = dlerror();
+    why = std::string("libEGL.so.1 cannot be loaded (") + (err ? err : "?") + ")";
+    return nullptr;
+  }
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (client == nullptr) {
     why = "no EGL client extensions (libEGL without EGL 1.5 / EXT_client_extensions)";
