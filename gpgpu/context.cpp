@@ -70,8 +70,8 @@ Backend backend_from_env(Backend fallback) {
   return parse_backend(env);
 }
 
-void detail::load_and_probe(void* (*get_proc)(const char*), ContextInfo& info) {
-  gl::load(get_proc);
+namespace {
+void probe_gl(ContextInfo& info) {
   info.gl_version = gl_string(GL_VERSION);
   info.glsl_version = gl_string(GL_SHADING_LANGUAGE_VERSION);
   info.renderer = gl_string(GL_RENDERER);
@@ -83,6 +83,20 @@ void detail::load_and_probe(void* (*get_proc)(const char*), ContextInfo& info) {
   info.timer_queries = bits > 0;
   info.float_targets_ok = probe_float_targets();
   gl::check_error("probing the context");
+}
+}  // namespace
+
+std::unique_ptr<Context> detail::finish_context(std::unique_ptr<Context> ctx, void* (*get_proc)(const char*),
+                                                std::string& why) {
+  try {
+    ctx->make_current();
+    gl::load(get_proc);
+    probe_gl(ctx->info_);
+    return ctx;
+  } catch (const std::exception& e) {
+    why = e.what();
+    return nullptr;
+  }
 }
 
 std::unique_ptr<Context> Context::create(const ContextOptions& options) {

@@ -54,6 +54,11 @@ class NoGlError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+class Context;
+namespace detail {
+std::unique_ptr<Context> finish_context(std::unique_ptr<Context> ctx, void* (*get_proc)(const char*), std::string& why);
+}
+
 class Context {
  public:
   virtual ~Context() = default;
@@ -72,6 +77,10 @@ class Context {
  protected:
   Context() = default;
   ContextInfo info_;
+
+ private:
+  friend std::unique_ptr<Context> detail::finish_context(std::unique_ptr<Context>, void* (*)(const char*),
+                                                         std::string&);
 };
 
 namespace detail {
@@ -79,9 +88,10 @@ namespace detail {
 std::unique_ptr<Context> create_egl(const ContextOptions& options, bool device_only, std::string& why);
 std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::string& why);
 std::unique_ptr<Context> create_glfw(const ContextOptions& options, std::string& why);
-/// Loads the gl:: table through `get_proc` (the backend's loader, for the context just made
-/// current) and fills the GL part of `info`. Throws std::runtime_error when a 4.5 entry is missing.
-void load_and_probe(void* (*get_proc)(const char* name), ContextInfo& info);
+/// Makes a new backend context current, loads the gl:: table through `get_proc` (the backend's
+/// loader) and probes it into info(). Returns nullptr and sets `why` when that fails (a missing 4.5
+/// entry point, a GL error while probing).
+std::unique_ptr<Context> finish_context(std::unique_ptr<Context> ctx, void* (*get_proc)(const char*), std::string& why);
 }  // namespace detail
 
 }  // namespace gpgpu

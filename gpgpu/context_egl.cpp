@@ -36,10 +36,6 @@ class EglContext final : public Context {
     eglTerminate(display_);
   }
   void make_current() override { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_); }
-  void finish_setup() {
-    make_current();
-    load_and_probe(&egl_proc, info_);
-  }
 
  private:
   EGLDisplay display_;
@@ -84,13 +80,9 @@ std::unique_ptr<Context> start_on(EGLDisplay display, const std::string& what, s
     eglTerminate(display);
     return nullptr;
   }
-  auto result = std::make_unique<EglContext>(display, ctx, fmt::format("EGL {}.{}, {}", major, minor, what));
-  try {
-    result->finish_setup();
-  } catch (const std::exception& e) {
-    why = fmt::format("{}: {}", what, e.what());
-    return nullptr;
-  }
+  std::unique_ptr<Context> result = finish_context(
+      std::make_unique<EglContext>(display, ctx, fmt::format("EGL {}.{}, {}", major, minor, what)), &egl_proc, why);
+  if (!result) why = fmt::format("{}: {}", what, why);
   return result;
 }
 
@@ -146,15 +138,19 @@ std::unique_ptr<Context> create_egl(const ContextOptions& /*options*/, bool devi
   auto note = [&](const std::string& r) { reasons += (reasons.empty() ? "" : ", ") + r; };
   const bool device_platform =
       has_extension(client, "EGL_EXT_platform_device") && has_extension(client, "EGL_EXT_device_enumeration");
-  // 1. A hardware device (headless NVIDIA), or any device when the device platform was asked for.
-  if (device_platform) {
+  auto try_device = [&](bool allow_software) -> std::unique_ptr<Context> {
     std::string w;
-    DeviceChoice d = choose_device(device_only, w);
+    DeviceChoice d = choose_device(allow_software, w);
     if (d.device != nullptr) {
       auto ctx = start_on(eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, d.device, nullptr), d.what, w);
       if (ctx) return ctx;
     }
     note(w);
+    return nullptr;
+  };
+  // 1. A hardware device (headless NVIDIA), or any device when the device platform was asked for.
+  if (device_platform) {
+    if (auto ctx = try_device(device_only)) return ctx;
   } else {
     note("no EGL_EXT_platform_device");
   }
@@ -171,13 +167,7 @@ std::unique_ptr<Context> create_egl(const ContextOptions& /*options*/, bool devi
     }
     // 3. The software device of the device platform.
     if (device_platform) {
-      std::string w;
-      DeviceChoice d = choose_device(true, w);
-      if (d.device != nullptr) {
-        auto ctx = start_on(eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, d.device, nullptr), d.what, w);
-        if (ctx) return ctx;
-      }
-      note(w);
+      if (auto ctx = try_device(true)) return ctx;
     }
   }
   why = reasons;

@@ -27,10 +27,6 @@ class GlfwContext final : public Context {
   }
   void make_current() override { glfwMakeContextCurrent(window_); }
   [[nodiscard]] void* native_window() const override { return window_; }
-  void finish_setup() {
-    make_current();
-    load_and_probe(&glfw_proc, info_);
-  }
 
  private:
   GLFWwindow* window_;
@@ -56,14 +52,7 @@ std::unique_ptr<Context> create_glfw(const ContextOptions& options, std::string&
     glfwTerminate();
     return nullptr;
   }
-  auto result = std::make_unique<GlfwContext>(window);
-  try {
-    result->finish_setup();
-  } catch (const std::exception& e) {
-    why = e.what();
-    return nullptr;
-  }
-  return result;
+  return finish_context(std::make_unique<GlfwContext>(window), &glfw_proc, why);
 }
 
 }  // namespace gpgpu::detail

@@ -22,10 +22,6 @@ class OSMesaCtx final : public Context {
     // OSMesa needs a client-memory colour buffer; every pass renders into our own FBOs instead.
     OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_);
   }
-  void finish_setup() {
-    make_current();
-    load_and_probe(&osmesa_proc, info_);
-  }
 
  private:
   OSMesaContext ctx_;
@@ -54,14 +50,7 @@ std::unique_ptr<Context> create_osmesa(const ContextOptions& /*options*/, std::s
     why = "OSMesaCreateContextAttribs refused a 4.5 core context";
     return nullptr;
   }
-  auto result = std::make_unique<OSMesaCtx>(ctx, 1, 1);
-  try {
-    result->finish_setup();
-  } catch (const std::exception& e) {
-    why = e.what();
-    return nullptr;
-  }
-  return result;
+  return finish_context(std::make_unique<OSMesaCtx>(ctx, 1, 1), &osmesa_proc, why);
 }
 
 }  // namespace gpgpu::detail
