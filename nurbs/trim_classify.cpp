@@ -65,12 +65,19 @@ TrimPolygons flatten_trim(const TrimmedSurface& face, double tolerance) {
   TrimPolygons t;
   t.domain_u = surface_domain_u(face.surface);
   t.domain_v = surface_domain_v(face.surface);
+  // Curve ends that meet up to rounding (1e-6 of the flattening tolerance) are one vertex: a
+  // sliver edge of length ~1e-15 at a junction would make its neighbours look non-adjacent and
+  // their shared corner a self-crossing.
+  const double merge = 1e-6 * tolerance;
+  auto near = [merge](glm::dvec2 a, glm::dvec2 b) { return glm::length(a - b) <= merge; };
   for (const auto& loop : face.loops) {
     std::vector<glm::dvec2> poly;
     for (const auto& c : loop.curves) {
-      for (const auto& p : flatten_curve(c, tolerance)) push_unique(poly, p);
+      const std::vector<glm::dvec2> pts = flatten_curve(c, tolerance);
+      for (size_t i = 0; i < pts.size(); ++i)
+        if (i > 0 || poly.empty() || !near(poly.back(), pts[i])) push_unique(poly, pts[i]);
     }
-    if (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+    if (poly.size() > 1 && near(poly.front(), poly.back())) poly.pop_back();
     t.loops.push_back(std::move(poly));
     t.outer.push_back(loop.outer);
   }

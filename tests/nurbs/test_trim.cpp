@@ -234,3 +234,18 @@ TEST_CASE("the trimmed paper surface has clean loops") {
   CHECK_FALSE(nurbs::is_material(polys, {0.3, 0.72}));  // blob
   CHECK_FALSE(nurbs::is_material(polys, {0.02, 0.5}));  // outside the outer loop
 }
+
+TEST_CASE("junctions that meet up to rounding are one vertex, not a self-crossing") {
+  // As written by CAD kernels (occt_hammer.iges face 3): consecutive edges meet within ~1e-20.
+  nurbs::TrimmedSurface f;
+  f.surface = unit_plane();
+  f.face_id = 3;
+  const glm::dvec2 a(0, 0), b(1, 0), c(1, 1), d(0, 1), eps(1e-17, -1e-17);
+  f.loops.push_back({{trim_line(a, b), trim_line(b + eps, c), trim_line(c, d - eps), trim_line(d, a + eps)}, true});
+  const nurbs::TrimPolygons t = nurbs::flatten_trim(f, kFlat);
+  CHECK(t.loops[0].size() == 4);  // four corners, no sliver edges
+  CHECK(nurbs::check_trim_loops(f, 1e-9, kFlat).empty());
+  // A real gap (far above rounding) still shows.
+  f.loops[0].curves[1] = trim_line(b + glm::dvec2(0, 1e-3), c);
+  CHECK(contains(nurbs::check_trim_loops(f, 1e-9, kFlat), "face 3: loop 0 does not close"));
+}
