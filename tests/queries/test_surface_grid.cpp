@@ -3,12 +3,15 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "../gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 #include "queries/surface_grid.h"
 
 namespace {
@@ -100,4 +103,31 @@ TEST_CASE("surface grid: GPU points of the exact rational sphere lie on it") {
                      std::fabs(glm::length(glm::dvec3(pts[k], pts[k + 1], pts[k + 2]) - glm::dvec3(1, -2, 3)) - 2.5));
   CHECK(worst <= 1e-5 * 2 * 2.5 * std::sqrt(3.0));  // 1e-5 x model size (box diagonal)
   MESSAGE("sphere radius error (float GPU): " << worst);
+}
+
+TEST_CASE("surface grid: every face of the shared IGES models, GPU against CPU") {
+  const std::filesystem::path dir = std::filesystem::path(NURBSGL_SHARED_DIR) / "models";
+  if (!std::filesystem::exists(dir)) {
+    MESSAGE("skipped: " << dir << " is absent (a fresh clone has no ../shared)");
+    return;
+  }
+  gpgpu::Gpu& gpu = test::gpu();
+  for (const char* file : {"iges/occt_bearing.iges", "iges/occt_hammer.iges", "iges/pythonocc_example_45_faces.iges",
+                           "iges/pythonocc_sunglasses_lens.igs", "generated/vase_shell_t2.igs"}) {
+    const nurbs::Model model = nurbs::io::read_model(dir / file);
+    const double size = nurbs::model_size(model);
+    double worst = 0.0;
+    for (const nurbs::TrimmedSurface& f : nurbs::world_faces(model)) {
+      const queries::SurfaceGrid grid =
+          queries::evaluate_surface(gpu, queries::upload_surface(f.surface, gpu.info().max_texture_size), 24, 24);
+      const queries::SurfaceGridCpu cpu = queries::evaluate_surface_cpu(f.surface, 24, 24);
+      const auto pts = grid.points.read();
+      for (size_t k = 0; k < cpu.points.size(); ++k)
+        worst = std::max(worst, glm::length(glm::dvec3(pts[4 * k], pts[4 * k + 1], pts[4 * k + 2]) - cpu.points[k]));
+    }
+    const std::string name = file;
+    CAPTURE(name);
+    CHECK(worst <= 1e-5 * size);  // the float budget of surface_grid.h, relative to the model size
+    MESSAGE(name << ": max GPU-CPU error " << worst << " = " << worst / size << " x model size");
+  }
 }
