@@ -14,8 +14,21 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Per-coordinate max |.| of a set of vectors.
-void max_abs(glm::dvec3& acc, const glm::dvec3& v) { acc = glm::max(acc, glm::abs(v)); }
+/// Max over a set of vectors of each |coordinate| (Eqs. 1-3) and of the Euclidean norm (K_e).
+struct MaxAbs {
+  glm::dvec3 coord{0.0};
+  double norm = 0.0;
+  void add(const glm::dvec3& v) {
+    coord = glm::max(coord, glm::abs(v));
+    norm = std::max(norm, glm::length(v));
+  }
+};
+
+/// Field-wise max of two sets of bounds.
+SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDerivativeBounds& b) {
+  return {std::max(a.m1, b.m1),           std::max(a.m2, b.m2),           std::max(a.m3, b.m3),
+          std::max(a.m1_norm, b.m1_norm), std::max(a.m2_norm, b.m2_norm), std::max(a.m3_norm, b.m3_norm)};
+}
 
 /// Distinct knot values within the domain, ends included.
 std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
@@ -36,10 +49,8 @@ SecondDerivativeBounds split_patch_bounds(const BezierPatch& patch, int parts) {
   for (int k = 1; k < parts; ++k)
     r = insert_knot_v(r, patch.range_v.min + patch.range_v.width() * k / parts, r.degree_v);
   SecondDerivativeBounds mx;
-  for (const auto& piece : extract_bezier_patches(r)) {
-    const auto m = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
-    mx = {std::max(mx.m1, m.m1), std::max(mx.m2, m.m2), std::max(mx.m3, m.m3)};
-  }
+  for (const auto& piece : extract_bezier_patches(r))
+    mx = max_of(mx, bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width()));
   return mx;
 }
 
@@ -72,42 +83,57 @@ SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, doub
     }
   }
   const glm::dvec3 c = 0.5 * (lo + hi), R = 0.5 * (hi - lo);
+  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
+  double Re = 0.0;  // Euclidean radius about the same c
+  for (int j = 0; j <= q; ++j) {
+    for (int i = 0; i <= p; ++i) Re = std::max(Re, glm::length(patch.point(i, j) - c));
+  }
   auto N = [&](int i, int j) { return patch.weight(i, j) * (patch.point(i, j) - c); };
   auto W = [&](int i, int j) { return patch.weight(i, j); };
-  glm::dvec3 Au(0.0), Av(0.0), Auu(0.0), Auv(0.0), Avv(0.0);
+  MaxAbs Au, Av, Auu, Auv, Avv;
   double Wu = 0, Wv = 0, Wuu = 0, Wuv = 0, Wvv = 0;
   const double fu = p / du, fv = q / dv;
   const double fuu = p * (p - 1) / (du * du), fvv = q * (q - 1) / (dv * dv), fuv = p * q / (du * dv);
   for (int j = 0; j <= q; ++j) {
     for (int i = 0; i <= p; ++i) {
       if (i + 1 <= p) {
-        max_abs(Au, fu * (N(i + 1, j) - N(i, j)));
+        Au.add(fu * (N(i + 1, j) - N(i, j)));
         Wu = std::max(Wu, std::abs(fu * (W(i + 1, j) - W(i, j))));
       }
       if (j + 1 <= q) {
-        max_abs(Av, fv * (N(i, j + 1) - N(i, j)));
+        Av.add(fv * (N(i, j + 1) - N(i, j)));
         Wv = std::max(Wv, std::abs(fv * (W(i, j + 1) - W(i, j))));
       }
       if (i + 2 <= p) {
-        max_abs(Auu, fuu * (N(i + 2, j) - 2.0 * N(i + 1, j) + N(i, j)));
+        Auu.add(fuu * (N(i + 2, j) - 2.0 * N(i + 1, j) + N(i, j)));
         Wuu = std::max(Wuu, std::abs(fuu * (W(i + 2, j) - 2.0 * W(i + 1, j) + W(i, j))));
       }
       if (j + 2 <= q) {
-        max_abs(Avv, fvv * (N(i, j + 2) - 2.0 * N(i, j + 1) + N(i, j)));
+        Avv.add(fvv * (N(i, j + 2) - 2.0 * N(i, j + 1) + N(i, j)));
         Wvv = std::max(Wvv, std::abs(fvv * (W(i, j + 2) - 2.0 * W(i, j + 1) + W(i, j))));
       }
       if (i + 1 <= p && j + 1 <= q) {
-        max_abs(Auv, fuv * (N(i + 1, j + 1) - N(i + 1, j) - N(i, j + 1) + N(i, j)));
+        Auv.add(fuv * (N(i + 1, j + 1) - N(i + 1, j) - N(i, j + 1) + N(i, j)));
         Wuv = std::max(Wuv, std::abs(fuv * (W(i + 1, j + 1) - W(i + 1, j) - W(i, j + 1) + W(i, j))));
       }
     }
   }
-  const glm::dvec3 Du = (Au + Wu * R) / wmin, Dv = (Av + Wv * R) / wmin;
-  const glm::dvec3 Muu = (Auu + 2.0 * Wu * Du + Wuu * R) / wmin;
-  const glm::dvec3 Muv = (Auv + Wu * Dv + Wv * Du + Wuv * R) / wmin;
-  const glm::dvec3 Mvv = (Avv + 2.0 * Wv * Dv + Wvv * R) / wmin;
-  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
-  return {cmax(Muu), cmax(Muv), cmax(Mvv)};
+  const glm::dvec3 Du = (Au.coord + Wu * R) / wmin, Dv = (Av.coord + Wv * R) / wmin;
+  const glm::dvec3 Muu = (Auu.coord + 2.0 * Wu * Du + Wuu * R) / wmin;
+  const glm::dvec3 Muv = (Auv.coord + Wu * Dv + Wv * Du + Wuv * R) / wmin;
+  const glm::dvec3 Mvv = (Avv.coord + 2.0 * Wv * Dv + Wvv * R) / wmin;
+  // The same quotient rule with norms (triangle inequality), capped by the norm of the
+  // per-coordinate bounds (the file comment says why both are bounds and why the cap helps). Both
+  // are >= the per-coordinate bound in exact arithmetic; the outer max absorbs rounding (and FMA
+  // contraction that may differ between the vector and scalar formulas): a larger number is still a bound.
+  auto norm_bound = [&](double quotient, const glm::dvec3& per_coord) {
+    return std::max(cmax(per_coord), std::min(quotient, glm::length(per_coord)));
+  };
+  const double Due = (Au.norm + Wu * Re) / wmin, Dve = (Av.norm + Wv * Re) / wmin;
+  const double Muu_e = (Auu.norm + 2.0 * Wu * Due + Wuu * Re) / wmin;
+  const double Muv_e = (Auv.norm + Wu * Dve + Wv * Due + Wuv * Re) / wmin;
+  const double Mvv_e = (Avv.norm + 2.0 * Wv * Dve + Wvv * Re) / wmin;
+  return {cmax(Muu), cmax(Muv), cmax(Mvv), norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
 }
 
 bool FilipBound::c1() const {
@@ -125,11 +151,8 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   const size_t nu = b.breaks_u.size() - 1;
   const int parts = subdivisions > 0 ? subdivisions : (s.rational() ? 4 : 1);
   for (const auto& patch : patches) {
-    const auto m = split_patch_bounds(patch, parts);
-    b.patches.push_back(m);
-    b.whole.m1 = std::max(b.whole.m1, m.m1);
-    b.whole.m2 = std::max(b.whole.m2, m.m2);
-    b.whole.m3 = std::max(b.whole.m3, m.m3);
+    b.patches.push_back(split_patch_bounds(patch, parts));
+    b.whole = max_of(b.whole, b.patches.back());
   }
   // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
   b.c1_u.assign(b.breaks_u.size(), true);
@@ -154,8 +177,21 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   return b;
 }
 
-double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v) {
-  return 0.125 * (h_u * h_u * m.m1 + 2.0 * h_u * h_v * m.m2 + h_v * h_v * m.m3);
+namespace {
+
+/// M1-M3 of Eqs. (1)-(3), or their Euclidean counterparts.
+struct Ms {
+  double m1, m2, m3;
+};
+Ms pick(const SecondDerivativeBounds& m, KNorm norm) {
+  return norm == KNorm::Euclidean ? Ms{m.m1_norm, m.m2_norm, m.m3_norm} : Ms{m.m1, m.m2, m.m3};
+}
+
+}  // namespace
+
+double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v, KNorm norm) {
+  const Ms M = pick(m, norm);
+  return 0.125 * (h_u * h_u * M.m1 + 2.0 * h_u * h_v * M.m2 + h_v * h_v * M.m3);
 }
 
 namespace {
@@ -184,7 +220,7 @@ Overlap overlap(const std::vector<double>& br, const std::vector<bool>& c1, doub
 
 }  // namespace
 
-double filip_k_cell(const FilipBound& b, int n, int m, int i, int j) {
+double filip_k_cell(const FilipBound& b, int n, int m, int i, int j, KNorm norm) {
   const double hu = b.domain_u.width() / n, hv = b.domain_v.width() / m;
   const Overlap ou = overlap(b.breaks_u, b.c1_u, b.domain_u.min + i * hu, b.domain_u.min + (i + 1) * hu);
   const Overlap ov = overlap(b.breaks_v, b.c1_v, b.domain_v.min + j * hv, b.domain_v.min + (j + 1) * hv);
@@ -192,28 +228,23 @@ double filip_k_cell(const FilipBound& b, int n, int m, int i, int j) {
   const size_t nu = b.breaks_u.size() - 1;
   SecondDerivativeBounds mx;
   for (size_t pv = ov.first; pv <= ov.last; ++pv) {
-    for (size_t pu = ou.first; pu <= ou.last; ++pu) {
-      const auto& pm = b.patches[pv * nu + pu];
-      mx.m1 = std::max(mx.m1, pm.m1);
-      mx.m2 = std::max(mx.m2, pm.m2);
-      mx.m3 = std::max(mx.m3, pm.m3);
-    }
+    for (size_t pu = ou.first; pu <= ou.last; ++pu) mx = max_of(mx, b.patches[pv * nu + pu]);
   }
-  return filip_k(mx, hu, hv);
+  return filip_k(mx, hu, hv, norm);
 }
 
-double filip_k_grid(const FilipBound& b, int n, int m) {
-  if (b.c1()) return filip_k(b.whole, b.domain_u.width() / n, b.domain_v.width() / m);
+double filip_k_grid(const FilipBound& b, int n, int m, KNorm norm) {
+  if (b.c1()) return filip_k(b.whole, b.domain_u.width() / n, b.domain_v.width() / m, norm);
   double k = 0.0;
   for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < n; ++i) k = std::max(k, filip_k_cell(b, n, m, i, j));
+    for (int i = 0; i < n; ++i) k = std::max(k, filip_k_cell(b, n, m, i, j, norm));
   }
   return k;
 }
 
-GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells) {
+GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells, KNorm norm) {
   const double a = b.domain_u.width(), c = b.domain_v.width();
-  const SecondDerivativeBounds& M = b.whole;
+  const Ms M = pick(b.whole, norm);
   GridChoice best{max_cells, max_cells, 0.0};
   long long best_cells = static_cast<long long>(max_cells) * max_cells + 1;
   for (int n = 1; n <= max_cells && n < best_cells; ++n) {
@@ -229,13 +260,13 @@ GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells) {
     }
     if (!(m_needed <= max_cells)) continue;
     int m = std::max(1, static_cast<int>(m_needed));
-    while (m < max_cells && filip_k(M, hu, c / m) > tolerance) ++m;  // guard against rounding in the root
+    while (m < max_cells && filip_k(b.whole, hu, c / m, norm) > tolerance) ++m;  // guard against rounding in the root
     if (static_cast<long long>(n) * m < best_cells) {
       best_cells = static_cast<long long>(n) * m;
       best = {n, m, 0.0};
     }
   }
-  best.k = filip_k_grid(b, best.n, best.m);
+  best.k = filip_k_grid(b, best.n, best.m, norm);
   return best;
 }
 

@@ -2,7 +2,9 @@
 /// \file filip_bound.h
 /// The Filip et al. deviation bound K of Krishnamurthy et al. §2.2, Eqs. (1)-(4): the distance,
 /// coordinate by coordinate, between a C^1 surface and its piecewise linear interpolant on a uniform
-/// (n+1) x (m+1) parameter grid. Used to grow grid-cell AABBs so they enclose the surface.
+/// (n+1) x (m+1) parameter grid. Used to grow grid-cell AABBs so they enclose the surface. Beside it,
+/// a Euclidean K_e (KNorm::Euclidean, see "Euclidean form" below) bounds the distance itself, which
+/// is what the paper's Theorems 1 and 2 need.
 ///
 /// Units. M1, M2, M3 bound |d2x/du2| etc. with respect to the surface's own parameters (u, v), over
 /// the whole domain [u0, u1] x [v0, v1]. For a grid of n x m cells the steps are h_u = (u1 - u0) / n,
@@ -39,6 +41,34 @@
 ///      |S_vv^k| <= (A_vv^k + 2 W_v D_v^k + W_vv R^k) / w_min
 ///    For weights all equal this reduces to the polynomial bound. Splitting the patches first
 ///    (`subdivisions`) tightens the rational bound (the nets converge to the derivatives).
+///
+/// Euclidean form. Eqs. (1)-(3) bound coordinates, so K bounds each coordinate of S - L, and the
+/// vector S - L can be sqrt(3) K long (attained by S = (u, v, 0) + u (1 - u) (1, 1, 1) on one cell;
+/// with the bulge along the normal, |d - d*| reaches sqrt(3) K too, see the tests). Theorem 1
+/// (|d - d*| < K) and Theorem 2 (sqrt(4 K d + K^2)) take K as a bound on ||S - L||. The
+/// argument above holds verbatim for the vector S: Taylor along p -> v_i with integral remainder,
+///     L(p) - S(p) = sum l_i r_i,  r_i = int_0^1 (1 - t) (S_uu dx_i^2 + 2 S_uv dx_i dy_i + S_vv dy_i^2) dt,
+/// (the first-order terms cancel since sum l_i d_i = 0), and ||int f|| <= int ||f|| with the triangle
+/// inequality give ||r_i|| <= 1/2 (M1e dx_i^2 + 2 M2e |dx_i dy_i| + M3e dy_i^2) for M1e >= sup ||S_uu||,
+/// M2e >= sup ||S_uv||, M3e >= sup ||S_vv|| (Euclidean norms); the same variance and Cauchy-Schwarz
+/// steps then give ||S - L|| <= K_e = (1/8)(h_u^2 M1e + 2 h_u h_v M2e + h_v^2 M3e).
+/// The M_e per patch: polynomial, the max over each difference net of the vector norm (the net's
+/// convex hull holds the derivative, and the norm is convex); rational, the quotient-rule bound
+/// above with norms (A_* = max norm over the homogeneous difference nets, R = max ||P_ij - c||,
+/// D_u = (A_u + W_u R) / w_min, ...), capped by ||(M^x, M^y, M^z)||, the norm of the per-coordinate
+/// bounds, which also bounds ||S_uu|| etc. and is smaller whenever the norm bound adds up vectors
+/// that point along different axes.
+/// How K and K_e compare. Pointwise max_k |x_k| <= ||x|| <= sqrt(3) max_k |x_k|, so for the exact
+/// suprema M <= M_e <= sqrt(3) M. For the computed bounds:
+///  - m*_norm >= m* always (each norm ingredient is >= the matching per-coordinate one; the code
+///    also takes the max with m* so that rounding cannot break it);
+///  - polynomial patches: m*_norm <= sqrt(3) m* (norm vs largest coordinate over the same nets);
+///  - rational patches: the uncapped norm bound can exceed sqrt(3) m* (A_uu along x and W_uu R along y
+///    give A_uu + W_uu R against max(A_uu, W_uu R); up to 1.89 m* seen on the random family of the
+///    tests); the cap restores m*_norm <= sqrt(3) m*.
+/// Maxima over sub-patches, patches and cells keep both inequalities, so K <= K_e <= sqrt(3) K for
+/// every grid and cell (up to rounding of the sqrt(3) side). Note sqrt(3) K is itself a valid
+/// Euclidean bound; K_e is never larger and is smaller where the curvature is not along (1, 1, 1).
 #include <vector>
 
 #include "nurbs/knot_vector.h"
@@ -46,11 +76,19 @@
 
 namespace nurbs {
 
-/// Bounds of Eqs. (1)-(3): max over a region and over x, y, z of |S_uu|, |S_uv|, |S_vv|.
+/// Which deviation bound: the paper's per-coordinate K (Eqs. 1-4) or the Euclidean K_e that bounds
+/// ||S - L|| (see "Euclidean form" in the file comment).
+enum class KNorm { Component, Euclidean };
+
+/// Bounds of Eqs. (1)-(3): max over a region and over x, y, z of |S_uu|, |S_uv|, |S_vv|; and the
+/// Euclidean-norm bounds M1e-M3e of the same derivatives (m*_norm >= m*, see the file comment).
 struct SecondDerivativeBounds {
-  double m1 = 0.0;  ///< |d2/du2|, Eq. (1)
-  double m2 = 0.0;  ///< |d2/dudv|, Eq. (2)
-  double m3 = 0.0;  ///< |d2/dv2|, Eq. (3)
+  double m1 = 0.0;       ///< |d2/du2|, Eq. (1)
+  double m2 = 0.0;       ///< |d2/dudv|, Eq. (2)
+  double m3 = 0.0;       ///< |d2/dv2|, Eq. (3)
+  double m1_norm = 0.0;  ///< ||S_uu||
+  double m2_norm = 0.0;  ///< ||S_uv||
+  double m3_norm = 0.0;  ///< ||S_vv||
 };
 
 /// Bounds of one Bézier patch (degree p x q, (p+1) x (q+1) points, u fastest) over the parameter
@@ -64,7 +102,7 @@ struct FilipBound {
   /// patches[b * (breaks_u.size() - 1) + a] bounds the knot rectangle [breaks_u[a], breaks_u[a+1]] x
   /// [breaks_v[b], breaks_v[b+1]].
   std::vector<SecondDerivativeBounds> patches;
-  SecondDerivativeBounds whole;  ///< max over patches: M1, M2, M3 of Eqs. (1)-(3)
+  SecondDerivativeBounds whole;  ///< max over patches: M1, M2, M3 of Eqs. (1)-(3), and M1e-M3e
   /// c1_u[a] for interior break a (1 .. size-2): the surface is C^1 across the line u = breaks_u[a]
   /// (index 0 and the last are unused and true). Checked exactly where the knot multiplicity reaches
   /// the degree (elsewhere C^1 holds by the knot multiplicity), by comparing the one-sided first
@@ -80,26 +118,28 @@ struct FilipBound {
 /// Cost O(patches x subdivisions^2 x (p+1)(q+1)).
 [[nodiscard]] FilipBound filip_bound(const Surface& s, int subdivisions = 0);
 
-/// K = (1/8)(h_u^2 M1 + 2 h_u h_v M2 + h_v^2 M3) for grid steps h_u, h_v (Eq. 4 in step form).
-[[nodiscard]] double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v);
+/// K = (1/8)(h_u^2 M1 + 2 h_u h_v M2 + h_v^2 M3) for grid steps h_u, h_v (Eq. 4 in step form);
+/// with KNorm::Euclidean, K_e from m1_norm-m3_norm.
+[[nodiscard]] double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v, KNorm norm = KNorm::Component);
 
 /// K for the n x m cell grid over the whole domain (Eq. 4) from the whole-surface M1-M3; when the
 /// surface is not C^1 everywhere, the max of filip_k_cell over the cells (+infinity if a cell
-/// straddles a C^0 knot line).
-[[nodiscard]] double filip_k_grid(const FilipBound& b, int n, int m);
+/// straddles a C^0 knot line). `norm` picks K or K_e.
+[[nodiscard]] double filip_k_grid(const FilipBound& b, int n, int m, KNorm norm = KNorm::Component);
 
 /// K for cell (i, j) of the n x m grid (i along u): Eq. (4) with the M's maxed over only the patches
 /// the cell overlaps, which is tighter than the whole-surface K; +infinity when a non-C^1 knot line
-/// passes through the cell's interior.
-[[nodiscard]] double filip_k_cell(const FilipBound& b, int n, int m, int i, int j);
+/// passes through the cell's interior. `norm` picks K or K_e.
+[[nodiscard]] double filip_k_cell(const FilipBound& b, int n, int m, int i, int j, KNorm norm = KNorm::Component);
 
-/// Smallest grid (n x m cells, minimum n * m) whose whole-surface K <= tolerance, n and m in
-/// [1, max_cells]. Returns the grid and its K; if even max_cells x max_cells is too coarse, returns
-/// that grid with its (larger) K.
+/// Smallest grid (n x m cells, minimum n * m) whose whole-surface K (or K_e, by `norm`) <= tolerance,
+/// n and m in [1, max_cells]. Returns the grid and its K; if even max_cells x max_cells is too
+/// coarse, returns that grid with its (larger) K.
 struct GridChoice {
   int n = 1, m = 1;
   double k = 0.0;
 };
-[[nodiscard]] GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells = 4096);
+[[nodiscard]] GridChoice choose_grid(const FilipBound& b, double tolerance, int max_cells = 4096,
+                                     KNorm norm = KNorm::Component);
 
 }  // namespace nurbs

@@ -1,7 +1,8 @@
 // Filip bound K (Krishnamurthy et al. §2.2, Eqs. 1-4) is a true bound: on 1000 random surfaces
 // (degrees 1-5, rational and not, fixed seeds) the sampled deviation of the surface from the
 // piecewise linear interpolant of an (n+1) x (m+1) grid never exceeds K, and M1-M3 bound the sampled
-// second derivatives.
+// second derivatives. The Euclidean K_e bounds the vector distance on the same surfaces, and the
+// paper's component K does not (a (1, 1, 1) bulge reaches sqrt(3) K and breaks Theorem 1).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -124,6 +125,10 @@ TEST_CASE("Filip K on closed forms and the paper pair") {
   CHECK(b.whole.m2 == doctest::Approx(1.0).epsilon(1e-15));
   CHECK(b.whole.m3 == 0.0);
   CHECK(nurbs::filip_k_grid(b, 4, 5) == doctest::Approx(0.25 / 20).epsilon(1e-15));
+  // S_uv = (0, 0, 1) lies along an axis: the Euclidean bounds equal the component ones.
+  CHECK(b.whole.m2_norm == b.whole.m2);
+  CHECK(b.whole.m1_norm == 0.0);
+  CHECK(nurbs::filip_k_grid(b, 4, 5, nurbs::KNorm::Euclidean) == nurbs::filip_k_grid(b, 4, 5));
 
   // Units: the same surface on the domain [0, 10] x [0, 10] has M2 = 1/100 and the same K per cell count.
   s.knots_u = s.knots_v = {0, 0, 10, 10};
@@ -139,7 +144,157 @@ TEST_CASE("Filip K on closed forms and the paper pair") {
     CHECK(g.k <= tol);
     CHECK(g.k == nurbs::filip_k_grid(paper, g.n, g.m));
     if (g.n > 1) CHECK(nurbs::filip_k_grid(paper, g.n - 1, g.m) > tol);
+    const auto ge = nurbs::choose_grid(paper, tol, 4096, nurbs::KNorm::Euclidean);
+    CHECK(ge.k <= tol);
+    CHECK(ge.k == nurbs::filip_k_grid(paper, ge.n, ge.m, nurbs::KNorm::Euclidean));
+    if (ge.n > 1) CHECK(nurbs::filip_k_grid(paper, ge.n - 1, ge.m, nurbs::KNorm::Euclidean) > tol);
+    CHECK(static_cast<long long>(ge.n) * ge.m >= static_cast<long long>(g.n) * g.m);  // K_e >= K needs more cells
   }
   // The sphere (double knots, degree 2) is C1 in its parametrisation: the check must find that.
   CHECK(nurbs::filip_bound(models::rational_sphere(1.0)).c1());
+}
+
+TEST_CASE("Euclidean K_e bounds the distance to the grid triangles on the same 1000 random surfaces") {
+  using nurbs::KNorm;
+  constexpr int kSamples = 8;  // samples per cell edge: 9 x 9 points per cell
+  const double sqrt3 = std::sqrt(3.0);
+  Stats ke_over_k_poly, ke_over_k_rat, me_over_m, dev_over_ke, dev_over_k;
+  int cells_checked = 0, cells_over_k = 0;
+  double max_dev_over_k_grid = 0.0;
+  for (int seed = 0; seed < 1000; ++seed) {
+    // The surfaces and grids of the component test above.
+    const int p = 1 + seed % 5, q = 1 + (seed / 5) % 5;
+    const bool rational = (seed / 25) % 2 == 1;
+    const auto s = models::random_surface(static_cast<std::uint64_t>(seed) + 7000, p, q, rational);
+    const auto bound = nurbs::filip_bound(s);
+    const int n = 2 + seed % 4, m = 2 + (seed / 4) % 5;
+    CAPTURE(seed);
+    // m*_norm >= m* exactly (guaranteed by construction, see the header); <= sqrt(3) m*
+    // up to a few ulps of the norm of the per-coordinate bounds and of sqrt(3) (relative 1e-14).
+    auto check_m = [&](const nurbs::SecondDerivativeBounds& b) {
+      CHECK(b.m1_norm >= b.m1);
+      CHECK(b.m2_norm >= b.m2);
+      CHECK(b.m3_norm >= b.m3);
+      CHECK(b.m1_norm <= sqrt3 * b.m1 * (1 + 1e-14));
+      CHECK(b.m2_norm <= sqrt3 * b.m2 * (1 + 1e-14));
+      CHECK(b.m3_norm <= sqrt3 * b.m3 * (1 + 1e-14));
+    };
+    check_m(bound.whole);
+    for (const auto& pb : bound.patches) check_m(pb);
+    if (bound.whole.m1 > 0) me_over_m.ratios.push_back(bound.whole.m1_norm / bound.whole.m1);
+
+    const double k_grid = nurbs::filip_k_grid(bound, n, m),
+                 ke_grid = nurbs::filip_k_grid(bound, n, m, KNorm::Euclidean);
+    CHECK(ke_grid >= k_grid);  // exact: same formula with larger M's
+    if (std::isfinite(k_grid) && k_grid > 0)
+      (rational ? ke_over_k_rat : ke_over_k_poly).ratios.push_back(ke_grid / k_grid);
+
+    const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    const int W = n * kSamples + 1, H = m * kSamples + 1;
+    std::vector<glm::dvec3> grid(static_cast<size_t>(W * H));
+    double max_d2[3] = {0, 0, 0};
+    for (int j = 0; j < H; ++j) {
+      for (int i = 0; i < W; ++i) {
+        const double u = du.min + du.width() * i / (W - 1), v = dv.min + dv.width() * j / (H - 1);
+        const auto d = nurbs::surface_derivatives(s, u, v);
+        grid[static_cast<size_t>(j * W + i)] = d.s;
+        max_d2[0] = std::max(max_d2[0], glm::length(d.suu));
+        max_d2[1] = std::max(max_d2[1], glm::length(d.suv));
+        max_d2[2] = std::max(max_d2[2], glm::length(d.svv));
+      }
+    }
+    CHECK(within(max_d2[0], bound.whole.m1_norm));
+    CHECK(within(max_d2[1], bound.whole.m2_norm));
+    CHECK(within(max_d2[2], bound.whole.m3_norm));
+
+    double max_dev = 0.0;
+    for (int cj = 0; cj < m; ++cj) {
+      for (int ci = 0; ci < n; ++ci) {
+        const double k_cell = nurbs::filip_k_cell(bound, n, m, ci, cj);
+        const double ke_cell = nurbs::filip_k_cell(bound, n, m, ci, cj, KNorm::Euclidean);
+        CHECK(std::isfinite(k_cell) == std::isfinite(ke_cell));  // the same C^0 cells are infinite
+        if (!std::isfinite(ke_cell)) continue;
+        CHECK(ke_cell >= k_cell);                 // exact, as for the grid
+        CHECK(ke_cell <= ke_grid * (1 + 1e-12));  // never looser than the whole-surface K_e
+        auto at = [&](int a, int b) { return grid[static_cast<size_t>((cj * kSamples + b) * W + ci * kSamples + a)]; };
+        const glm::dvec3 p00 = at(0, 0), p10 = at(kSamples, 0), p01 = at(0, kSamples), p11 = at(kSamples, kSamples);
+        double dev = 0.0;
+        for (int b = 0; b <= kSamples; ++b) {
+          for (int a = 0; a <= kSamples; ++a) {
+            const double x = static_cast<double>(a) / kSamples, y = static_cast<double>(b) / kSamples;
+            const glm::dvec3 tri =
+                x >= y ? p00 + x * (p10 - p00) + y * (p11 - p10) : p00 + y * (p01 - p00) + x * (p11 - p01);
+            const glm::dvec3 bil = (1 - y) * ((1 - x) * p00 + x * p10) + y * ((1 - x) * p01 + x * p11);
+            dev = std::max({dev, glm::length(at(a, b) - tri), glm::length(at(a, b) - bil)});
+          }
+        }
+        CHECK(within(dev, ke_cell));
+        if (ke_cell > 0) dev_over_ke.ratios.push_back(dev / ke_cell);
+        if (k_cell > 0) {
+          dev_over_k.ratios.push_back(dev / k_cell);
+          cells_over_k += dev > k_cell ? 1 : 0;
+        }
+        max_dev = std::max(max_dev, dev);
+        ++cells_checked;
+      }
+    }
+    if (std::isfinite(k_grid) && k_grid > 0) max_dev_over_k_grid = std::max(max_dev_over_k_grid, max_dev / k_grid);
+  }
+  CHECK(cells_checked > 10000);
+  MESSAGE("Euclidean: ", cells_checked, " cells; sampled ||S - L|| / K_e per cell: median ", dev_over_ke.quantile(0.5),
+          ", max ", dev_over_ke.quantile(1.0));
+  MESSAGE("sampled ||S - L|| / component K per cell: median ", dev_over_k.quantile(0.5), ", 99% ",
+          dev_over_k.quantile(0.99), ", max ", dev_over_k.quantile(1.0), "; cells above 1: ", cells_over_k,
+          "; max over surfaces of max ||S - L|| / grid K: ", max_dev_over_k_grid);
+  MESSAGE("K_e / K (grid), polynomial: median ", ke_over_k_poly.quantile(0.5), ", max ", ke_over_k_poly.quantile(1.0),
+          "; rational: median ", ke_over_k_rat.quantile(0.5), ", max ", ke_over_k_rat.quantile(1.0),
+          "; M1e / M1: median ", me_over_m.quantile(0.5), ", max ", me_over_m.quantile(1.0));
+}
+
+TEST_CASE("A bulge along (1, 1, 1) reaches sqrt(3) K and breaks Theorem 1 for the component K") {
+  // S = u a + v b + u (1 - u) e on [0,1]^2, e = (1, 1, 1), a and b orthonormal and orthogonal to e:
+  // one cell, L = u a + v b (linear, reproduced by both triangles), S - L = u (1 - u) e. S_uu = -2 e,
+  // so M1 = 2, M1e = 2 sqrt(3), M2 = M3 = 0: K = 1/4, K_e = sqrt(3) / 4, both attained at u = 1/2.
+  const glm::dvec3 a = glm::dvec3(1, -1, 0) / std::sqrt(2.0), b = glm::dvec3(1, 1, -2) / std::sqrt(6.0);
+  const glm::dvec3 e(1, 1, 1);
+  nurbs::Surface s;
+  s.degree_u = 2;
+  s.degree_v = 1;
+  s.count_u = 3;
+  s.count_v = 2;
+  s.knots_u = {0, 0, 0, 1, 1, 1};
+  s.knots_v = {0, 0, 1, 1};
+  // Bernstein coefficients: u -> (0, 1/2, 1), u (1 - u) -> (0, 1/2, 0), v -> (0, 1).
+  for (double y : {0.0, 1.0}) {
+    s.points.push_back(y * b);
+    s.points.push_back(0.5 * a + y * b + 0.5 * e);
+    s.points.push_back(a + y * b);
+  }
+  const auto bound = nurbs::filip_bound(s);
+  const double k = nurbs::filip_k_grid(bound, 1, 1), ke = nurbs::filip_k_grid(bound, 1, 1, nurbs::KNorm::Euclidean);
+  // 1e-14 here and below: the data (a, b, e / sqrt(3), A4.3 evaluation) are of size ~1 and exact to a
+  // few ulps (2.2e-16 each), e.g. the net 2 (P2 - 2 P1 + P0) = -2 e.
+  CHECK(k == doctest::Approx(0.25).epsilon(1e-14));
+  CHECK(ke == doctest::Approx(std::sqrt(3.0) / 4).epsilon(1e-14));
+  const glm::dvec3 dev = nurbs::surface_point(s, 0.5, 0.5) - (0.5 * a + 0.5 * b);
+  CHECK(max_coord(dev) == doctest::Approx(k).epsilon(1e-14));     // Filip's K is attained per coordinate
+  CHECK(glm::length(dev) == doctest::Approx(ke).epsilon(1e-14));  // and K_e in the Euclidean norm
+
+  // Theorem 1: from O = S(1/2, 1/2) + e / sqrt(3), the surface is 1 away (all of S lies on the near
+  // side of the plane through S(1/2, 1/2) normal to e) and the triangles 1 + sqrt(3) / 4 (O projects
+  // to L(1/2, 1/2), inside the cell): |d - d*| = sqrt(3) / 4 > K. The sampled d* is >= the true one
+  // and equals it at the sampled (1/2, 1/2).
+  const glm::dvec3 en = e / std::sqrt(3.0), O = nurbs::surface_point(s, 0.5, 0.5) + en;
+  const double d_triangles = glm::dot(O, en);                    // the plane of L passes through the origin, normal e
+  CHECK(glm::dot(O, a) == doctest::Approx(0.5).epsilon(1e-14));  // the projection is L(1/2, 1/2)
+  CHECK(glm::dot(O, b) == doctest::Approx(0.5).epsilon(1e-14));
+  double d_surface = 1e300;
+  for (int j = 0; j <= 40; ++j) {
+    for (int i = 0; i <= 40; ++i)
+      d_surface = std::min(d_surface, glm::length(O - nurbs::surface_point(s, i / 40.0, j / 40.0)));
+  }
+  CHECK(d_surface == doctest::Approx(1.0).epsilon(1e-14));
+  CHECK(d_triangles - d_surface > k);            // Theorem 1 with the paper's K fails (by 0.18)
+  CHECK(d_triangles - d_surface <= ke + 1e-14);  // K_e holds, with equality up to roundoff
+  MESSAGE("(1,1,1) bulge: |d - d*| = ", d_triangles - d_surface, ", K = ", k, ", K_e = ", ke);
 }
