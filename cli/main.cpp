@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     fmt::print(stderr, "nurbsgl: error: {}\n", e.what());
     return cli::kFailed;
+  } catch (...) {
+    fmt::print(stderr, "nurbsgl: error: unknown exception\n");
+    return cli::kFailed;
   }
   return cli::kOk;
 }
