@@ -1,6 +1,7 @@
 #include "nurbs/trim_classify.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -23,19 +24,38 @@ void push_unique(std::vector<glm::dvec2>& out, glm::dvec2 p) {
   if (out.empty() || out.back() != p) out.push_back(p);
 }
 
+/// Point of a Bézier segment (clamped knots of full multiplicity, as extract_bezier_segments makes)
+/// by de Casteljau's algorithm in homogeneous coordinates on the stack: flattening evaluates
+/// thousands of points per loop, and the general evaluator allocates per call.
+glm::dvec2 bezier_point(const Curve2& seg, double t) {
+  constexpr int kMaxDegree = 31;
+  const int p = seg.degree;
+  if (p > kMaxDegree || seg.points.size() != size_t(p) + 1) return curve_point(seg, t);
+  const double a = seg.knots.front(), b = seg.knots.back();
+  const double s = b > a ? (t - a) / (b - a) : 0.0;
+  std::array<glm::dvec3, kMaxDegree + 1> h;
+  for (int i = 0; i <= p; ++i) {
+    const double w = seg.weights.empty() ? 1.0 : seg.weights[size_t(i)];
+    h[size_t(i)] = glm::dvec3(seg.points[size_t(i)] * w, w);
+  }
+  for (int r = 1; r <= p; ++r)
+    for (int i = 0; i <= p - r; ++i) h[size_t(i)] = (1.0 - s) * h[size_t(i)] + s * h[size_t(i) + 1];
+  return glm::dvec2(h[0].x, h[0].y) / h[0].z;
+}
+
 /// Appends points of (t0, t1] of a Bézier segment, bisecting until flat. Depth <= 30 bounds the
 /// recursion for tiny tolerances; a non-finite deviation (overflowing or NaN points, from a damaged
 /// file) counts as flat: bisection cannot fix it, and every branch would run to depth 30 (2^30 points).
 void flatten_piece(const Curve2& seg, double t0, glm::dvec2 p0, double t1, glm::dvec2 p1, double tol, int depth,
                    std::vector<glm::dvec2>& out) {
   const double tm = 0.5 * (t0 + t1);
-  const glm::dvec2 pm = curve_point(seg, tm);
+  const glm::dvec2 pm = bezier_point(seg, tm);
   auto flat_at = [&](glm::dvec2 p) {
     const double d = distance_to_chord(p, p0, p1);
     return d <= tol || !std::isfinite(d);
   };
-  const bool flat = depth >= 30 || (flat_at(pm) && flat_at(curve_point(seg, 0.5 * (t0 + tm))) &&
-                                    flat_at(curve_point(seg, 0.5 * (tm + t1))));
+  const bool flat = depth >= 30 || (flat_at(pm) && flat_at(bezier_point(seg, 0.5 * (t0 + tm))) &&
+                                    flat_at(bezier_point(seg, 0.5 * (tm + t1))));
   // Depth >= 2 always: a whole Bézier segment can be symmetric with its quarter points on the chord.
   if (flat && depth >= 2) {
     push_unique(out, p1);
@@ -50,7 +70,7 @@ void flatten_piece(const Curve2& seg, double t0, glm::dvec2 p0, double t1, glm::
 std::vector<glm::dvec2> flatten_curve(const Curve2& curve, double tolerance) {
   std::vector<glm::dvec2> out;
   for (const auto& seg : extract_bezier_segments(curve)) {
-    const glm::dvec2 a = curve_point(seg.curve, seg.range.min), b = curve_point(seg.curve, seg.range.max);
+    const glm::dvec2 a = bezier_point(seg.curve, seg.range.min), b = bezier_point(seg.curve, seg.range.max);
     push_unique(out, a);
     if (seg.curve.degree == 1 && !seg.curve.rational()) {
       push_unique(out, b);
