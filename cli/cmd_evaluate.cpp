@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -140,13 +141,19 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
                   "Bound on the Euclidean deviation K_e of surface from grid triangles, relative to the model size")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--method", o->method, "GPU evaluation: tabulated (basis tables, 3 passes) or per-fragment (1 pass)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, queries::EvalMethod>{
-          {"tabulated", queries::EvalMethod::Tabulated}, {"per-fragment", queries::EvalMethod::PerFragment}}))
+  static const std::map<std::string, queries::EvalMethod> methods{{"tabulated", queries::EvalMethod::Tabulated},
+                                                                  {"per-fragment", queries::EvalMethod::PerFragment}};
+  auto method = std::make_shared<std::string>("tabulated");
+  cmd->add_option("--method", *method,
+                  "GPU evaluation: tabulated (basis tables per row/column, then combine) or per-fragment (one pass)")
+      ->check(CLI::IsMember({"tabulated", "per-fragment"}))
       ->capture_default_str();
   cmd->add_option("--obj", o->obj, "Write the evaluated grids to this OBJ file");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o] { run(global, *o); });
+  cmd->callback([&global, o, method] {
+    o->method = methods.at(*method);
+    run(global, *o);
+  });
 }
 
 }  // namespace cli

@@ -7,7 +7,6 @@
 #include "cli/commands.h"
 #include "nurbs/io/model_summary.h"
 #include "nurbs/io/read_model.h"
-#include "nurbs/model_ops.h"
 
 namespace cli {
 
@@ -23,11 +22,8 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
     nurbs::io::IgesReadLog log;
     const nurbs::Model model = nurbs::io::read_model(*path, &log);
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
-    const nurbs::Box box = nurbs::model_box(model);
     if (*json) {
       nlohmann::json j = nurbs::io::to_json(s);
-      j["sampled_bbox"] = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
-      j["model_size"] = box.diagonal();
       j["reader"] = {{"loops_reoriented", log.reoriented_loops},
                      {"domain_loops_added", log.domain_loops_added},
                      {"gaps_closed", log.gaps_closed},
@@ -37,10 +33,6 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
       return;
     }
     fmt::print("{}", nurbs::io::to_text(s, *per_face));
-    fmt::print("sampled bbox       [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", box.min.x, box.min.y, box.min.z,
-               box.max.x, box.max.y, box.max.z);
-    fmt::print("model size         {:.6g} (diagonal of the sampled bbox; relative tolerances refer to it)\n",
-               box.diagonal());
     fmt::print("reader             {} loops reoriented, {} domain loops added, {} trim gaps closed\n",
                log.reoriented_loops, log.domain_loops_added, log.gaps_closed);
     fmt::print("trim problems      {}\n", log.trim_problems.size());

@@ -8,6 +8,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "nurbs/model_ops.h"
+
 namespace nurbs::io {
 
 ModelSummary summarize(const Model& model) {
@@ -53,7 +55,10 @@ ModelSummary summarize(const Model& model) {
   if (s.control_points > 0) {
     s.bbox_min = lo;
     s.bbox_max = hi;
-    s.size = glm::length(hi - lo);
+    const Box box = model_box(model);
+    s.sampled_min = box.min;
+    s.sampled_max = box.max;
+    s.size = box.diagonal();
   }
   return s;
 }
@@ -63,9 +68,11 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   out += fmt::format("faces: {} ({} trimmed, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
   out += fmt::format("max degree: {} x {}\ncontrol points: {}\n", s.max_degree_u, s.max_degree_v, s.control_points);
   out += fmt::format("trim loops: {} outer, {} inner, {} curves\n", s.outer_loops, s.inner_loops, s.trim_curves);
-  out += fmt::format("bbox (control points): [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x,
-                     s.bbox_min.y, s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
-  out += fmt::format("model size (bbox diagonal): {:.6g}\n", s.size);
+  out += fmt::format("control-point box: [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x, s.bbox_min.y,
+                     s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
+  out += fmt::format("sampled box: [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.sampled_min.x, s.sampled_min.y,
+                     s.sampled_min.z, s.sampled_max.x, s.sampled_max.y, s.sampled_max.z);
+  out += fmt::format("model size: {:.6g} (sampled box diagonal; relative tolerances refer to it)\n", s.size);
   out += "skipped entities:";
   if (s.skipped_entities.empty()) out += " none";
   for (auto [type, count] : s.skipped_entities) out += fmt::format(" {}x{}", type, count);
@@ -101,8 +108,11 @@ nlohmann::json to_json(const ModelSummary& s) {
           {"control_points", s.control_points},
           {"max_degree", {s.max_degree_u, s.max_degree_v}},
           {"trim_loops", {{"outer", s.outer_loops}, {"inner", s.inner_loops}, {"curves", s.trim_curves}}},
-          {"bbox",
+          {"control_bbox",
            {{"min", {s.bbox_min.x, s.bbox_min.y, s.bbox_min.z}}, {"max", {s.bbox_max.x, s.bbox_max.y, s.bbox_max.z}}}},
+          {"bbox",
+           {{"min", {s.sampled_min.x, s.sampled_min.y, s.sampled_min.z}},
+            {"max", {s.sampled_max.x, s.sampled_max.y, s.sampled_max.z}}}},
           {"size", s.size},
           {"skipped_entities", skipped},
           {"face_list", faces}};

@@ -35,7 +35,10 @@ struct ModelSummary {
   /// Box of all control points after body transforms, in file units. It contains the surfaces
   /// (convex hull property of positive weights) but may be larger than their tight box.
   glm::dvec3 bbox_min{0.0}, bbox_max{0.0};
-  double size = 0.0;  ///< bbox diagonal (ACIS-style model size), file units
+  /// Box of sampled surface points (nurbs::model_box): the model's own box, slightly inside the
+  /// true one on curved faces.
+  glm::dvec3 sampled_min{0.0}, sampled_max{0.0};
+  double size = 0.0;  ///< nurbs::model_size: diagonal of the sampled box (ACIS-style), file units
   std::map<int, int> skipped_entities;
   std::vector<FaceSummary> face_list;
 };

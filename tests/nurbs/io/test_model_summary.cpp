@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nurbs/io/model_summary.h"
+#include "nurbs/model_ops.h"
 #include "sample_models.h"
 
 TEST_CASE("summary of the sample model") {
@@ -22,7 +23,10 @@ TEST_CASE("summary of the sample model") {
   // Control points: cylinder in [0,2]x[0,3]x[0,2], bump in [0,3]x[0,3]x[0,1]; exact small integers.
   CHECK(s.bbox_min == glm::dvec3(0.0));
   CHECK(s.bbox_max == glm::dvec3(3.0, 3.0, 2.0));
-  CHECK(s.size == doctest::Approx(std::sqrt(22.0)).epsilon(1e-15));  // one rounding in sqrt
+  // Model size: the sampled box (nurbs::model_size), inside the control-point box (diagonal sqrt 22).
+  CHECK(s.size == nurbs::model_size(m));
+  CHECK(s.size > 0.9 * std::sqrt(22.0));
+  CHECK(s.size <= std::sqrt(22.0));
   const std::string text = nurbs::io::to_text(s, true);
   CHECK(text.find("faces: 2 (1 trimmed, 1 rational)") != std::string::npos);
   CHECK(text.find("skipped entities: 120x2") != std::string::npos);
@@ -32,7 +36,8 @@ TEST_CASE("summary of the sample model") {
   CHECK(j["skipped_entities"]["120"] == 2);
   CHECK(j["face_list"].size() == 2);
   CHECK(j["face_list"][0]["rational"] == true);
-  CHECK(j["bbox"]["max"][2] == 2.0);
+  CHECK(j["control_bbox"]["max"][2] == 2.0);
+  CHECK(j["size"] == s.size);
 }
 
 TEST_CASE("summary: body transform moves the bbox") {
