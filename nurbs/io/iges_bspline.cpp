@@ -5,6 +5,7 @@
 
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/restrict.h"
 #include "nurbs/validate.h"
 
 namespace nurbs::io {
@@ -61,6 +62,12 @@ void check_valid(const EntityParams& p, const T& geometry) {
   if (!problems.empty()) p.fail(0, "invalid geometry: " + problems.front());
 }
 
+/// True when [a, b] cuts off more than rounding (1e-9 of the width) at either end of `domain`.
+bool inside(Interval domain, double a, double b) {
+  const double eps = 1e-9 * domain.width();
+  return a > domain.min + eps || b < domain.max - eps;
+}
+
 }  // namespace
 
 Curve3 IgesGeometry::bspline_curve(const EntityParams& p) {
@@ -89,10 +96,16 @@ Curve3 IgesGeometry::bspline_curve(const EntityParams& p) {
   }
   p.check_trailing(used);
   check_valid(p, c);
+  // IGES: the curve is its part on [V(0), V(1)]; restrict when that is inside the knot domain.
+  const Interval dom = knot_domain(c.knots, c.degree, static_cast<int>(c.points.size()));
+  if (inside(dom, a, b)) {
+    c = restrict_curve(c, a, b);
+    ++ranges_restricted_;
+  }
   return c;
 }
 
-Surface IgesGeometry::surface(int de, const glm::dmat4& parent) {
+Surface IgesGeometry::surface(int de, const glm::dmat4& parent, bool restrict_to_range) {
   const IgesDirectoryEntry& e = file_.entry(de);
   if (e.type != 128) fail(de, "is not a rational B-spline surface (128)");
   const glm::dmat4 xf = parent * transform(de);
@@ -128,6 +141,12 @@ Surface IgesGeometry::surface(int de, const glm::dmat4& parent) {
   if (!(u0 < u1) || !(v0 < v1)) p.fail(r0, fmt::format("parameter range [{}, {}] x [{}, {}] is empty", u0, u1, v0, v1));
   p.check_trailing(r0 + 3);
   check_valid(p, s);
+  // IGES: the surface is its part on [U(0), U(1)] x [V(0), V(1)]; restrict when inside the domain.
+  const Interval du = knot_domain(s.knots_u, s.degree_u, s.count_u), dv = knot_domain(s.knots_v, s.degree_v, s.count_v);
+  if (restrict_to_range && (inside(du, u0, u1) || inside(dv, v0, v1))) {
+    s = restrict_surface(s, {u0, u1}, {v0, v1});
+    ++ranges_restricted_;
+  }
   return s;
 }
 

@@ -118,7 +118,7 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
   for (int k = 0; k < n2; ++k) holes.push_back(g_.expect(p, 5 + k, {142}, "a curve on a parametric surface"));
   p.check_trailing(4 + n2);
   TrimmedSurface f;
-  f.surface = g_.surface(pts, m);
+  f.surface = g_.surface(pts, m, /*restrict_to_range=*/n1 == 0);  // N1 = 0: the range is the outer boundary
   if (n1 == 1) f.loops.push_back(loop_142(pto, true));
   for (int h : holes) f.loops.push_back(loop_142(h, false));
   return f;
@@ -149,7 +149,7 @@ TrimmedSurface IgesFaces::face_143(const EntityParams& p, const glm::dmat4& m) {
   for (int k = 0; k < n; ++k) bounds.push_back(g_.expect(p, 4 + k, {141}, "a boundary"));
   p.check_trailing(3 + n);
   TrimmedSurface f;
-  f.surface = g_.surface(sptr, m);
+  f.surface = g_.surface(sptr, m, /*restrict_to_range=*/false);  // its boundaries bound it
   for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)], k == 0));
   return f;
 }
@@ -189,7 +189,7 @@ TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
   for (int k = 0; k < n; ++k) loops.push_back(g_.expect(p, 4 + k, {508}, "a loop"));
   p.check_trailing(3 + n);
   TrimmedSurface f;
-  f.surface = g_.surface(surf, m);
+  f.surface = g_.surface(surf, m, /*restrict_to_range=*/of == 0);  // no outer loop: the range bounds it
   for (int k = 0; k < n; ++k) f.loops.push_back(loop_508(loops[static_cast<size_t>(k)], of == 1 && k == 0));
   return f;
 }

@@ -42,7 +42,11 @@ class IgesGeometry {
   std::vector<Curve2> parameter_curves(int de);
 
   /// A 128 surface mapped by parent * (its own transform chain); checked (knots, weights, counts).
-  Surface surface(int de, const glm::dmat4& parent);
+  /// With `restrict_to_range`, cut to its declared range U(0)..U(1) x V(0)..V(1) when that lies inside
+  /// the knot domain: right where the range is the face's boundary (a bare 128, a 144 with N1 = 0).
+  /// Faces with an outer trim loop keep the whole surface, as OpenCASCADE does: real files (OCCT's
+  /// hammer) have trim curves reaching up to 7e-4 of the domain beyond the declared range.
+  Surface surface(int de, const glm::dmat4& parent, bool restrict_to_range = true);
 
   /// Pointer parameter `i` of `p` that must name an entity of one of `types` (`what` describes
   /// them in the message). Types in the unsupported lists throw UnsupportedEntity; 0 is returned
@@ -54,12 +58,17 @@ class IgesGeometry {
 
   [[nodiscard]] const IgesFile& file() const { return file_; }
 
+  /// How many 126/128 entities declared a parameter range inside their knot domain and were
+  /// restricted to it (nurbs/restrict.h).
+  [[nodiscard]] int ranges_restricted() const { return ranges_restricted_; }
+
  private:
   glm::dmat4 matrix_124(int de, int depth);
   Curve3 bspline_curve(const EntityParams& p);
 
   const IgesFile& file_;
   std::unordered_map<int, glm::dmat4> transforms_;
+  int ranges_restricted_ = 0;
 };
 
 }  // namespace nurbs::io

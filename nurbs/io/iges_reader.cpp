@@ -124,6 +124,7 @@ std::vector<Body> ModelBuilder::build() {
     if (face) add_face(loose, e.de, glm::dmat4(1.0));
   }
   if (!loose.faces.empty()) bodies.push_back(std::move(loose));
+  log_.ranges_restricted = g_.ranges_restricted();
   return bodies;
 }
 

@@ -38,6 +38,7 @@ struct IgesReadLog {
   int reoriented_loops = 0;    ///< loops reversed to get outer CCW / inner CW
   int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only
   int gaps_closed = 0;         ///< trim-curve gaps closed (see kTrimGapRepair)
+  int ranges_restricted = 0;   ///< 126/128 cut to a declared parameter range inside their domain
   /// Loops that still do not close, or cross (check_trim_loops), each "face N: ...".
   std::vector<std::string> trim_problems;
   std::vector<std::string> warnings;  ///< one per dropped face, naming it and the reason

@@ -1,10 +1,16 @@
-// The reader's trim repair: gaps between trim curves up to kTrimGapRepair of the trim extent are
+// The reader's repairs and range handling: declared 128 ranges bound untrimmed faces;
+// trim repair: gaps between trim curves up to kTrimGapRepair of the trim extent are
 // closed and counted; larger gaps and crossing loops are reported naming the face; rounding-level
 // gaps are left alone (so round trips stay exact).
 #include <doctest/doctest.h>
 
+#include <array>
+#include <glm/geometric.hpp>
+
+#include "iges_edit.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/iges_writer.h"
+#include "nurbs/surface_eval.h"
 #include "sample_models.h"
 
 namespace {
@@ -51,4 +57,41 @@ TEST_CASE("IGES reader: crossing loops are reported, not silently accepted") {
   const io::IgesReadLog log = read_back(m);
   REQUIRE(!log.trim_problems.empty());
   CHECK(log.trim_problems[0].find("cross") != std::string::npos);
+}
+
+namespace {
+
+/// The writer's text with the parameter range (last four fields) of every 128 set to `range`.
+std::string with_surface_range(const Model& m, const std::array<std::string, 4>& range) {
+  io::test::IgesEdit e = io::test::IgesEdit::parse(io::write_iges_text(m, "range.igs"));
+  for (auto& ent : e.entities)
+    if (!ent.fields.empty() && ent.fields[0] == "128")
+      for (size_t k = 0; k < 4; ++k) ent.fields[ent.fields.size() - 4 + k] = range[k];
+  return e.text();
+}
+
+}  // namespace
+
+TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a trimmed one") {
+  Model bare;
+  bare.bodies.push_back({"b", {TrimmedSurface{io::test::bump(), {}, 0, ""}}, glm::dmat4(1.0)});
+  io::IgesReadLog log;
+  const Model r = io::read_iges_text(with_surface_range(bare, {"0.25", "0.75", "0.1", "0.9"}), "range.igs", {}, &log);
+  CHECK(log.ranges_restricted == 1);
+  const Surface& s = r.bodies[0].faces[0].surface;
+  CHECK(surface_domain_u(s).min == 0.25);
+  CHECK(surface_domain_u(s).max == 0.75);
+  CHECK(surface_domain_v(s).min == 0.1);
+  CHECK(surface_domain_v(s).max == 0.9);
+  // Same surface on the range: the restriction only re-represents it (1e-14: a few roundings).
+  CHECK(glm::length(surface_point(s, 0.3, 0.8) - surface_point(io::test::bump(), 0.3, 0.8)) < 1e-14);
+
+  // The sample model: face 0 has an outer loop, which bounds it, so its surface stays whole; face 1
+  // (the bump, untrimmed) is cut to the range.
+  io::IgesReadLog log2;
+  const Model t = io::read_iges_text(with_surface_range(io::test::small_model(), {"0.25", "0.75", "0.1", "0.9"}),
+                                     "r.igs", {}, &log2);
+  CHECK(log2.ranges_restricted == 1);
+  CHECK(surface_domain_u(t.bodies[0].faces[0].surface).min == 0.0);
+  CHECK(surface_domain_u(t.bodies[0].faces[1].surface).min == 0.25);
 }
