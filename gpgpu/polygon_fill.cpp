@@ -42,7 +42,8 @@ void fill_polygons_even_odd(Gpu& gpu, const std::vector<std::vector<glm::vec2>>&
   gl::CreateVertexArrays(1, &o.vao);
   gl::CreateVertexArrays(1, &o.empty_vao);
   gl::CreateBuffers(1, &o.vbo);
-  gl::NamedBufferData(o.vbo, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec2) + 1), vertices.data(),
+  if (vertices.empty()) vertices.emplace_back(0.0f, 0.0f);  // a zero-size buffer store is not portable
+  gl::NamedBufferData(o.vbo, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec2)), vertices.data(),
                       GL_STATIC_DRAW);
   gl::VertexArrayVertexBuffer(o.vao, 0, o.vbo, 0, sizeof(glm::vec2));
   gl::VertexArrayAttribFormat(o.vao, 0, 2, GL_FLOAT, GL_FALSE, 0);
