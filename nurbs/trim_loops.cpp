@@ -42,7 +42,7 @@ bool segments_meet(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d, glm::
 struct Edge {
   glm::dvec2 a, b;
   size_t loop, index, loop_size;
-  double xmin, xmax;
+  double xmin, xmax, ymin, ymax;
 };
 
 bool adjacent(const Edge& e, const Edge& f) {
@@ -87,16 +87,18 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
     const auto& poly = polys.loops[k];
     for (size_t i = 0; i < poly.size() && poly.size() >= 2; ++i) {
       const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-      edges.push_back({a, b, k, i, poly.size(), std::min(a.x, b.x), std::max(a.x, b.x)});
+      edges.push_back(
+          {a, b, k, i, poly.size(), std::min(a.x, b.x), std::max(a.x, b.x), std::min(a.y, b.y), std::max(a.y, b.y)});
     }
   }
-  // Sweep in x: only edges whose x ranges overlap are tested.
+  // Sweep in x: only edges whose x ranges overlap are candidates; their y ranges must overlap too
+  // (edges along a constant-u line share x ranges, so x alone lets O(E^2) pairs through).
   std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) { return e.xmin < f.xmin; });
   std::vector<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
   for (size_t i = 0; i < edges.size(); ++i) {
     for (size_t j = i + 1; j < edges.size() && edges[j].xmin <= edges[i].xmax; ++j) {
       const Edge &e = edges[i], &f = edges[j];
-      if (adjacent(e, f)) continue;
+      if (f.ymin > e.ymax || e.ymin > f.ymax || adjacent(e, f)) continue;
       glm::dvec2 where;
       if (!segments_meet(e.a, e.b, f.a, f.b, where)) continue;
       const std::pair<size_t, size_t> key{std::min(e.loop, f.loop), std::max(e.loop, f.loop)};
