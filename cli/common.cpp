@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
+
 namespace cli {
 
 std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
@@ -15,7 +17,9 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
 }
 
 void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options) {
-  if (options.profile) fmt::print(stderr, "\n{}", gpu.profiler().table());
+  if (!options.profile) return;
+  std::fflush(stdout);  // the table follows the command's own output, also when stdout is a pipe
+  fmt::print(stderr, "\n{}", gpu.profiler().table());
 }
 
 }  // namespace cli
