@@ -53,7 +53,12 @@ bool adjacent(const Edge& e, const Edge& f) {
 
 }  // namespace
 
-std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance, double flatten_tolerance) {
+namespace {
+
+/// check_trim_loops with the flattening done on demand (after the curves are known valid) when
+/// `given` is null.
+std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tolerance, const TrimPolygons* given,
+                                     double flatten_tolerance) {
   std::vector<std::string> out;
   const int id = face.face_id;
   bool curves_valid = true;
@@ -81,7 +86,9 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
       }
     }
   }
-  const TrimPolygons polys = flatten_trim(face, flatten_tolerance);
+  TrimPolygons flattened;
+  if (given == nullptr) flattened = flatten_trim(face, flatten_tolerance);
+  const TrimPolygons& polys = given != nullptr ? *given : flattened;
   std::vector<Edge> edges;
   for (size_t k = 0; k < polys.loops.size(); ++k) {
     const auto& poly = polys.loops[k];
@@ -116,6 +123,17 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
   return out;
 }
 
+}  // namespace
+
+std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance, double flatten_tolerance) {
+  return check_loops(face, gap_tolerance, nullptr, flatten_tolerance);
+}
+
+std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
+                                          const TrimPolygons& polygons) {
+  return check_loops(face, gap_tolerance, &polygons, 0.0);
+}
+
 int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
   int repairs = 0;
   for (auto& loop : face.loops) {
@@ -134,7 +152,10 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
 }
 
 int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance) {
-  const TrimPolygons polys = flatten_trim(face, flatten_tolerance);
+  return orient_trim_loops(face, flatten_trim(face, flatten_tolerance));
+}
+
+int orient_trim_loops(TrimmedSurface& face, const TrimPolygons& polys) {
   int reversed_loops = 0;
   for (size_t k = 0; k < face.loops.size(); ++k) {
     const double area = signed_area(polys.loops[k]);

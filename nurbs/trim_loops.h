@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "nurbs/trim_classify.h"
 #include "nurbs/trimmed_surface.h"
 
 namespace nurbs {
@@ -17,6 +18,10 @@ namespace nurbs {
 /// loop ("crosses itself") or between loops ("loops a and b cross"), with the (u, v) where.
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
                                                         double flatten_tolerance);
+/// The same with the loops already flattened (flatten_trim of this face, whose curves are valid),
+/// for callers that also orient the loops: one flattening serves both.
+[[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
+                                                        const TrimPolygons& polygons);
 
 /// Closes gaps of size in (min_gap, tolerance] between consecutive curves of each loop by moving the
 /// end of the earlier curve onto the start of the next (its last control point, after clamping the
@@ -28,5 +33,7 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap = 0.
 /// inner < 0): curve order reversed and each curve reparametrised backwards. Returns how many loops
 /// were reversed.
 int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance);
+/// The same with the loops already flattened (flatten_trim of this face as it is now).
+int orient_trim_loops(TrimmedSurface& face, const TrimPolygons& polygons);
 
 }  // namespace nurbs

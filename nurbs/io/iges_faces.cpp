@@ -24,18 +24,18 @@ void append_reversed(std::vector<Curve2>& loop, std::vector<Curve2> piece, bool 
   for (Curve2& c : piece) loop.push_back(std::move(c));
 }
 
-// Flattening tolerance for orienting the face's loops: only the sign of each loop's area matters,
-// so 1e-3 of the extent of all trim control points (which bounds the curves) suffices, whatever the
-// file's units; flatten_curve cuts every Bézier segment into >= 4 chords, so small holes keep their
-// sign too. Relative to the curves rather than to the domain, so that a damaged file with huge trim
-// coordinates is flattened in a few levels instead of to the depth limit.
-double orientation_tolerance(const TrimmedSurface& f) {
+// Extent of all trim control points (which bounds the curves): the scale of the repair, check and
+// flattening tolerances, whatever the file's units. Flattening at 1e-3 of it suffices to orient
+// the loops (only the sign of each area matters; flatten_curve cuts every Bézier segment into >= 4
+// chords, so small holes keep their sign too). Relative to the curves rather than to the domain, so
+// that a damaged file with huge trim coordinates is flattened in a few levels, not to the depth limit.
+double trim_extent(const TrimmedSurface& f) {
   glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
   for (const TrimLoop& loop : f.loops)
     for (const Curve2& c : loop.curves)
       for (const glm::dvec2& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
-  const double tol = 1e-3 * std::max(hi.x - lo.x, hi.y - lo.y);
-  return tol > 0.0 ? tol : 1.0;  // a loop collapsed to a point (or NaN data): any positive value
+  const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+  return extent > 0.0 ? extent : 1e3;  // a loop collapsed to a point (or NaN data): any positive value
 }
 
 // The boundary of the surface's parameter domain as an outer loop of four lines, counter-clockwise
@@ -89,12 +89,12 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
 
 void IgesFaces::finish(TrimmedSurface& f) {
   if (!f.loops.empty()) {
-    // orientation_tolerance is 1e-3 of the trim extent: scale it to the repair and check tolerances.
-    const double extent = orientation_tolerance(f) * 1e3;
+    const double extent = trim_extent(f);
     log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
-    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, 1e-3 * extent))
+    const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
+    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons))
       log_.trim_problems.push_back(std::move(problem));
-    log_.reoriented_loops += orient_trim_loops(f, orientation_tolerance(f));
+    log_.reoriented_loops += orient_trim_loops(f, polygons);
   }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
   if (!has_outer && !f.loops.empty()) {
