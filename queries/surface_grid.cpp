@@ -7,7 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
 
 namespace queries {
@@ -118,12 +117,6 @@ SurfaceGridCpu evaluate_surface_cpu(const nurbs::Surface& s, int n, int m) {
     }
   }
   return g;
-}
-
-GridForTolerance grid_for_tolerance(const nurbs::Surface& surface, double tolerance, int max_samples) {
-  const nurbs::FilipBound b = nurbs::filip_bound(surface);
-  const nurbs::GridChoice c = nurbs::choose_grid(b, tolerance, max_samples - 1);
-  return {c.n, c.m, c.k};
 }
 
 }  // namespace queries

@@ -2,7 +2,7 @@
 /// \file surface_grid.h
 /// A NURBS surface evaluated on a uniform (n+1) x (m+1) parameter grid (Krishnamurthy et al. §2.2):
 /// on the GPU into float textures (glsl/surface_eval.frag), and its CPU twin in double precision.
-/// The grid step follows from a tolerance through the Filip bound K (nurbs/filip_bound.h).
+/// The grid step follows from a tolerance through the Filip bound (nurbs/filip_bound.h, choose_grid).
 ///
 /// Float budget of the GPU path: knots are normalised to [0, 1] in double before rounding to float
 /// (relative error 2^-24), control points are sent relative to the centre of their box, and the
@@ -55,13 +55,5 @@ struct SurfaceGridCpu {
   std::vector<glm::dvec3> normals;
 };
 SurfaceGridCpu evaluate_surface_cpu(const nurbs::Surface& surface, int n, int m);
-
-/// Grid intervals (n, m) such that the Filip bound K <= tolerance (per coordinate), capped at
-/// max_samples - 1 per direction; returns the K actually reached.
-struct GridForTolerance {
-  int n = 1, m = 1;
-  double k = 0.0;
-};
-GridForTolerance grid_for_tolerance(const nurbs::Surface& surface, double tolerance, int max_samples);
 
 }  // namespace queries
