@@ -60,6 +60,54 @@ nurbs::Surface random_surface(std::uint64_t seed, int degree_u, int degree_v, bo
   return s;
 }
 
+namespace {
+
+/// Clamped knots on [0, w] with 1-4 distinct interior knots (one of them maybe 1e-4 w from another),
+/// each repeated 1..degree times; returns the knots and sets `count`.
+std::vector<double> kinked_knots(Random& rng, int degree, double w, int& count) {
+  std::vector<double> inner;
+  const int distinct = rng.integer(1, 4);
+  for (int i = 0; i < distinct; ++i) inner.push_back(rng.uniform(0.05, 0.95));
+  if (rng.integer(0, 2) == 0) inner.push_back(inner.front() + 1e-4);  // a sliver span
+  std::sort(inner.begin(), inner.end());
+  std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
+  for (double t : inner) {
+    const int mult = rng.integer(0, 1) == 0 ? degree : rng.integer(1, degree);
+    for (int r = 0; r < mult; ++r) k.push_back(w * t);
+  }
+  for (int i = 0; i <= degree; ++i) k.push_back(w);
+  count = static_cast<int>(k.size()) - degree - 1;
+  return k;
+}
+
+}  // namespace
+
+nurbs::Surface random_kinked_surface(std::uint64_t seed, int degree_u, int degree_v, double weight_ratio) {
+  Random rng(seed * 0xBF58476D1CE4E5B9ull + 3);
+  nurbs::Surface s;
+  s.degree_u = degree_u;
+  s.degree_v = degree_v;
+  s.knots_u = kinked_knots(rng, degree_u, rng.uniform(0.5, 3), s.count_u);
+  s.knots_v = kinked_knots(rng, degree_v, rng.uniform(0.5, 3), s.count_v);
+  // Weights: ratio^t with t a random tilted plane over the net plus 5 % jitter, spanning [0, 1]: the
+  // whole ratio across the face, as in CAD data, not between neighbours.
+  const double tilt = rng.uniform(0, 1);
+  std::vector<double> t;
+  for (int j = 0; j < s.count_v; ++j) {
+    for (int i = 0; i < s.count_u; ++i) {
+      const double x = -1 + 2.0 * i / (s.count_u - 1) + rng.uniform(-0.3, 0.3);
+      const double y = -1 + 2.0 * j / (s.count_v - 1) + rng.uniform(-0.3, 0.3);
+      s.points.emplace_back(x, y, rng.uniform(-1, 1));
+      t.push_back(tilt * i / (s.count_u - 1) + (1 - tilt) * j / (s.count_v - 1) + rng.uniform(0, 0.05));
+    }
+  }
+  if (weight_ratio > 1) {
+    const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
+    for (double x : t) s.weights.push_back(std::pow(weight_ratio, (x - *lo) / (*hi - *lo)));
+  }
+  return s;
+}
+
 nurbs::TrimmedSurface random_trimmed_surface(std::uint64_t seed) {
   Random rng(seed ^ 0xD1B54A32D192ED03ull);
   nurbs::TrimmedSurface t;

@@ -54,6 +54,67 @@ SecondDerivativeBounds split_patch_bounds(const BezierPatch& patch, int parts) {
   return mx;
 }
 
+/// The four halves of a Bézier patch (split at the middle of both parameter ranges).
+std::vector<BezierPatch> split_2x2(const BezierPatch& patch) {
+  Surface r = insert_knot_u(patch.surface, patch.range_u.min + 0.5 * patch.range_u.width(), patch.surface.degree_u);
+  r = insert_knot_v(r, patch.range_v.min + 0.5 * patch.range_v.width(), r.degree_v);
+  return extract_bezier_patches(r);
+}
+
+}  // namespace
+
+SecondDerivativeBounds adaptive_patch_bounds(const BezierPatch& patch, const AdaptiveRefinement& rule) {
+  // Branch and bound on the piece that sets the bound: its score is K_e of one cell the size of the
+  // whole patch (the weights of M1e, M2e, M3e are the patch widths), so pieces compare on one scale.
+  const double wu = patch.range_u.width(), wv = patch.range_v.width();
+  auto score = [&](const SecondDerivativeBounds& m) { return filip_k(m, wu, wv, KNorm::Euclidean); };
+  struct Leaf {
+    BezierPatch patch;
+    SecondDerivativeBounds m;
+    double score;
+  };
+  auto by_score = [](const Leaf& a, const Leaf& b) { return a.score < b.score; };
+  std::vector<Leaf> heap;  // max-heap on score
+  const SecondDerivativeBounds root = bezier_patch_bounds(patch.surface, wu, wv);
+  heap.push_back({patch, root, score(root)});
+  SecondDerivativeBounds settled;  // pieces that stopped improving
+  int leaves = 1;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), by_score);
+    Leaf worst = std::move(heap.back());
+    heap.pop_back();
+    if (leaves + 3 > rule.max_pieces || !(worst.score > 0.0)) {
+      settled = max_of(settled, worst.m);
+      break;
+    }
+    std::vector<Leaf> children;
+    double child_score = 0.0;
+    for (auto& piece : split_2x2(worst.patch)) {
+      const SecondDerivativeBounds m = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
+      child_score = std::max(child_score, score(m));
+      children.push_back({std::move(piece), m, score(m)});
+    }
+    if (child_score > rule.min_gain * worst.score) {  // no longer improving: this piece's bound stays
+      SecondDerivativeBounds mc;
+      for (const auto& c : children) mc = max_of(mc, c.m);
+      // Either bound holds for the piece; keep the field-wise smaller of the two.
+      settled = max_of(settled, {std::min(worst.m.m1, mc.m1), std::min(worst.m.m2, mc.m2), std::min(worst.m.m3, mc.m3),
+                                 std::min(worst.m.m1_norm, mc.m1_norm), std::min(worst.m.m2_norm, mc.m2_norm),
+                                 std::min(worst.m.m3_norm, mc.m3_norm)});
+      break;
+    }
+    leaves += 3;
+    for (auto& c : children) {
+      heap.push_back(std::move(c));
+      std::push_heap(heap.begin(), heap.end(), by_score);
+    }
+  }
+  for (const auto& l : heap) settled = max_of(settled, l.m);
+  return settled;
+}
+
+namespace {
+
 /// One-sided first derivatives agree along the common edge of two patches (see FilipBound::c1_u).
 bool c1_across(const Surface& left, const Surface& right, bool along_u, double at, Interval edge, int samples) {
   for (int k = 0; k < samples; ++k) {
@@ -149,9 +210,9 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   b.breaks_v = breaks(s.knots_v, b.domain_v);
   const auto patches = extract_bezier_patches(s);
   const size_t nu = b.breaks_u.size() - 1;
-  const int parts = subdivisions > 0 ? subdivisions : (s.rational() ? 4 : 1);
   for (const auto& patch : patches) {
-    b.patches.push_back(split_patch_bounds(patch, parts));
+    b.patches.push_back(subdivisions > 0 ? split_patch_bounds(patch, subdivisions)
+                                         : adaptive_patch_bounds(patch, AdaptiveRefinement{}));
     b.whole = max_of(b.whole, b.patches.back());
   }
   // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
@@ -189,48 +250,70 @@ Ms pick(const SecondDerivativeBounds& m, KNorm norm) {
 
 }  // namespace
 
+FilipBound sampled_bound(const Surface& s, const FilipBound& b, int samples) {
+  if (samples <= 0) samples = std::max(s.degree_u, s.degree_v) + 3;
+  FilipBound out = b;
+  out.whole = {};
+  for (size_t pv = 0; pv < b.spans_v(); ++pv) {
+    for (size_t pu = 0; pu < b.spans_u(); ++pu) {
+      MaxAbs uu, uv, vv;
+      for (int j = 0; j <= samples; ++j) {
+        for (int i = 0; i <= samples; ++i) {
+          // Strictly inside by a hair at the patch edges, so one-sided derivatives of this patch are taken.
+          const double tu = std::clamp(double(i) / samples, 1e-9, 1 - 1e-9),
+                       tv = std::clamp(double(j) / samples, 1e-9, 1 - 1e-9);
+          const double u = b.breaks_u[pu] + tu * (b.breaks_u[pu + 1] - b.breaks_u[pu]);
+          const double v = b.breaks_v[pv] + tv * (b.breaks_v[pv + 1] - b.breaks_v[pv]);
+          const SurfaceDerivatives d = surface_derivatives(s, u, v);
+          uu.add(d.suu);
+          uv.add(d.suv);
+          vv.add(d.svv);
+        }
+      }
+      auto cmax = [](const glm::dvec3& c) { return std::max({c.x, c.y, c.z}); };
+      SecondDerivativeBounds& m = out.patches[pv * b.spans_u() + pu];
+      m = {cmax(uu.coord), cmax(uv.coord), cmax(vv.coord), uu.norm, uv.norm, vv.norm};
+      out.whole = max_of(out.whole, m);
+    }
+  }
+  return out;
+}
+
 double filip_k(const SecondDerivativeBounds& m, double h_u, double h_v, KNorm norm) {
   const Ms M = pick(m, norm);
   return 0.125 * (h_u * h_u * M.m1 + 2.0 * h_u * h_v * M.m2 + h_v * h_v * M.m3);
 }
 
-namespace {
-
-/// Patch index range [first, last] overlapped by the open interval (lo, hi) of a cell, and whether
-/// a non-C^1 break lies strictly inside it. Breaks within 1e-12 of the width of a cell edge count
-/// as on the edge (the grid line is the knot up to roundoff).
-struct Overlap {
-  size_t first = 0, last = 0;
-  bool kink = false;
-};
-
-Overlap overlap(const std::vector<double>& br, const std::vector<bool>& c1, double lo, double hi) {
+PatchRange patch_range(const std::vector<double>& br, const std::vector<bool>& c1, Interval t) {
   const double eps = 1e-12 * (br.back() - br.front());
-  Overlap o;
-  const auto it = std::upper_bound(br.begin(), br.end(), lo + eps);
+  PatchRange o;
+  const auto it = std::upper_bound(br.begin(), br.end(), t.min + eps);
   o.first = static_cast<size_t>(std::max<std::ptrdiff_t>(it - br.begin() - 1, 0));
   o.first = std::min(o.first, br.size() - 2);
   o.last = o.first;
-  while (o.last + 2 < br.size() && br[o.last + 1] < hi - eps) {
+  while (o.last + 2 < br.size() && br[o.last + 1] < t.max - eps) {
     if (!c1[o.last + 1]) o.kink = true;
     ++o.last;
   }
   return o;
 }
 
-}  // namespace
+double filip_k_rect(const FilipBound& b, Interval u, Interval v, KNorm norm) {
+  const PatchRange ou = patch_range(b.breaks_u, b.c1_u, u);
+  const PatchRange ov = patch_range(b.breaks_v, b.c1_v, v);
+  if (ou.kink || ov.kink) return kInf;
+  SecondDerivativeBounds mx;
+  for (size_t pv = ov.first; pv <= ov.last; ++pv) {
+    for (size_t pu = ou.first; pu <= ou.last; ++pu) mx = max_of(mx, b.patch(pu, pv));
+  }
+  return filip_k(mx, u.width(), v.width(), norm);
+}
 
 double filip_k_cell(const FilipBound& b, int n, int m, int i, int j, KNorm norm) {
   const double hu = b.domain_u.width() / n, hv = b.domain_v.width() / m;
-  const Overlap ou = overlap(b.breaks_u, b.c1_u, b.domain_u.min + i * hu, b.domain_u.min + (i + 1) * hu);
-  const Overlap ov = overlap(b.breaks_v, b.c1_v, b.domain_v.min + j * hv, b.domain_v.min + (j + 1) * hv);
-  if (ou.kink || ov.kink) return kInf;
-  const size_t nu = b.breaks_u.size() - 1;
-  SecondDerivativeBounds mx;
-  for (size_t pv = ov.first; pv <= ov.last; ++pv) {
-    for (size_t pu = ou.first; pu <= ou.last; ++pu) mx = max_of(mx, b.patches[pv * nu + pu]);
-  }
-  return filip_k(mx, hu, hv, norm);
+  const Interval u{b.domain_u.min + i * hu, b.domain_u.min + (i + 1) * hu};
+  const Interval v{b.domain_v.min + j * hv, b.domain_v.min + (j + 1) * hv};
+  return filip_k_rect(b, u, v, norm);
 }
 
 double filip_k_grid(const FilipBound& b, int n, int m, KNorm norm) {
