@@ -1,7 +1,11 @@
-// B-spline basis functions of The NURBS Book in float, knots read from an R32F texture (one row).
+// B-spline basis functions of The NURBS Book in float, knots read from an R32F texture laid out
+// row-major (lib_layout.glsl: one row when short, 2D when longer than the texture size limit).
 // MAX_DEGREE (a define) sizes the arrays; the degree p is a run-time value <= MAX_DEGREE.
+#include "lib_layout.glsl"
 
-float knot_at(sampler2D knots, int i) { return texelFetch(knots, ivec2(i, 0), 0).r; }
+float knot_at(sampler2D knots, int i) {
+  return texelFetch(knots, layout_texel(i, textureSize(knots, 0).x), 0).r;
+}
 
 // A2.1 FindSpan for n_ctrl control points: the span s in [p, n_ctrl - 1] with U[s] <= u < U[s+1];
 // u is clamped to the domain [U[p], U[n_ctrl]], and at its end the last non-empty span is used.

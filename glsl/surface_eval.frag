@@ -1,5 +1,6 @@
-// NURBS surface evaluation on a uniform grid (Krishnamurthy et al. §2.2, their ref. [27]): texel
-// (i, j) of the (n+1) x (m+1) target holds S(u_i, v_j), u_i = i / n over the (normalised) domain.
+// NURBS surface evaluation on a grid (Krishnamurthy et al. §2.2, their ref. [27]): texel (i, j) of
+// the target (a tile of the grid) holds S(u_i, v_j), u_i and v_j read from parameter textures
+// (normalised to the domain [0, 1]; knot-aligned, piecewise uniform: nurbs/certified_grid.h).
 // Control points arrive homogeneous, (w (P - origin), w), so float sums stay small; the origin is
 // added back at the end. Outputs: o_point = (x, y, z, w) with w the rational denominator at
 // (u_i, v_j); o_normal = unit normal (Su x Sv), (0, 0, 0) where it is undefined (poles).
@@ -7,18 +8,20 @@
 
 uniform sampler2D u_knots_u;
 uniform sampler2D u_knots_v;
-uniform sampler2D u_ctrl;     // RGBA32F, count_u x count_v
+uniform sampler2D u_ctrl;     // RGBA32F, point (i, j) at index j count_u + i (lib_layout.glsl)
+uniform sampler2D u_params_u; // R32F, samples x 1
+uniform sampler2D u_params_v;
 uniform ivec2 u_count;        // control points along u, v
 uniform ivec2 u_degree;
-uniform ivec2 u_grid;         // samples along u, v: n + 1, m + 1
 uniform vec3 u_origin;
 layout(location = 0) out vec4 o_point;
 layout(location = 1) out vec4 o_normal;
 
 void main() {
   ivec2 g = ivec2(gl_FragCoord.xy);
-  float u = u_grid.x > 1 ? float(g.x) / float(u_grid.x - 1) : 0.0;
-  float v = u_grid.y > 1 ? float(g.y) / float(u_grid.y - 1) : 0.0;
+  float u = texelFetch(u_params_u, ivec2(g.x, 0), 0).r;
+  float v = texelFetch(u_params_v, ivec2(g.y, 0), 0).r;
+  int width = textureSize(u_ctrl, 0).x;
   int p = u_degree.x, q = u_degree.y;
   int su = find_span(u_knots_u, u_count.x, p, u);
   int sv = find_span(u_knots_v, u_count.y, q, v);
@@ -30,7 +33,7 @@ void main() {
   for (int b = 0; b <= q; ++b) {
     vec4 row = vec4(0.0), row_du = vec4(0.0);
     for (int a = 0; a <= p; ++a) {
-      vec4 pw = texelFetch(u_ctrl, ivec2(su - p + a, sv - q + b), 0);
+      vec4 pw = texelFetch(u_ctrl, layout_texel((sv - q + b) * u_count.x + su - p + a, width), 0);
       row += Nu[a] * pw;
       row_du += dNu[a] * pw;
     }

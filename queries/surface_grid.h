@@ -1,59 +1,107 @@
 #pragma once
 /// \file surface_grid.h
-/// A NURBS surface evaluated on a uniform (n+1) x (m+1) parameter grid (Krishnamurthy et al. §2.2):
-/// on the GPU into float textures (glsl/surface_eval.frag), and its CPU twin in double precision.
-/// The grid step follows from a tolerance through the Filip bound (nurbs/filip_bound.h, choose_grid).
+/// A NURBS surface evaluated on a tensor grid of parameters (Krishnamurthy et al. §2.2): on the GPU
+/// into float textures (glsl/surface_eval*.frag), and its CPU twin in double precision. The grid is
+/// any nurbs::ParamGrid: uniform, or the knot-aligned piecewise-uniform grid of a tolerance
+/// (nurbs/certified_grid.h), whose Filip bound K_e holds on every cell.
 ///
-/// Float budget of the GPU path: knots are normalised to [0, 1] in double before rounding to float
-/// (relative error 2^-24), control points are sent relative to the centre of their box, and the
-/// basis functions of degree p carry about p rounding errors each. For degrees <= 7 the position
-/// error stays below about 20 * 2^-24 ~ 1.2e-6 of the control box; tests allow 1e-5 x model size.
+/// Tiles. A grid larger than the GPU allows (GL_MAX_TEXTURE_SIZE, or a memory budget per tile) is
+/// evaluated as tiles of at most TileLimits' side; neighbouring tiles share their boundary samples,
+/// so every grid cell lies in exactly one tile. Results are identical to one big texture.
+///
+/// Float budget of the GPU path (tabulated): basis functions computed in double and rounded to
+/// float (relative error 2^-24), control points sent relative to the centre of their box, the
+/// (p+1)(q+1)-term sums in float: measured on degrees 1-7 up to about 1.6e-6 of the control box
+/// (tests/queries/test_surface_grid.cpp allows 4e-6). The per-fragment method also rounds knots and
+/// parameters to float, which adds |S_u| 2^-24 per unit of normalised parameter: large on thin spans.
+#include <functional>
 #include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
 #include <vector>
 
 #include "gpgpu/gpu.h"
+#include "nurbs/certified_grid.h"
 #include "nurbs/surface.h"
 
 namespace queries {
 
-/// A surface uploaded once: knots (R32F rows, normalised to [0, 1]), homogeneous control points
-/// relative to `origin` (RGBA32F, count_u x count_v).
+/// A surface uploaded once: knots (R32F, normalised to [0, 1]) and homogeneous control points
+/// relative to `origin` (RGBA32F, point (i, j) at index j count_u + i), both laid out row-major in
+/// near-square 2D textures (gpgpu/layout.h) so no dimension limits their length.
 struct GpuSurface {
   gpgpu::Texture knots_u, knots_v, control;
   int count_u = 0, count_v = 0, degree_u = 0, degree_v = 0;
+  nurbs::Interval domain_u, domain_v;
   glm::dvec3 origin{0.0};
+  std::vector<double> host_knots_u, host_knots_v;  ///< the knots in double (tabulated basis, CPU side)
 };
 
-/// Uploads a valid surface. Throws std::invalid_argument when a dimension exceeds GL limits.
+/// Uploads a valid surface.
 GpuSurface upload_surface(const nurbs::Surface& surface, int max_texture_size);
 
-/// The evaluated grid: texel (i, j) is S(u_i, v_j) with u_i = u0 + (u1 - u0) i / n.
-struct SurfaceGrid {
-  int n = 0, m = 0;        ///< intervals; the textures are (n+1) x (m+1)
+/// How large one tile may be: at most max_side samples per direction (0: GL_MAX_TEXTURE_SIZE) and
+/// at most max_bytes for its point and normal textures (32 bytes per sample).
+struct TileLimits {
+  int max_side = 0;
+  long long max_bytes = 256LL << 20;
+};
+
+/// The side of the square tiles for these limits on this GPU (at least 2).
+[[nodiscard]] int tile_side(const gpgpu::ContextInfo& info, const TileLimits& limits);
+
+/// First samples of the tiles along one direction: tiles of `side` samples sharing their boundary
+/// sample (0, side - 1, 2 side - 2, ...), the last one shorter.
+[[nodiscard]] std::vector<int> tile_starts(int samples, int side);
+
+/// One tile: samples [i0, i0 + width) x [j0, j0 + height) of the grid.
+struct GridTile {
+  int i0 = 0, j0 = 0;
   gpgpu::Texture points;   ///< RGBA32F (x, y, z, w): w = rational denominator
   gpgpu::Texture normals;  ///< RGBA32F (nx, ny, nz, 0), zero where undefined
 };
 
+/// The evaluated grid: sample (i, j) is S(params.u[i], params.v[j]).
+struct SurfaceGrid {
+  nurbs::ParamGrid params;
+  std::vector<GridTile> tiles;  ///< row-major, tiles_u per row
+  int tiles_u = 0, tiles_v = 0;
+  [[nodiscard]] int n() const { return params.cells_u(); }
+  [[nodiscard]] int m() const { return params.cells_v(); }
+  /// The whole grid read back, 4 floats per sample, row-major with i fastest.
+  [[nodiscard]] std::vector<float> read_points() const;
+  [[nodiscard]] std::vector<float> read_normals() const;
+};
+
 /// How the GPU evaluates the grid.
 enum class EvalMethod {
-  /// One pass; every fragment finds its knot spans and runs Cox-de Boor in u and v.
+  /// One pass, all in float on the GPU: every fragment finds its knot spans and runs Cox-de Boor in
+  /// u and v (the paper's way). Float knots limit it on thin knot spans (see basis_table in the .cpp).
   PerFragment,
-  /// Two passes: basis functions tabulated once per grid column and row (surface_basis.frag),
-  /// then each fragment only combines (p+1)(q+1) control points (surface_eval_tabulated.frag).
+  /// Basis functions tabulated once per grid column and row, in double on the CPU ((n + m)(p + 1)
+  /// values, uploaded as two small textures), then each fragment only combines (p+1)(q+1) control
+  /// points (surface_eval_tabulated.frag). Faster, and as accurate on every knot vector.
   Tabulated,
 };
 
-/// Evaluates on the GPU (two render targets). n, m >= 1, n + 1 and m + 1 <= max size.
-SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& surface, int n, int m,
-                             EvalMethod method = EvalMethod::Tabulated);
+/// Evaluates on the GPU tile by tile (two render targets each), handing each tile to `visit` and then
+/// releasing it: a grid of any size holds one tile of GPU memory at a time. The parameters must lie
+/// in the domain.
+void evaluate_surface_tiles(gpgpu::Gpu& gpu, const GpuSurface& surface, const nurbs::ParamGrid& params,
+                            EvalMethod method, const TileLimits& limits, const std::function<void(GridTile&&)>& visit);
 
-/// CPU twin in double: points and unit normals, row-major (i fastest), (n+1)(m+1) each.
+/// Evaluates on the GPU and keeps every tile.
+SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& surface, const nurbs::ParamGrid& params,
+                             EvalMethod method = EvalMethod::Tabulated, const TileLimits& limits = {});
+/// The uniform n x m cell grid over the whole domain.
+SurfaceGrid evaluate_surface(gpgpu::Gpu& gpu, const GpuSurface& surface, int n, int m,
+                             EvalMethod method = EvalMethod::Tabulated, const TileLimits& limits = {});
+
+/// CPU twin in double: points and unit normals, row-major (i fastest), one per sample.
 struct SurfaceGridCpu {
-  int n = 0, m = 0;
+  nurbs::ParamGrid params;
   std::vector<glm::dvec3> points;
   std::vector<glm::dvec3> normals;
 };
+SurfaceGridCpu evaluate_surface_cpu(const nurbs::Surface& surface, const nurbs::ParamGrid& params);
 SurfaceGridCpu evaluate_surface_cpu(const nurbs::Surface& surface, int n, int m);
 
 }  // namespace queries
