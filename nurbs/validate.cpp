@@ -38,7 +38,53 @@ void check_points(std::vector<std::string>& out, const std::vector<P>& points) {
   }
 }
 
+void check_knot_magnitude(std::vector<std::string>& out, const std::vector<double>& knots, double limit,
+                          const char* prefix) {
+  for (size_t i = 0; i < knots.size(); ++i)
+    if (!(std::fabs(knots[i]) <= limit)) {
+      out.push_back(fmt::format("{}knot {} is {:g}, beyond the largest magnitude {:g}", prefix, i, knots[i], limit));
+      return;
+    }
+}
+
+template <typename P>
+void check_magnitudes(std::vector<std::string>& out, const std::vector<P>& points, const std::vector<double>& weights,
+                      double limit) {
+  for (size_t i = 0; i < points.size(); ++i)
+    for (int k = 0; k < P::length(); ++k)
+      if (!(std::fabs(points[i][k]) <= limit)) {
+        out.push_back(fmt::format("control point {} has coordinate {:g}, beyond the largest magnitude {:g}", i,
+                                  points[i][k], limit));
+        i = points.size();
+        break;
+      }
+  for (size_t i = 0; i < weights.size(); ++i)
+    if (!(weights[i] <= limit && weights[i] >= 1.0 / limit)) {
+      out.push_back(fmt::format("weight {} is {:g}, outside [{:g}, {:g}]", i, weights[i], 1.0 / limit, limit));
+      return;
+    }
+}
+
 }  // namespace
+
+template <int D>
+std::vector<std::string> validate_magnitude(const Curve<D>& curve, double limit) {
+  std::vector<std::string> out;
+  check_knot_magnitude(out, curve.knots, limit, "");
+  check_magnitudes(out, curve.points, curve.weights, limit);
+  return out;
+}
+
+template std::vector<std::string> validate_magnitude(const Curve<2>&, double);
+template std::vector<std::string> validate_magnitude(const Curve<3>&, double);
+
+std::vector<std::string> validate_magnitude(const Surface& s, double limit) {
+  std::vector<std::string> out;
+  check_knot_magnitude(out, s.knots_u, limit, "u ");
+  check_knot_magnitude(out, s.knots_v, limit, "v ");
+  check_magnitudes(out, s.points, s.weights, limit);
+  return out;
+}
 
 template <int D>
 std::vector<std::string> validate(const Curve<D>& curve) {

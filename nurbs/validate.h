@@ -20,4 +20,12 @@ template <int D>
 /// points.size() == count_u * count_v, weights (if any) of the same size, finite and > 0, finite points.
 [[nodiscard]] std::vector<std::string> validate(const Surface& surface);
 
+/// Problems of magnitude, empty when every control point coordinate and knot lies in [-limit, limit]
+/// and every weight in [1 / limit, limit]. Valid geometry beyond such a limit (1e300 coordinates)
+/// overflows later, in box diagonals, squared distances and derivative bounds; readers refuse it up
+/// front. At most one message per kind (the first offender), so the cost stays linear.
+template <int D>
+[[nodiscard]] std::vector<std::string> validate_magnitude(const Curve<D>& curve, double limit);
+[[nodiscard]] std::vector<std::string> validate_magnitude(const Surface& surface, double limit);
+
 }  // namespace nurbs

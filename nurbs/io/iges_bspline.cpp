@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "nurbs/io/iges_geometry.h"
+#include "nurbs/io/iges_reader.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/restrict.h"
 #include "nurbs/validate.h"
@@ -55,11 +56,22 @@ void require_count(const EntityParams& p, long long needed) {
                        needed, p.size()));
 }
 
-// Last line of defence after the field-level checks: the core's own validation (nurbs/validate.h).
+// Last line of defence after the field-level checks: the core's own validation (nurbs/validate.h),
+// then the reader's limit on magnitudes (kMaxCoordinate).
 template <class T>
 void check_valid(const EntityParams& p, const T& geometry) {
   std::vector<std::string> problems = validate(geometry);
   if (!problems.empty()) p.fail(0, "invalid geometry: " + problems.front());
+  problems = validate_magnitude(geometry, kMaxCoordinate);
+  if (!problems.empty()) p.fail(0, "out of range: " + problems.front());
+}
+
+// A degree field in [1, kMaxDegree] (and at most the record size, which bounds any sane count).
+int read_degree(const EntityParams& p, int i, const char* what) {
+  const int m = p.integer(i);
+  if (m > kMaxDegree)
+    p.fail(i, fmt::format("{} = {} exceeds the largest degree nurbsgl reads, {}", what, m, kMaxDegree));
+  return p.integer(i, 1, p.size(), what);
 }
 
 /// True when [a, b] cuts off more than rounding (1e-9 of the width) at either end of `domain`.
@@ -72,7 +84,7 @@ bool inside(Interval domain, double a, double b) {
 
 Curve3 IgesGeometry::bspline_curve(const EntityParams& p) {
   const int k = p.integer(1, 1, p.size(), "upper index K");
-  const int m = p.integer(2, 1, p.size(), "degree M");
+  const int m = read_degree(p, 2, "degree M");
   if (k < m) p.fail(1, fmt::format("upper index K = {} is less than degree M = {} (too few control points)", k, m));
   for (int i = 3; i <= 6; ++i) p.integer(i, 0, 1, "property flag");
   const int n = k + 1;
@@ -112,8 +124,8 @@ Surface IgesGeometry::surface(int de, const glm::dmat4& parent, bool restrict_to
   EntityParams p(file_, e);
   const int k1 = p.integer(1, 1, p.size(), "upper index K1");
   const int k2 = p.integer(2, 1, p.size(), "upper index K2");
-  const int m1 = p.integer(3, 1, p.size(), "degree M1");
-  const int m2 = p.integer(4, 1, p.size(), "degree M2");
+  const int m1 = read_degree(p, 3, "degree M1");
+  const int m2 = read_degree(p, 4, "degree M2");
   if (k1 < m1) p.fail(1, fmt::format("upper index K1 = {} is less than degree M1 = {}", k1, m1));
   if (k2 < m2) p.fail(2, fmt::format("upper index K2 = {} is less than degree M2 = {}", k2, m2));
   for (int i = 5; i <= 9; ++i) p.integer(i, 0, 1, "property flag");
@@ -121,6 +133,8 @@ Surface IgesGeometry::surface(int de, const glm::dmat4& parent, bool restrict_to
   const long long count = static_cast<long long>(nu) * nv;
   const long long needed = 9LL + (nu + m1 + 1) + (nv + m2 + 1) + 4 * count + 4;
   require_count(p, needed);
+  points_made_ += count;
+  check_point_budget(de);  // a surface shared by many faces is copied for each
   const int ku = 10, kv = ku + nu + m1 + 1, w0 = kv + nv + m2 + 1, p0 = w0 + static_cast<int>(count);
   Surface s;
   s.degree_u = m1;

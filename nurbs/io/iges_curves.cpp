@@ -8,13 +8,25 @@
 #include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_geometry.h"
+#include "nurbs/io/iges_reader.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/validate.h"
 
 namespace nurbs::io {
 namespace {
 
 // Composite curves and 124 chains nest; deeper than this is a pointer cycle in practice.
 constexpr int kMaxDepth = 64;
+
+// Keeps `de` on the stack of composites being expanded while in scope (also when a face is
+// dropped by an exception that the reader catches): the budget message names the outermost.
+struct ExpansionGuard {
+  ExpansionGuard(std::vector<int>& stack, int de) : stack_(stack) { stack_.push_back(de); }
+  ~ExpansionGuard() { stack_.pop_back(); }
+  ExpansionGuard(const ExpansionGuard&) = delete;
+  ExpansionGuard& operator=(const ExpansionGuard&) = delete;
+  std::vector<int>& stack_;
+};
 
 std::string type_list(std::initializer_list<int> types) {
   std::string s;
@@ -43,6 +55,14 @@ bool is_unsupported_surface_type(int type) {
     default:
       return false;
   }
+}
+
+void IgesGeometry::check_point_budget(int de) const {
+  const long long budget = kMaxPointsBase + static_cast<long long>(file_.text->size());
+  if (points_made_ > budget)
+    fail(de, fmt::format("reading it, the curves and surfaces read so far exceed {} control points, the budget of "
+                         "{} + one per byte of the file (entities listed over and over?)",
+                         budget, kMaxPointsBase));
 }
 
 void IgesGeometry::fail(int de, const std::string& problem) const {
@@ -106,6 +126,7 @@ std::vector<Curve3> IgesGeometry::curves(int de, const glm::dmat4& parent, int d
   switch (e.type) {
     case 102: {  // composite curve: N, then N pointers to its pieces in order
       const int n = p.integer(1, 1, std::max(1, p.size() - 1), "number of curves N");
+      const ExpansionGuard guard(composites_, de);
       for (int k = 0; k < n; ++k) {
         const int child = expect(p, 2 + k, {100, 102, 104, 110, 126}, "a curve");
         for (Curve3& c : curves(child, m, depth + 1)) out.push_back(std::move(c));
@@ -150,6 +171,10 @@ std::vector<Curve3> IgesGeometry::curves(int de, const glm::dmat4& parent, int d
       fail(de, "is not a curve");
   }
   transform_points(out.back(), m);
+  if (const std::vector<std::string> problems = validate_magnitude(out.back(), kMaxCoordinate); !problems.empty())
+    p.fail(0, "out of range: " + problems.front());
+  points_made_ += static_cast<long long>(out.back().points.size());
+  check_point_budget(composites_.empty() ? de : composites_.front());  // names the outermost composite
   return out;
 }
 

@@ -35,7 +35,8 @@ class IgesGeometry {
   glm::dmat4 transform(int de);
 
   /// A curve entity as one or more 3D NURBS curves (composites flattened), each mapped by
-  /// parent * (its own transform chain). Throws ReadError on malformed data.
+  /// parent * (its own transform chain). Throws ReadError on malformed data, on composites nested
+  /// deeper than 64 (a cycle), and beyond the reader's point budget (kMaxPointsBase in iges_reader.h).
   std::vector<Curve3> curves(int de, const glm::dmat4& parent, int depth = 0);
 
   /// A curve entity used in a surface's parameter space: (x, y) of curves(de, identity).
@@ -65,10 +66,14 @@ class IgesGeometry {
  private:
   glm::dmat4 matrix_124(int de, int depth);
   Curve3 bspline_curve(const EntityParams& p);
+  /// Throws ReadError at `de` once the control points created so far exceed the budget.
+  void check_point_budget(int de) const;
 
   const IgesFile& file_;
   std::unordered_map<int, glm::dmat4> transforms_;
   int ranges_restricted_ = 0;
+  long long points_made_ = 0;    // control points of every curve and surface built so far
+  std::vector<int> composites_;  // the 102s being expanded, outermost first: cycle detection
 };
 
 }  // namespace nurbs::io

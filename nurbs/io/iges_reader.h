@@ -50,8 +50,24 @@ struct IgesReadLog {
 inline constexpr double kTrimGapRepair = 1e-4;
 inline constexpr double kTrimGapRounding = 1e-12;
 
+/// Limits that keep reading, and the queries after it, bounded whatever a file holds (damaged or
+/// hostile input); beyond each the reader throws ReadError naming the entity.
+/// Degree of a 126 curve or 128 surface: evaluation costs grow as degree^2 per point, and CAD data
+/// stays far below (OpenCASCADE's own limit is 25).
+inline constexpr int kMaxDegree = 32;
+/// Largest magnitude of a coordinate or knot, after 124 transforms; weights must lie in
+/// [1 / kMaxCoordinate, kMaxCoordinate]. Squared distances, box diagonals and the Filip bound's
+/// products of such numbers then stay far from double overflow (about 1.8e308).
+inline constexpr double kMaxCoordinate = 1e100;
+/// Control points the reader may create in all, counted over every curve and surface it builds:
+/// kMaxPointsBase plus one per byte of the file. Entities listed many times (a composite curve
+/// naming a sub-curve twice, chained: 2^depth curves) would otherwise expand without bound; a file
+/// that names each entity once creates well under one point per byte.
+inline constexpr long long kMaxPointsBase = 1'000'000;
+
 /// Reads an IGES file. Throws ReadError ("FILE: line L: entity Dn (type t): problem") on any
-/// malformed record or geometry, and when the file cannot be opened.
+/// malformed record or geometry, on a face listing the same loop twice, on input beyond the limits
+/// above, and when the file cannot be opened.
 Model read_iges(const std::filesystem::path& path, const IgesReadOptions& options = {}, IgesReadLog* log = nullptr);
 
 /// Same as read_iges on text already in memory; `name` is used in messages and Model::source.
