@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <glm/geometric.hpp>
+#include <set>
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
@@ -100,17 +101,35 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
   }
   // Sweep in x: only edges whose x ranges overlap are candidates; their y ranges must overlap too
   // (edges along a constant-u line share x ranges, so x alone lets O(E^2) pairs through).
+  // Loops lying on top of each other make every pair of their edges a candidate: the work stops at
+  // kMaxCandidatePairs (a fraction of a second), said in the report, so that no file makes this run for minutes.
+  // n copies of one loop cross in n^2 / 2 pairs: at most kMaxCrossingReports messages, the rest summed up.
+  constexpr long long kMaxCandidatePairs = 30'000'000;
+  constexpr size_t kMaxCrossingReports = 1000;
+  long long candidates = 0;
   std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) { return e.xmin < f.xmin; });
-  std::vector<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
+  std::set<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
   for (size_t i = 0; i < edges.size(); ++i) {
     for (size_t j = i + 1; j < edges.size() && edges[j].xmin <= edges[i].xmax; ++j) {
+      if (++candidates > kMaxCandidatePairs) {
+        out.push_back(
+            fmt::format("face {}: crossing check stopped after {} candidate edge pairs (loops overlapping "
+                        "over long stretches?); further crossings are not reported",
+                        id, kMaxCandidatePairs));
+        return out;
+      }
       const Edge &e = edges[i], &f = edges[j];
       if (f.ymin > e.ymax || e.ymin > f.ymax || adjacent(e, f)) continue;
+      const std::pair<size_t, size_t> key{std::min(e.loop, f.loop), std::max(e.loop, f.loop)};
+      if (reported.count(key) != 0) continue;
       glm::dvec2 where;
       if (!segments_meet(e.a, e.b, f.a, f.b, where)) continue;
-      const std::pair<size_t, size_t> key{std::min(e.loop, f.loop), std::max(e.loop, f.loop)};
-      if (std::find(reported.begin(), reported.end(), key) != reported.end()) continue;
-      reported.push_back(key);
+      if (reported.size() == kMaxCrossingReports) {
+        out.push_back(
+            fmt::format("face {}: more than {} crossing loop pairs; the rest are not listed", id, kMaxCrossingReports));
+        return out;
+      }
+      reported.insert(key);
       if (e.loop == f.loop) {
         out.push_back(fmt::format("face {}: loop {} crosses itself near (u, v) = ({:.6g}, {:.6g})", id, e.loop, where.x,
                                   where.y));

@@ -15,7 +15,9 @@ namespace nurbs {
 /// Reports: invalid curves (validate()), empty loops, gaps > gap_tolerance between the end of a
 /// curve and the start of the next (and last -> first), and crossings: any two non-adjacent edges
 /// of the flattened loops (flatten_trim with flatten_tolerance) that intersect or touch, within a
-/// loop ("crosses itself") or between loops ("loops a and b cross"), with the (u, v) where.
+/// loop ("crosses itself") or between loops ("loops a and b cross"), with the (u, v) where. The
+/// crossing search stops after 3e7 candidate edge pairs (loops lying on top of each other) or 1000
+/// crossing loop pairs, with a message saying so, which bounds its time and output whatever the input.
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
                                                         double flatten_tolerance);
 /// The same with the loops already flattened (flatten_trim of this face, whose curves are valid),

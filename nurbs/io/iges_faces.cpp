@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <glm/common.hpp>
 #include <limits>
+#include <unordered_map>
 
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
@@ -48,6 +49,22 @@ TrimLoop domain_loop(const Surface& s) {
   for (int i = 0; i < 4; ++i)
     loop.curves.push_back(to_2d(line_segment({corners[i], 0.0}, {corners[(i + 1) % 4], 0.0})));
   return loop;
+}
+
+// A pointer parameter of a face: its index in the record and the entity it names.
+struct ParameterRef {
+  int index = 0;
+  int de = 0;
+};
+
+// Throws at the second parameter naming the same entity: a face cannot have the same loop twice,
+// and n copies of one loop would make the crossing check's work grow with n^2 or worse.
+void reject_repeats(const EntityParams& p, const std::vector<ParameterRef>& refs, const char* what) {
+  std::unordered_map<int, int> first;  // entity -> parameter that names it first
+  for (const ParameterRef& r : refs)
+    if (auto [it, fresh] = first.emplace(r.de, r.index); !fresh)
+      p.fail(r.index, fmt::format("{} D{} is the same as at parameter {}: a face cannot have the same loop twice", what,
+                                  r.de, it->second));
 }
 
 }  // namespace
@@ -114,18 +131,27 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
   const int n1 = p.integer(2, 0, 1, "outer boundary flag N1");
   const int n2 = p.integer(3, 0, std::max(0, p.size() - 4), "number of inner boundaries N2");
   const int pto = n1 == 1 ? g_.expect(p, 4, {142}, "a curve on a parametric surface") : p.integer(4);
-  std::vector<int> holes;
-  for (int k = 0; k < n2; ++k) holes.push_back(g_.expect(p, 5 + k, {142}, "a curve on a parametric surface"));
+  std::vector<ParameterRef> loops;  // the 142s, outer first
+  if (n1 == 1) loops.push_back({4, pto});
+  for (int k = 0; k < n2; ++k) loops.push_back({5 + k, g_.expect(p, 5 + k, {142}, "a curve on a parametric surface")});
   p.check_trailing(4 + n2);
+  reject_repeats(p, loops, "loop");
+  std::vector<ParameterRef> curves;  // their parameter-space curves, checked before any is expanded
+  for (const ParameterRef& l : loops) curves.push_back({l.index, curve_142(l.de)});
+  reject_repeats(p, curves, "the parameter-space curve of loop");
   TrimmedSurface f;
   f.surface = g_.surface(pts, m, /*restrict_to_range=*/n1 == 0);  // N1 = 0: the range is the outer boundary
-  if (n1 == 1) f.loops.push_back(loop_142(pto, true));
-  for (int h : holes) f.loops.push_back(loop_142(h, false));
+  for (size_t k = 0; k < curves.size(); ++k) {
+    TrimLoop loop;
+    loop.outer = n1 == 1 && k == 0;
+    loop.curves = g_.parameter_curves(curves[k].de);
+    f.loops.push_back(std::move(loop));
+  }
   return f;
 }
 
-// 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF.
-TrimLoop IgesFaces::loop_142(int de, bool outer) {
+// 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF; returns BPTR.
+int IgesFaces::curve_142(int de) {
   EntityParams p(g_.file(), g_.file().entry(de));
   p.integer(1);
   p.pointer(2);
@@ -134,10 +160,7 @@ TrimLoop IgesFaces::loop_142(int de, bool outer) {
   p.integer(5);
   p.check_trailing(5);
   if (bptr == 0) no_parameter_curve(de, "has no parameter-space curve (BPTR = 0)");
-  TrimLoop loop;
-  loop.outer = outer;
-  loop.curves = g_.parameter_curves(bptr);
-  return loop;
+  return bptr;
 }
 
 // 143: TYPE, SPTR, N, BDPT(1..N) pointing to 141s; the first boundary is taken as the outer one.
@@ -145,12 +168,13 @@ TrimmedSurface IgesFaces::face_143(const EntityParams& p, const glm::dmat4& m) {
   p.integer(1, 0, 1, "boundary type");
   const int sptr = g_.expect(p, 2, {128}, "a surface");
   const int n = p.integer(3, 1, std::max(1, p.size() - 3), "number of boundaries N");
-  std::vector<int> bounds;
-  for (int k = 0; k < n; ++k) bounds.push_back(g_.expect(p, 4 + k, {141}, "a boundary"));
+  std::vector<ParameterRef> bounds;
+  for (int k = 0; k < n; ++k) bounds.push_back({4 + k, g_.expect(p, 4 + k, {141}, "a boundary")});
   p.check_trailing(3 + n);
+  reject_repeats(p, bounds, "boundary");
   TrimmedSurface f;
   f.surface = g_.surface(sptr, m, /*restrict_to_range=*/false);  // its boundaries bound it
-  for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)], k == 0));
+  for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)].de, k == 0));
   return f;
 }
 
@@ -185,12 +209,13 @@ TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
   const int surf = g_.expect(p, 1, {128}, "a surface");
   const int n = p.integer(2, 1, std::max(1, p.size() - 3), "number of loops N");
   const int of = p.integer(3, 0, 1, "outer loop flag OF");
-  std::vector<int> loops;
-  for (int k = 0; k < n; ++k) loops.push_back(g_.expect(p, 4 + k, {508}, "a loop"));
+  std::vector<ParameterRef> loops;
+  for (int k = 0; k < n; ++k) loops.push_back({4 + k, g_.expect(p, 4 + k, {508}, "a loop")});
   p.check_trailing(3 + n);
+  reject_repeats(p, loops, "loop");
   TrimmedSurface f;
   f.surface = g_.surface(surf, m, /*restrict_to_range=*/of == 0);  // no outer loop: the range bounds it
-  for (int k = 0; k < n; ++k) f.loops.push_back(loop_508(loops[static_cast<size_t>(k)], of == 1 && k == 0));
+  for (int k = 0; k < n; ++k) f.loops.push_back(loop_508(loops[static_cast<size_t>(k)].de, of == 1 && k == 0));
   return f;
 }
 

@@ -31,7 +31,7 @@ class IgesFaces {
   TrimmedSurface face_144(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_143(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
-  TrimLoop loop_142(int de, bool outer);
+  int curve_142(int de);
   TrimLoop loop_141(int de, bool outer);
   TrimLoop loop_508(int de, bool outer);
   int edge_list_size(int de);
