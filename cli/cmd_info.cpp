@@ -6,7 +6,9 @@
 
 #include "cli/commands.h"
 #include "nurbs/io/model_summary.h"
+#include "nurbs/io/read_error.h"
 #include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 
 namespace cli {
 
@@ -22,6 +24,9 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
     nurbs::io::IgesReadLog log;
     const nurbs::Model model = nurbs::io::read_model(*path, &log);
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
+    // A size that no tolerance can refer to (0, or overflowed) is bad input, as queries treat it.
+    if (const auto problems = nurbs::validate_model_size(s.size); s.faces > 0 && !problems.empty())
+      throw nurbs::io::ReadError(model.source, "", problems.front());
     if (*json) {
       nlohmann::json j = nurbs::io::to_json(s);
       j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"domain_loops_added", log.domain_loops_added},

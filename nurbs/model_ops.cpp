@@ -64,4 +64,14 @@ Box model_box(const Model& model) {
 
 double model_size(const Model& model) { return model_box(model).diagonal(); }
 
+std::vector<std::string> validate_model_size(double size) {
+  if (!std::isfinite(size)) return {fmt::format("model size is {} (coordinates too large for double precision)", size)};
+  if (size < kMinModelSize)
+    return {fmt::format("model size is {:g}, less than {:g}: the surfaces collapse to a point (coordinates too small?)",
+                        size, kMinModelSize)};
+  if (size > kMaxModelSize)
+    return {fmt::format("model size is {:g}, more than {:g}: coordinates too large", size, kMaxModelSize)};
+  return {};
+}
+
 }  // namespace nurbs

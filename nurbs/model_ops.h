@@ -33,4 +33,15 @@ struct Box {
 /// Model size = model_box(model).diagonal().
 [[nodiscard]] double model_size(const Model& model);
 
+/// Smallest and largest model size that relative tolerances can refer to: squares and products of
+/// a few tolerances stay far from double underflow and overflow (about 1e-308 and 1.8e308). A model
+/// scaled by 1e-300 has size 0 (its diagonal underflows); one at 1e300 an infinite size.
+inline constexpr double kMinModelSize = 1e-100;
+inline constexpr double kMaxModelSize = 1e100;
+
+/// What is wrong with `size` (a model_size) as the scale of a query's tolerances, empty when it is
+/// finite and in [kMinModelSize, kMaxModelSize]. Callers that derive tolerances from the model size
+/// refuse the model with this message.
+[[nodiscard]] std::vector<std::string> validate_model_size(double size);
+
 }  // namespace nurbs

@@ -59,6 +59,7 @@ ModelSummary summarize(const Model& model) {
     s.sampled_min = box.min;
     s.sampled_max = box.max;
     s.size = box.diagonal();
+    s.control_size = Box{lo, hi}.diagonal();
   }
   return s;
 }
@@ -72,7 +73,10 @@ std::string to_text(const ModelSummary& s, bool per_face) {
                      s.bbox_min.z, s.bbox_max.x, s.bbox_max.y, s.bbox_max.z);
   out += fmt::format("sampled box: [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.sampled_min.x, s.sampled_min.y,
                      s.sampled_min.z, s.sampled_max.x, s.sampled_max.y, s.sampled_max.z);
-  out += fmt::format("model size: {:.6g} (sampled box diagonal; relative tolerances refer to it)\n", s.size);
+  out += fmt::format(
+      "model size: {:.6g} (sampled box diagonal, a lower estimate; relative tolerances refer to it; the "
+      "control-point box diagonal {:.6g} bounds it above)\n",
+      s.size, s.control_size);
   out += "skipped entities:";
   if (s.skipped_entities.empty()) out += " none";
   for (auto [type, count] : s.skipped_entities) out += fmt::format(" {}x{}", type, count);
@@ -114,6 +118,8 @@ nlohmann::json to_json(const ModelSummary& s) {
            {{"min", {s.sampled_min.x, s.sampled_min.y, s.sampled_min.z}},
             {"max", {s.sampled_max.x, s.sampled_max.y, s.sampled_max.z}}}},
           {"size", s.size},
+          {"size_method", "sampled box diagonal (a lower estimate)"},
+          {"control_box_diagonal", s.control_size},
           {"skipped_entities", skipped},
           {"face_list", faces}};
 }

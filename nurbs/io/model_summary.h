@@ -1,7 +1,8 @@
 #pragma once
 /// \file model_summary.h
 /// What `nurbsgl info MODEL [--json]` prints: faces, degrees, control-point counts, rational or
-/// not, trim loops, bounding box and model size, skipped IGES entities.
+/// not, trim loops, bounding box and model size (sampled, with the control-point box diagonal
+/// beside it as an upper bound), skipped IGES entities.
 #include <glm/vec3.hpp>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -38,7 +39,11 @@ struct ModelSummary {
   /// Box of sampled surface points (nurbs::model_box): the model's own box, slightly inside the
   /// true one on curved faces.
   glm::dvec3 sampled_min{0.0}, sampled_max{0.0};
-  double size = 0.0;  ///< nurbs::model_size: diagonal of the sampled box (ACIS-style), file units
+  /// nurbs::model_size: diagonal of the sampled box (ACIS-style), file units. Sampled, hence a
+  /// lower estimate of the true box diagonal: a spike between samples can be missed.
+  double size = 0.0;
+  /// Diagonal of the control-point box: an upper bound of the true box diagonal.
+  double control_size = 0.0;
   std::map<int, int> skipped_entities;
   std::vector<FaceSummary> face_list;
 };
