@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 #include <limits>
 
+#include "nurbs/bernstein_poly.h"
 #include "nurbs/bezier_extraction.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/surface_eval.h"
@@ -115,6 +116,67 @@ SecondDerivativeBounds adaptive_patch_bounds(const BezierPatch& patch, const Ada
 
 namespace {
 
+/// The exact-form bound of a rational patch: w^3 S_uu, w^3 S_uv, w^3 S_vv are polynomials (N = w (P - c))
+///   w^3 S_uu = w^2 N_uu - 2 w w_u N_u - w w_uu N + 2 w_u^2 N
+///   w^3 S_uv = w^2 N_uv - w w_v N_u - w w_u N_v - w w_uv N + 2 w_u w_v N
+/// (and S_vv like S_uu), built in Bernstein form, so the convex hull of their coefficients over the
+/// lower bound of w^3 (its smallest Bernstein coefficient, or w_min^3) bounds the derivatives. Unlike
+/// the quotient rule's triangle inequality it keeps the cancellations (an extruded arc has S_uv = 0
+/// while its quotient-rule bound stays 2 |w_u| |S_v| / w at any piece size), and converges to the
+/// true maximum as pieces shrink. Returns false when w^3 has no positive lower bound.
+bool numerator_bounds(const Surface& patch, double du, double dv, glm::dvec3 c, SecondDerivativeBounds& out) {
+  const int p = patch.degree_u, q = patch.degree_v;
+  BernsteinScalar w{p, q, {}};
+  BernsteinVector N{p, q, {}};
+  for (int j = 0; j <= q; ++j)
+    for (int i = 0; i <= p; ++i) {
+      w.c.push_back(patch.weight(i, j));
+      N.c.push_back(patch.weight(i, j) * (patch.point(i, j) - c));
+    }
+  const BernsteinScalar wu = derivative(w, true, du), wv = derivative(w, false, dv);
+  const BernsteinVector Nu = derivative(N, true, du), Nv = derivative(N, false, dv);
+  const BernsteinScalar w2 = multiply(w, w);
+  double w3_low = std::pow(*std::min_element(w.c.begin(), w.c.end()), 3);
+  const BernsteinScalar w3 = multiply(w2, w);
+  w3_low = std::max(w3_low, *std::min_element(w3.c.begin(), w3.c.end()));
+  if (!(w3_low > 0)) return false;
+  auto sum = [](std::initializer_list<std::pair<double, BernsteinVector>> terms) {
+    BernsteinVector r = terms.begin()->second;
+    for (auto& x : r.c) x *= terms.begin()->first;
+    for (auto it = terms.begin() + 1; it != terms.end(); ++it) add_scaled(r, it->first, it->second);
+    return r;
+  };
+  // Second derivatives along one direction (S_uu, or S_vv with along_u = false).
+  auto pure = [&](bool along_u) {
+    const int deg = along_u ? p : q;
+    const double width = along_u ? du : dv;
+    const BernsteinScalar& wd = along_u ? wu : wv;
+    const BernsteinVector& Nd = along_u ? Nu : Nv;
+    BernsteinVector r = sum({{-2.0, multiply(multiply(w, wd), Nd)}, {2.0, multiply(multiply(wd, wd), N)}});
+    if (deg >= 2) {
+      add_scaled(r, 1.0, multiply(w2, derivative(Nd, along_u, width)));
+      add_scaled(r, -1.0, multiply(multiply(w, derivative(wd, along_u, width)), N));
+    }
+    return r;
+  };
+  const BernsteinVector Puu = pure(true), Pvv = pure(false);
+  const BernsteinVector Puv = sum({{1.0, multiply(w2, derivative(Nu, false, dv))},
+                                   {-1.0, multiply(multiply(w, wv), Nu)},
+                                   {-1.0, multiply(multiply(w, wu), Nv)},
+                                   {-1.0, multiply(multiply(w, derivative(wu, false, dv)), N)},
+                                   {2.0, multiply(multiply(wu, wv), N)}});
+  auto bound = [&](const BernsteinVector& P, double& coord, double& norm) {
+    MaxAbs m;
+    for (const auto& x : P.c) m.add(x);
+    coord = std::max({m.coord.x, m.coord.y, m.coord.z}) / w3_low;
+    norm = m.norm / w3_low;
+  };
+  bound(Puu, out.m1, out.m1_norm);
+  bound(Puv, out.m2, out.m2_norm);
+  bound(Pvv, out.m3, out.m3_norm);
+  return true;
+}
+
 /// One-sided first derivatives agree along the common edge of two patches (see FilipBound::c1_u).
 bool c1_across(const Surface& left, const Surface& right, bool along_u, double at, Interval edge, int samples) {
   for (int k = 0; k < samples; ++k) {
@@ -194,7 +256,14 @@ SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, doub
   const double Muu_e = (Auu.norm + 2.0 * Wu * Due + Wuu * Re) / wmin;
   const double Muv_e = (Auv.norm + Wu * Dve + Wv * Due + Wuv * Re) / wmin;
   const double Mvv_e = (Avv.norm + 2.0 * Wv * Dve + Wvv * Re) / wmin;
-  return {cmax(Muu), cmax(Muv), cmax(Mvv), norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
+  const SecondDerivativeBounds quotient{
+      cmax(Muu), cmax(Muv), cmax(Mvv), norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
+  // Rational patches with varying weights: also the exact-form bound; both hold, keep the smaller.
+  SecondDerivativeBounds exact;
+  if ((Wu == 0 && Wv == 0) || !numerator_bounds(patch, du, dv, c, exact)) return quotient;
+  return {std::min(quotient.m1, exact.m1),           std::min(quotient.m2, exact.m2),
+          std::min(quotient.m3, exact.m3),           std::min(quotient.m1_norm, exact.m1_norm),
+          std::min(quotient.m2_norm, exact.m2_norm), std::min(quotient.m3_norm, exact.m3_norm)};
 }
 
 bool FilipBound::c1() const {

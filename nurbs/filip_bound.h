@@ -98,8 +98,8 @@ struct SecondDerivativeBounds {
 
 /// When adaptive_patch_bounds stops splitting (see there).
 struct AdaptiveRefinement {
-  int max_pieces = 256;   ///< at most this many sub-patches per Bézier patch (16 x 16 if uniform)
-  double min_gain = 0.9;  ///< stop when splitting the worst piece lowers its score by less than 10 %
+  int max_pieces = 64;    ///< at most this many sub-patches per Bézier patch (8 x 8 if uniform)
+  double min_gain = 0.8;  ///< stop when splitting the worst piece lowers its score by less than 20 %
 };
 
 /// Bounds of one Bézier patch, refined adaptively (issue 6, "tight rational bounds"): the piece
