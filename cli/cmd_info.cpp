@@ -1,9 +1,11 @@
 // `nurbsgl info MODEL`: what a model file holds (faces, degrees, control points, trims, box,
 // model size, skipped IGES entities). No GPU needed.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include "cli/bounds_report.h"
 #include "cli/commands.h"
 #include "nurbs/io/model_summary.h"
 #include "nurbs/io/read_error.h"
@@ -17,10 +19,17 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto per_face = std::make_shared<bool>(false);
+  auto bounds = std::make_shared<bool>(false);
+  auto tolerance = std::make_shared<double>(1e-4);
   cmd->add_option("MODEL", *path, "Model file")->required();
+  cmd->add_flag("--bounds", *bounds,
+                "Also report per face the Filip bound against sampled second derivatives and the certified grid");
+  cmd->add_option("--tolerance", *tolerance, "For --bounds: the grids' K_e, relative to the model size")
+      ->check(CLI::Range(1e-9, 1.0))
+      ->capture_default_str();
   cmd->add_flag("--json", *json, "Print one JSON object instead of text");
   cmd->add_flag("--faces", *per_face, "Also list every face");
-  cmd->callback([path, json, per_face] {
+  cmd->callback([path, json, per_face, bounds, tolerance] {
     nurbs::io::IgesReadLog log;
     const nurbs::Model model = nurbs::io::read_model(*path, &log);
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
@@ -32,6 +41,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
       j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"domain_loops_added", log.domain_loops_added},
                      {"gaps_closed", log.gaps_closed},           {"ranges_restricted", log.ranges_restricted},
                      {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings}};
+      if (*bounds) j["bounds"] = bounds_report(model, *tolerance, false);
       fmt::print("{}\n", j.dump(2));
       return;
     }
@@ -44,6 +54,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
     for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);
     if (log.trim_problems.size() > 20) fmt::print("  ... ({} more; --json lists all)\n", log.trim_problems.size() - 20);
     for (const std::string& w : log.warnings) fmt::print("dropped            {}\n", w);
+    if (*bounds) fmt::print("{}", bounds_text(bounds_report(model, *tolerance, s.faces > 20 && isatty(STDERR_FILENO))));
   });
 }
 

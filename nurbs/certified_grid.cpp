@@ -211,6 +211,17 @@ CertifiedGrid certified_grid(const FilipBound& b, double tolerance, const GridLi
     // Every knot a line adapts per span; worth trying unless the span table is huge.
     if (b.spans_u() * b.spans_v() <= 1'000'000) best = solve(b, true, tolerance, norm);
     Plan merged = solve(b, false, tolerance, norm);
+    if (merged.su.size() == 1 && merged.sv.size() == 1) {
+      // One segment each way (a C^1 surface): the exhaustive uniform search is exact there.
+      const int cap = static_cast<int>(std::min(std::sqrt(static_cast<double>(limits.max_samples)), 65536.0));
+      const GridChoice u = choose_grid(b, tolerance, cap, norm);
+      const double samples = (u.n + 1.0) * (u.m + 1.0);
+      if (u.k <= tolerance && samples < merged.samples) {
+        merged.n = {double(u.n)};
+        merged.mm = {double(u.m)};
+        merged.samples = samples;
+      }
+    }
     if (merged.samples < best.samples) best = std::move(merged);
   } else {
     best.su = segments(b.breaks_u, b.c1_u, false);
