@@ -1,8 +1,9 @@
 // `nurbsgl evaluate MODEL`: evaluates every face (or the chosen ones) on the GPU into point and
 // normal textures on the knot-aligned grid whose Euclidean Filip bound K_e meets the tolerance on
-// every cell (nurbs/certified_grid.h), in tiles when the grid exceeds the GPU's limits, renders the
-// trim masks on the same samples, and reports per face the grid, K, K_e, the bound's ratio to the
-// sampled second derivatives and whether the tolerance is met. Exit 1 when a face does not meet it.
+// every cell (nurbs/certified_grid.h): faces packed into atlases, one evaluation pass and one trim
+// fill per atlas (queries/face_atlas.h); a face too large for an atlas alone, in tiles. It reports
+// per face the grid, K, K_e, the bound's ratio to the sampled second derivatives and whether the
+// tolerance is met. Exit 1 when a face does not meet it.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
+#include "queries/face_atlas.h"
 #include "queries/surface_grid.h"
 #include "queries/trim_texture.h"
 
@@ -33,6 +35,7 @@ struct Options {
   int tile_mb = 256;
   std::string obj;
   bool json = false;
+  bool batch = true;  ///< faces in atlases (one pass per batch); false = one face at a time
   queries::EvalMethod method = queries::EvalMethod::Tabulated;
 };
 
@@ -60,6 +63,53 @@ nurbs::FaceGridReport face_grid(const nurbs::Surface& s, const Options& o, doubl
 
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
+/// A tenth of the grid's smallest step: the trim loops' flattening tolerance (parameter units).
+double flatten_tolerance(const nurbs::ParamGrid& g) {
+  double step = 1e300;
+  for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
+  for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
+  return 0.1 * step;
+}
+
+/// GPU work of one face or batch: times and, for --obj, the points.
+struct GpuWork {
+  double eval_ms = 0, trim_ms = 0;
+  int tiles = 0;
+  int batch = -1;  ///< index of the atlas the face was evaluated in; -1 = alone (tiled)
+};
+
+/// Evaluates one face alone, tile by tile (grids larger than a tile, or --no-batch).
+GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nurbs::ParamGrid& params,
+                       const Options& o, const queries::TileLimits& limits, int side, std::set<int>& compiled,
+                       nurbs::io::SampledGrid* sg) {
+  GpuWork w;
+  const queries::GpuSurface g = queries::upload_surface(f.surface, gpu.info().max_texture_size);
+  if (compiled.insert(std::max(f.surface.degree_u, f.surface.degree_v)).second) {
+    (void)queries::evaluate_surface(gpu, g, 1, 1, o.method);  // builds the programs for this degree: not timed
+    gpu.finish();
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  queries::evaluate_surface_tiles(gpu, g, params, o.method, limits, [&](queries::GridTile&& t) {
+    ++w.tiles;
+    if (!sg) return;
+    const auto pts = t.points.read();
+    for (int y = 0; y < t.points.height(); ++y)
+      for (int x = 0; x < t.points.width(); ++x) {
+        const size_t k = size_t(y * t.points.width() + x) * 4;
+        sg->points[size_t(t.j0 + y) * params.u.size() + size_t(t.i0 + x)] = {pts[k], pts[k + 1], pts[k + 2]};
+      }
+  });
+  gpu.finish();
+  w.eval_ms = ms_since(t0);
+  if (!f.loops.empty()) {
+    t0 = std::chrono::steady_clock::now();
+    (void)queries::trim_masks(gpu, f, params, side, flatten_tolerance(params));
+    gpu.finish();
+    w.trim_ms = ms_since(t0);
+  }
+  return w;
+}
+
 void run(const GlobalOptions& global, const Options& o) {
   const nurbs::Model model = nurbs::io::read_model(o.path);
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
@@ -76,93 +126,131 @@ void run(const GlobalOptions& global, const Options& o) {
     throw BadInput(fmt::format("--grid {}: {} samples per face exceed --max-samples {}", o.grid,
                                static_cast<long long>(o.grid) * o.grid, o.max_samples));
   const double tolerance = o.rel_tolerance * size;
+  const bool progress = chosen.size() > 8 && isatty(STDERR_FILENO);
+
+  // 1. Grids, on the CPU.
+  std::vector<nurbs::TrimmedSurface> work;
+  std::vector<nurbs::FaceGridReport> reports;
+  for (size_t c = 0; c < chosen.size(); ++c) {
+    work.push_back(faces[size_t(chosen[c])]);
+    reports.push_back(face_grid(work.back().surface, o, tolerance));
+    if (progress) fmt::print(stderr, "\r[{}/{}] grids chosen", c + 1, chosen.size());
+  }
+  if (progress) fmt::print(stderr, "\n");
+
+  // 2. The GPU: batches of faces in atlases (one evaluation pass and one trim fill each), the
+  // faces too large for an atlas alone in tiles.
   auto gpu = start_gpu(global);
   const queries::TileLimits limits{0, static_cast<long long>(o.tile_mb) << 20};
   const int side = queries::tile_side(gpu->info(), limits);
+  std::vector<GpuWork> gpu_work(work.size());
+  std::vector<nurbs::io::SampledGrid> grids(work.size());
+  std::vector<nurbs::ParamGrid> params;
+  std::vector<std::pair<int, int>> sizes;
+  for (size_t k = 0; k < work.size(); ++k) {
+    params.push_back(reports[k].grid.grid);
+    sizes.emplace_back(int(params.back().u.size()), int(params.back().v.size()));
+    grids[k] = {{}, sizes.back().first, sizes.back().second, fmt::format("face{}", chosen[k])};
+    if (!o.obj.empty()) grids[k].points.resize(size_t(params.back().samples()));
+  }
+  std::vector<int> alone;
+  std::vector<queries::AtlasPlan> plans;
+  if (o.batch && o.method == queries::EvalMethod::Tabulated) {
+    plans = queries::plan_atlases(sizes, side, (static_cast<long long>(o.tile_mb) << 20) / 33, alone);
+  } else {
+    for (int k = 0; k < int(work.size()); ++k) alone.push_back(k);
+  }
+  nlohmann::json batches = nlohmann::json::array();
+  std::vector<double> flatten;
+  for (const auto& p : params) flatten.push_back(flatten_tolerance(p));
+  if (!plans.empty()) {  // build the atlas program outside the timing
+    (void)queries::evaluate_atlas(*gpu, {1, 1, {}}, work, params, flatten);
+    gpu->finish();
+  }
+  for (size_t b = 0; b < plans.size(); ++b) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const queries::FaceAtlas atlas = queries::evaluate_atlas(*gpu, plans[b], work, params, flatten);
+    gpu->finish();
+    const double ms = ms_since(t0);
+    long long samples = 0;
+    for (const auto& sl : plans[b].slots) {
+      gpu_work[size_t(sl.face)].batch = int(b);
+      samples += static_cast<long long>(sl.width) * sl.height;
+    }
+    batches.push_back({{"faces", plans[b].slots.size()},
+                       {"atlas", {plans[b].width, plans[b].height}},
+                       {"samples", samples},
+                       {"ms", ms}});
+    if (!o.obj.empty()) {
+      const auto pts = atlas.points.read();
+      for (const auto& sl : plans[b].slots)
+        for (int j = 0; j < sl.height; ++j)
+          for (int i = 0; i < sl.width; ++i) {
+            const size_t t = (size_t(sl.y + j) * size_t(plans[b].width) + size_t(sl.x + i)) * 4;
+            grids[size_t(sl.face)].points[size_t(j) * size_t(sl.width) + size_t(i)] = {pts[t], pts[t + 1], pts[t + 2]};
+          }
+    }
+  }
+  std::set<int> compiled;
+  for (size_t a = 0; a < alone.size(); ++a) {
+    const auto k = size_t(alone[a]);
+    gpu_work[k] =
+        evaluate_alone(*gpu, work[k], params[k], o, limits, side, compiled, o.obj.empty() ? nullptr : &grids[k]);
+    if (progress) fmt::print(stderr, "\r[{}/{}] faces evaluated alone", a + 1, alone.size());
+  }
+  if (progress && !alone.empty()) fmt::print(stderr, "\n");
+
+  // 3. Report.
   nlohmann::json rows = nlohmann::json::array();
-  std::vector<nurbs::io::SampledGrid> grids;
   std::vector<std::string> failures;
-  std::set<int> compiled;  // MAX_DEGREE values whose programs are built (not timed)
   long long total_samples = 0, largest = 0;
   double total_ms = 0;
-  const bool progress = chosen.size() > 8 && isatty(STDERR_FILENO);
+  for (const auto& b : batches) total_ms += b["ms"].get<double>();
   if (!o.json)
     fmt::print(
         "{} faces, model size {:.6g}, tolerance {:.3g} ({:g} x size), backend {} ({}), tiles of {}^2\n"
-        "{:>5} {:>7} {:>11} {:>11} {:>9} {:>10} {:>10} {:>9} {:>6} {:>9} {:>9}\n",
+        "{:>5} {:>7} {:>11} {:>11} {:>9} {:>10} {:>10} {:>9} {:>6} {:>9}\n",
         faces.size(), size, tolerance, o.rel_tolerance, gpu->info().backend, gpu->info().renderer, side, "face",
-        "degree", "ctrl", "grid", "segments", "K", "K_e", "K_e/size", "ratio", "eval ms", "trim ms");
-  for (size_t c = 0; c < chosen.size(); ++c) {
-    const int index = chosen[c];
-    const nurbs::TrimmedSurface& f = faces[size_t(index)];
-    const nurbs::FaceGridReport report = face_grid(f.surface, o, tolerance);
-    const nurbs::ParamGrid& params = report.grid.grid;
-    const queries::GpuSurface g = queries::upload_surface(f.surface, gpu->info().max_texture_size);
-    if (compiled.insert(std::max(f.surface.degree_u, f.surface.degree_v)).second) {
-      (void)queries::evaluate_surface(*gpu, g, 1, 1, o.method);  // builds the programs for this degree
-      gpu->finish();
-    }
-    nurbs::io::SampledGrid sg{{}, int(params.u.size()), int(params.v.size()), fmt::format("face{}", index)};
-    if (!o.obj.empty()) sg.points.resize(size_t(params.samples()));
-    int tiles = 0;
-    auto t0 = std::chrono::steady_clock::now();
-    queries::evaluate_surface_tiles(*gpu, g, params, o.method, limits, [&](queries::GridTile&& t) {
-      ++tiles;
-      if (o.obj.empty()) return;
-      const auto pts = t.points.read();
-      for (int y = 0; y < t.points.height(); ++y)
-        for (int x = 0; x < t.points.width(); ++x) {
-          const size_t k = size_t(y * t.points.width() + x) * 4;
-          sg.points[size_t(t.j0 + y) * params.u.size() + size_t(t.i0 + x)] = {pts[k], pts[k + 1], pts[k + 2]};
-        }
-    });
-    gpu->finish();
-    const double eval_ms = ms_since(t0);
-    double trim_ms = 0;
-    if (!f.loops.empty()) {
-      t0 = std::chrono::steady_clock::now();
-      double step = 1e300;  // a tenth of the smallest step flattens the loops finely enough
-      for (size_t i = 0; i + 1 < params.u.size(); ++i) step = std::min(step, params.u[i + 1] - params.u[i]);
-      for (size_t j = 0; j + 1 < params.v.size(); ++j) step = std::min(step, params.v[j + 1] - params.v[j]);
-      (void)queries::trim_masks(*gpu, f, params, side, 0.1 * step);
-      gpu->finish();
-      trim_ms = ms_since(t0);
-    }
-    const nurbs::CertifiedGrid& cg = report.grid;
+        "degree", "ctrl", "grid", "segments", "K", "K_e", "K_e/size", "ratio", "GPU ms");
+  for (size_t k = 0; k < work.size(); ++k) {
+    const int index = chosen[k];
+    const nurbs::TrimmedSurface& f = work[k];
+    const nurbs::CertifiedGrid& cg = reports[k].grid;
+    const GpuWork& w = gpu_work[k];
     if (!cg.meets_tolerance) failures.push_back(fmt::format("face {}: {}", index, cg.reason));
-    total_samples += params.samples();
-    largest = std::max(largest, params.samples());
-    total_ms += eval_ms + trim_ms;
+    total_samples += params[k].samples();
+    largest = std::max(largest, params[k].samples());
+    total_ms += w.eval_ms + w.trim_ms;
     nlohmann::json row{{"face", index},
                        {"face_id", f.face_id},
                        {"degree", {f.surface.degree_u, f.surface.degree_v}},
                        {"control_points", {f.surface.count_u, f.surface.count_v}},
-                       {"grid", {params.u.size(), params.v.size()}},
+                       {"grid", {params[k].u.size(), params[k].v.size()}},
                        {"segments", {cg.cells_u.size(), cg.cells_v.size()}},
-                       {"tiles", tiles},
                        {"K", finite_or_null(cg.k)},
                        {"K_e", finite_or_null(cg.k_e)},
                        {"K_e_over_size", finite_or_null(cg.k_e / size)},
                        {"tolerance", tolerance},
                        {"meets_tolerance", cg.meets_tolerance},
-                       {"bound_ratio", finite_or_null(report.bound_ratio)},
-                       {"eval_ms", eval_ms},
-                       {"trim_ms", trim_ms},
+                       {"bound_ratio", finite_or_null(reports[k].bound_ratio)},
                        {"trimmed", !f.loops.empty()}};
+    if (w.batch >= 0) {
+      row["batch"] = w.batch;
+    } else {
+      row["tiles"] = w.tiles;
+      row["eval_ms"] = w.eval_ms;
+      row["trim_ms"] = w.trim_ms;
+    }
     if (!cg.meets_tolerance) row["reason"] = cg.reason;
-    rows.push_back(std::move(row));
-    if (progress)
-      fmt::print(stderr, "\r[{}/{}] faces evaluated", c + 1, chosen.size());
-    else if (!o.json)
+    if (!o.json && !progress)
       fmt::print(
-          "{:>5} {:>3}x{:<3} {:>5}x{:<5} {:>5}x{:<5} {:>4}x{:<4} {:>10.4g} {:>10.4g} {:>9.3g} {:>6.2f} {:>9.2f} "
-          "{:>9.2f}{}\n",
-          index, f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, params.u.size(),
-          params.v.size(), cg.cells_u.size(), cg.cells_v.size(), cg.k, cg.k_e, cg.k_e / size, report.bound_ratio,
-          eval_ms, trim_ms, cg.meets_tolerance ? "" : "  NOT MET");
-    if (!o.obj.empty()) grids.push_back(std::move(sg));
+          "{:>5} {:>3}x{:<3} {:>5}x{:<5} {:>5}x{:<5} {:>4}x{:<4} {:>10.4g} {:>10.4g} {:>9.3g} {:>6.2f} {:>9}{}\n",
+          index, f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, params[k].u.size(),
+          params[k].v.size(), cg.cells_u.size(), cg.cells_v.size(), cg.k, cg.k_e, cg.k_e / size, reports[k].bound_ratio,
+          w.batch >= 0 ? fmt::format("batch {}", w.batch) : fmt::format("{:.2f}", w.eval_ms + w.trim_ms),
+          cg.meets_tolerance ? "" : "  NOT MET");
+    rows.push_back(std::move(row));
   }
-  if (progress) fmt::print(stderr, "\n");
   if (!o.obj.empty()) nurbs::io::write_obj_file(o.obj, grids);
   if (o.json) {
     fmt::print("{}\n", nlohmann::json{{"model", o.path},
@@ -173,11 +261,16 @@ void run(const GlobalOptions& global, const Options& o) {
                                       {"tile_side", side},
                                       {"faces_meeting_tolerance", chosen.size() - failures.size()},
                                       {"samples", total_samples},
+                                      {"gpu_ms", total_ms},
+                                      {"batches", batches},
+                                      {"faces_alone", alone.size()},
                                       {"faces", rows}}
                            .dump(2));
   } else {
-    fmt::print("{}/{} faces meet the tolerance; {} samples in all, largest grid {}, {:.1f} ms on the GPU\n",
-               chosen.size() - failures.size(), chosen.size(), total_samples, largest, total_ms);
+    fmt::print(
+        "{}/{} faces meet the tolerance; {} samples in all, largest grid {}; GPU {:.1f} ms ({} batches, {} "
+        "faces alone)\n",
+        chosen.size() - failures.size(), chosen.size(), total_samples, largest, total_ms, batches.size(), alone.size());
   }
   report_profile(*gpu, global);
   if (!failures.empty()) {
@@ -220,6 +313,8 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--obj", o->obj, "Write the evaluated grids to this OBJ file");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  cmd->add_flag("!--no-batch", o->batch,
+                "Evaluate one face at a time instead of packing faces into atlases (one pass per batch)");
   cmd->callback([&global, o, method] {
     o->method = methods.at(*method);
     run(global, *o);

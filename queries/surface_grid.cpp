@@ -31,31 +31,10 @@ gpgpu::Texture normalised_params(const std::vector<double>& t, int first, int co
   return tex;
 }
 
-/// Pass 1 of EvalMethod::Tabulated for one direction, in double on the CPU: samples x (degree + 1)
-/// texels (N_r(t_i), dN_r/dt(t_i), span, 0) for samples [first, first + count), t the parameter
-/// normalised to [0, 1] (the derivative only orients normals). In double because float knots and
-/// parameters cannot resolve thin spans: a knot span 1e-4 of the domain wide has its width known to
-/// 6e-4 in float, and the surface crosses it fast (measured GPU-CPU errors up to 3.7e-4 x size on
-/// the C0 family with float basis functions; the tabulated values are <= 1 and lose nothing).
 gpgpu::Texture basis_table(const std::vector<double>& knots, int degree, int count, const std::vector<double>& t,
                            int first, int samples, nurbs::Interval domain) {
-  const int w = degree + 1;
-  std::vector<float> table(size_t(samples) * size_t(w) * 4);
-  std::vector<double> nd(size_t(2 * w));
-  for (int i = 0; i < samples; ++i) {
-    const double u = t[size_t(first + i)];
-    const int span = nurbs::find_span(knots, degree, count, u);
-    nurbs::basis_function_derivatives(knots, degree, span, u, 1, nd.data());
-    for (int r = 0; r < w; ++r) {
-      float* texel = &table[(size_t(r) * size_t(samples) + size_t(i)) * 4];
-      texel[0] = static_cast<float>(nd[size_t(r)]);
-      texel[1] = static_cast<float>(nd[size_t(w + r)] * domain.width());
-      texel[2] = static_cast<float>(span);
-      texel[3] = 0.0f;
-    }
-  }
-  gpgpu::Texture tex(samples, w, gpgpu::Format::RGBA32F);
-  tex.upload(table);
+  gpgpu::Texture tex(samples, degree + 1, gpgpu::Format::RGBA32F);
+  tex.upload(tabulate_basis(knots, degree, count, t, first, samples, domain));
   return tex;
 }
 
@@ -105,6 +84,26 @@ std::vector<float> read_all(const SurfaceGrid& g, bool normals) {
 }
 
 }  // namespace
+
+std::vector<float> tabulate_basis(const std::vector<double>& knots, int degree, int count, const std::vector<double>& t,
+                                  int first, int samples, nurbs::Interval domain) {
+  const int w = degree + 1;
+  std::vector<float> table(size_t(samples) * size_t(w) * 4);
+  std::vector<double> nd(size_t(2 * w));
+  for (int i = 0; i < samples; ++i) {
+    const double u = t[size_t(first + i)];
+    const int span = nurbs::find_span(knots, degree, count, u);
+    nurbs::basis_function_derivatives(knots, degree, span, u, 1, nd.data());
+    for (int r = 0; r < w; ++r) {
+      float* texel = &table[(size_t(r) * size_t(samples) + size_t(i)) * 4];
+      texel[0] = static_cast<float>(nd[size_t(r)]);
+      texel[1] = static_cast<float>(nd[size_t(w + r)] * domain.width());
+      texel[2] = static_cast<float>(span);
+      texel[3] = 0.0f;
+    }
+  }
+  return table;
+}
 
 std::vector<int> tile_starts(int samples, int side) {
   std::vector<int> starts{0};

@@ -48,6 +48,17 @@ struct TileLimits {
 /// The side of the square tiles for these limits on this GPU (at least 2).
 [[nodiscard]] int tile_side(const gpgpu::ContextInfo& info, const TileLimits& limits);
 
+/// Pass 1 of EvalMethod::Tabulated for one direction, in double on the CPU: (degree + 1) rows of
+/// `samples` texels (N_r(t_i), dN_r/dt(t_i), span, 0), row r first, for the parameters
+/// t[first .. first + samples), t normalised to [0, 1] for the derivative (it only orients normals).
+/// In double because float knots and parameters cannot resolve thin spans: a knot span 1e-4 of the
+/// domain wide has its width known to 6e-4 in float, and the surface crosses it fast (GPU-CPU
+/// errors up to 3.7e-4 x size on the C0 random family with float basis functions; the tabulated
+/// values are <= 1 and lose nothing).
+[[nodiscard]] std::vector<float> tabulate_basis(const std::vector<double>& knots, int degree, int count,
+                                                const std::vector<double>& t, int first, int samples,
+                                                nurbs::Interval domain);
+
 /// First samples of the tiles along one direction: tiles of `side` samples sharing their boundary
 /// sample (0, side - 1, 2 side - 2, ...), the last one shorter.
 [[nodiscard]] std::vector<int> tile_starts(int samples, int side);

@@ -85,22 +85,30 @@ std::vector<std::vector<glm::dvec2>> split_loops(const nurbs::TrimPolygons& trim
 
 }  // namespace
 
-std::vector<gpgpu::Texture> trim_masks(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face,
-                                       const nurbs::ParamGrid& params, int tile_side, double flatten_tolerance) {
+std::vector<std::vector<glm::vec2>> trim_window_polygons(const nurbs::TrimmedSurface& face,
+                                                         const nurbs::ParamGrid& params, double flatten_tolerance) {
   const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, flatten_tolerance);
   const WindowMap mu(params.u), mv(params.v);
-  const auto loops = split_loops(trim, mu, mv, params);
+  std::vector<std::vector<glm::vec2>> polygons;
+  for (const auto& loop : split_loops(trim, mu, mv, params)) {
+    std::vector<glm::vec2> poly;
+    poly.reserve(loop.size());
+    for (const glm::dvec2& p : loop) poly.emplace_back(float(mu(p.x)), float(mv(p.y)));
+    polygons.push_back(std::move(poly));
+  }
+  return polygons;
+}
+
+std::vector<gpgpu::Texture> trim_masks(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face,
+                                       const nurbs::ParamGrid& params, int tile_side, double flatten_tolerance) {
+  const auto window = trim_window_polygons(face, params, flatten_tolerance);
   const int W = static_cast<int>(params.u.size()), H = static_cast<int>(params.v.size());
   std::vector<gpgpu::Texture> masks;
   for (int j0 : tile_starts(H, tile_side)) {
     for (int i0 : tile_starts(W, tile_side)) {
-      std::vector<std::vector<glm::vec2>> polygons;
-      for (const auto& loop : loops) {
-        std::vector<glm::vec2> poly;
-        poly.reserve(loop.size());
-        for (const glm::dvec2& p : loop) poly.emplace_back(float(mu(p.x) - i0), float(mv(p.y) - j0));
-        polygons.push_back(std::move(poly));
-      }
+      std::vector<std::vector<glm::vec2>> polygons = window;
+      for (auto& poly : polygons)
+        for (glm::vec2& v : poly) v -= glm::vec2(float(i0), float(j0));
       gpgpu::Texture mask(std::min(tile_side, W - i0), std::min(tile_side, H - j0), gpgpu::Format::R8);
       gpgpu::fill_polygons_even_odd(gpu, polygons, mask);
       gpu.dump("trim_mask", mask);

@@ -10,6 +10,7 @@
 /// Knot-aligned grids (nurbs/certified_grid.h) have one step per segment: parameters map to window
 /// coordinates piecewise linearly. Polygon edges are split where they cross a segment end, so each
 /// piece maps to a straight window segment and the fill classifies the samples as in (u, v).
+#include <glm/vec2.hpp>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -17,6 +18,12 @@
 #include "nurbs/trimmed_surface.h"
 
 namespace queries {
+
+/// The face's trim loops (split at the grid's segment ends), or the domain rectangle when it has no
+/// outer loop, in window coordinates of the grid: sample (i, j) at (i + 0.5, j + 0.5). Filled
+/// even-odd they give the trim mask; the atlas (face_atlas.h) offsets them into its slots.
+std::vector<std::vector<glm::vec2>> trim_window_polygons(const nurbs::TrimmedSurface& face,
+                                                         const nurbs::ParamGrid& params, double flatten_tolerance);
 
 /// One R8 mask per tile of the grid `params` cut in tiles of `tile_side` samples (the tiling of
 /// evaluate_surface: tiles share boundary samples), row-major. Faces without loops are all material;

@@ -1,0 +1,156 @@
+#include "queries/face_atlas.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/common.hpp>
+#include <numeric>
+#include <stdexcept>
+
+#include "gpgpu/array_texture.h"
+#include "gpgpu/polygon_fill.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "queries/surface_grid.h"
+#include "queries/trim_texture.h"
+
+namespace queries {
+namespace {
+
+constexpr double kExactFloatInt = 16777216.0;  // 2^24: indices in float records stay exact below
+
+/// Sutherland-Hodgman clip of a closed polygon to an axis-aligned rectangle. Clipping each polygon
+/// to a convex region keeps its winding number at every point inside the region, so the even-odd
+/// fill inside one slot is unchanged while nothing leaks into the neighbouring slots.
+std::vector<glm::vec2> clip(const std::vector<glm::vec2>& poly, glm::vec2 lo, glm::vec2 hi) {
+  std::vector<glm::vec2> out = poly;
+  for (int edge = 0; edge < 4 && !out.empty(); ++edge) {
+    const int axis = edge % 2;
+    const bool keep_above = edge < 2;
+    const float bound = keep_above ? lo[axis] : hi[axis];
+    auto inside = [&](glm::vec2 p) { return keep_above ? p[axis] >= bound : p[axis] <= bound; };
+    std::vector<glm::vec2> in;
+    in.swap(out);
+    for (size_t k = 0; k < in.size(); ++k) {
+      const glm::vec2 a = in[k], b = in[(k + 1) % in.size()];
+      if (inside(a)) out.push_back(a);
+      if (inside(a) != inside(b)) {
+        const float s = (bound - a[axis]) / (b[axis] - a[axis]);
+        out.push_back(a + s * (b - a));
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
+                                    std::vector<int>& unpacked) {
+  std::vector<int> order;
+  for (int f = 0; f < int(sizes.size()); ++f) {
+    if (sizes[size_t(f)].first > side || sizes[size_t(f)].second > side)
+      unpacked.push_back(f);
+    else
+      order.push_back(f);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return sizes[size_t(a)].second > sizes[size_t(b)].second; });
+  std::vector<AtlasPlan> plans;
+  AtlasPlan cur;
+  int shelf_y = 0, shelf_h = 0, x = 0;
+  long long used = 0;
+  for (int f : order) {
+    const auto [w, h] = sizes[size_t(f)];
+    if (x + w > side) {  // next shelf
+      shelf_y += shelf_h;
+      shelf_h = 0;
+      x = 0;
+    }
+    if (shelf_y + h > side || used + static_cast<long long>(w) * h > max_samples) {  // next atlas
+      if (!cur.slots.empty()) plans.push_back(std::move(cur));
+      cur = {};
+      shelf_y = shelf_h = x = 0;
+      used = 0;
+    }
+    cur.slots.push_back({f, x, shelf_y, w, h});
+    x += w;
+    shelf_h = std::max(shelf_h, h);
+    used += static_cast<long long>(w) * h;
+    cur.width = std::max(cur.width, x);
+    cur.height = std::max(cur.height, shelf_y + shelf_h);
+  }
+  if (!cur.slots.empty()) plans.push_back(std::move(cur));
+  return plans;
+}
+
+FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vector<nurbs::TrimmedSurface>& faces,
+                         const std::vector<nurbs::ParamGrid>& grids, const std::vector<double>& flatten_tolerance) {
+  const int max_size = gpu.info().max_texture_size;
+  std::vector<float> slot_of(size_t(plan.width) * size_t(plan.height), -1.0f), records, basis, ctrl;
+  for (size_t k = 0; k < plan.slots.size(); ++k) {
+    const AtlasSlot& sl = plan.slots[k];
+    const nurbs::Surface& s = faces[size_t(sl.face)].surface;
+    const nurbs::ParamGrid& g = grids[size_t(sl.face)];
+    for (int j = 0; j < sl.height; ++j)
+      std::fill_n(slot_of.begin() + ptrdiff_t(size_t(sl.y + j) * size_t(plan.width) + size_t(sl.x)), sl.width,
+                  float(k));
+    const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    const size_t base_u = basis.size() / 4;
+    const auto bu = tabulate_basis(s.knots_u, s.degree_u, s.count_u, g.u, 0, sl.width, du);
+    basis.insert(basis.end(), bu.begin(), bu.end());
+    const size_t base_v = basis.size() / 4;
+    const auto bv = tabulate_basis(s.knots_v, s.degree_v, s.count_v, g.v, 0, sl.height, dv);
+    basis.insert(basis.end(), bv.begin(), bv.end());
+    glm::dvec3 lo = s.points.front(), hi = lo;
+    for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const glm::dvec3 origin = 0.5 * (lo + hi);
+    const size_t ctrl_base = ctrl.size() / 4;
+    for (size_t i = 0; i < s.points.size(); ++i) {
+      const double w = s.weights.empty() ? 1.0 : s.weights[i];
+      const glm::dvec3 local = (s.points[i] - origin) * w;
+      ctrl.insert(ctrl.end(), {float(local.x), float(local.y), float(local.z), float(w)});
+    }
+    if (double(basis.size() / 4) >= kExactFloatInt || double(ctrl.size() / 4) >= kExactFloatInt)
+      throw std::length_error("evaluate_atlas: a batch exceeds 2^24 basis values or control points");
+    records.insert(records.end(),
+                   {float(sl.x), float(sl.y), float(base_u), float(base_v),  //
+                    float(ctrl_base), float(s.count_u), float(s.degree_u), float(s.degree_v), float(origin.x),
+                    float(origin.y), float(origin.z), float(sl.width), float(sl.height), 0.0f, 0.0f, 0.0f});
+  }
+  FaceAtlas a;
+  a.plan = plan;
+  gpgpu::Texture slot_tex(plan.width, plan.height, gpgpu::Format::R32F);
+  slot_tex.upload(slot_of);
+  const auto rec_tex = gpgpu::upload_array(records, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  const auto basis_tex = gpgpu::upload_array(basis, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  const auto ctrl_tex = gpgpu::upload_array(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  a.points = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
+  a.normals = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
+  gpgpu::Program& p = gpu.program("surface_eval_atlas.frag");
+  const gpgpu::Input inputs[] = {{"u_slot_of", &slot_tex},
+                                 {"u_slots", &rec_tex.texture},
+                                 {"u_basis", &basis_tex.texture},
+                                 {"u_ctrl", &ctrl_tex.texture}};
+  gpgpu::Texture* outputs[] = {&a.points, &a.normals};
+  gpu.run("surface_eval_atlas", p, inputs, outputs);
+  gpu.dump("atlas_points", a.points);
+  gpu.dump("atlas_normals", a.normals);
+
+  // Trim masks: every slot's loops (or its whole rectangle) in atlas coordinates, clipped to it.
+  std::vector<std::vector<glm::vec2>> polygons;
+  for (const AtlasSlot& sl : plan.slots) {
+    const glm::vec2 lo(float(sl.x), float(sl.y)), hi(float(sl.x + sl.width), float(sl.y + sl.height));
+    for (auto& poly :
+         trim_window_polygons(faces[size_t(sl.face)], grids[size_t(sl.face)], flatten_tolerance[size_t(sl.face)])) {
+      for (glm::vec2& v : poly) v += lo;
+      if (auto c = clip(poly, lo, hi); c.size() >= 3) polygons.push_back(std::move(c));
+    }
+  }
+  a.mask = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R8);
+  gpgpu::fill_polygons_even_odd(gpu, polygons, a.mask);
+  gpu.dump("atlas_trim_mask", a.mask);
+  return a;
+}
+
+}  // namespace queries

@@ -1,0 +1,46 @@
+#pragma once
+/// \file face_atlas.h
+/// Many faces at once (issue 6, "faces are batched"): the grids of a model's faces packed into one
+/// atlas texture by shelf packing, evaluated in one pass (glsl/surface_eval_atlas.frag, the batched
+/// form of the tabulated method) and trimmed in one even-odd fill, so a model of hundreds of faces
+/// costs a few passes per batch instead of a few per face. Faces whose grid exceeds the tile side
+/// are left to the tiled single-face path (surface_grid.h).
+#include <vector>
+
+#include "gpgpu/gpu.h"
+#include "nurbs/certified_grid.h"
+#include "nurbs/trimmed_surface.h"
+
+namespace queries {
+
+/// Where one face's grid sits in an atlas: samples (i, j) at texel (x + i, y + j).
+struct AtlasSlot {
+  int face = 0;  ///< index into the caller's face list
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+/// One atlas: its size and slots (the packing, no GPU work yet).
+struct AtlasPlan {
+  int width = 0, height = 0;
+  std::vector<AtlasSlot> slots;
+};
+
+/// Packs grids of the given sizes (samples along u, v) into atlases of at most side x side texels
+/// and at most max_samples texels each (shelves by decreasing height). Grids larger than side in
+/// either direction are not packed (the caller tiles them alone); `unpacked` lists them.
+std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
+                                    std::vector<int>& unpacked);
+
+/// An evaluated atlas: points (x, y, z, w) and unit normals of every slot, RGBA32F, zero outside
+/// the slots; and the trim mask (R8, 1 = material) on the same texels.
+struct FaceAtlas {
+  AtlasPlan plan;
+  gpgpu::Texture points, normals, mask;
+};
+
+/// Evaluates every slot's face (faces[slot.face]) on its grid (grids[slot.face]) in one pass and
+/// renders all trim masks in one fill. `flatten_tolerance[f]` is in parameter units of face f.
+FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vector<nurbs::TrimmedSurface>& faces,
+                         const std::vector<nurbs::ParamGrid>& grids, const std::vector<double>& flatten_tolerance);
+
+}  // namespace queries
