@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The main job on a fresh Debian 12 machine: set up and build, then on the bundled (generated)
-# trimmed 100x105 surface of the paper: describe it, evaluate it on the GPU on a grid whose Filip
-# bound K is 1e-4 of the model size, with its trim mask; then the GPU self-check with timings.
+# trimmed 100x105 surface of the paper: describe it with its Filip bounds, evaluate it on the GPU on
+# the knot-aligned grid whose Euclidean bound K_e is 1e-4 of the model size on every cell, with its
+# trim mask; then the GPU self-check with timings.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
 model=build/models/paper-100x105-trimmed.igs
 build/cli/nurbsgl gpu-info
-build/cli/nurbsgl info "$model"
+build/cli/nurbsgl info "$model" --bounds
 build/cli/nurbsgl --profile evaluate "$model" --tolerance 1e-4
 build/cli/nurbsgl selftest --size 1024
