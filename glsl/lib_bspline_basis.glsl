@@ -1,10 +1,10 @@
 // B-spline basis functions of The NURBS Book in float, knots read from an R32F texture laid out
-// row-major (lib_layout.glsl: one row when short, 2D when longer than the texture size limit).
+// row-major with a power-of-two width (lib_layout.glsl, pow2_texel).
 // MAX_DEGREE (a define) sizes the arrays; the degree p is a run-time value <= MAX_DEGREE.
 #include "lib_layout.glsl"
 
 float knot_at(sampler2D knots, int i) {
-  return texelFetch(knots, layout_texel(i, textureSize(knots, 0).x), 0).r;
+  return texelFetch(knots, pow2_texel(i, textureSize(knots, 0).x), 0).r;
 }
 
 // A2.1 FindSpan for n_ctrl control points: the span s in [p, n_ctrl - 1] with U[s] <= u < U[s+1];

@@ -8,7 +8,7 @@
 
 uniform sampler2D u_knots_u;
 uniform sampler2D u_knots_v;
-uniform sampler2D u_ctrl;     // RGBA32F, point (i, j) at index j count_u + i (lib_layout.glsl)
+uniform sampler2D u_ctrl;     // RGBA32F, point (i, j) at index j count_u + i (pow2_texel)
 uniform sampler2D u_params_u; // R32F, samples x 1
 uniform sampler2D u_params_v;
 uniform ivec2 u_count;        // control points along u, v
@@ -33,7 +33,7 @@ void main() {
   for (int b = 0; b <= q; ++b) {
     vec4 row = vec4(0.0), row_du = vec4(0.0);
     for (int a = 0; a <= p; ++a) {
-      vec4 pw = texelFetch(u_ctrl, layout_texel((sv - q + b) * u_count.x + su - p + a, width), 0);
+      vec4 pw = texelFetch(u_ctrl, pow2_texel((sv - q + b) * u_count.x + su - p + a, width), 0);
       row += Nu[a] * pw;
       row_du += dNu[a] * pw;
     }

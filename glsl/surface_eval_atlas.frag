@@ -12,9 +12,9 @@ layout(location = 0) out vec4 o_point;
 layout(location = 1) out vec4 o_normal;
 
 vec4 record(int slot, int k) {
-  return texelFetch(u_slots, layout_texel(4 * slot + k, textureSize(u_slots, 0).x), 0);
+  return texelFetch(u_slots, pow2_texel(4 * slot + k, textureSize(u_slots, 0).x), 0);
 }
-vec4 array_at(sampler2D a, int i) { return texelFetch(a, layout_texel(i, textureSize(a, 0).x), 0); }
+vec4 array_at(sampler2D a, int i) { return texelFetch(a, pow2_texel(i, textureSize(a, 0).x), 0); }
 
 void main() {
   ivec2 g = ivec2(gl_FragCoord.xy);

@@ -1,7 +1,7 @@
 // Pass 2 of the two-pass (tabulated) surface evaluation: texel (i, j) combines the tabulated
 // basis functions of column i and row j (computed in double on the CPU: queries/surface_grid.cpp,
 // basis_table) with the homogeneous control points.
-// Same outputs as surface_eval.frag. Control points are laid out row-major (lib_layout.glsl).
+// Same outputs as surface_eval.frag. Control points: an array of power-of-two width (pow2_texel).
 #include "lib_layout.glsl"
 
 uniform sampler2D u_basis_u;  // samples_u x (p + 1)
@@ -24,7 +24,7 @@ void main() {
     vec4 row = vec4(0.0), row_du = vec4(0.0);
     for (int a = 0; a <= p; ++a) {
       vec2 nu = texelFetch(u_basis_u, ivec2(g.x, a), 0).xy;
-      vec4 pw = texelFetch(u_ctrl, layout_texel((sv - q + b) * u_count_u + su - p + a, width), 0);
+      vec4 pw = texelFetch(u_ctrl, pow2_texel((sv - q + b) * u_count_u + su - p + a, width), 0);
       row += nu.x * pw;
       row_du += nu.y * pw;
     }

@@ -18,4 +18,7 @@ struct ArrayTexture {
 /// `pad` in every channel. `max_size` is GL_MAX_TEXTURE_SIZE (Gpu::info().max_texture_size).
 ArrayTexture upload_array(std::span<const float> values, Format format, int max_size, float pad);
 
+/// The same with a power-of-two width (layout_pow2): kernels index it with pow2_texel.
+ArrayTexture upload_array_pow2(std::span<const float> values, Format format, int max_size, float pad);
+
 }  // namespace gpgpu

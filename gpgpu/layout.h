@@ -17,4 +17,10 @@ struct Layout2D {
 /// Throws std::length_error when count > max_size^2.
 Layout2D layout_for(int64_t count, int max_size);
 
+/// A layout whose width is a power of two (at most max_size, and no wider than needed), so kernels
+/// find element i at (i & (width - 1), i >> log2(width)) with no integer division, which llvmpipe
+/// has no vector instruction for (glsl/lib_layout.glsl, pow2_texel). Used for arrays read many
+/// times per fragment (control points, basis tables, knots).
+Layout2D layout_pow2(int64_t count, int max_size);
+
 }  // namespace gpgpu

@@ -122,9 +122,9 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   a.plan = plan;
   gpgpu::Texture slot_tex(plan.width, plan.height, gpgpu::Format::R32F);
   slot_tex.upload(slot_of);
-  const auto rec_tex = gpgpu::upload_array(records, gpgpu::Format::RGBA32F, max_size, 0.0f);
-  const auto basis_tex = gpgpu::upload_array(basis, gpgpu::Format::RGBA32F, max_size, 0.0f);
-  const auto ctrl_tex = gpgpu::upload_array(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  const auto rec_tex = gpgpu::upload_array_pow2(records, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  const auto basis_tex = gpgpu::upload_array_pow2(basis, gpgpu::Format::RGBA32F, max_size, 0.0f);
+  const auto ctrl_tex = gpgpu::upload_array_pow2(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);
   a.points = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
   a.normals = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
   gpgpu::Program& p = gpu.program("surface_eval_atlas.frag");

@@ -18,7 +18,7 @@ namespace {
 gpgpu::Texture normalised_knots(const std::vector<double>& knots, nurbs::Interval domain, int max_size) {
   std::vector<float> k(knots.size());
   for (size_t i = 0; i < knots.size(); ++i) k[i] = static_cast<float>((knots[i] - domain.min) / domain.width());
-  return gpgpu::upload_array(k, gpgpu::Format::R32F, max_size, 0.0f).texture;
+  return gpgpu::upload_array_pow2(k, gpgpu::Format::R32F, max_size, 0.0f).texture;
 }
 
 /// Parameters [first, first + count) of one direction, normalised to the domain, as an R32F row.
@@ -136,7 +136,7 @@ GpuSurface upload_surface(const nurbs::Surface& s, int max_texture_size) {
     pw[4 * i + 2] = static_cast<float>(local.z);
     pw[4 * i + 3] = static_cast<float>(w);
   }
-  g.control = gpgpu::upload_array(pw, gpgpu::Format::RGBA32F, max_texture_size, 0.0f).texture;
+  g.control = gpgpu::upload_array_pow2(pw, gpgpu::Format::RGBA32F, max_texture_size, 0.0f).texture;
   g.knots_u = normalised_knots(s.knots_u, g.domain_u, max_texture_size);
   g.knots_v = normalised_knots(s.knots_v, g.domain_v, max_texture_size);
   return g;
