@@ -14,6 +14,7 @@
 #include <set>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "nurbs/grid_report.h"
 #include "nurbs/io/obj_writer.h"
 #include "nurbs/io/read_model.h"
@@ -35,7 +36,8 @@ struct Options {
   int tile_mb = 256;
   std::string obj;
   bool json = false;
-  bool batch = true;  ///< faces in atlases (one pass per batch); false = one face at a time
+  bool spans = false;  ///< per-segment K_e in the JSON
+  bool batch = true;   ///< faces in atlases (one pass per batch); false = one face at a time
   queries::EvalMethod method = queries::EvalMethod::Tabulated;
 };
 
@@ -47,11 +49,16 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 nurbs::FaceGridReport face_grid(const nurbs::Surface& s, const Options& o, double tolerance) {
   if (o.grid == 0) return nurbs::grid_report(s, tolerance, {o.max_samples}, false);
   nurbs::FaceGridReport r;
-  const nurbs::FilipBound b = nurbs::filip_bound(s);
+  r.bound = nurbs::filip_bound(s);
+  const nurbs::FilipBound& b = r.bound;
   r.grid.grid = nurbs::uniform_param_grid(b.domain_u, b.domain_v, o.grid - 1, o.grid - 1);
   r.grid.k = nurbs::grid_k(b, r.grid.grid, nurbs::KNorm::Component);
   r.grid.k_e = nurbs::grid_k(b, r.grid.grid, nurbs::KNorm::Euclidean);
   r.grid.tolerance = tolerance;
+  r.grid.lines_u = {b.domain_u.min, b.domain_u.max};
+  r.grid.lines_v = {b.domain_v.min, b.domain_v.max};
+  r.grid.cells_u = {o.grid - 1};
+  r.grid.cells_v = {o.grid - 1};
   r.grid.meets_tolerance = r.grid.k_e <= tolerance;
   if (!r.grid.meets_tolerance)
     r.grid.reason = std::isfinite(r.grid.k_e) ? fmt::format("the {}^2 grid has K_e {:.3g}", o.grid, r.grid.k_e)
@@ -242,6 +249,15 @@ void run(const GlobalOptions& global, const Options& o) {
       row["trim_ms"] = w.trim_ms;
     }
     if (!cg.meets_tolerance) row["reason"] = cg.reason;
+    if (o.spans) {
+      nlohmann::json ke = nlohmann::json::array();
+      for (double k : nurbs::segment_k(reports[k].bound, cg)) ke.push_back(finite_or_null(k));
+      row["spans"] = {{"lines_u", cg.lines_u},
+                      {"lines_v", cg.lines_v},
+                      {"cells_u", cg.cells_u},
+                      {"cells_v", cg.cells_v},
+                      {"K_e", ke}};
+    }
     if (!o.json && !progress)
       fmt::print(
           "{:>5} {:>3}x{:<3} {:>5}x{:<5} {:>5}x{:<5} {:>4}x{:<4} {:>10.4g} {:>10.4g} {:>9.3g} {:>6.2f} {:>9}{}\n",
@@ -296,7 +312,7 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--tolerance", o->rel_tolerance,
                   "Bound on the Euclidean deviation K_e of surface from grid triangles, relative to the model size "
                   "(1e-9 to 1: below, float samples could not carry it)")
-      ->check(CLI::Range(1e-9, 1.0))
+      ->check(relative_tolerance())
       ->capture_default_str();
   cmd->add_option("--max-samples", o->max_samples, "Most samples one face's grid may have")
       ->check(CLI::Range(4LL, 1LL << 32))
@@ -313,6 +329,9 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--obj", o->obj, "Write the evaluated grids to this OBJ file");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  cmd->add_flag("--spans", o->spans,
+                "With --json: per face the segments (kept knot lines, cells per segment) and the K_e of every "
+                "segment pair, row-major with u fastest");
   cmd->add_flag("!--no-batch", o->batch,
                 "Evaluate one face at a time instead of packing faces into atlases (one pass per batch)");
   cmd->callback([&global, o, method] {

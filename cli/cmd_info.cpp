@@ -7,6 +7,7 @@
 
 #include "cli/bounds_report.h"
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "nurbs/io/model_summary.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/read_model.h"
@@ -25,7 +26,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_flag("--bounds", *bounds,
                 "Also report per face the Filip bound against sampled second derivatives and the certified grid");
   cmd->add_option("--tolerance", *tolerance, "For --bounds: the grids' K_e, relative to the model size")
-      ->check(CLI::Range(1e-9, 1.0))
+      ->check(relative_tolerance())
       ->capture_default_str();
   cmd->add_flag("--json", *json, "Print one JSON object instead of text");
   cmd->add_flag("--faces", *per_face, "Also list every face");

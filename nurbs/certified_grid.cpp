@@ -200,6 +200,23 @@ double grid_k(const FilipBound& b, const ParamGrid& g, KNorm norm) {
   return k;
 }
 
+std::vector<double> segment_k(const FilipBound& b, const CertifiedGrid& g, KNorm norm) {
+  std::vector<double> out;
+  for (size_t sb = 0; sb + 1 < g.lines_v.size(); ++sb) {
+    const double hv = (g.lines_v[sb + 1] - g.lines_v[sb]) / g.cells_v[sb];
+    const PatchRange rv = patch_range(b.breaks_v, b.c1_v, {g.lines_v[sb], g.lines_v[sb + 1]});
+    for (size_t sa = 0; sa + 1 < g.lines_u.size(); ++sa) {
+      const double hu = (g.lines_u[sa + 1] - g.lines_u[sa]) / g.cells_u[sa];
+      const PatchRange ru = patch_range(b.breaks_u, b.c1_u, {g.lines_u[sa], g.lines_u[sa + 1]});
+      SecondDerivativeBounds mx;
+      for (size_t pv = rv.first; pv <= rv.last; ++pv)
+        for (size_t pu = ru.first; pu <= ru.last; ++pu) mx = max_of(mx, b.patch(pu, pv));
+      out.push_back(ru.kink || rv.kink ? kInf : filip_k(mx, hu, hv, norm));
+    }
+  }
+  return out;
+}
+
 CertifiedGrid certified_grid(const FilipBound& b, double tolerance, const GridLimits& limits, KNorm norm) {
   CertifiedGrid out;
   out.tolerance = tolerance;

@@ -71,4 +71,10 @@ struct CertifiedGrid {
 [[nodiscard]] CertifiedGrid certified_grid(const FilipBound& b, double tolerance, const GridLimits& limits = {},
                                            KNorm norm = KNorm::Euclidean);
 
+/// K (or K_e) of every segment pair of a certified grid, row-major (segment a along u fastest): all
+/// cells of a pair share their steps, so this is the largest per-cell bound in each. Finite for
+/// every grid certified_grid returns (its lines include every non-C^1 knot line); +infinity for a
+/// pair crossed by a non-C^1 line (e.g. a uniform grid described as one segment).
+[[nodiscard]] std::vector<double> segment_k(const FilipBound& b, const CertifiedGrid& g, KNorm norm = KNorm::Euclidean);
+
 }  // namespace nurbs

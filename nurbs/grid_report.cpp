@@ -4,7 +4,8 @@ namespace nurbs {
 
 FaceGridReport grid_report(const Surface& s, double tolerance, const GridLimits& limits, bool with_uniform) {
   FaceGridReport r;
-  const FilipBound b = filip_bound(s);
+  r.bound = filip_bound(s);
+  const FilipBound& b = r.bound;
   r.grid = certified_grid(b, tolerance, limits);
   const double sampled = grid_k(sampled_bound(s, b), r.grid.grid, KNorm::Euclidean);
   r.bound_ratio = sampled > 0 ? r.grid.k_e / sampled : 1.0;

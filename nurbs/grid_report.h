@@ -9,6 +9,7 @@
 namespace nurbs {
 
 struct FaceGridReport {
+  FilipBound bound;  ///< the bounds the grid was chosen by
   CertifiedGrid grid;
   /// K_e of the grid from the bounds / K_e from sampled second derivatives (sampled_bound) on the
   /// same cells: >= 1; how many times the bound overstates the deviation's second-order term.

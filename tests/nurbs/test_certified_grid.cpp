@@ -165,3 +165,22 @@ TEST_CASE("certified grid: limits and bad tolerances are reported, not hidden") 
     CHECK(g.reason.find("not positive") != std::string::npos);
   }
 }
+
+TEST_CASE("certified grid: per-segment K_e, its maximum is the grid's") {
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    const nurbs::Surface s = models::random_kinked_surface(seed + 900, 1 + int(seed % 5), 1 + int(seed / 5 % 4), 10.0);
+    const nurbs::FilipBound b = nurbs::filip_bound(s);
+    const nurbs::CertifiedGrid cg = nurbs::certified_grid(b, 1e-2, nurbs::GridLimits{1'000'000});
+    const std::vector<double> k = nurbs::segment_k(b, cg);
+    CAPTURE(seed);
+    REQUIRE(k.size() == cg.cells_u.size() * cg.cells_v.size());
+    CHECK(*std::max_element(k.begin(), k.end()) == doctest::Approx(cg.k_e).epsilon(1e-9));
+    // The same grid described as one segment each way crosses the C0 lines: no bound.
+    nurbs::CertifiedGrid one = cg;
+    one.lines_u = {cg.lines_u.front(), cg.lines_u.back()};
+    one.lines_v = {cg.lines_v.front(), cg.lines_v.back()};
+    one.cells_u = {cg.grid.cells_u()};
+    one.cells_v = {cg.grid.cells_v()};
+    if (!b.c1()) CHECK(std::isinf(nurbs::segment_k(b, one).front()));
+  }
+}

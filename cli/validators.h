@@ -1,0 +1,31 @@
+#pragma once
+/// \file validators.h
+/// Option checks shared by subcommands. CLI11's Range lets NaN through (every comparison with NaN is
+/// false) and prints small bounds as 0.000000, so tolerances get their own check.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <string>
+
+namespace cli {
+
+/// A tolerance relative to the model size: a finite number in [1e-9, 1]. Below 1e-9 no grid could be
+/// stored within the sample limits, and float GPU samples carry about 1e-7 of the size anyway.
+inline CLI::Validator relative_tolerance() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        try {
+          size_t used = 0;
+          v = std::stod(text, &used);
+          if (used != text.size()) return "'" + text + "' is not a number";
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        if (!std::isfinite(v) || v < 1e-9 || v > 1.0)
+          return text + " is not a finite number from 1e-9 to 1 (a fraction of the model size)";
+        return "";
+      },
+      "in [1e-9, 1]");
+}
+
+}  // namespace cli
