@@ -1,6 +1,14 @@
 # ctest helper: runs CMD (a ;-list) under ENV (a ;-list of VAR=value, or VAR= to unset) and checks
 # the exit code (EXPECT_RC) and that stdout+stderr match EXPECT_REGEX (and not REJECT_REGEX);
-# every path in FILES_EXIST (a ;-list of globs) must match at least one file afterwards.
+# every path in FILES_EXIST (a ;-list of globs) must match at least one file afterwards. When a
+# path in REQUIRE_PATHS is missing, the command is not run and the script prints SKIPPED (the test's
+# SKIP_REGULAR_EXPRESSION): ctest reports it as Skipped, never as Passed.
+foreach(p IN LISTS REQUIRE_PATHS)
+  if(NOT EXISTS "${p}")
+    message(STATUS "nurbsgl-cli-test SKIPPED: ${p} is missing")
+    return()
+  endif()
+endforeach()
 if(DEFINED CLEAN_DIR)
   file(REMOVE_RECURSE ${CLEAN_DIR})
 endif()

@@ -7,15 +7,12 @@
 
 #include "nurbs/io/bpt_reader.h"
 #include "nurbs/io/read_error.h"
+#include "shared_models.h"
 
 namespace fs = std::filesystem;
 
-TEST_CASE("bpt: Newell teapot has 32 bicubic patches") {
-  const fs::path path = fs::path(NURBSGL_SHARED_DIR) / "models/teapot/newell_teapot.bpt";
-  if (!fs::exists(path)) {
-    MESSAGE("skipped: no shared teapot at " << path.string());
-    return;
-  }
+TEST_CASE("bpt: Newell teapot has 32 bicubic patches" * test::needs_shared_models()) {
+  const fs::path path = test::shared_models_dir() / "teapot/newell_teapot.bpt";
   const auto t0 = std::chrono::steady_clock::now();
   const nurbs::Model m = nurbs::io::read_bpt(path);
   MESSAGE("newell_teapot.bpt: read "

@@ -1,5 +1,5 @@
 // Every IGES file in the shared model folder reads, with the face counts of OpenCASCADE 7.6.3
-// (../shared/models/occt_reference.txt). Skips cleanly when the folder is absent.
+// (../shared/models/occt_reference.txt). Skipped (reported as such) when the folder is absent.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -11,13 +11,14 @@
 
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/model_summary.h"
+#include "shared_models.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 struct SharedModel {
-  const char* path;    // relative to NURBSGL_SHARED_DIR/models
+  const char* path;    // relative to test::shared_models_dir()
   int occt_faces;      // "faces=" in occt_reference.txt
   int occt_rational;   // "rational=": faces whose weights are not all equal
   int occt_poles;      // "totalpoles="
@@ -46,8 +47,6 @@ const SharedModel kModels[] = {
     {"generated/vase_shell_t2.igs", 6, 1, 1902, 14, 11, {-40.3, -41.37, -1e-07}, {40.3, 41.37, 100}, 1.0},
 };
 
-fs::path models_dir() { return fs::path(NURBSGL_SHARED_DIR) / "models"; }
-
 size_t trimmed_count(const nurbs::Model& m) {
   size_t n = 0;
   for (const auto& b : m.bodies)
@@ -63,14 +62,10 @@ size_t face_count(const nurbs::Model& m) {
 
 }  // namespace
 
-TEST_CASE("shared IGES models read with OCCT's face counts") {
-  if (!fs::is_directory(models_dir())) {
-    MESSAGE("skipped: no shared model folder at " << models_dir().string());
-    return;
-  }
+TEST_CASE("shared IGES models read with OCCT's face counts" * test::needs_shared_models()) {
   for (const SharedModel& sm : kModels) {
     CAPTURE(std::string(sm.path));
-    const fs::path path = models_dir() / sm.path;
+    const fs::path path = test::shared_models_dir() / sm.path;
     nurbs::io::IgesReadLog log;
     const auto t0 = std::chrono::steady_clock::now();
     nurbs::Model model = nurbs::io::read_iges(path, {}, &log);

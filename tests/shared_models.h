@@ -1,0 +1,33 @@
+#pragma once
+/// \file shared_models.h
+/// Where the tests find the shared CAD models (NURBSGL_SHARED_DIR/models; CMake's cache variable
+/// NURBSGL_SHARED_DIR defaults to ../shared), and the decorator of test cases that read them:
+///   TEST_CASE("..." * test::needs_shared_models()) { ... test::shared_models_dir() / "iges/x.iges" ... }
+/// puts the case in the test suite "shared_models" and skips it when the folder is absent. ctest runs
+/// that suite as its own entry (PROGRAM[shared]), which then reports Skipped, not Passed: a program
+/// that runs no test case exits with kSkipExitCode (test_main.cpp), ctest's SKIP_RETURN_CODE.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+
+namespace test {
+
+/// Exit code of a test program that ran no test case (77, as automake's skip code).
+inline constexpr int kSkipExitCode = 77;
+
+/// NURBSGL_SHARED_DIR/models.
+inline std::filesystem::path shared_models_dir() { return std::filesystem::path(NURBSGL_SHARED_DIR) / "models"; }
+
+/// True when the shared model folder exists.
+inline bool shared_models_present() { return std::filesystem::is_directory(shared_models_dir()); }
+
+/// doctest decorator: suite "shared_models", skipped (decided at registration) when the folder is absent.
+struct needs_shared_models {
+  void fill(doctest::detail::TestCase& tc) const {
+    tc.m_test_suite = "shared_models";
+    tc.m_description = "reads " NURBSGL_SHARED_DIR "/models";
+    tc.m_skip = !shared_models_present();
+  }
+};
+
+}  // namespace test
