@@ -66,7 +66,9 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
   Program& g = gpu.program("histopyramid_gather.frag", {{"NUM_LEVELS", std::to_string(out.levels)}});
   std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
   for (size_t i = 0; i < levels.size(); ++i) {
-    inputs.push_back({fmt::format("u_levels[{}]", i), levels[i].get()});
+    // The 1x1 top level is where the descent starts (p = 0); its count was read above, the shader
+    // never samples it.
+    if (i + 1 < levels.size()) inputs.push_back({fmt::format("u_levels[{}]", i), levels[i].get()});
     g.set(fmt::format("u_level_axis[{}]", i), axes[i].first, axes[i].second);
   }
   g.set("u_out_width", out.layout.width);

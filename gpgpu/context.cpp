@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "gpgpu/gl_api.h"
+#include "gpgpu/gl_debug.h"
 
 namespace gpgpu {
 
@@ -91,6 +92,8 @@ std::unique_ptr<Context> detail::finish_context(std::unique_ptr<Context> ctx, vo
   try {
     ctx->make_current();
     gl::load(get_proc);
+    ctx->info_.debug_output = gl::debug_output_requested();
+    if (ctx->info_.debug_output) gl::enable_debug_output();
     probe_gl(ctx->info_);
     return ctx;
   } catch (const std::exception& e) {

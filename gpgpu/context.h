@@ -45,6 +45,7 @@ struct ContextInfo {
   int max_texture_units = 0;      ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment stage)
   bool float_targets_ok = false;  ///< R32F/RG32F/RGBA32F attach, clear and read back unclamped
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
+  bool debug_output = false;      ///< KHR_debug messages go to stderr and check_error (gl_debug.h)
 };
 
 /// Raised when no backend could start: one line naming each backend tried and why, and how to

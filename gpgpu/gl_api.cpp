@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "gpgpu/gl_debug.h"
+
 namespace gpgpu::gl {
 
 #define NURBSGL_DEFINE_GL(ret, name, params) name##_t name = nullptr;
@@ -57,11 +59,15 @@ std::string enum_name(GLenum value) {
 
 void check_error(const char* where) {
   GLenum first = GetError();
-  if (first == GL_NO_ERROR) return;
+  const std::string debug = take_debug_errors();
+  if (first == GL_NO_ERROR && debug.empty()) return;
   // Drain the queue (bounded: a lost context can report errors forever).
   for (int i = 0; i < 32 && GetError() != GL_NO_ERROR; ++i) {
   }
-  throw std::runtime_error(fmt::format("GL error {} after {}", enum_name(first), where));
+  const std::string driver = debug.empty() ? "" : fmt::format(" (driver: {})", debug);
+  if (first == GL_NO_ERROR)
+    throw std::runtime_error(fmt::format("GL debug message of high severity after {}{}", where, driver));
+  throw std::runtime_error(fmt::format("GL error {} after {}{}", enum_name(first), where, driver));
 }
 
 }  // namespace gpgpu::gl

@@ -91,7 +91,9 @@ namespace gpgpu::gl {
   X(void, NamedRenderbufferStorage, (GLuint, GLenum, GLsizei, GLsizei))                              \
   X(void, NamedFramebufferRenderbuffer, (GLuint, GLenum, GLenum, GLuint))                            \
   X(void, GetQueryiv, (GLenum, GLenum, GLint*))                                                     \
-  X(void, ClearNamedFramebufferfv, (GLuint, GLenum, GLint, const GLfloat*))
+  X(void, ClearNamedFramebufferfv, (GLuint, GLenum, GLint, const GLfloat*))                         \
+  X(void, DebugMessageCallback, (GLDEBUGPROC, const void*))                                          \
+  X(void, DebugMessageControl, (GLenum, GLenum, GLenum, GLsizei, const GLuint*, GLboolean))
 
 // clang-format on
 #define NURBSGL_DECLARE_GL(ret, name, params) \
@@ -108,7 +110,8 @@ using GetProcAddress = void* (*)(const char* name);
 void load(GetProcAddress get_proc);
 
 /// Throws std::runtime_error("GL error GL_INVALID_OPERATION after <where>") if glGetError reports
-/// one; drains the whole error queue so later checks start clean.
+/// one, or if KHR_debug output (gl_debug.h) has received a high-severity message since the last
+/// check; the driver's messages are appended. Drains the whole error queue so later checks start clean.
 void check_error(const char* where);
 
 /// Name of a GL enum for messages ("GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT"), or its hex value.

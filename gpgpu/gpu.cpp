@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 #include "gpgpu/exr_dump.h"
@@ -57,6 +59,20 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
               std::span<Texture* const> outputs, std::optional<Region> viewport) {
   std::vector<GLuint> ids;
   for (const Texture* t : outputs) ids.push_back(t->id());
+  // Checked before any GL state changes: a bad pass throws and leaves nothing bound.
+  std::vector<GLint> samplers;
+  for (const Input& in : inputs) {
+    try {
+      samplers.push_back(program.active_location(in.sampler));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("pass '{}': {}", name, e.what()));
+    }
+    // Reading a texture while rendering into it is a feedback loop: undefined results (GL 4.5 §9.3).
+    if (std::find(ids.begin(), ids.end(), in.texture->id()) != ids.end())
+      throw std::invalid_argument(
+          fmt::format("pass '{}' (program {}): sampler '{}' reads texture {}, which it also writes", name,
+                      program.name(), in.sampler, in.texture->id()));
+  }
   framebuffer_->attach(ids);  // throws FramebufferError when incomplete (no outputs, bad texture)
   const Region vp = viewport.value_or(Region{0, 0, outputs[0]->width(), outputs[0]->height()});
 
@@ -69,7 +85,7 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
   gl::UseProgram(program.id());
   for (size_t i = 0; i < inputs.size(); ++i) {
     gl::BindTextureUnit(static_cast<GLuint>(i), inputs[i].texture->id());
-    program.set(inputs[i].sampler, static_cast<int>(i));
+    gl::ProgramUniform1i(program.id(), samplers[i], static_cast<int>(i));
   }
   gl::BindVertexArray(vao_);
   gl::DrawArrays(GL_TRIANGLES, 0, 3);

@@ -65,7 +65,9 @@ class Gpu {
 
   /// Runs one pass: binds `outputs` (checked for completeness), the viewport (whole first output
   /// unless `viewport` is given), `inputs` on texture units 0..n-1, blend/depth/scissor/stencil off,
-  /// draws the full-screen triangle, then unbinds everything. Timed under `name`.
+  /// draws the full-screen triangle, then unbinds everything. Timed under `name`. Throws
+  /// std::invalid_argument, naming the pass, the program and the sampler, when an input's sampler is
+  /// not an active uniform of `program` or an input texture is also an output.
   void run(std::string_view name, const Program& program, std::span<const Input> inputs,
            std::span<Texture* const> outputs, std::optional<Region> viewport = std::nullopt);
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "gpgpu/gl_api.h"
+#include "gpgpu/uniform_names.h"
 
 namespace gpgpu {
 namespace {
@@ -30,6 +31,8 @@ Program::Program(const ShaderLibrary& library, std::string_view vertex, std::str
     : name_(fmt::format("{}+{}", vertex, fragment)) {
   const AssembledSource vs = library.assemble(vertex, defines);
   const AssembledSource fs = library.assemble(fragment, defines);
+  declared_ = gpgpu::declared_uniforms(vs.text);
+  declared_.merge(gpgpu::declared_uniforms(fs.text));
   GLuint v = compile(GL_VERTEX_SHADER, vs, std::string(vertex));
   GLuint f = 0;
   try {
@@ -61,13 +64,17 @@ Program::~Program() {
 }
 
 Program::Program(Program&& other) noexcept
-    : id_(std::exchange(other.id_, 0)), name_(std::move(other.name_)), locations_(std::move(other.locations_)) {}
+    : id_(std::exchange(other.id_, 0)),
+      name_(std::move(other.name_)),
+      declared_(std::move(other.declared_)),
+      locations_(std::move(other.locations_)) {}
 
 Program& Program::operator=(Program&& other) noexcept {
   if (this != &other) {
     if (id_ != 0) gl::DeleteProgram(id_);
     id_ = std::exchange(other.id_, 0);
     name_ = std::move(other.name_);
+    declared_ = std::move(other.declared_);
     locations_ = std::move(other.locations_);
   }
   return *this;
@@ -77,7 +84,17 @@ GLint Program::location(const std::string& uniform) const {
   auto it = locations_.find(uniform);
   if (it != locations_.end()) return it->second;
   const GLint loc = gl::GetUniformLocation(id_, uniform.c_str());
+  if (loc < 0 && !declared_.contains(std::string(uniform_base_name(uniform))))
+    throw std::invalid_argument(fmt::format("program {} declares no uniform '{}'", name_, uniform));
   locations_.emplace(uniform, loc);
+  return loc;
+}
+
+GLint Program::active_location(const std::string& uniform) const {
+  const GLint loc = location(uniform);
+  if (loc < 0)
+    throw std::invalid_argument(
+        fmt::format("program {} never reads sampler '{}' (optimised away: nothing uses it)", name_, uniform));
   return loc;
 }
 

@@ -1,9 +1,11 @@
 #pragma once
 /// \file program.h
 /// A linked GL program (RAII) built from assembled sources, with uniform setters that do not touch
-/// context state (glProgramUniform*). Compile and link failures throw ShaderError with the log.
+/// context state (glProgramUniform*). Compile and link failures throw ShaderError with the log; a
+/// uniform name the sources do not declare throws std::invalid_argument naming program and name.
 #include <GL/glcorearb.h>
 
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -33,8 +35,15 @@ class Program {
 
   [[nodiscard]] GLuint id() const { return id_; }
   [[nodiscard]] const std::string& name() const { return name_; }
-  /// Location of a uniform, or -1 (unused uniforms are optimised away; setting them is a no-op).
+  /// Location of a uniform ("u_x", "u_levels[3]"), or -1 when it is declared but inactive (the
+  /// compiler optimised it away: setting it is a no-op). Throws std::invalid_argument when the
+  /// sources declare no such uniform (a misspelt name would otherwise be silently ignored).
   [[nodiscard]] GLint location(const std::string& uniform) const;
+  /// Location of a sampler a pass binds a texture to: it must be active, since a texture bound to a
+  /// sampler the program never reads is a mistake. Throws std::invalid_argument naming the program.
+  [[nodiscard]] GLint active_location(const std::string& uniform) const;
+  /// Uniform names the vertex and fragment sources declare (uniform_names.h).
+  [[nodiscard]] const std::set<std::string>& declared_uniforms() const { return declared_; }
 
   void set(const std::string& uniform, int v) const;
   void set(const std::string& uniform, unsigned v) const;
@@ -48,6 +57,7 @@ class Program {
  private:
   GLuint id_ = 0;
   std::string name_;
+  std::set<std::string> declared_;
   mutable std::unordered_map<std::string, GLint> locations_;
 };
 

@@ -1,7 +1,9 @@
 // EXR dumps: every format round-trips through write_exr/read_exr, and Gpu::dump names files.
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <filesystem>
+#include <string>
 
 #include "gl_fixture.h"
 #include "gpgpu/exr_dump.h"
@@ -10,7 +12,8 @@ using gpgpu::Format;
 
 TEST_CASE("exr: float, mask and count textures round-trip") {
   test::gpu();
-  const auto dir = std::filesystem::temp_directory_path() / "nurbsgl_test_exr";
+  // One folder per process: ctest runs this program for several backends at once.
+  const auto dir = std::filesystem::temp_directory_path() / ("nurbsgl_test_exr_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::mt19937_64 rng(5);
   gpgpu::Texture t(9, 4, Format::RGBA32F);
