@@ -3,12 +3,18 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace cli {
 
 std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
   gpgpu::ContextOptions ctx;
-  ctx.backend = options.gl.empty() ? gpgpu::backend_from_env() : gpgpu::parse_backend(options.gl);
+  try {
+    ctx.backend = options.gl.empty() ? gpgpu::backend_from_env() : gpgpu::parse_backend(options.gl);
+  } catch (const std::invalid_argument& e) {
+    // --gl is checked by CLI11 while parsing, so this is the environment variable.
+    throw BadInput(fmt::format("NURBSGL_GL={}: {}", std::getenv("NURBSGL_GL"), e.what()));
+  }
   auto gpu = std::make_unique<gpgpu::Gpu>(ctx);
   if (!options.dump_dir.empty()) gpu->set_dump_dir(options.dump_dir);
   gpu->profiler().set_enabled(options.profile);

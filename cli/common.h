@@ -2,6 +2,7 @@
 /// \file common.h
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "gpgpu/gpu.h"
@@ -16,6 +17,13 @@ enum ExitCode : int {
   kNoGl = 3,      ///< no OpenGL backend could start
 };
 
+/// Bad command line, environment or input detected after parsing (e.g. NURBSGL_GL=vulkan): exit code 2.
+/// what() is the whole message, naming the option or variable and the problem.
+class BadInput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct GlobalOptions {
   std::string gl = "";   ///< --gl; empty = NURBSGL_GL, else auto
   std::string dump_dir;  ///< --dump DIR: EXR dumps of the textures a command produces
@@ -23,7 +31,8 @@ struct GlobalOptions {
 };
 
 /// Starts the GPU for a command (backend from --gl, else NURBSGL_GL, else auto), with dumps and
-/// profiling as asked. Throws gpgpu::NoGlError (exit 3) when nothing starts.
+/// profiling as asked. Throws BadInput (exit 2) for an unknown NURBSGL_GL and gpgpu::NoGlError
+/// (exit 3) when nothing starts.
 std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options);
 
 /// Prints the profiler's per-pass table on stderr when --profile was given.

@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
   } catch (const nurbs::io::ReadError& e) {
     fmt::print(stderr, "nurbsgl: {}\n", e.what());
     return cli::kBadInput;
+  } catch (const cli::BadInput& e) {
+    fmt::print(stderr, "nurbsgl: {}\n", e.what());
+    return cli::kBadInput;
   } catch (const cli::CommandFailed& e) {
     fmt::print(stderr, "nurbsgl: FAILED: {}\n", e.what());
     return cli::kFailed;
