@@ -1,9 +1,12 @@
 // Generators in models/: valid surfaces with the stated control-point counts, reproducible seeds.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <random>
+#include <tuple>
 
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
@@ -64,22 +67,42 @@ TEST_CASE("exact shapes: control-point counts and validity") {
   }
 }
 
-TEST_CASE("random family: valid, reproducible, frozen") {
-  // mt19937_64 is specified by the standard: its 10000th output from the default seed is fixed
-  // ([rand.predef]). Our doubles use only that raw stream, so these values hold on every compiler.
-  std::mt19937_64 e;
-  e.discard(9999);
-  CHECK(e() == 9981545732273789042ull);
-  models::Random r(1);
-  CHECK(r.uniform() == 0.13387664401253263);
-  CHECK(r.uniform() == 0.13640703636619722);
-  CHECK(r.integer(0, 100) == 18);
-  const auto s5 = models::random_surface(5, 3, 2, true);
-  CHECK(s5.count_u == 4);
-  CHECK(s5.count_v == 7);
-  CHECK(s5.points[3].z == 0.098870735025295975);
-  CHECK(s5.weights[2] == 2.9195159790338971);
+TEST_CASE("random family: Random is a function of the raw mt19937_64 stream only") {
+  // The documented contract (random_surfaces.h), derived here from the standard engine itself: a
+  // double is the top 53 bits of one output times 2^-53, an integer one output modulo the range.
+  // mt19937_64's output is fixed by [rand.predef], so the family is the same on every compiler.
+  for (std::uint64_t seed : {0ull, 1ull, 12345ull}) {
+    CAPTURE(seed);
+    models::Random r(seed);
+    std::mt19937_64 e(seed);
+    for (int k = 0; k < 100; ++k) {
+      CHECK(r.uniform() == static_cast<double>(e() >> 11) * 0x1.0p-53);  // exact: same bits
+      CHECK(r.integer(-3, 7) == -3 + static_cast<int>(e() % 11u));
+    }
+  }
+  // Range and balance: 1e5 draws, mean within 5 sigma of 1/2 (sigma = sqrt(1/12 / 1e5) = 9.1e-4);
+  // every value of integer(0, 100) appears (expected count 990 each).
+  models::Random r(7);
+  double sum = 0.0, lo = 1.0, hi = 0.0;
+  std::vector<int> hits(101, 0);
+  for (int k = 0; k < 100000; ++k) {
+    const double u = r.uniform();
+    sum += u;
+    lo = std::min(lo, u);
+    hi = std::max(hi, u);
+    const int i = r.integer(0, 100);
+    REQUIRE(i >= 0);
+    REQUIRE(i <= 100);
+    ++hits[static_cast<size_t>(i)];
+  }
+  CHECK(lo >= 0.0);
+  CHECK(hi < 1.0);
+  CHECK(std::abs(sum / 100000 - 0.5) < 5 * 9.1e-4);
+  CHECK(*std::min_element(hits.begin(), hits.end()) > 0);
+}
 
+TEST_CASE("random family: valid, reproducible, as documented") {
+  int clamped = 0, unclamped = 0;
   for (std::uint64_t seed = 0; seed < 200; ++seed) {
     const int p = 1 + static_cast<int>(seed % 7), q = 1 + static_cast<int>((seed / 7) % 7);
     const auto a = models::random_surface(seed, p, q, seed % 2 == 0);
@@ -89,11 +112,47 @@ TEST_CASE("random family: valid, reproducible, frozen") {
     CHECK(a.points == b.points);
     CHECK(a.knots_u == b.knots_u);
     CHECK(a.weights == b.weights);
+    // random_surface's documented ranges: degree + 1 + [0, 4] points, domain [a, a + w] with a in
+    // [-2, 2] and w in [0.5, 3], points on a grid over [-1, 1]^2 jittered by 0.3, z and weights in range.
+    CHECK(a.count_u - p - 1 >= 0);
+    CHECK(a.count_u - p - 1 <= 4);
+    CHECK(a.count_v - q - 1 >= 0);
+    CHECK(a.count_v - q - 1 <= 4);
+    for (const auto& [knots, degree, count] :
+         {std::tuple{&a.knots_u, p, a.count_u}, std::tuple{&a.knots_v, q, a.count_v}}) {
+      const double start = (*knots)[static_cast<size_t>(degree)], end = (*knots)[static_cast<size_t>(count)];
+      CHECK(start >= -2.0);
+      CHECK(start <= 2.0);
+      // 1e-12: start and end are rescaled (unclamped) or computed as a + w (clamped), a few ulps of 5.
+      CHECK(end - start >= 0.5 - 1e-12);
+      CHECK(end - start <= 3.0 + 1e-12);
+      CHECK(std::adjacent_find(knots->begin() + degree + 1, knots->begin() + count, std::greater_equal<>()) ==
+            knots->begin() + count);  // simple (strictly increasing) interior knots
+    }
+    const bool is_clamped = a.knots_u.front() == a.knots_u[static_cast<size_t>(p)];
+    (is_clamped ? clamped : unclamped) += 1;
+    for (int j = 0; j < a.count_v; ++j) {
+      for (int i = 0; i < a.count_u; ++i) {
+        const glm::dvec3 pt = a.point(i, j);
+        CHECK(std::abs(pt.x - (-1 + 2.0 * i / (a.count_u - 1))) <= 0.3);
+        CHECK(std::abs(pt.y - (-1 + 2.0 * j / (a.count_v - 1))) <= 0.3);
+        CHECK(std::abs(pt.z) <= 1.0);
+      }
+    }
+    CHECK(a.weights.size() == (seed % 2 == 0 ? a.points.size() : 0u));
+    for (double w : a.weights) {
+      CHECK(w >= 0.2);
+      CHECK(w <= 5.0);
+    }
     const auto t = models::random_trimmed_surface(seed);
     CHECK(nurbs::validate(t.surface).empty());
     CHECK(t.face_id == static_cast<int>(seed));
   }
   CHECK(models::random_surface(1, 3, 3, false).points != models::random_surface(2, 3, 3, false).points);
+  // "One seed in four gives unclamped knot vectors": 50 expected of 200, both kinds must occur.
+  MESSAGE("random family: " << clamped << " clamped, " << unclamped << " unclamped of 200");
+  CHECK(clamped > 0);
+  CHECK(unclamped > 0);
 }
 
 TEST_CASE("Filip K of the 100x105 surface at the note's grid sizes") {

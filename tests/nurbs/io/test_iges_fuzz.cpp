@@ -29,5 +29,9 @@ TEST_CASE("IGES fuzz: random character damage gives ReadError or a model") {
     }  // any other exception escapes and fails the test
   }
   MESSAGE("fuzz: " << errors << " errors, " << models << " models");
-  CHECK(errors + models == 2000);
+  // Any other exception has already failed the test; what is left to prove is that the corpus
+  // exercises both paths: damage the reader rejects and damage it reads through (e.g. a digit
+  // changed inside a coordinate). A corpus where every file fails, or none does, tests neither.
+  CHECK(errors > 0);
+  CHECK(models > 0);
 }

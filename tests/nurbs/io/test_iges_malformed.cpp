@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <functional>
+#include <set>
 #include <sstream>
 
 #include "iges_edit.h"
@@ -384,10 +385,14 @@ TEST_CASE("malformed IGES corpus: each file gives its specific error") {
   REQUIRE_NOTHROW(nurbs::io::read_iges_text(base, "bad.igs"));
   // The edit helper itself must reproduce a readable file when nothing is changed.
   REQUIRE_NOTHROW(nurbs::io::read_iges_text(IgesEdit::parse(base).text(), "bad.igs"));
-  CHECK(std::size(kCases) >= 30);
+  static_assert(std::size(kCases) >= 30, "the corpus covers at least 30 kinds of damage");
+  std::set<std::string> messages;
   for (const Case& c : kCases) {
     CAPTURE(std::string(c.name));
     const Mutation m = c.mutate(base);
+    // A case proves something only if it damaged the file and names the specific problem.
+    REQUIRE(m.text != base);
+    REQUIRE_FALSE(m.expect.empty());
     std::string message;
     try {
       nurbs::io::read_iges_text(m.text, "bad.igs");
@@ -398,5 +403,6 @@ TEST_CASE("malformed IGES corpus: each file gives its specific error") {
     REQUIRE_FALSE(message.empty());
     CHECK(message.rfind("bad.igs: ", 0) == 0);
     for (const std::string& s : m.expect) CHECK_MESSAGE(message.find(s) != std::string::npos, "missing '" << s << "'");
+    CHECK_MESSAGE(messages.insert(message).second, "another case gave the same message");  // each its own error
   }
 }
