@@ -32,6 +32,7 @@ struct Options {
   std::vector<int> faces;  ///< indices into the model's face list; empty = all
   int grid = 0;            ///< samples per direction of a uniform grid; 0 = certified grid from the tolerance
   double rel_tolerance = 1e-4;
+  bool tolerance_given = false;  ///< with --grid, the tolerance is checked only when asked for
   long long max_samples = 1LL << 26;
   int tile_mb = 256;
   std::string obj;
@@ -59,7 +60,7 @@ nurbs::FaceGridReport face_grid(const nurbs::Surface& s, const Options& o, doubl
   r.grid.lines_v = {b.domain_v.min, b.domain_v.max};
   r.grid.cells_u = {o.grid - 1};
   r.grid.cells_v = {o.grid - 1};
-  r.grid.meets_tolerance = r.grid.k_e <= tolerance;
+  r.grid.meets_tolerance = !o.tolerance_given || r.grid.k_e <= tolerance;
   if (!r.grid.meets_tolerance)
     r.grid.reason = std::isfinite(r.grid.k_e) ? fmt::format("the {}^2 grid has K_e {:.3g}", o.grid, r.grid.k_e)
                                               : fmt::format("the {}^2 grid crosses a C0 knot line", o.grid);
@@ -228,19 +229,20 @@ void run(const GlobalOptions& global, const Options& o) {
     total_samples += params[k].samples();
     largest = std::max(largest, params[k].samples());
     total_ms += w.eval_ms + w.trim_ms;
-    nlohmann::json row{{"face", index},
-                       {"face_id", f.face_id},
-                       {"degree", {f.surface.degree_u, f.surface.degree_v}},
-                       {"control_points", {f.surface.count_u, f.surface.count_v}},
-                       {"grid", {params[k].u.size(), params[k].v.size()}},
-                       {"segments", {cg.cells_u.size(), cg.cells_v.size()}},
-                       {"K", finite_or_null(cg.k)},
-                       {"K_e", finite_or_null(cg.k_e)},
-                       {"K_e_over_size", finite_or_null(cg.k_e / size)},
-                       {"tolerance", tolerance},
-                       {"meets_tolerance", cg.meets_tolerance},
-                       {"bound_ratio", finite_or_null(reports[k].bound_ratio)},
-                       {"trimmed", !f.loops.empty()}};
+    nlohmann::json row{
+        {"face", index},
+        {"face_id", f.face_id},
+        {"degree", {f.surface.degree_u, f.surface.degree_v}},
+        {"control_points", {f.surface.count_u, f.surface.count_v}},
+        {"grid", {params[k].u.size(), params[k].v.size()}},
+        {"segments", {cg.cells_u.size(), cg.cells_v.size()}},
+        {"K", finite_or_null(cg.k)},
+        {"K_e", finite_or_null(cg.k_e)},
+        {"K_e_over_size", finite_or_null(cg.k_e / size)},
+        {"tolerance", o.grid > 0 && !o.tolerance_given ? nlohmann::json(nullptr) : nlohmann::json(tolerance)},
+        {"meets_tolerance", cg.meets_tolerance},
+        {"bound_ratio", finite_or_null(reports[k].bound_ratio)},
+        {"trimmed", !f.loops.empty()}};
     if (w.batch >= 0) {
       row["batch"] = w.batch;
     } else {
@@ -307,7 +309,9 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<Options>();
   cmd->add_option("MODEL", o->path, "Model file (.igs/.iges/.bpt)")->required();
   cmd->add_option("--face", o->faces, "Face index (repeatable); default: all faces");
-  cmd->add_option("--grid", o->grid, "Uniform grid of N x N samples instead of the certified one (reports its K_e)")
+  cmd->add_option("--grid", o->grid,
+                  "Uniform grid of N x N samples instead of the certified one (reports its K_e; checked against "
+                  "--tolerance only when that is given too)")
       ->check(CLI::Range(2, 1 << 20));
   cmd->add_option("--tolerance", o->rel_tolerance,
                   "Bound on the Euclidean deviation K_e of surface from grid triangles, relative to the model size "
@@ -334,8 +338,9 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
                 "segment pair, row-major with u fastest");
   cmd->add_flag("!--no-batch", o->batch,
                 "Evaluate one face at a time instead of packing faces into atlases (one pass per batch)");
-  cmd->callback([&global, o, method] {
+  cmd->callback([&global, o, method, cmd] {
     o->method = methods.at(*method);
+    o->tolerance_given = cmd->count("--tolerance") > 0;
     run(global, *o);
   });
 }

@@ -134,8 +134,8 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
                                  {"u_ctrl", &ctrl_tex.texture}};
   gpgpu::Texture* outputs[] = {&a.points, &a.normals};
   gpu.run("surface_eval_atlas", p, inputs, outputs);
-  gpu.dump("atlas_points", a.points);
-  gpu.dump("atlas_normals", a.normals);
+  gpu.dump("atlas_surface_points", a.points);
+  gpu.dump("atlas_surface_normals", a.normals);
 
   // Trim masks: every slot's loops (or its whole rectangle) in atlas coordinates, clipped to it.
   std::vector<std::vector<glm::vec2>> polygons;
