@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 a check failed, 2 bad command line or input file, 3 no usable OpenGL.",
       "nurbsgl"};
   app.require_subcommand(1);
+  app.fallthrough();  // global options (--gl, --dump, --profile) also after the subcommand
   cli::GlobalOptions global;
   app.add_option("--gl", global.gl,
                  "GL backend: auto (EGL, then OSMesa), egl, egl-device, osmesa, glfw "
