@@ -101,8 +101,15 @@ TEST_CASE("Filip K bounds the deviation from the grid triangles on 1000 random s
     if (std::isfinite(k_grid) && k_grid > 0) (rational ? rat : poly).ratios.push_back(max_dev / k_grid);
     ++surfaces;
   }
-  CHECK(surfaces == 1000);
   CHECK(cells_checked > 10000);
+  // The family exercises what the bound must handle (C0 knot lines), and the bound is not vacuous:
+  // somewhere the sampled deviation comes close to K (measured max 0.91 polynomial, 0.66 rational)
+  // and |S_uu| close to M1 (measured max 1: quadratics attain it).
+  CHECK(non_c1 > 100);
+  CHECK(cells_infinite > 0);
+  CHECK(poly.quantile(1.0) > 0.5);
+  CHECK(rat.quantile(1.0) > 0.3);
+  CHECK(m_ratio.quantile(1.0) > 0.99);
   MESSAGE("Filip K: ", surfaces, " surfaces (", non_c1, " not C1), ", cells_checked, " cells checked, ", cells_infinite,
           " cells straddling a C0 knot line");
   MESSAGE("sampled max deviation / K, polynomial: median ", poly.quantile(0.5), ", 90% ", poly.quantile(0.9), ", max ",
