@@ -9,6 +9,7 @@
 
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
+#include "nurbs/io/iges_analytic.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
 
@@ -206,7 +207,7 @@ TrimLoop IgesFaces::loop_141(int de, bool outer) {
 
 // 510: SURF, N, OF (1 = loop 1 is the outer loop), LOOP(1..N) pointing to 508s.
 TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
-  const int surf = g_.expect(p, 1, {128}, "a surface");
+  const int surf = g_.expect(p, 1, {128, 120, 122, 190, 192, 194, 196, 198}, "a surface");
   const int n = p.integer(2, 1, std::max(1, p.size() - 3), "number of loops N");
   const int of = p.integer(3, 0, 1, "outer loop flag OF");
   std::vector<ParameterRef> loops;
@@ -214,8 +215,14 @@ TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
   p.check_trailing(3 + n);
   reject_repeats(p, loops, "loop");
   TrimmedSurface f;
-  f.surface = g_.surface(surf, m, /*restrict_to_range=*/of == 0);  // no outer loop: the range bounds it
-  for (int k = 0; k < n; ++k) f.loops.push_back(loop_508(loops[static_cast<size_t>(k)].de, of == 1 && k == 0));
+  const bool analytic = is_analytic_surface_type(g_.file().entry(surf).type);
+  if (!analytic) f.surface = g_.surface(surf, m, /*restrict_to_range=*/of == 0);  // no outer loop: the range bounds it
+  const bool plane = g_.file().entry(surf).type == 190;  // OpenCASCADE writes no parameter curves on planes
+  for (int k = 0; k < n; ++k) {
+    const int loop = loops[static_cast<size_t>(k)].de;
+    f.loops.push_back(plane ? plane_loop(g_, surf, m, loop, of == 1 && k == 0) : loop_508(loop, of == 1 && k == 0));
+  }
+  if (analytic) set_analytic_surface(g_, surf, m, f);  // surface over the loops' IGES (u, v), loops mapped
   return f;
 }
 

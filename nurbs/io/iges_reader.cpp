@@ -27,6 +27,11 @@ bool is_read_type(int type) {
     case 143:
     case 144:
     case 186:
+    case 190:  // 190-198: analytic surfaces, read for the 510 faces on them (iges_analytic.h)
+    case 192:
+    case 194:
+    case 196:
+    case 198:
     case 314:
     case 402:
     case 406:

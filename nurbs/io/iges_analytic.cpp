@@ -1,0 +1,387 @@
+// IGES 5.3 analytic surfaces (120, 122, 190-198) as exact rational NURBS: rational quadratic arcs
+// in every angular direction (The NURBS Book §7.3) and surfaces of revolution as the tensor product
+// of a profile and those arcs (§8.5).
+#include "nurbs/io/iges_analytic.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <numbers>
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/homogeneous.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/validate.h"
+
+namespace nurbs::io {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+// Loops are flattened within this fraction of their extent along each direction (see the header).
+constexpr double kFlatten = 1e-7;
+
+// Rational quadratic arcs of the unit circle from `start` over `sweep` radians, each at most 90
+// degrees: control points (cos, sin) at the arc ends, the middle ones at 1 / cos(h / 2) with weight
+// cos(h / 2); knot k (doubled inside) at start + k h, so the parameter equals the angle at the knots.
+struct UnitArcs {
+  std::vector<double> knots;
+  std::vector<glm::dvec2> points;
+  std::vector<double> weights;
+};
+
+int arc_count(double sweep) { return std::max(1, static_cast<int>(std::ceil(sweep / (std::numbers::pi / 2) - 1e-9))); }
+
+UnitArcs unit_arcs(double start, double sweep) {
+  const int n = arc_count(sweep);
+  const double h = sweep / n, w = std::cos(h / 2);
+  UnitArcs a;
+  a.knots = {start, start, start};
+  for (int k = 0; k < n; ++k) {
+    const double a0 = start + k * h, am = a0 + h / 2;
+    a.points.emplace_back(std::cos(a0), std::sin(a0));
+    a.weights.push_back(1.0);
+    a.points.push_back(glm::dvec2(std::cos(am), std::sin(am)) / w);
+    a.weights.push_back(w);
+    const double knot = k + 1 == n ? start + sweep : start + (k + 1) * h;
+    a.knots.insert(a.knots.end(), k + 1 == n ? 3 : 2, knot);
+  }
+  a.points.emplace_back(std::cos(start + sweep), std::sin(start + sweep));
+  a.weights.push_back(1.0);
+  return a;
+}
+
+ParameterAxis angular_axis(double scale, double x0, double x1) {
+  ParameterAxis axis;
+  axis.angular = true;
+  axis.scale = scale;
+  axis.start = scale * x0;
+  axis.sweep = scale * (x1 - x0);
+  axis.arcs = arc_count(axis.sweep);
+  return axis;
+}
+
+// The arc of the circle centre + rho (cos a e1 + sin a e2), a in [a0, a0 + sweep].
+Curve3 circle_arc(glm::dvec3 centre, glm::dvec3 e1, glm::dvec3 e2, double rho, double a0, double sweep) {
+  const UnitArcs a = unit_arcs(a0, sweep);
+  Curve3 c;
+  c.degree = 2;
+  c.knots = a.knots;
+  c.weights = a.weights;
+  for (const glm::dvec2& q : a.points) c.points.push_back(centre + rho * (q.x * e1 + q.y * e2));
+  return c;
+}
+
+Curve3 segment(glm::dvec3 a, glm::dvec3 b, double t0, double t1) {
+  Curve3 c;
+  c.degree = 1;
+  c.knots = {t0, t0, t1, t1};
+  c.points = {a, b};
+  return c;
+}
+
+// The profile turned about the axis through `origin` along unit `dir` by the angles a0..a0 + sweep
+// (right-handed): P - origin = h dir + r gives O + h dir + cos a r + sin a (dir x r), exact for
+// rational profiles as the tensor product with the arcs (weights multiply). The angle runs along
+// u when `angle_in_u`, else along v.
+Surface revolve(const Curve3& profile, glm::dvec3 origin, glm::dvec3 dir, double a0, double sweep, bool angle_in_u) {
+  const UnitArcs a = unit_arcs(a0, sweep);
+  const int na = static_cast<int>(a.points.size()), np = static_cast<int>(profile.points.size());
+  Surface s;
+  s.degree_u = angle_in_u ? 2 : profile.degree;
+  s.degree_v = angle_in_u ? profile.degree : 2;
+  s.count_u = angle_in_u ? na : np;
+  s.count_v = angle_in_u ? np : na;
+  s.knots_u = angle_in_u ? a.knots : profile.knots;
+  s.knots_v = angle_in_u ? profile.knots : a.knots;
+  s.points.resize(static_cast<size_t>(na) * np);
+  s.weights.resize(s.points.size());
+  for (int j = 0; j < np; ++j) {
+    const glm::dvec3 d = profile.points[static_cast<size_t>(j)] - origin;
+    const glm::dvec3 along = glm::dot(d, dir) * dir, r = d - along, r90 = glm::cross(dir, r);
+    const double wp = profile.rational() ? profile.weights[static_cast<size_t>(j)] : 1.0;
+    for (int i = 0; i < na; ++i) {
+      const glm::dvec2 q = a.points[static_cast<size_t>(i)];
+      const size_t k = angle_in_u ? static_cast<size_t>(j) * na + i : static_cast<size_t>(i) * np + j;
+      s.points[k] = origin + along + q.x * r + q.y * r90;
+      s.weights[k] = a.weights[static_cast<size_t>(i)] * wp;
+    }
+  }
+  return s;
+}
+
+// OpenCASCADE's gp_Ax2(P, V) choice of X for an axis without reference direction (form 0): one
+// coordinate zeroed, the smallest of |V|'s.
+glm::dvec3 default_x(glm::dvec3 v) {
+  const glm::dvec3 m = glm::abs(v);
+  glm::dvec3 d;
+  if (m.y <= m.x && m.y <= m.z)
+    d = m.x > m.z ? glm::dvec3(-v.z, 0, v.x) : glm::dvec3(v.z, 0, -v.x);
+  else if (m.x <= m.y && m.x <= m.z)
+    d = m.y > m.z ? glm::dvec3(0, -v.z, v.y) : glm::dvec3(0, v.z, -v.y);
+  else
+    d = m.x > m.y ? glm::dvec3(-v.y, v.x, 0) : glm::dvec3(v.y, -v.x, 0);
+  return glm::normalize(d);
+}
+
+// Location, axis and reference direction of the entities 190-198.
+struct Frame {
+  glm::dvec3 origin, x, y, a;
+};
+
+glm::dvec3 read_point(IgesGeometry& g, const EntityParams& p, int i) {
+  EntityParams q(g.file(), g.file().entry(g.expect(p, i, {116}, "a point")));
+  return {q.real(1), q.real(2), q.real(3)};
+}
+
+glm::dvec3 read_direction(IgesGeometry& g, const EntityParams& p, int i) {
+  EntityParams q(g.file(), g.file().entry(g.expect(p, i, {123}, "a direction")));
+  const glm::dvec3 d(q.real(1), q.real(2), q.real(3));
+  if (!(glm::length(d) > 0.0)) q.fail(1, "direction has zero length");
+  return glm::normalize(d);
+}
+
+// Point at parameter 1, axis at `axis`, reference direction at `ref` when the form is 1.
+Frame read_frame(IgesGeometry& g, const EntityParams& p, int axis, int ref) {
+  Frame f;
+  f.origin = read_point(g, p, 1);
+  f.a = read_direction(g, p, axis);
+  const int form = p.entry().form;
+  if (form != 0 && form != 1) p.fail(0, fmt::format("form {} is not 0 or 1", form));
+  const glm::dvec3 x = form == 1 ? read_direction(g, p, ref) : default_x(f.a);
+  const glm::dvec3 xo = x - glm::dot(x, f.a) * f.a;
+  if (glm::length(xo) < 1e-9) p.fail(ref, "reference direction is parallel to the axis");
+  f.x = glm::normalize(xo);
+  f.y = glm::cross(f.a, f.x);
+  p.check_trailing(form == 1 ? ref : ref - 1);
+  return f;
+}
+
+double positive(const EntityParams& p, int i, const char* what) {
+  const double r = p.real(i);
+  if (!(r > 0.0)) p.fail(i, fmt::format("{} is {}, must be > 0", what, r));
+  return r;
+}
+
+// The only NURBS curve of a generatrix / directrix (composite curves of several pieces are not
+// joined here).
+Curve3 single_curve(IgesGeometry& g, const EntityParams& p, int i, const glm::dmat4& m) {
+  const int de = g.expect(p, i, {100, 102, 104, 110, 126}, "a curve");
+  std::vector<Curve3> pieces = g.curves(de, m);
+  if (pieces.size() != 1) throw UnsupportedEntity{de, g.file().entry(de).type};
+  return std::move(pieces.front());
+}
+
+void transform(Surface& s, const glm::dmat4& m) {
+  for (glm::dvec3& q : s.points) q = glm::dvec3(m * glm::dvec4(q, 1.0));
+}
+
+}  // namespace
+
+bool is_analytic_surface_type(int type) {
+  return type == 120 || type == 122 || type == 190 || type == 192 || type == 194 || type == 196 || type == 198;
+}
+
+double ParameterAxis::operator()(double x) const {
+  if (!angular) return offset + scale * x;
+  const double h = sweep / arcs, a = scale * x - start;
+  const int k = std::clamp(static_cast<int>(std::floor(a / h)), 0, arcs - 1);
+  const double sigma = std::tan(0.5 * (a - (k + 0.5) * h)) / std::tan(0.25 * h);
+  return start + (k + 0.5 * (sigma + 1.0)) * h;
+}
+
+AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, glm::dvec2 lo, glm::dvec2 hi) {
+  const IgesDirectoryEntry& e = g.file().entry(de);
+  const glm::dmat4 m = parent * g.transform(de);
+  EntityParams p(g.file(), e);
+  AnalyticSurface out;
+  const double du = hi.x - lo.x, dv = hi.y - lo.y;
+  switch (e.type) {
+    case 190: {  // LOCATION, NORMAL, [REFDIR]
+      const Frame f = read_frame(g, p, 2, 3);
+      Surface& s = out.surface;
+      s.degree_u = s.degree_v = 1;
+      s.count_u = s.count_v = 2;
+      s.knots_u = {lo.x, lo.x, hi.x, hi.x};
+      s.knots_v = {lo.y, lo.y, hi.y, hi.y};
+      for (double v : {lo.y, hi.y})
+        for (double u : {lo.x, hi.x}) s.points.push_back(f.origin + u * f.x + v * f.y);
+      break;
+    }
+    case 192:    // LOCATION, AXIS, RADIUS, [REFDIR]
+    case 194: {  // LOCATION, AXIS, RADIUS, SANGLE (degrees), [REFDIR]
+      const bool cone = e.type == 194;
+      const Frame f = read_frame(g, p, 2, cone ? 5 : 4);
+      const double r = cone ? p.real(3) : positive(p, 3, "radius");
+      if (cone && !(r >= 0.0)) p.fail(3, fmt::format("radius is {}, must be >= 0", r));
+      const double angle = cone ? p.real(4) * kDegree : 0.0;
+      if (cone && !(angle > 0.0 && angle < std::numbers::pi / 2))
+        p.fail(4, fmt::format("semi-angle {} is not in (0, 90) degrees", p.real(4)));
+      auto at = [&](double v) { return f.origin + (r + v * std::sin(angle)) * f.x + v * std::cos(angle) * f.a; };
+      out.surface = revolve(segment(at(lo.y), at(hi.y), lo.y, hi.y), f.origin, f.a, lo.x * kDegree, du * kDegree, true);
+      out.u = angular_axis(kDegree, lo.x, hi.x);
+      break;
+    }
+    case 196: {  // CENTER, RADIUS, AXIS, [REFDIR]
+      const Frame f = read_frame(g, p, 3, 4);
+      const double r = positive(p, 2, "radius");
+      const Curve3 meridian = circle_arc(f.origin, f.x, f.a, r, lo.y * kDegree, dv * kDegree);
+      out.surface = revolve(meridian, f.origin, f.a, lo.x * kDegree, du * kDegree, true);
+      out.u = angular_axis(kDegree, lo.x, hi.x);
+      out.v = angular_axis(kDegree, lo.y, hi.y);
+      break;
+    }
+    case 198: {  // CENTER, AXIS, MAJOR, MINOR, [REFDIR]
+      const Frame f = read_frame(g, p, 2, 5);
+      const double big = positive(p, 3, "major radius"), small = positive(p, 4, "minor radius");
+      const Curve3 minor = circle_arc(f.origin + big * f.x, f.x, f.a, small, lo.x * kDegree, du * kDegree);
+      // v turns clockwise about A (cos v X - sin v Y): right-handed about -A.
+      out.surface = revolve(minor, f.origin, -f.a, lo.y * kDegree, dv * kDegree, false);
+      out.u = angular_axis(kDegree, lo.x, hi.x);
+      out.v = angular_axis(kDegree, lo.y, hi.y);
+      break;
+    }
+    case 120: {  // L (axis line), C (generatrix), SA, TA (radians)
+      const Curve3 axis = single_curve(g, p, 1, m);
+      const Curve3 generatrix = single_curve(g, p, 2, m);
+      const double sa = p.real(3), ta = p.real(4);
+      if (!(sa < ta)) p.fail(3, fmt::format("start angle {} is not less than terminate angle {}", sa, ta));
+      p.check_trailing(4);
+      const glm::dvec3 o = axis.points.front(), d = glm::normalize(axis.points.back() - o);
+      out.surface = revolve(generatrix, o, d, lo.y, dv, false);
+      out.v = angular_axis(1.0, lo.y, hi.y);
+      return out;  // already in model space
+    }
+    case 122: {  // DE (directrix), LX, LY, LZ (the generatrix end)
+      const Curve3 c = single_curve(g, p, 1, m);
+      const glm::dvec3 end = glm::dvec3(m * glm::dvec4(p.real(2), p.real(3), p.real(4), 1.0));
+      p.check_trailing(4);
+      const Interval t = curve_domain(c);
+      const glm::dvec3 shift = end - curve_point(c, t.min);
+      Surface& s = out.surface;
+      s.degree_u = c.degree;
+      s.degree_v = 1;
+      s.count_u = static_cast<int>(c.points.size());
+      s.count_v = 2;
+      s.knots_u = c.knots;
+      s.knots_v = {0, 0, 1, 1};
+      s.points = c.points;
+      for (const glm::dvec3& q : c.points) s.points.push_back(q + shift);
+      if (c.rational()) {
+        s.weights = c.weights;
+        s.weights.insert(s.weights.end(), c.weights.begin(), c.weights.end());
+      }
+      out.u.offset = t.min;
+      out.u.scale = t.width();
+      return out;
+    }
+    default:
+      g.fail(de, "is not an analytic surface (120, 122, 190-198)");
+  }
+  transform(out.surface, m);
+  return out;
+}
+
+TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer) {
+  const glm::dmat4 m = parent * g.transform(plane_de);
+  EntityParams plane(g.file(), g.file().entry(plane_de));
+  const Frame f = read_frame(g, plane, 2, 3);
+  // Model-space frame of the plane: (u, v) = ((P - o) . x, (P - o) . y) / |x|^2, |x| = |y| for
+  // the similarities of 124 (rigid motions and uniform scales).
+  const glm::dvec3 o(m * glm::dvec4(f.origin, 1.0)), x(m * glm::dvec4(f.x, 0.0)), y(m * glm::dvec4(f.y, 0.0));
+  const double x2 = glm::dot(x, x);
+  EntityParams p(g.file(), g.file().entry(loop_de));
+  const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
+  TrimLoop loop;
+  loop.outer = outer;
+  int i = 2;
+  for (int c = 0; c < n; ++c) {
+    const int type = p.integer(i, 0, 1, "edge type");
+    const int list = g.expect(p, i + 1, {type == 0 ? 504 : 502}, type == 0 ? "an edge list" : "a vertex list");
+    EntityParams edges(g.file(), g.file().entry(list));
+    const int count = edges.integer(1, 1, std::max(1, edges.size()), "number of list entries N");
+    const int ndx = p.integer(i + 2, 1, count, "list index NDX");
+    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
+    const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
+    if (type == 0) {
+      const int curve = g.expect(edges, 2 + 5 * (ndx - 1), {100, 102, 104, 110, 126}, "a curve");
+      std::vector<Curve2> piece;
+      for (const Curve3& c3 : g.curves(curve, parent)) {
+        Curve2 c2;
+        c2.degree = c3.degree;
+        c2.knots = c3.knots;
+        c2.weights = c3.weights;
+        for (const glm::dvec3& q : c3.points) c2.points.emplace_back(glm::dot(q - o, x) / x2, glm::dot(q - o, y) / x2);
+        piece.push_back(std::move(c2));
+      }
+      if (of == 0) {
+        std::reverse(piece.begin(), piece.end());
+        for (Curve2& c2 : piece) c2 = reversed(c2);
+      }
+      for (Curve2& c2 : piece) loop.curves.push_back(std::move(c2));
+    }
+    i += 5 + 2 * k;
+  }
+  p.check_trailing(i - 1);
+  return loop;
+}
+
+void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f) {
+  // Extent of the control points (which bound the curves): each direction is flattened in its own
+  // units, so a face 360 degrees round and 0.01 mm high keeps its height.
+  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const TrimLoop& loop : f.loops)
+    for (const Curve2& c : loop.curves)
+      for (const glm::dvec2& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  const glm::dvec2 extent = hi - lo;
+  if (!(extent.x > 0.0 && extent.y > 0.0) || !std::isfinite(extent.x + extent.y))
+    g.fail(de, "its face's trim curves span no area of its parameter plane");
+  std::vector<std::vector<std::vector<glm::dvec2>>> polylines(f.loops.size());
+  glm::dvec2 box_lo(std::numeric_limits<double>::max()), box_hi(std::numeric_limits<double>::lowest());
+  for (size_t l = 0; l < f.loops.size(); ++l)
+    for (Curve2 c : f.loops[l].curves) {
+      for (glm::dvec2& q : c.points) q = (q - lo) / extent;  // affine: exact for rational curves
+      std::vector<glm::dvec2> line = flatten_curve(c, kFlatten);
+      if (line.size() == 1) line.push_back(line.front());  // a curve collapsed to a point
+      for (glm::dvec2& q : line) q = lo + q * extent, box_lo = glm::min(box_lo, q), box_hi = glm::max(box_hi, q);
+      polylines[l].push_back(std::move(line));
+    }
+  const AnalyticSurface a = analytic_surface(g, de, parent, box_lo, box_hi);
+  f.surface = a.surface;
+  const bool exact = !a.u.angular && !a.v.angular;
+  const Interval su = surface_domain_u(f.surface), sv = surface_domain_v(f.surface);
+  // Rounding may put a mapped point a hair outside the domain (and some writers' trims reach 1e-8
+  // beyond a 122's [0, 1]): clamp within 1e-6 of the domain, leave larger excursions to the checks.
+  auto clamp = [](double x, Interval d) {
+    const double eps = 1e-6 * d.width();
+    return x < d.min && x > d.min - eps ? d.min : x > d.max && x < d.max + eps ? d.max : x;
+  };
+  auto map = [&](glm::dvec2 q) {
+    const glm::dvec2 st = a.map(q);
+    return glm::dvec2(clamp(st.x, su), clamp(st.y, sv));
+  };
+  for (size_t l = 0; l < f.loops.size(); ++l)
+    for (size_t k = 0; k < f.loops[l].curves.size(); ++k) {
+      Curve2& c = f.loops[l].curves[k];
+      if (exact) {
+        for (glm::dvec2& q : c.points) q = map(q);
+        continue;
+      }
+      // A polyline within the flattening tolerance of the exact image of the curve.
+      const std::vector<glm::dvec2>& line = polylines[l][k];
+      c = Curve2{};
+      c.degree = 1;
+      c.knots.push_back(0.0);
+      for (size_t i = 0; i < line.size(); ++i) {
+        c.points.push_back(map(line[i]));
+        c.knots.push_back(static_cast<double>(i));
+      }
+      c.knots.push_back(static_cast<double>(line.size() - 1));
+    }
+}
+
+}  // namespace nurbs::io

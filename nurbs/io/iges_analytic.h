@@ -1,0 +1,76 @@
+#pragma once
+/// \file iges_analytic.h
+/// IGES 5.3 analytic surfaces as exact rational NURBS: 190 plane, 192 right circular cylinder,
+/// 194 right circular cone, 196 sphere, 198 torus (IGES 5.3, the analytic surfaces of the B-rep
+/// entities: "Plane Surface Entity (Type 190)" to "Toroidal Surface Entity (Type 198)"), 120 surface
+/// of revolution (§4.18) and 122 tabulated cylinder (§4.19), with the exact map from the entity's
+/// IGES (u, v) to the NURBS (s, t), which the face's parameter-space trim curves need. Internal to
+/// the reader.
+///
+/// Parametrisations, as OpenCASCADE 7.6 reads and writes them (IGESToBRep_BasicSurface and
+/// IGESToBRep_TopoSurface::ParamSurface; GeomToIGES): X = the reference direction made
+/// orthogonal to the axis A (form 1; form 0: OpenCASCADE's gp_Ax3(L, A) choice), Y = A x X, angles of
+/// 192-198 in degrees, of 120 in radians:
+///   190  S(u, v) = L + u X + v Y                                   (X, Y from N and REFDIR)
+///   192  S(u, v) = L + R (cos u X + sin u Y) + v A
+///   194  S(u, v) = L + (R + v sin a)(cos u X + sin u Y) + v cos a A (a = SANGLE, v along the ruling)
+///   196  S(u, v) = C + R cos v (cos u X + sin u Y) + R sin v A
+///   198  S(u, v) = C + (R + r cos u)(cos v X - sin v Y) + r sin u A (u minor angle, v major angle)
+///   120  S(u, v) = the generatrix point C(u) turned by v about the axis line (right-handed about
+///        its start -> end direction), v in [SA, TA]
+///   122  S(u, v) = C(t0 + u (t1 - t0)) + v (G - C(t0)), (u, v) in [0, 1]^2, G the generatrix end.
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+
+#include "nurbs/io/iges_geometry.h"
+#include "nurbs/trimmed_surface.h"
+
+namespace nurbs::io {
+
+/// True for the surface types this file converts (120, 122, 190, 192, 194, 196, 198).
+bool is_analytic_surface_type(int type);
+
+/// The map of one direction from the IGES parameter x to the NURBS parameter. Linear: offset +
+/// scale x. Angular: the angle a = scale x (radians) on rational quadratic arcs, `arcs` equal arcs
+/// of `sweep` / arcs radians from `start`, knot k at start + k sweep / arcs: exact, closed form
+/// (an arc with middle weight cos(h / 2), h its sweep, reaches the angle h / 2 + 2 atan(sigma
+/// tan(h / 4)) at its parameter (sigma + 1) / 2, The NURBS Book §7.3).
+struct ParameterAxis {
+  bool angular = false;
+  double scale = 1.0;
+  double offset = 0.0;
+  double start = 0.0;  ///< angular: first angle (radians) = first knot
+  double sweep = 0.0;  ///< angular: total angle (radians) > 0
+  int arcs = 0;        ///< angular: number of arcs, each at most 90 degrees
+  [[nodiscard]] double operator()(double x) const;
+};
+
+/// An analytic surface as NURBS with its map (IGES u, v) -> (s, t), monotone in each direction.
+struct AnalyticSurface {
+  Surface surface;
+  ParameterAxis u, v;
+  [[nodiscard]] glm::dvec2 map(glm::dvec2 uv) const { return {u(uv.x), v(uv.y)}; }
+};
+
+/// The analytic surface `de` mapped by parent * (its own transform chain), covering the IGES
+/// parameter box [box_min, box_max] (192-198, 190: the face's trims; 120: the angles; 122 and the
+/// generatrix of 120 always span their whole range). Throws ReadError on malformed data.
+AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, glm::dvec2 box_min,
+                                 glm::dvec2 box_max);
+
+/// Face hook of the B-rep reader (510 on an analytic surface): `f.loops` hold the 508 parameter
+/// curves in IGES (u, v); builds f.surface over their box and maps every loop into (s, t). Each
+/// curve is flattened in (u, v) within 1e-7 of the loops' extent (flatten_curve) and every vertex
+/// mapped exactly, so the trims become degree-1 polylines within that flattening tolerance of the
+/// exact trims (segments parallel to a parameter axis map exactly); when both directions are
+/// linear the control points are mapped instead, which is exact.
+void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f);
+
+/// A 508 loop of a face on a 190 plane `plane_de` (mapped by `parent` as the face), in the plane's
+/// IGES (u, v): each edge's model-space curve (504) projected onto the plane, reversed where the
+/// edge's orientation flag OF is 0 (disagrees with the curve). Exact (the projection is affine,
+/// rational curves keep their weights) and independent of any parameter-space curves, which
+/// OpenCASCADE does not write on planes. Vertex-type entries (a loop of one vertex) add nothing.
+TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer);
+
+}  // namespace nurbs::io
