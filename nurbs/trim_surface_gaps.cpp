@@ -1,0 +1,124 @@
+#include "nurbs/trim_surface_gaps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/knot_insertion.h"
+#include "nurbs/knot_vector.h"
+#include "nurbs/restrict.h"
+#include "nurbs/surface_eval.h"
+
+namespace nurbs {
+namespace {
+
+glm::dvec2 start_point(const Curve2& c) { return curve_point(c, curve_domain(c).min); }
+glm::dvec2 end_point(const Curve2& c) { return curve_point(c, curve_domain(c).max); }
+
+Curve2 segment(glm::dvec2 a, glm::dvec2 b) {
+  Curve2 c;
+  c.degree = 1;
+  c.knots = {0.0, 0.0, 1.0, 1.0};
+  c.points = {a, b};
+  return c;
+}
+
+// Largest model-space distance from S(a) to the image of the (u, v) segment a-b, at 16 samples.
+double image_extent(const Surface& s, glm::dvec2 a, glm::dvec2 b) {
+  const glm::dvec3 pa = surface_point(s, a.x, a.y);
+  double extent = 0.0;
+  for (int i = 1; i <= 16; ++i) {
+    const glm::dvec2 m = a + (b - a) * (i / 16.0);
+    extent = std::max(extent, glm::length(surface_point(s, m.x, m.y) - pa));
+  }
+  return extent;
+}
+
+// Parameter of `c` nearest to `q` in (u, v): the best of 64 samples, refined by golden-section
+// search between its neighbours (the distance is unimodal there for any curve a trim tolerance apart).
+double nearest_parameter(const Curve2& c, glm::dvec2 q) {
+  const Interval d = curve_domain(c);
+  constexpr int kSamples = 64;
+  auto dist = [&](double t) { return glm::length(curve_point(c, t) - q); };
+  int best = 0;
+  for (int i = 1; i <= kSamples; ++i)
+    if (dist(d.min + (d.max - d.min) * i / kSamples) < dist(d.min + (d.max - d.min) * best / kSamples)) best = i;
+  double lo = d.min + (d.max - d.min) * std::max(0, best - 1) / kSamples;
+  double hi = d.min + (d.max - d.min) * std::min(kSamples, best + 1) / kSamples;
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int it = 0; it < 100 && hi - lo > 1e-15 * (d.max - d.min); ++it) {
+    const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    (dist(x1) < dist(x2) ? hi : lo) = dist(x1) < dist(x2) ? x2 : x1;
+  }
+  return (lo + hi) / 2.0;
+}
+
+// Largest model-space distance from `p` to the image of curve `c` on [t0, t1], at 17 samples.
+double piece_extent(const Surface& s, const Curve2& c, double t0, double t1, glm::dvec3 p) {
+  double extent = 0.0;
+  for (int i = 0; i <= 16; ++i) {
+    const glm::dvec2 q = curve_point(c, t0 + (t1 - t0) * (i / 16.0));
+    extent = std::max(extent, glm::length(surface_point(s, q.x, q.y) - p));
+  }
+  return extent;
+}
+
+// The curve cut to [t0, t1] (restrict.h, clamped) with its first (`at_start`) or last control point
+// moved onto `q`, the point it must join.
+Curve2 cut(const Curve2& c, double t0, double t1, bool at_start, glm::dvec2 q) {
+  Curve2 out = restrict_curve(c, t0, t1);
+  if (!is_clamped(out.knots, out.degree)) out = from_homogeneous<2>(clamp_curve(to_homogeneous(out)), out.rational());
+  (at_start ? out.points.front() : out.points.back()) = q;
+  return out;
+}
+
+// Overshoot: `curve` passes through `q`, the end of its neighbour in the loop, and runs on a little
+// beyond it (the Ventilator's sides drawn 0.024 mm past the corner). When that part lies within
+// `tolerance_3d` of S(q) on the surface, it is cut off. `at_start`: the part before q (curve is the
+// one after the gap), else the part after q (curve is the one before the gap).
+bool trim_overshoot(const Surface& s, Curve2& curve, glm::dvec2 q, bool at_start, double tolerance_3d, double min_gap) {
+  const Interval d = curve_domain(curve);
+  const double t = nearest_parameter(curve, q);
+  if (!(t > d.min && t < d.max)) return false;  // nearest at an end: nothing overshoots
+  // The curve must pass through q in (u, v) (within the 2D repair gap): moving its new end onto q
+  // then changes it by no more than that. A curve that only meets q's image (a pole) is not cut.
+  if (!(glm::length(curve_point(curve, t) - q) <= min_gap)) return false;
+  const glm::dvec3 p = surface_point(s, q.x, q.y);
+  const double extent = at_start ? piece_extent(s, curve, d.min, t, p) : piece_extent(s, curve, t, d.max, p);
+  if (!(extent <= tolerance_3d)) return false;  // NaN: left alone
+  curve = at_start ? cut(curve, t, d.max, true, q) : cut(curve, d.min, t, false, q);
+  return true;
+}
+
+}  // namespace
+
+int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_gap) {
+  int added = 0;
+  for (TrimLoop& loop : face.loops) {
+    const size_t n = loop.curves.size();
+    std::vector<char> segment_after(n, 0);
+    for (size_t c = 0; c < n; ++c) {
+      Curve2 &prev = loop.curves[c], &next = loop.curves[(c + 1) % n];
+      const glm::dvec2 a = end_point(prev), b = start_point(next);
+      if (!(glm::length(a - b) > min_gap)) continue;
+      // Overshoots first: cutting them leaves no spike; then a joining segment (a pole, a short gap).
+      if (n > 1 && (trim_overshoot(face.surface, next, a, true, tolerance_3d, min_gap) ||
+                    trim_overshoot(face.surface, prev, b, false, tolerance_3d, min_gap))) {
+        ++added;
+      } else if (image_extent(face.surface, a, b) <= tolerance_3d) {  // NaN: left alone
+        segment_after[c] = 1;
+        ++added;
+      }
+    }
+    std::vector<Curve2> closed;
+    for (size_t c = 0; c < n; ++c) {
+      closed.push_back(loop.curves[c]);
+      if (segment_after[c]) closed.push_back(segment(end_point(loop.curves[c]), start_point(loop.curves[(c + 1) % n])));
+    }
+    loop.curves = std::move(closed);
+  }
+  return added;
+}
+
+}  // namespace nurbs
