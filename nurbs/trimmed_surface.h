@@ -21,6 +21,10 @@ struct TrimmedSurface {
   std::vector<TrimLoop> loops;
   int face_id = -1;  ///< index in the model, or the IGES directory entry number of the face
   std::string name;  ///< optional label from the file
+  /// Which side is outside: the face's outward normal is Su x Sv, negated when `reversed` (IGES 5.3
+  /// 514 shell face flag OF = 0, or its 186 solid's SOF / VOF = 0, not both). Trim loops do not
+  /// depend on it: they follow the (u, v) convention above either way.
+  bool reversed = false;
 };
 
 }  // namespace nurbs

@@ -12,6 +12,7 @@
 #include "nurbs/io/iges_analytic.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
+#include "nurbs/trim_surface_gaps.h"
 
 namespace nurbs::io {
 namespace {
@@ -101,14 +102,15 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   }
   f.face_id = de;
   f.name = e.label;
-  finish(f);
   return f;
 }
 
-void IgesFaces::finish(TrimmedSurface& f) {
+void IgesFaces::finish(TrimmedSurface& f, double model_size) {
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
     log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
+    // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
+    log_.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
     for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons))
       log_.trim_problems.push_back(std::move(problem));
@@ -232,8 +234,15 @@ int IgesFaces::edge_list_size(int de) {
   return list_sizes_[de] = p.integer(1, 1, std::max(1, p.size()), "number of list entries N");
 }
 
-// 508: N, then per edge TYPE (0 edge, 1 vertex), EDGE (504/502 list), NDX, OF (1 = agrees with
-// the edge's model curve), K, then K pairs (ISOP, CURV) of parameter-space curves.
+// 508 (IGES 5.3 "Loop Entity (Type 508)"): N, then per edge use TYPE (0 edge, 1 vertex), EDGE
+// (504/502 list), NDX, OF (1 = the use runs along the edge's model curve, 0 = against it), K, then
+// K pairs (ISOP, CURV) of parameter-space curves. OF concerns the model-space curve only: the K
+// parameter-space curves already run in the direction of the edge use, one after the other, so the
+// loop is their concatenation in file order. That is how OpenCASCADE writes 508s (the teapot's
+// unit-square loops: OF = 0, 1, 1, 0 with the pcurves (0,1)->(0,0)->(1,0)->(1,1)->(0,1)) and how
+// it reads them (IGESToBRep_BRepEntity::TransferLoop reverses the edge for OF = 0 and its pcurve
+// too, which cancels out in the wire). Reversing the pcurves by OF broke 48 of the 96 edge uses of
+// gmsh_component8_brep.igs.
 TrimLoop IgesFaces::loop_508(int de, bool outer) {
   EntityParams p(g_.file(), g_.file().entry(de));
   const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
@@ -245,7 +254,7 @@ TrimLoop IgesFaces::loop_508(int de, bool outer) {
     const int list =
         type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
     p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
-    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
+    p.integer(i + 3, 0, 1, "orientation flag OF");
     const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
     if (k == 0 && type == 0) no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve", c + 1));
     std::vector<Curve2> piece;
@@ -254,7 +263,7 @@ TrimLoop IgesFaces::loop_508(int de, bool outer) {
       for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 6 + 2 * j, kCurveTypes, "a curve")))
         piece.push_back(std::move(pc));
     }
-    append_reversed(loop.curves, std::move(piece), of == 0);
+    for (Curve2& pc : piece) loop.curves.push_back(std::move(pc));
     i += 5 + 2 * k;
   }
   p.check_trailing(i - 1);

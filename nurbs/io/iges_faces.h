@@ -21,8 +21,14 @@ class IgesFaces {
   IgesFaces(IgesGeometry& geometry, const IgesReadOptions& options, IgesReadLog& log)
       : g_(geometry), options_(options), log_(log) {}
 
-  /// The face of entity `de` (type 144, 143, 510 or 128), model space = parent * own transforms.
+  /// The face of entity `de` (type 144, 143, 510 or 128), model space = parent * own transforms,
+  /// with its loops as the file gives them; finish() repairs, checks and orients them.
   TrimmedSurface face(int de, const glm::dmat4& parent);
+
+  /// Trim loop hygiene once the whole model is read: gaps closed (in (u, v), then on the surface
+  /// within kTrimGap3d x `model_size`, trim_surface_gaps.h), problems logged, loops oriented, a domain
+  /// outer loop added to faces with holes only.
+  void finish(TrimmedSurface& f, double model_size);
 
   /// The surface pointer of a face entity (0 for 128 itself); marks what is not a face of its own.
   int surface_pointer(int de);
@@ -36,7 +42,6 @@ class IgesFaces {
   TrimLoop loop_508(int de, bool outer);
   int edge_list_size(int de);
   [[noreturn]] void no_parameter_curve(int de, const std::string& what);
-  void finish(TrimmedSurface& f);
 
   IgesGeometry& g_;
   const IgesReadOptions& options_;

@@ -7,6 +7,7 @@
 
 #include "nurbs/io/iges_faces.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/model_ops.h"
 
 namespace nurbs::io {
 namespace {
@@ -55,8 +56,8 @@ class ModelBuilder {
 
  private:
   size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
-  void add_face(Body& body, int de, const glm::dmat4& parent);
-  void add_shell(Body& body, int de, const glm::dmat4& parent);
+  void add_face(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
+  void add_shell(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
 
   const IgesFile& file_;
   IgesGeometry g_;
@@ -65,10 +66,11 @@ class ModelBuilder {
   std::vector<char> used_;  // entry already part of a body (shells, faces, their surfaces)
 };
 
-void ModelBuilder::add_face(Body& body, int de, const glm::dmat4& parent) {
+void ModelBuilder::add_face(Body& body, int de, const glm::dmat4& parent, bool reversed) {
   used_[index(de)] = 1;
   try {
     body.faces.push_back(faces_.face(de, parent));
+    body.faces.back().reversed = reversed;
   } catch (const UnsupportedEntity& u) {
     log_.warnings.push_back(fmt::format("face D{} dropped: it needs D{} of unsupported type {}", de, u.de, u.type));
   } catch (const SkipFace& s) {
@@ -76,19 +78,21 @@ void ModelBuilder::add_face(Body& body, int de, const glm::dmat4& parent) {
   }
 }
 
-// 514: N, then N pairs (FACE pointer to a 510, OF orientation flag).
-void ModelBuilder::add_shell(Body& body, int de, const glm::dmat4& parent) {
+// 514: N, then N pairs (FACE pointer to a 510, OF orientation flag: 1 = the face's outward side is
+// its surface's normal side, IGES 5.3 "Shell Entity (Type 514)"). `reversed`: the shell's own flag
+// in its 186 is 0, which turns every face of it round (as OpenCASCADE's TransferManifoldSolid does).
+void ModelBuilder::add_shell(Body& body, int de, const glm::dmat4& parent, bool reversed) {
   used_[index(de)] = 1;
   EntityParams p(file_, file_.entry(de));
   const int n = p.integer(1, 1, std::max(1, p.size() / 2), "number of faces N");
-  std::vector<int> faces;
+  std::vector<std::pair<int, bool>> faces;  // 510, reversed
   for (int k = 0; k < n; ++k) {
-    faces.push_back(g_.expect(p, 2 + 2 * k, {510}, "a face"));
-    p.integer(3 + 2 * k, 0, 1, "orientation flag");
+    const int face = g_.expect(p, 2 + 2 * k, {510}, "a face");
+    faces.emplace_back(face, (p.integer(3 + 2 * k, 0, 1, "orientation flag") == 0) != reversed);
   }
   p.check_trailing(1 + 2 * n);
   const glm::dmat4 m = parent * g_.transform(de);
-  for (int f : faces) add_face(body, f, m);
+  for (auto [f, r] : faces) add_face(body, f, m, r);
 }
 
 std::vector<Body> ModelBuilder::build() {
@@ -102,16 +106,17 @@ std::vector<Body> ModelBuilder::build() {
     if (e.type != 186) continue;
     used_[index(e.de)] = 1;
     EntityParams p(file_, e);
-    std::vector<int> shells{g_.expect(p, 1, {514}, "a shell")};
-    p.integer(2, 0, 1, "orientation flag SOF");
+    std::vector<std::pair<int, bool>> shells;  // 514, reversed (its flag SOF / VOF is 0)
+    const int shell = g_.expect(p, 1, {514}, "a shell");
+    shells.emplace_back(shell, p.integer(2, 0, 1, "orientation flag SOF") == 0);
     const int n = p.integer(3, 0, std::max(0, p.size() / 2), "number of void shells N");
     for (int k = 0; k < n; ++k) {
-      shells.push_back(g_.expect(p, 4 + 2 * k, {514}, "a shell"));
-      p.integer(5 + 2 * k, 0, 1, "orientation flag VOF");
+      const int void_shell = g_.expect(p, 4 + 2 * k, {514}, "a shell");
+      shells.emplace_back(void_shell, p.integer(5 + 2 * k, 0, 1, "orientation flag VOF") == 0);
     }
     p.check_trailing(3 + 2 * n);
     Body body{e.label.empty() ? fmt::format("solid D{}", e.de) : e.label, {}, glm::dmat4(1.0)};
-    for (int s : shells) add_shell(body, s, g_.transform(e.de));
+    for (auto [s, r] : shells) add_shell(body, s, g_.transform(e.de), r);
     bodies.push_back(std::move(body));
   }
   for (const IgesDirectoryEntry& e : file_.entries) {
@@ -130,7 +135,15 @@ std::vector<Body> ModelBuilder::build() {
   }
   if (!loose.faces.empty()) bodies.push_back(std::move(loose));
   log_.ranges_restricted = g_.ranges_restricted();
-  return bodies;
+  // Loops are finished once the model size is known: gaps are judged on the surface relative to it.
+  // A size that cannot scale tolerances (validate_model_size) closes no gap on the surface.
+  Model sized;
+  sized.bodies = std::move(bodies);
+  double size = model_size(sized);
+  if (!validate_model_size(size).empty()) size = 0.0;
+  for (Body& b : sized.bodies)
+    for (TrimmedSurface& f : b.faces) faces_.finish(f, size);
+  return std::move(sized.bodies);
 }
 
 }  // namespace

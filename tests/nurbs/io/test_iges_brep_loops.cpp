@@ -1,0 +1,262 @@
+// B-rep-form IGES (IGES 5.3 186 / 514 / 510 / 508 / 504 / 502) trim loops and the surface-side gap
+// repair: small files made here for each case (edge uses reversed against their model curve,
+// several parameter curves per edge use, shell and solid orientation flags, a loop closed at a
+// collapsed side), and every shared IGES file read with 0 trim problems.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "iges_edit.h"
+#include "nurbs/curve_eval.h"
+#include "nurbs/io/curve_utils.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/iges_writer.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/trim_loops.h"
+#include "nurbs/trim_surface_gaps.h"
+#include "sample_models.h"
+#include "shared_models.h"
+
+namespace fs = std::filesystem;
+using nurbs::io::test::IgesEdit;
+
+namespace {
+
+std::string num(double x) { return fmt::format("{}", x); }
+
+// A 110 line from a to b (z = 0 for parameter-space curves).
+int line(IgesEdit& e, glm::dvec3 a, glm::dvec3 b) {
+  return e.append(110, {num(a.x), num(a.y), num(a.z), num(b.x), num(b.y), num(b.z)});
+}
+
+// One edge use of a 508: the 504 entry `ndx`, its orientation flag, its parameter curves in order.
+struct EdgeUse {
+  int ndx = 1;
+  int of = 1;
+  std::vector<int> pcurves;
+};
+
+// A B-rep file: the bump surface of sample_models.h (S(u, v) = (3u, 3v, z) over [0, 1]^2) as a 128,
+// with a 502 of the unit square's corners (model space), a 504 of its four sides (1: (0,0)->(1,0),
+// 2: (1,0)->(1,1), 3: (0,1)->(1,1), 4: (0,0)->(0,1), so sides 3 and 4 run against the loop), one 510
+// over it whose outer loop is a 508 of `uses`, in a 514 (face flag `face_of`), in a 186 (shell flag
+// `shell_of`) unless `shell_of` < 0.
+struct BrepFile {
+  IgesEdit e;
+  int surface = 0, edges = 0;
+
+  BrepFile() {
+    nurbs::Model m;
+    nurbs::TrimmedSurface f;
+    f.surface = nurbs::io::test::bump();
+    m.bodies.push_back({"b", {f}, glm::dmat4(1.0)});
+    e = IgesEdit::parse(nurbs::io::write_iges_text(m));
+    surface = e.find(128);
+    const glm::dvec3 p00(0, 0, 0), p10(3, 0, 0), p11(3, 3, 0), p01(0, 3, 0);
+    const int vertices = e.append(502, {"4", "0", "0", "0", "3", "0", "0", "3", "3", "0", "0", "3", "0"}, 1);
+    const int c1 = line(e, p00, p10), c2 = line(e, p10, p11), c3 = line(e, p01, p11), c4 = line(e, p00, p01);
+    const std::string v = std::to_string(vertices);
+    edges = e.append(504, {"4", std::to_string(c1), v, "1", v, "2", std::to_string(c2), v, "2", v,
+                           "3", std::to_string(c3), v, "4", v, "3", std::to_string(c4), v, "1", v,
+                           "4"},
+                     1);
+  }
+
+  int loop(const std::vector<EdgeUse>& uses) {
+    std::vector<std::string> f{std::to_string(uses.size())};
+    for (const EdgeUse& u : uses) {
+      for (const std::string& s : {std::string("0"), std::to_string(edges), std::to_string(u.ndx), std::to_string(u.of),
+                                   std::to_string(u.pcurves.size())})
+        f.push_back(s);
+      for (int c : u.pcurves) f.insert(f.end(), {"0", std::to_string(c)});
+    }
+    return e.append(508, f, 1);
+  }
+
+  int face(const std::vector<int>& loops) {
+    std::vector<std::string> f{std::to_string(surface), std::to_string(loops.size()), "1"};
+    for (int l : loops) f.push_back(std::to_string(l));
+    return e.append(510, f, 1);
+  }
+
+  // 514 of `faces` with their flags, in a 186 with flag `shell_of` unless it is negative.
+  void shell(const std::vector<std::pair<int, int>>& faces, int shell_of) {
+    std::vector<std::string> f{std::to_string(faces.size())};
+    for (auto [face, of] : faces) f.insert(f.end(), {std::to_string(face), std::to_string(of)});
+    const int s = e.append(514, f, 1);
+    if (shell_of >= 0) e.append(186, {std::to_string(s), std::to_string(shell_of), "0"});
+  }
+
+  nurbs::Model read(nurbs::io::IgesReadLog& log) const { return nurbs::io::read_iges_text(e.text(), "brep", {}, &log); }
+};
+
+// The parameter curves of the unit square's sides, each in both directions.
+struct SquareCurves {
+  int bottom, right, top, left;          // counter-clockwise: (0,0)->(1,0)->(1,1)->(0,1)->(0,0)
+  int bottom_r, right_r, top_r, left_r;  // the same sides, clockwise
+  explicit SquareCurves(IgesEdit& e)
+      : bottom(line(e, {0, 0, 0}, {1, 0, 0})),
+        right(line(e, {1, 0, 0}, {1, 1, 0})),
+        top(line(e, {1, 1, 0}, {0, 1, 0})),
+        left(line(e, {0, 1, 0}, {0, 0, 0})),
+        bottom_r(line(e, {1, 0, 0}, {0, 0, 0})),
+        right_r(line(e, {1, 1, 0}, {1, 0, 0})),
+        top_r(line(e, {0, 1, 0}, {1, 1, 0})),
+        left_r(line(e, {0, 0, 0}, {0, 1, 0})) {}
+};
+
+const nurbs::TrimmedSurface& only_face(const nurbs::Model& m) {
+  REQUIRE(m.bodies.size() == 1);
+  REQUIRE(m.bodies[0].faces.size() >= 1);
+  return m.bodies[0].faces[0];
+}
+
+// Signed area of the face's first loop as the reader left it.
+double first_loop_area(const nurbs::TrimmedSurface& f) {
+  return nurbs::signed_area(nurbs::flatten_trim(f, 1e-6).loops.at(0));  // lines: any tolerance is exact
+}
+
+}  // namespace
+
+TEST_CASE("508 edge uses against their model curve: the parameter curves already follow the loop") {
+  // OpenCASCADE's convention (the shared *_brep.igs files): sides 3 and 4 of the 504 run against the
+  // loop (OF = 0) and their parameter curves are written in the loop's direction.
+  BrepFile b;
+  const SquareCurves c(b.e);
+  const int loop = b.loop({{1, 1, {c.bottom}}, {2, 1, {c.right}}, {3, 0, {c.top}}, {4, 0, {c.left}}});
+  b.shell({{b.face({loop}), 1}}, -1);
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = b.read(log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.trim_problems.empty());
+  CHECK(log.reoriented_loops == 0);  // counter-clockwise as written
+  REQUIRE(f.loops.size() == 1);
+  CHECK(f.loops[0].curves.size() == 4);
+  CHECK(first_loop_area(f) == doctest::Approx(1.0));  // the unit square, once
+  CHECK(nurbs::is_material(f, {0.5, 0.5}, 1e-6));
+}
+
+TEST_CASE("508 with several parameter curves per edge use: concatenated in file order") {
+  BrepFile b;
+  const SquareCurves c(b.e);
+  const int top1 = line(b.e, {1, 1, 0}, {0.5, 1, 0}), top2 = line(b.e, {0.5, 1, 0}, {0, 1, 0});
+  const int loop = b.loop({{1, 1, {c.bottom}}, {2, 1, {c.right}}, {3, 0, {top1, top2}}, {4, 0, {c.left}}});
+  b.shell({{b.face({loop}), 1}}, -1);
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = b.read(log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.trim_problems.empty());
+  CHECK(f.loops.at(0).curves.size() == 5);
+  CHECK(first_loop_area(f) == doctest::Approx(1.0));
+}
+
+TEST_CASE("508 written clockwise is reoriented") {
+  // The whole loop in the other direction (every use reversed): the reader turns it round.
+  BrepFile b;
+  const SquareCurves c(b.e);
+  const int loop = b.loop({{4, 1, {c.left_r}}, {3, 1, {c.top_r}}, {2, 0, {c.right_r}}, {1, 0, {c.bottom_r}}});
+  b.shell({{b.face({loop}), 1}}, -1);
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = b.read(log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.trim_problems.empty());
+  CHECK(log.reoriented_loops == 1);
+  CHECK(first_loop_area(f) == doctest::Approx(1.0));
+}
+
+TEST_CASE("514 face flags and 186 shell flags set TrimmedSurface::reversed") {
+  struct Case {
+    int face_of, shell_of;
+    bool reversed;
+  };
+  const Case cases[] = {{1, -1, false}, {0, -1, true}, {1, 1, false}, {0, 1, true}, {1, 0, true}, {0, 0, false}};
+  for (const Case& k : cases) {
+    CAPTURE(k.face_of);
+    CAPTURE(k.shell_of);
+    BrepFile b;
+    const SquareCurves c(b.e);
+    const int loop = b.loop({{1, 1, {c.bottom}}, {2, 1, {c.right}}, {3, 0, {c.top}}, {4, 0, {c.left}}});
+    b.shell({{b.face({loop}), k.face_of}}, k.shell_of);
+    nurbs::io::IgesReadLog log;
+    const nurbs::Model m = b.read(log);
+    CHECK(only_face(m).reversed == k.reversed);
+  }
+}
+
+TEST_CASE("close_gaps_on_surface: a gap that is one point on the surface is closed, a real gap is not") {
+  // A bilinear patch whose side v = 1 collapses to one point (a triangle): the loop bottom, right,
+  // left leaves the gap (1, 1) -> (0, 1) in (u, v), which is the apex in model space.
+  nurbs::TrimmedSurface f;
+  f.surface.degree_u = f.surface.degree_v = 1;
+  f.surface.count_u = f.surface.count_v = 2;
+  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
+  f.surface.points = {{0, 0, 0}, {2, 0, 0}, {1, 2, 0}, {1, 2, 0}};
+  nurbs::TrimLoop loop;
+  auto seg = [](glm::dvec2 a, glm::dvec2 b) { return nurbs::io::to_2d(nurbs::io::line_segment({a, 0.0}, {b, 0.0})); };
+  loop.curves = {seg({0, 0}, {1, 0}), seg({1, 0}, {1, 1}), seg({0, 1}, {0, 0})};
+  f.loops = {loop};
+  const double tolerance = 1e-6;  // model units: the apex is exact
+  SUBCASE("collapsed side: closed") {
+    CHECK(nurbs::close_gaps_on_surface(f, tolerance, 1e-9) == 1);
+    CHECK(f.loops[0].curves.size() == 4);
+    CHECK(nurbs::check_trim_loops(f, 1e-9, 1e-6).empty());
+  }
+  SUBCASE("the same gap on a square patch: left open") {
+    f.surface.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2, 2, 0}};
+    CHECK(nurbs::close_gaps_on_surface(f, tolerance, 1e-9) == 0);
+    CHECK(nurbs::check_trim_loops(f, 1e-9, 1e-6).size() == 1);
+  }
+  SUBCASE("a gap within the tolerance on the surface: closed") {
+    f.surface.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2, 2, 0}};
+    f.loops[0].curves = {seg({0, 0}, {1, 0}), seg({1, 0}, {1, 1}), seg({1, 1}, {0, 1}), seg({0, 1}, {0, 0.01})};
+    CHECK(nurbs::close_gaps_on_surface(f, 0.021, 1e-9) == 1);  // the gap is 0.02 long on the surface
+    CHECK(nurbs::check_trim_loops(f, 1e-9, 1e-6).empty());
+    CHECK(nurbs::close_gaps_on_surface(f, 0.019, 1e-9) == 0);  // closed now: nothing more to do
+  }
+}
+
+TEST_CASE("close_gaps_on_surface: a side drawn past the corner is cut back to it") {
+  // S(u, v) = (2u, 2v, 0); the bottom side starts 0.05 before the left side's end, in (u, v), on
+  // the left side's line: 0.1 in model space (the Ventilator's pcurves run 0.024 mm past corners).
+  nurbs::TrimmedSurface f;
+  f.surface.degree_u = f.surface.degree_v = 1;
+  f.surface.count_u = f.surface.count_v = 2;
+  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
+  f.surface.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2, 2, 0}};
+  auto seg = [](glm::dvec2 a, glm::dvec2 b) { return nurbs::io::to_2d(nurbs::io::line_segment({a, 0.0}, {b, 0.0})); };
+  nurbs::TrimLoop loop;
+  loop.curves = {seg({0.1, 0.9}, {0.1, 0.1}), seg({0.05, 0.1}, {0.9, 0.1}), seg({0.9, 0.1}, {0.9, 0.9}),
+                 seg({0.9, 0.9}, {0.1, 0.9})};
+  f.loops = {loop};
+  CHECK(nurbs::close_gaps_on_surface(f, 0.09, 1e-9) == 0);    // 0.1 apart on the surface: left open
+  CHECK(nurbs::check_trim_loops(f, 1e-9, 1e-6).size() == 2);  // the gap, and the overshoot touching the left side
+  CHECK(nurbs::close_gaps_on_surface(f, 0.11, 1e-9) == 1);
+  REQUIRE(f.loops[0].curves.size() == 4);  // cut, no spike added
+  CHECK(nurbs::curve_point(f.loops[0].curves[1], nurbs::curve_domain(f.loops[0].curves[1]).min).x ==
+        doctest::Approx(0.1));
+  CHECK(nurbs::check_trim_loops(f, 1e-9, 1e-6).empty());
+  CHECK(nurbs::signed_area(nurbs::flatten_trim(f, 1e-6).loops[0]) == doctest::Approx(0.64));
+}
+
+TEST_CASE("shared IGES files read with 0 trim problems" * test::needs_shared_models()) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(test::shared_models_dir())) {
+    const std::string ext = entry.path().extension().string();
+    if (ext == ".igs" || ext == ".iges") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  CHECK(files.size() >= 10);
+  for (const fs::path& file : files) {
+    CAPTURE(file.string());
+    nurbs::io::IgesReadLog log;
+    (void)nurbs::io::read_iges(file, {}, &log);
+    std::string first;
+    for (size_t i = 0; i < log.trim_problems.size() && i < 5; ++i) first += log.trim_problems[i] + "\n";
+    CAPTURE(first);
+    MESSAGE(file.filename().string() << ": " << log.trim_problems.size() << " trim problems");
+    CHECK(log.trim_problems.empty());
+  }
+}
