@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <glm/common.hpp>
+#include <iterator>
 #include <limits>
 #include <unordered_map>
 
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_analytic.h"
+#include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
 #include "nurbs/trim_surface_gaps.h"
@@ -125,7 +127,7 @@ void IgesFaces::finish(TrimmedSurface& f, double model_size) {
 
 void IgesFaces::no_parameter_curve(int de, const std::string& what) {
   if (options_.skip_faces_without_parameter_curves) throw SkipFace{fmt::format("trim curve D{} {}", de, what)};
-  g_.fail(de, what + "; trim curves only in model space are not supported");
+  g_.fail(de, what);
 }
 
 // 144: PTS, N1 (0 = outer boundary is the domain boundary), N2, PTO, PTI(1..N2).
@@ -139,31 +141,58 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
   for (int k = 0; k < n2; ++k) loops.push_back({5 + k, g_.expect(p, 5 + k, {142}, "a curve on a parametric surface")});
   p.check_trailing(4 + n2);
   reject_repeats(p, loops, "loop");
-  std::vector<ParameterRef> curves;  // their parameter-space curves, checked before any is expanded
-  for (const ParameterRef& l : loops) curves.push_back({l.index, curve_142(l.de)});
-  reject_repeats(p, curves, "the parameter-space curve of loop");
+  std::vector<ParameterRef> curves, model_curves;  // per loop BPTR / CPTR, checked before any is expanded
+  for (const ParameterRef& l : loops) {
+    const auto [bptr, cptr] = curve_142(l.de);
+    curves.push_back({l.index, bptr});
+    model_curves.push_back({l.index, cptr});
+  }
+  std::vector<ParameterRef> given;  // BPTR = 0 is no curve: no repeat
+  std::copy_if(curves.begin(), curves.end(), std::back_inserter(given),
+               [](const ParameterRef& r) { return r.de != 0; });
+  reject_repeats(p, given, "the parameter-space curve of loop");
   TrimmedSurface f;
   f.surface = g_.surface(pts, m, /*restrict_to_range=*/n1 == 0);  // N1 = 0: the range is the outer boundary
   for (size_t k = 0; k < curves.size(); ++k) {
     TrimLoop loop;
     loop.outer = n1 == 1 && k == 0;
-    loop.curves = g_.parameter_curves(curves[k].de);
+    if (curves[k].de != 0) {
+      loop.curves = g_.parameter_curves(curves[k].de);
+    } else {
+      for (const Curve3& c : g_.curves(model_curves[k].de, m))
+        loop.curves.push_back(projected(f.surface, c, loops[k].de));
+    }
     f.loops.push_back(std::move(loop));
   }
   return f;
 }
 
-// 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF; returns BPTR.
-int IgesFaces::curve_142(int de) {
+// 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF; returns BPTR and
+// CPTR. BPTR = 0 needs CPTR, which is then projected (projected()).
+std::pair<int, int> IgesFaces::curve_142(int de) {
   EntityParams p(g_.file(), g_.file().entry(de));
   p.integer(1);
   p.pointer(2);
   const int bptr = g_.expect(p, 3, kCurveTypes, "a curve", true);
-  p.pointer(4, true);
+  p.pointer(4, true);  // checked as a curve only when it is needed: a file's BPTR curves stand alone
+  const int cptr = bptr == 0 ? g_.expect(p, 4, kCurveTypes, "a curve", true) : 0;
   p.integer(5);
   p.check_trailing(5);
-  if (bptr == 0) no_parameter_curve(de, "has no parameter-space curve (BPTR = 0)");
-  return bptr;
+  if (bptr == 0 && cptr == 0)
+    no_parameter_curve(de, "has no parameter-space curve (BPTR = 0) and no model-space curve (CPTR = 0)");
+  return {bptr, cptr};
+}
+
+// A trim curve given only in model space, in the surface's (u, v): project_curve.h within
+// kProjectionTolerance of the surface's control-point box diagonal (the model size is not known
+// yet; the surface's own size bounds the face's).
+Curve2 IgesFaces::projected(const Surface& s, const Curve3& c, int de) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const glm::dvec3& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  ProjectedCurve pc = project_curve(s, c, kProjectionTolerance * glm::length(hi - lo));
+  if (!pc.curve) no_parameter_curve(de, "has a model-space curve that " + pc.problem);
+  ++log_.curves_projected;
+  return std::move(*pc.curve);
 }
 
 // 143: TYPE, SPTR, N, BDPT(1..N) pointing to 141s; the first boundary is taken as the outer one.
@@ -195,7 +224,10 @@ TrimLoop IgesFaces::loop_141(int de, bool outer) {
     p.pointer(i, true);
     const int sense = p.integer(i + 1, 1, 2, "orientation SENSE");
     const int k = p.integer(i + 2, 0, std::max(0, p.size() - i - 2), "number of parameter curves K");
-    if (type == 0 || k == 0) no_parameter_curve(de, fmt::format("curve {} has no parameter-space curve", c + 1));
+    if (type == 0 || k == 0)
+      no_parameter_curve(
+          de, fmt::format("curve {} has no parameter-space curve; model-space-only curves of a 141 are not projected",
+                          c + 1));
     std::vector<Curve2> piece;
     for (int j = 0; j < k; ++j)
       for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 3 + j, kCurveTypes, "a curve")))
@@ -256,7 +288,11 @@ TrimLoop IgesFaces::loop_508(int de, bool outer) {
     p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
     p.integer(i + 3, 0, 1, "orientation flag OF");
     const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
-    if (k == 0 && type == 0) no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve", c + 1));
+    if (k == 0 && type == 0)
+      no_parameter_curve(
+          de, fmt::format(
+                  "edge {} has no parameter-space curve; 508 edges only in model space are projected on planes only",
+                  c + 1));
     std::vector<Curve2> piece;
     for (int j = 0; j < k; ++j) {
       p.integer(i + 5 + 2 * j);

@@ -4,6 +4,7 @@
 /// surface, loops from 141), 510 (B-rep face, loops from 508) and bare 128. Internal to the reader.
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/iges_reader.h"
@@ -37,7 +38,8 @@ class IgesFaces {
   TrimmedSurface face_144(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_143(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
-  int curve_142(int de);
+  std::pair<int, int> curve_142(int de);
+  Curve2 projected(const Surface& s, const Curve3& c, int de);
   TrimLoop loop_141(int de, bool outer);
   TrimLoop loop_508(int de, bool outer);
   int edge_list_size(int de);

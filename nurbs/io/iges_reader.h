@@ -26,8 +26,9 @@ namespace nurbs::io {
 struct IgesReadOptions {
   /// Scale all geometry to millimetres and set Model::unit_scale_to_mm = 1.
   bool convert_to_mm = false;
-  /// Drop faces whose trim curves exist only in model space (142 with no parameter curve) or that
-  /// need an unsupported entity, with a warning, instead of throwing ReadError for the former.
+  /// Drop faces whose trim curves cannot be used (142 with neither curve, 141 or 508 curves only in
+  /// model space, model-space curves that do not lie on the surface) or that need an unsupported
+  /// entity, with a warning, instead of throwing ReadError for the former.
   /// Faces needing an unsupported surface/curve type are always dropped with a warning.
   bool skip_faces_without_parameter_curves = false;
 };
@@ -39,6 +40,7 @@ struct IgesReadLog {
   int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only
   int gaps_closed = 0;         ///< trim-curve gaps closed (see kTrimGapRepair)
   int ranges_restricted = 0;   ///< 126/128 cut to a declared parameter range inside their domain
+  int curves_projected = 0;    ///< trim curves given only in model space, projected (project_curve.h)
   /// Loops that still do not close, or cross (check_trim_loops), each "face N: ...".
   std::vector<std::string> trim_problems;
   std::vector<std::string> warnings;  ///< one per dropped face, naming it and the reason
@@ -49,6 +51,12 @@ struct IgesReadLog {
 /// kTrimGapRounding of the extent are rounding of joined end points: left as they are, not counted.
 inline constexpr double kTrimGapRepair = 1e-4;
 inline constexpr double kTrimGapRounding = 1e-12;
+
+/// Trim curves given only in model space (142 with BPTR = 0) are projected onto the surface within
+/// this fraction of the surface's control-point box diagonal: every sample of the curve that far
+/// from the surface at most (else the face is dropped, or the file refused), every chord in (u, v)
+/// that close to the curve.
+inline constexpr double kProjectionTolerance = 1e-6;
 
 /// Limits that keep reading, and the queries after it, bounded whatever a file holds (damaged or
 /// hostile input); beyond each the reader throws ReadError naming the entity.

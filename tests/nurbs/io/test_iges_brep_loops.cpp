@@ -14,6 +14,7 @@
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/iges_writer.h"
+#include "nurbs/io/read_error.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/trim_loops.h"
 #include "nurbs/trim_surface_gaps.h"
@@ -183,6 +184,50 @@ TEST_CASE("514 face flags and 186 shell flags set TrimmedSurface::reversed") {
     nurbs::io::IgesReadLog log;
     const nurbs::Model m = b.read(log);
     CHECK(only_face(m).reversed == k.reversed);
+  }
+}
+
+TEST_CASE("142 with its curve only in model space: projected onto the surface") {
+  // The bump's boundary (z = 0 along its four sides, S(u, v) = (3u, 3v, z)) as a 102 of four 3D
+  // lines in place of the 142's parameter-space curve: the projection is the unit square.
+  nurbs::Model model;
+  nurbs::TrimmedSurface face;
+  face.surface = nurbs::io::test::bump();
+  face.loops = {nurbs::io::test::square_loop(0.0, 1.0)};
+  model.bodies.push_back({"b", {face}, glm::dmat4(1.0)});
+  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(model));
+  const int c142 = e.find(142);
+  auto model_space_loop = [&](double z) {
+    const glm::dvec3 p[4] = {{0, 0, z}, {3, 0, z}, {3, 3, z}, {0, 3, z}};
+    std::vector<std::string> f{"4"};
+    for (int i = 0; i < 4; ++i) f.push_back(std::to_string(line(e, p[i], p[(i + 1) % 4])));
+    return e.append(102, f);
+  };
+  SUBCASE("on the surface") {
+    e.fields(c142)[3] = "0";
+    e.fields(c142)[4] = std::to_string(model_space_loop(0.0));
+    nurbs::io::IgesReadLog log;
+    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "projected", {}, &log);
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(log.curves_projected == 4);
+    CHECK(log.trim_problems.empty());
+    CHECK(first_loop_area(f) == doctest::Approx(1.0).epsilon(1e-9));  // lines project onto lines
+    CHECK(nurbs::is_material(f, {0.5, 0.5}, 1e-6));
+    CHECK(!nurbs::is_material(f, {1.5, 0.5}, 1e-6));
+  }
+  SUBCASE("0.1 above the surface: not a curve on it") {
+    e.fields(c142)[3] = "0";
+    e.fields(c142)[4] = std::to_string(model_space_loop(0.1));
+    nurbs::io::IgesReadOptions skip;
+    skip.skip_faces_without_parameter_curves = true;
+    nurbs::io::IgesReadLog log;
+    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "projected", skip, &log);
+    CHECK(m.bodies.empty());
+    REQUIRE(log.warnings.size() == 1);
+    CHECK(log.warnings[0].find("lies 0.1 from the surface") != std::string::npos);
+    CHECK_THROWS_WITH_AS(nurbs::io::read_iges_text(e.text(), "projected"),
+                         doctest::Contains("has a model-space curve that lies 0.1 from the surface"),
+                         nurbs::io::ReadError);
   }
 }
 
