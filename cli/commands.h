@@ -20,5 +20,6 @@ void add_selftest(CLI::App& app, const GlobalOptions& global);
 void add_info(CLI::App& app, const GlobalOptions& global);
 void add_generate(CLI::App& app, const GlobalOptions& global);
 void add_evaluate(CLI::App& app, const GlobalOptions& global);
+void add_distance(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   cli::add_info(app, global);
   cli::add_generate(app, global);
   cli::add_evaluate(app, global);
+  cli::add_distance(app, global);
 
   try {
     app.parse(argc, argv);

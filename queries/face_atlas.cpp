@@ -120,8 +120,9 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   }
   FaceAtlas a;
   a.plan = plan;
-  gpgpu::Texture slot_tex(plan.width, plan.height, gpgpu::Format::R32F);
-  slot_tex.upload(slot_of);
+  a.slot_of = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R32F);
+  a.slot_of.upload(slot_of);
+  const gpgpu::Texture& slot_tex = a.slot_of;
   const auto rec_tex = gpgpu::upload_array_pow2(records, gpgpu::Format::RGBA32F, max_size, 0.0f);
   const auto basis_tex = gpgpu::upload_array_pow2(basis, gpgpu::Format::RGBA32F, max_size, 0.0f);
   const auto ctrl_tex = gpgpu::upload_array_pow2(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);

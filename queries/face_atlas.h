@@ -36,6 +36,7 @@ std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& size
 struct FaceAtlas {
   AtlasPlan plan;
   gpgpu::Texture points, normals, mask;
+  gpgpu::Texture slot_of;  ///< R32F: the slot index of each texel, -1 outside the slots
 };
 
 /// Evaluates every slot's face (faces[slot.face]) on its grid (grids[slot.face]) in one pass and

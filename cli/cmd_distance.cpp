@@ -1,0 +1,140 @@
+// `nurbsgl distance MODEL --point X,Y,Z | --points FILE`: minimum distance from points to a trimmed
+// NURBS model with the bounds of Krishnamurthy et al. §4 (queries/point_distance.h). JSON for
+// --point: distance, bound, point, face, uv, seconds (and point_bound, on_trim_edge, candidates);
+// for --points: {"points", "seconds", "results": [...]} in input order.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "cli/validators.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
+#include "queries/point_distance.h"
+
+namespace cli {
+namespace {
+
+struct Options {
+  std::string path, point, points;
+  double rel_tolerance = 1e-5;
+  bool json = false;
+};
+
+/// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
+glm::dvec3 parse_point(const std::string& text, const std::string& where) {
+  std::string spaced = text;
+  for (char& c : spaced)
+    if (c == ',') c = ' ';
+  std::istringstream in(spaced);
+  glm::dvec3 p;
+  std::string rest;
+  if (!(in >> p.x >> p.y >> p.z) || (in >> rest) || !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    throw BadInput(fmt::format("{}: '{}' is not a point X,Y,Z of three finite numbers", where, text));
+  return p;
+}
+
+std::vector<glm::dvec3> read_points(const std::string& file) {
+  std::ifstream f;
+  if (file != "-") {
+    f.open(file);
+    if (!f) throw BadInput(fmt::format("--points {}: cannot open the file", file));
+  }
+  std::istream& in = file == "-" ? std::cin : f;
+  std::vector<glm::dvec3> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    out.push_back(parse_point(line, fmt::format("{}: line {}", file, n)));
+  }
+  return out;
+}
+
+nlohmann::json result_json(const queries::PointDistance& d, const std::vector<nurbs::TrimmedSurface>& faces) {
+  return {{"distance", d.distance},
+          {"bound", d.bound},
+          {"point_bound", d.point_bound},
+          {"point", {d.point.x, d.point.y, d.point.z}},
+          {"face", d.face},
+          {"face_id", d.face >= 0 ? faces[size_t(d.face)].face_id : -1},
+          {"uv", {d.uv.x, d.uv.y}},
+          {"on_trim_edge", d.on_trim_edge},
+          {"candidates", d.candidates}};
+}
+
+void run(const GlobalOptions& global, const Options& o) {
+  if (o.point.empty() == o.points.empty()) throw BadInput("give exactly one of --point X,Y,Z and --points FILE");
+  const std::vector<glm::dvec3> points =
+      o.point.empty() ? read_points(o.points) : std::vector{parse_point(o.point, "--point")};
+  const nurbs::Model model = nurbs::io::read_model(o.path);
+  const double size = nurbs::model_size(model);
+  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
+    throw BadInput(fmt::format("{}: {}", o.path, problems.front()));
+  const auto faces = nurbs::world_faces(model);
+  auto gpu = start_gpu(global);
+  const auto t0 = std::chrono::steady_clock::now();
+  queries::PointDistanceQuery query(*gpu, faces, o.rel_tolerance * size);
+  gpu->finish();
+  const auto t1 = std::chrono::steady_clock::now();
+  const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
+  std::vector<queries::PointDistance> results;
+  for (size_t k = 0; k < points.size(); ++k) {
+    results.push_back(query.query(points[k]));
+    if (progress && k % 100 == 0) fmt::print(stderr, "\r[{}/{}] points", k, points.size());
+  }
+  if (progress) fmt::print(stderr, "\n");
+  const auto t2 = std::chrono::steady_clock::now();
+  const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
+  const double query_s = std::chrono::duration<double>(t2 - t1).count();
+  if (o.json) {
+    nlohmann::json j;
+    if (!o.point.empty()) {
+      j = result_json(results.front(), faces);
+      j["seconds"] = query_s;
+    } else {
+      nlohmann::json arr = nlohmann::json::array();
+      for (const auto& r : results) arr.push_back(result_json(r, faces));
+      j = {{"points", points.size()}, {"seconds", query_s}, {"results", arr}};
+    }
+    j["prepare_seconds"] = prepare_s;
+    j["tolerance"] = o.rel_tolerance * size;
+    fmt::print("{}\n", j.dump(2));
+  } else {
+    fmt::print("{} faces, model size {:.6g}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
+               o.rel_tolerance * size, prepare_s);
+    for (size_t k = 0; k < points.size(); ++k) {
+      const auto& r = results[k];
+      fmt::print(
+          "point ({:.6g}, {:.6g}, {:.6g}): distance {:.9g} +- {:.3g}, closest ({:.9g}, {:.9g}, {:.9g}) within "
+          "{:.3g}, face {} (u, v) = ({:.6g}, {:.6g}){}, {} candidate cells\n",
+          points[k].x, points[k].y, points[k].z, r.distance, r.bound, r.point.x, r.point.y, r.point.z, r.point_bound,
+          r.face, r.uv.x, r.uv.y, r.on_trim_edge ? " on a trim edge" : "", r.candidates);
+    }
+    fmt::print("{} queries in {:.3f} s ({:.2f} ms each)\n", points.size(), query_s,
+               1e3 * query_s / double(points.size()));
+  }
+  report_profile(*gpu, global);
+}
+
+}  // namespace
+
+void add_distance(CLI::App& app, const GlobalOptions& global) {
+  auto* cmd = app.add_subcommand(
+      "distance", "Minimum distance from points to a model with certified bounds (Krishnamurthy et al. 3.1-4)");
+  auto o = std::make_shared<Options>();
+  cmd->add_option("MODEL", o->path, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("--point", o->point, "The query point X,Y,Z");
+  cmd->add_option("--points", o->points, "A file of points, x y z per line (spaces or commas; - reads stdin)");
+  cmd->add_option("--tol", o->rel_tolerance, "K_e of the faces' grids, relative to the model size")
+      ->check(relative_tolerance())
+      ->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  cmd->callback([&global, o] { run(global, *o); });
+}
+
+}  // namespace cli
