@@ -254,7 +254,8 @@ TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
   const bool plane = g_.file().entry(surf).type == 190;  // OpenCASCADE writes no parameter curves on planes
   for (int k = 0; k < n; ++k) {
     const int loop = loops[static_cast<size_t>(k)].de;
-    f.loops.push_back(plane ? plane_loop(g_, surf, m, loop, of == 1 && k == 0) : loop_508(loop, of == 1 && k == 0));
+    f.loops.push_back(plane ? plane_loop(g_, surf, m, loop, of == 1 && k == 0)
+                            : loop_508(loop, of == 1 && k == 0, analytic ? nullptr : &f.surface, m));
   }
   if (analytic) set_analytic_surface(g_, surf, m, f);  // surface over the loops' IGES (u, v), loops mapped
   return f;
@@ -274,8 +275,9 @@ int IgesFaces::edge_list_size(int de) {
 // unit-square loops: OF = 0, 1, 1, 0 with the pcurves (0,1)->(0,0)->(1,0)->(1,1)->(0,1)) and how
 // it reads them (IGESToBRep_BRepEntity::TransferLoop reverses the edge for OF = 0 and its pcurve
 // too, which cancels out in the wire). Reversing the pcurves by OF broke 48 of the 96 edge uses of
-// gmsh_component8_brep.igs.
-TrimLoop IgesFaces::loop_508(int de, bool outer) {
+// gmsh_component8_brep.igs. An edge use with K = 0 has only the edge's model curve: reversed for
+// OF = 0, projected onto the surface (project_curve.h).
+TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m) {
   EntityParams p(g_.file(), g_.file().entry(de));
   const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
   TrimLoop loop;
@@ -285,14 +287,23 @@ TrimLoop IgesFaces::loop_508(int de, bool outer) {
     const int type = p.integer(i, 0, 1, "edge type");
     const int list =
         type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
-    p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
-    p.integer(i + 3, 0, 1, "orientation flag OF");
+    const int ndx = p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
+    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
     const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
-    if (k == 0 && type == 0)
-      no_parameter_curve(
-          de, fmt::format(
-                  "edge {} has no parameter-space curve; 508 edges only in model space are projected on planes only",
-                  c + 1));
+    if (k == 0 && type == 0) {
+      // Only the edge's model-space curve (504: CURV, SVP, SV, TVP, TV per edge), used along OF.
+      if (surface == nullptr)
+        no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve and its face's surface is analytic "
+                                           "(only planes take model-space edges)",
+                                           c + 1));
+      EntityParams edges(g_.file(), g_.file().entry(list));
+      std::vector<Curve3> curves = g_.curves(g_.expect(edges, 2 + 5 * (ndx - 1), kCurveTypes, "a curve"), m);
+      if (of == 0) {
+        std::reverse(curves.begin(), curves.end());
+        for (Curve3& c3 : curves) c3 = reversed(c3);
+      }
+      for (const Curve3& c3 : curves) loop.curves.push_back(projected(*surface, c3, de));
+    }
     std::vector<Curve2> piece;
     for (int j = 0; j < k; ++j) {
       p.integer(i + 5 + 2 * j);

@@ -231,6 +231,20 @@ TEST_CASE("142 with its curve only in model space: projected onto the surface") 
   }
 }
 
+TEST_CASE("508 edge uses with no parameter curve (K = 0): the edges' model curves, along OF, projected") {
+  // The 504's sides lie on the bump (z = 0 along its boundary); sides 3 and 4 run against the loop.
+  BrepFile b;
+  const int loop = b.loop({{1, 1, {}}, {2, 1, {}}, {3, 0, {}}, {4, 0, {}}});
+  b.shell({{b.face({loop}), 1}}, -1);
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = b.read(log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.curves_projected == 4);
+  CHECK(log.trim_problems.empty());
+  CHECK(log.reoriented_loops == 0);                                 // counter-clockwise: OF was followed
+  CHECK(first_loop_area(f) == doctest::Approx(1.0).epsilon(1e-9));  // lines project onto lines
+}
+
 TEST_CASE("close_gaps_on_surface: a gap that is one point on the surface is closed, a real gap is not") {
   // A bilinear patch whose side v = 1 collapses to one point (a triangle): the loop bottom, right,
   // left leaves the gap (1, 1) -> (0, 1) in (u, v), which is the apex in model space.
