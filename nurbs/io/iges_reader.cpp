@@ -28,7 +28,9 @@ bool is_read_type(int type) {
     case 143:
     case 144:
     case 186:
-    case 190:  // 190-198: analytic surfaces, read for the 510 faces on them (iges_analytic.h)
+    case 120:  // 120, 122, 190-198: analytic surfaces, read for the 510 faces on them (iges_analytic.h)
+    case 122:
+    case 190:
     case 192:
     case 194:
     case 196:

@@ -108,14 +108,14 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   e.append(186, {s(shell), "1", "0"});
   e.append(116, {"0.", "0.", "0.", "0"});                 // point: skipped and counted
   e.append(406, {"1", "4HNAME"}, 15);                     // property: ignored
-  const int rev = e.append(120, {"1", "1", "0.", "1."});  // surface of revolution: unsupported
+  const int rev = e.append(118, {"1", "1", "0"});  // ruled surface: unsupported
   e.append(144, {s(rev), "0", "0", "0"});
 
   nurbs::io::IgesReadLog log;
   const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "brep.igs", {}, &log);
-  CHECK(m.skipped_entities == std::map<int, int>{{116, 1}, {120, 1}});
+  CHECK(m.skipped_entities == std::map<int, int>{{116, 1}, {118, 1}});
   REQUIRE(log.warnings.size() == 1);
-  CHECK(log.warnings[0].find("needs D" + s(rev) + " of unsupported type 120") != std::string::npos);
+  CHECK(log.warnings[0].find("needs D" + s(rev) + " of unsupported type 118") != std::string::npos);
   REQUIRE(m.bodies.size() == 2);  // the solid, then loose faces (the 143); the 128 is used by both
   CHECK(m.bodies[0].name == "solid D" + s(e.find(186)));
   REQUIRE(m.bodies[0].faces.size() == 1);
