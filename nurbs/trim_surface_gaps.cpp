@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "nurbs/curve_ends.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/knot_vector.h"
@@ -12,17 +13,6 @@
 
 namespace nurbs {
 namespace {
-
-glm::dvec2 start_point(const Curve2& c) { return curve_point(c, curve_domain(c).min); }
-glm::dvec2 end_point(const Curve2& c) { return curve_point(c, curve_domain(c).max); }
-
-Curve2 segment(glm::dvec2 a, glm::dvec2 b) {
-  Curve2 c;
-  c.degree = 1;
-  c.knots = {0.0, 0.0, 1.0, 1.0};
-  c.points = {a, b};
-  return c;
-}
 
 // Largest model-space distance from S(a) to the image of the (u, v) segment a-b, at 16 samples.
 double image_extent(const Surface& s, glm::dvec2 a, glm::dvec2 b) {
@@ -114,7 +104,8 @@ int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_
     std::vector<Curve2> closed;
     for (size_t c = 0; c < n; ++c) {
       closed.push_back(loop.curves[c]);
-      if (segment_after[c]) closed.push_back(segment(end_point(loop.curves[c]), start_point(loop.curves[(c + 1) % n])));
+      if (segment_after[c])
+        closed.push_back(segment_curve(end_point(loop.curves[c]), start_point(loop.curves[(c + 1) % n])));
     }
     loop.curves = std::move(closed);
   }

@@ -14,6 +14,7 @@
 #include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
+#include "nurbs/trim_seams.h"
 #include "nurbs/trim_surface_gaps.h"
 
 namespace nurbs::io {
@@ -111,6 +112,8 @@ void IgesFaces::finish(TrimmedSurface& f, double model_size) {
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
     log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
+    // Loops going round a closed surface jump by its period at the seam: trim_seams.h.
+    log_.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
     log_.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -243,6 +244,83 @@ TEST_CASE("508 edge uses with no parameter curve (K = 0): the edges' model curve
   CHECK(log.trim_problems.empty());
   CHECK(log.reoriented_loops == 0);                                 // counter-clockwise: OF was followed
   CHECK(first_loop_area(f) == doctest::Approx(1.0).epsilon(1e-9));  // lines project onto lines
+}
+
+namespace {
+
+// Cylinder of radius 1 and height 2 as one rational NURBS, v along the axis in [0, 1]: `closed`, u
+// goes once round (four quarter arcs, u in [0, 1], S(0, v) = S(1, v)); else only half round (two).
+nurbs::Surface cylinder(bool closed) {
+  nurbs::Surface s;
+  s.degree_u = 2;
+  s.degree_v = 1;
+  const double h = std::sqrt(0.5);
+  const std::vector<glm::dvec2> full = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
+  const size_t n = closed ? 9 : 5;
+  s.knots_u = closed ? std::vector<double>{0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1}
+                     : std::vector<double>{0, 0, 0, .5, .5, 1, 1, 1};
+  s.knots_v = {0, 0, 1, 1};
+  s.count_u = static_cast<int>(n);
+  s.count_v = 2;
+  for (int j = 0; j < 2; ++j)
+    for (size_t i = 0; i < n; ++i) {
+      s.points.push_back({full[i].x, full[i].y, 2.0 * j});
+      s.weights.push_back(i % 2 == 1 ? h : 1.0);
+    }
+  return s;
+}
+
+nurbs::TrimLoop line_loop(glm::dvec2 a, glm::dvec2 b, bool outer) {
+  nurbs::TrimLoop l;
+  l.outer = outer;
+  l.curves = {nurbs::io::to_2d(nurbs::io::line_segment({a, 0.0}, {b, 0.0}))};
+  return l;
+}
+
+// The face written as a 144 and read back.
+nurbs::Model write_and_read(const nurbs::Surface& s, std::vector<nurbs::TrimLoop> loops, nurbs::io::IgesReadLog& log) {
+  nurbs::Model model;
+  nurbs::TrimmedSurface f;
+  f.surface = s;
+  f.loops = std::move(loops);
+  model.bodies.push_back({"b", {f}, glm::dmat4(1.0)});
+  return nurbs::io::read_iges_text(nurbs::io::write_iges_text(model), "seam", {}, &log);
+}
+
+}  // namespace
+
+TEST_CASE("loops going round a closed surface: closed along its seam") {
+  nurbs::io::IgesReadLog log;
+  SUBCASE("a band between two circles, the second written either way") {
+    for (bool same_way : {false, true}) {
+      CAPTURE(same_way);
+      const glm::dvec2 top0 = same_way ? glm::dvec2(0, 0.8) : glm::dvec2(1, 0.8);
+      const nurbs::Model m = write_and_read(
+          cylinder(true), {line_loop({0, 0.2}, {1, 0.2}, true), line_loop(top0, {1 - top0.x, 0.8}, false)}, log);
+      const nurbs::TrimmedSurface& f = only_face(m);
+      CHECK(log.trim_problems.empty());
+      REQUIRE(f.loops.size() == 1);  // one loop round the band, through the seam twice
+      CHECK(first_loop_area(f) == doctest::Approx(0.6));
+      for (const glm::dvec2 q : {glm::dvec2(0.5, 0.5), glm::dvec2(0.01, 0.5), glm::dvec2(0.99, 0.3)})
+        CHECK(nurbs::is_material(f, q, 1e-6));
+      for (const glm::dvec2 q : {glm::dvec2(0.5, 0.1), glm::dvec2(0.5, 0.9)}) CHECK(!nurbs::is_material(f, q, 1e-6));
+      log = {};
+    }
+  }
+  SUBCASE("one circle: closed on its left, towards v = 1") {
+    const nurbs::Model m = write_and_read(cylinder(true), {line_loop({0, 0.5}, {1, 0.5}, true)}, log);
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(log.trim_problems.empty());
+    CHECK(first_loop_area(f) == doctest::Approx(0.5));
+    CHECK(nurbs::is_material(f, {0.5, 0.7}, 1e-6));
+    CHECK(!nurbs::is_material(f, {0.5, 0.3}, 1e-6));
+  }
+  SUBCASE("the same loops on a half cylinder, which does not close: reported") {
+    const nurbs::Model m = write_and_read(
+        cylinder(false), {line_loop({0, 0.2}, {1, 0.2}, true), line_loop({1, 0.8}, {0, 0.8}, false)}, log);
+    CHECK(only_face(m).loops.size() == 2);
+    CHECK(!log.trim_problems.empty());
+  }
 }
 
 TEST_CASE("close_gaps_on_surface: a gap that is one point on the surface is closed, a real gap is not") {

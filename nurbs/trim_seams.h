@@ -1,0 +1,24 @@
+#pragma once
+/// \file trim_seams.h
+/// Trim loops that go round a closed surface. A NURBS surface that closes on itself in u (S(u0, v) =
+/// S(u1, v), a cylinder, a cone, a sphere or a surface of revolution) has its seam at u0 = u1 in
+/// the (u, v) plane; a loop that goes once round it (the circle bounding a band of a cylinder) runs
+/// from one side of the domain to the other and cannot close in (u, v): the gap is exactly the
+/// period u1 - u0. OpenCASCADE keeps such faces closed with seam edges (ShapeFix_Face::FixMissingSeam);
+/// here the same seam segments are added in (u, v). Same in v.
+#include "nurbs/trimmed_surface.h"
+
+namespace nurbs {
+
+/// Closes loops of `face` that go round the seam of its closed surface. A gap counts as a seam jump
+/// when its ends lie on opposite sides of the domain (u0 and u1, the same v within `min_gap`; or the
+/// same with u and v swapped) and the surface is closed there (|S(u0, v) - S(u1, v)| <= tolerance_3d
+/// at 9 values of v). Loops with exactly one seam jump are closed pairwise: two such loops (the
+/// boundary circles of a band) become one loop through two seam segments, the second loop turned
+/// round first when both run the same way; a loop left over (a cap whose other side is a pole or
+/// the surface's own boundary) is closed along the side of the domain on its material side (left
+/// of its direction: curves running towards u1 have their material towards v1). Returns the number
+/// of loops closed this way.
+int close_loops_round_seam(TrimmedSurface& face, double tolerance_3d, double min_gap);
+
+}  // namespace nurbs
