@@ -31,19 +31,27 @@ bool closed_along(const Surface& s, int axis, double tolerance_3d) {
   return true;
 }
 
-// Index of the curve after the loop's only seam jump along `axis`, or -1 (none or several).
-int only_jump(const TrimLoop& loop, const Interval& d, int axis, double min_gap) {
-  int found = -1;
+// Indices of the curves right after the loop's seam jumps along `axis`.
+std::vector<size_t> jumps(const TrimLoop& loop, const Interval& d, int axis, double min_gap) {
+  std::vector<size_t> found;
   const size_t n = loop.curves.size();
   for (size_t c = 0; c < n; ++c) {
     const glm::dvec2 a = end_point(loop.curves[c]), b = start_point(loop.curves[(c + 1) % n]);
     const bool on_sides = (std::abs(a[axis] - d.min) <= min_gap && std::abs(b[axis] - d.max) <= min_gap) ||
                           (std::abs(a[axis] - d.max) <= min_gap && std::abs(b[axis] - d.min) <= min_gap);
-    if (!on_sides || !(std::abs(a[1 - axis] - b[1 - axis]) <= min_gap)) continue;
-    if (found >= 0) return -1;
-    found = static_cast<int>((c + 1) % n);
+    if (on_sides && std::abs(a[1 - axis] - b[1 - axis]) <= min_gap) found.push_back((c + 1) % n);
   }
   return found;
+}
+
+// The curves [first, last) of `loop` closed by a segment from their end back to their start.
+TrimLoop closed_piece(const TrimLoop& loop, size_t first, size_t last) {
+  TrimLoop piece;
+  piece.outer = loop.outer;
+  piece.curves.assign(loop.curves.begin() + static_cast<std::ptrdiff_t>(first),
+                      loop.curves.begin() + static_cast<std::ptrdiff_t>(last));
+  piece.curves.push_back(segment_curve(end_point(piece.curves.back()), start_point(piece.curves.front())));
+  return piece;
 }
 
 void turn_round(TrimLoop& loop) {
@@ -54,15 +62,25 @@ void turn_round(TrimLoop& loop) {
 int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_gap) {
   if (!closed_along(face.surface, axis, tolerance_3d)) return 0;
   const Interval d = domain(face.surface, axis), across = domain(face.surface, 1 - axis);
-  std::vector<size_t> open;  // loops with one seam jump, rotated to start right after it
+  std::vector<size_t> open;      // loops with one seam jump, rotated to start right after it
+  std::vector<TrimLoop> halves;  // second halves of loops that cross the seam twice
+  int closed = 0;
   for (size_t k = 0; k < face.loops.size(); ++k) {
     TrimLoop& loop = face.loops[k];
-    const int first = only_jump(loop, d, axis, min_gap);
-    if (first < 0) continue;
-    std::rotate(loop.curves.begin(), loop.curves.begin() + first, loop.curves.end());
-    open.push_back(k);
+    const std::vector<size_t> at_jump = jumps(loop, d, axis, min_gap);
+    if (at_jump.size() != 1 && at_jump.size() != 2) continue;
+    std::rotate(loop.curves.begin(), loop.curves.begin() + static_cast<std::ptrdiff_t>(at_jump[0]), loop.curves.end());
+    if (at_jump.size() == 1) {
+      open.push_back(k);
+      continue;
+    }
+    // Across the seam and back (a patch or hole straddling it): the two pieces, one on each side
+    // of the domain, each closed along its seam side.
+    const size_t split = (at_jump[1] + loop.curves.size() - at_jump[0]) % loop.curves.size();
+    halves.push_back(closed_piece(loop, split, loop.curves.size()));
+    loop = closed_piece(loop, 0, split);
+    ++closed;
   }
-  int closed = 0;
   std::vector<size_t> merged_away;
   for (size_t i = 0; i + 1 < open.size(); i += 2) {  // pairs: the two boundaries of a band
     TrimLoop &a = face.loops[open[i]], &b = face.loops[open[i + 1]];
@@ -91,6 +109,7 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
   }
   std::sort(merged_away.rbegin(), merged_away.rend());
   for (size_t k : merged_away) face.loops.erase(face.loops.begin() + static_cast<std::ptrdiff_t>(k));
+  for (TrimLoop& h : halves) face.loops.push_back(std::move(h));
   return closed;
 }
 

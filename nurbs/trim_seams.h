@@ -17,8 +17,11 @@ namespace nurbs {
 /// boundary circles of a band) become one loop through two seam segments, the second loop turned
 /// round first when both run the same way; a loop left over (a cap whose other side is a pole or
 /// the surface's own boundary) is closed along the side of the domain on its material side (left
-/// of its direction: curves running towards u1 have their material towards v1). Returns the number
-/// of loops closed this way.
+/// of its direction: curves running towards u1 have their material towards v1). A loop with two
+/// seam jumps (a patch straddling the seam) is split into its two pieces, one at each side of the
+/// domain, each closed by a segment along its seam side (a hole straddling the seam of a face whose
+/// outer loop runs along the seam then touches it there, which check_trim_loops reports). Returns
+/// the number of loops closed this way.
 int close_loops_round_seam(TrimmedSurface& face, double tolerance_3d, double min_gap);
 
 }  // namespace nurbs

@@ -315,6 +315,18 @@ TEST_CASE("loops going round a closed surface: closed along its seam") {
     CHECK(nurbs::is_material(f, {0.5, 0.7}, 1e-6));
     CHECK(!nurbs::is_material(f, {0.5, 0.3}, 1e-6));
   }
+  SUBCASE("a patch straddling the seam: one piece at each side of the domain") {
+    nurbs::TrimLoop patch;
+    const glm::dvec2 seg[6][2] = {{{0.9, 0.2}, {1, 0.2}}, {{0, 0.2}, {0.1, 0.2}}, {{0.1, 0.2}, {0.1, 0.8}},
+                                  {{0.1, 0.8}, {0, 0.8}}, {{1, 0.8}, {0.9, 0.8}}, {{0.9, 0.8}, {0.9, 0.2}}};
+    for (const auto& q : seg) patch.curves.push_back(line_loop(q[0], q[1], true).curves[0]);
+    const nurbs::Model m = write_and_read(cylinder(true), {patch}, log);
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(log.trim_problems.empty());
+    CHECK(f.loops.size() == 2);
+    for (const glm::dvec2 q : {glm::dvec2(0.95, 0.5), glm::dvec2(0.05, 0.5)}) CHECK(nurbs::is_material(f, q, 1e-6));
+    for (const glm::dvec2 q : {glm::dvec2(0.5, 0.5), glm::dvec2(0.05, 0.9)}) CHECK(!nurbs::is_material(f, q, 1e-6));
+  }
   SUBCASE("the same loops on a half cylinder, which does not close: reported") {
     const nurbs::Model m = write_and_read(
         cylinder(false), {line_loop({0, 0.2}, {1, 0.2}, true), line_loop({1, 0.8}, {0, 0.8}, false)}, log);
