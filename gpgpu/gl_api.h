@@ -65,6 +65,7 @@ namespace gpgpu::gl {
   X(void, ProgramUniform2f, (GLuint, GLint, GLfloat, GLfloat))                                       \
   X(void, ProgramUniform3f, (GLuint, GLint, GLfloat, GLfloat, GLfloat))                              \
   X(void, ProgramUniform4f, (GLuint, GLint, GLfloat, GLfloat, GLfloat, GLfloat))                     \
+  X(void, ProgramUniformMatrix4fv, (GLuint, GLint, GLsizei, GLboolean, const GLfloat*))              \
   X(void, CreateVertexArrays, (GLsizei, GLuint*))                                                    \
   X(void, DeleteVertexArrays, (GLsizei, const GLuint*))                                              \
   X(void, BindVertexArray, (GLuint))                                                                 \

@@ -113,4 +113,8 @@ void Program::set(const std::string& u, float x, float y, float z, float w) cons
   gl::ProgramUniform4f(id_, location(u), x, y, z, w);
 }
 
+void Program::set_mat4(const std::string& u, const float* m) const {
+  gl::ProgramUniformMatrix4fv(id_, location(u), 1, GL_FALSE, m);
+}
+
 }  // namespace gpgpu

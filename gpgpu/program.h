@@ -53,6 +53,8 @@ class Program {
   void set(const std::string& uniform, float x, float y) const;
   void set(const std::string& uniform, float x, float y, float z) const;
   void set(const std::string& uniform, float x, float y, float z, float w) const;
+  /// A mat4 from 16 floats in column-major order (glm's memory layout).
+  void set_mat4(const std::string& uniform, const float* column_major) const;
 
  private:
   GLuint id_ = 0;

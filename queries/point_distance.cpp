@@ -19,16 +19,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Float budget of one face's GPU samples: the tabulated evaluation's measured error (1.0e-7 of the
-/// control box, surface_grid.h) with a factor 10, plus 4 ulp of the largest coordinate (the atlas
-/// adds each face's origin back in float).
-double float_budget(const nurbs::Surface& s) {
-  glm::dvec3 lo = s.points.front(), hi = lo;
-  for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double magnitude = std::max(glm::length(lo), glm::length(hi));
-  return 1e-6 * glm::length(hi - lo) + 4.0 * 0x1.0p-24 * magnitude;
-}
-
 /// One candidate cell evaluated on the CPU: the closer of its two triangles.
 struct CellHit {
   double distance = kInf;
@@ -88,60 +78,22 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
 
 PointDistanceQuery::PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                                        long long max_samples)
-    : gpu_(gpu), faces_(std::move(faces)) {
-  std::vector<nurbs::ParamGrid> params;
-  std::vector<std::pair<int, int>> sizes;
-  std::vector<double> flatten;
-  glm::dvec3 lo(kInf), hi(-kInf);
-  for (size_t f = 0; f < faces_.size(); ++f) {
-    const nurbs::Surface& s = faces_[f].surface;
-    for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    bounds_.push_back(nurbs::filip_bound(s));
-    grids_.push_back(nurbs::certified_grid(bounds_.back(), tolerance, {max_samples}));
-    if (!grids_.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, grids_.back().reason));
-    params.push_back(grids_.back().grid);
-    sizes.emplace_back(int(params.back().u.size()), int(params.back().v.size()));
-    double step = kInf;
-    for (size_t i = 0; i + 1 < params.back().u.size(); ++i)
-      step = std::min(step, params.back().u[i + 1] - params.back().u[i]);
-    for (size_t j = 0; j + 1 < params.back().v.size(); ++j)
-      step = std::min(step, params.back().v[j + 1] - params.back().v[j]);
-    flatten.push_back(0.1 * step);
-  }
-  origin_ = 0.5 * (lo + hi);
-  const int side = std::min(gpu.info().max_texture_size, 4096);
-  std::vector<int> unpacked;
-  for (const AtlasPlan& plan : plan_atlases(sizes, side, static_cast<long long>(side) * side, unpacked)) {
-    atlases_.push_back(evaluate_atlas(gpu, plan, faces_, params, flatten));
-    std::vector<float> grow;
-    for (const AtlasSlot& sl : plan.slots) {
-      const auto f = size_t(sl.face);
-      grow.push_back(float(grids_[f].k_e + float_budget(faces_[f].surface)));
-    }
-    if (grow.size() > size_t(gpu.info().max_texture_size))
-      throw std::length_error("PointDistanceQuery: more faces in one atlas than the texture size allows");
-    grow_.emplace_back(int(grow.size()), 1, gpgpu::Format::R32F);
-    grow_.back().upload(grow);
-  }
-  if (!unpacked.empty())
-    throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
-                                        unpacked.front(), side));
-}
+    : gpu_(gpu), m_(prepare_model(gpu, std::move(faces), tolerance, max_samples)) {}
 
 PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   PointDistance r;
   // Pass 1 and the reduction, per atlas: R = min, G = max distance to each cell's box; U = min G.
   std::vector<gpgpu::PooledTexture> minmax;
   double upper = kInf;
-  const glm::vec3 q(p - origin_), o(origin_);
-  for (size_t a = 0; a < atlases_.size(); ++a) {
-    const FaceAtlas& at = atlases_[a];
+  const glm::vec3 q(p - m_.centre), o(m_.centre);
+  for (size_t a = 0; a < m_.atlases.size(); ++a) {
+    const FaceAtlas& at = m_.atlases[a];
     minmax.push_back(gpu_.acquire(at.plan.width, at.plan.height, gpgpu::Format::RG32F));
     gpgpu::Program& prog = gpu_.program("point_aabb_minmax.frag");
     prog.set("u_point", q.x, q.y, q.z);
     prog.set("u_origin", o.x, o.y, o.z);
     const gpgpu::Input in[] = {
-        {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", &grow_[a]}};
+        {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", &m_.grow[a]}};
     gpgpu::Texture* out[] = {minmax.back().get()};
     gpu_.run("point_aabb_minmax", prog, in, out);
     upper = std::min(upper, double(gpgpu::reduce_min(gpu_, *minmax.back().get(), 1)));
@@ -156,8 +108,8 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     int face, i, j;
   };
   std::vector<Candidate> cands;
-  for (size_t a = 0; a < atlases_.size(); ++a) {
-    const FaceAtlas& at = atlases_[a];
+  for (size_t a = 0; a < m_.atlases.size(); ++a) {
+    const FaceAtlas& at = m_.atlases[a];
     gpgpu::PooledTexture keep = gpu_.acquire(at.plan.width, at.plan.height, gpgpu::Format::R8);
     gpgpu::Program& prog = gpu_.program("threshold_le.frag");
     prog.set("u_cut", cut);
@@ -167,14 +119,11 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     const gpgpu::Compacted c = gpgpu::compact(gpu_, *keep.get(), *minmax[a].get());
     if (c.count == 0) continue;
     for (uint32_t idx : c.read_source()) {
-      const int x = int(idx % uint32_t(at.plan.width)), y = int(idx / uint32_t(at.plan.width));
-      for (const AtlasSlot& sl : at.plan.slots) {
-        if (x < sl.x || y < sl.y || x >= sl.x + sl.width - 1 || y >= sl.y + sl.height - 1) continue;
-        const int i = x - sl.x, j = y - sl.y;
-        cands.push_back(
-            {cell_hit(faces_[size_t(sl.face)].surface, grids_[size_t(sl.face)].grid, i, j, p), sl.face, i, j});
-        break;
-      }
+      const auto cell = m_.cell_at(a, int(idx % uint32_t(at.plan.width)), int(idx / uint32_t(at.plan.width)));
+      if (!cell) continue;
+      const auto f = size_t(cell->face);
+      cands.push_back(
+          {cell_hit(m_.faces[f].surface, m_.grids[f].grid, cell->i, cell->j, p), cell->face, cell->i, cell->j});
     }
   }
   r.candidates = static_cast<long long>(cands.size());
@@ -183,15 +132,15 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
             [](const Candidate& x, const Candidate& y) { return x.hit.distance < y.hit.distance; });
   double k = 0.0;
   for (const Candidate& c : cands)
-    k = std::max(
-        k, nurbs::grid_cell_k(bounds_[size_t(c.face)], grids_[size_t(c.face)].grid, c.i, c.j, nurbs::KNorm::Euclidean));
+    k = std::max(k, nurbs::grid_cell_k(m_.bounds[size_t(c.face)], m_.grids[size_t(c.face)].grid, c.i, c.j,
+                                       nurbs::KNorm::Euclidean));
   for (const Candidate& c : cands) {
-    const nurbs::TrimmedSurface& f = faces_[size_t(c.face)];
+    const nurbs::TrimmedSurface& f = m_.faces[size_t(c.face)];
     if (!f.loops.empty()) {
       const nurbs::TrimPolygons trim =
-          nurbs::flatten_trim(f, 1e-3 * (grids_[size_t(c.face)].grid.u[1] - grids_[size_t(c.face)].grid.u[0]));
+          nurbs::flatten_trim(f, 1e-3 * (m_.grids[size_t(c.face)].grid.u[1] - m_.grids[size_t(c.face)].grid.u[0]));
       if (!nurbs::is_material(trim, c.hit.uv)) continue;
-      const auto& g = grids_[size_t(c.face)].grid;
+      const auto& g = m_.grids[size_t(c.face)].grid;
       for (int corner = 0; corner < 4; ++corner)
         if (!nurbs::is_material(trim, {g.u[size_t(c.i + (corner & 1))], g.v[size_t(c.j + (corner >> 1))]}))
           r.on_trim_edge = true;

@@ -27,6 +27,7 @@
 #include "nurbs/certified_grid.h"
 #include "nurbs/trimmed_surface.h"
 #include "queries/face_atlas.h"
+#include "queries/prepared_model.h"
 
 namespace queries {
 
@@ -53,17 +54,13 @@ class PointDistanceQuery {
                      long long max_samples = 1LL << 22);
   PointDistance query(const glm::dvec3& p);
 
-  [[nodiscard]] const std::vector<nurbs::CertifiedGrid>& grids() const { return grids_; }
-  [[nodiscard]] size_t atlases() const { return atlases_.size(); }
+  [[nodiscard]] const std::vector<nurbs::CertifiedGrid>& grids() const { return m_.grids; }
+  [[nodiscard]] size_t atlases() const { return m_.atlases.size(); }
+  [[nodiscard]] const PreparedModel& model() const { return m_; }
 
  private:
   gpgpu::Gpu& gpu_;
-  std::vector<nurbs::TrimmedSurface> faces_;
-  std::vector<nurbs::FilipBound> bounds_;
-  std::vector<nurbs::CertifiedGrid> grids_;
-  std::vector<FaceAtlas> atlases_;
-  std::vector<gpgpu::Texture> slot_of_, grow_;
-  glm::dvec3 origin_{0.0};
+  PreparedModel m_;
 };
 
 /// CPU twin in double: the same cells, boxes, cut-off and triangles for one face on its grid

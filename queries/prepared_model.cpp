@@ -1,0 +1,71 @@
+#include "queries/prepared_model.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <stdexcept>
+
+namespace queries {
+
+double float_budget(const nurbs::Surface& s) {
+  glm::dvec3 lo = s.points.front(), hi = lo;
+  for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double magnitude = std::max(glm::length(lo), glm::length(hi));
+  return 1e-6 * glm::length(hi - lo) + 4.0 * 0x1.0p-24 * magnitude;
+}
+
+std::optional<FaceCell> PreparedModel::cell_at(size_t a, int x, int y) const {
+  for (const AtlasSlot& sl : atlases[a].plan.slots)
+    if (x >= sl.x && y >= sl.y && x < sl.x + sl.width - 1 && y < sl.y + sl.height - 1)
+      return FaceCell{sl.face, x - sl.x, y - sl.y};
+  return std::nullopt;
+}
+
+PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
+                            long long max_samples) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  PreparedModel m;
+  m.faces = std::move(faces);
+  std::vector<nurbs::ParamGrid> params;
+  std::vector<std::pair<int, int>> sizes;
+  std::vector<double> flatten;
+  glm::dvec3 lo(kInf), hi(-kInf);
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const nurbs::Surface& s = m.faces[f].surface;
+    for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    m.bounds.push_back(nurbs::filip_bound(s));
+    m.grids.push_back(nurbs::certified_grid(m.bounds.back(), tolerance, {max_samples}));
+    if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));
+    const nurbs::ParamGrid& g = m.grids.back().grid;
+    params.push_back(g);
+    sizes.emplace_back(int(g.u.size()), int(g.v.size()));
+    double step = kInf;  // a tenth of the smallest step flattens the trim loops finely enough
+    for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
+    for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
+    flatten.push_back(0.1 * step);
+  }
+  m.centre = 0.5 * (lo + hi);
+  const int side = std::min(gpu.info().max_texture_size, 4096);
+  std::vector<int> unpacked;
+  for (const AtlasPlan& plan : plan_atlases(sizes, side, static_cast<long long>(side) * side, unpacked)) {
+    m.atlases.push_back(evaluate_atlas(gpu, plan, m.faces, params, flatten));
+    std::vector<float> grow;
+    for (const AtlasSlot& sl : plan.slots) {
+      const auto f = size_t(sl.face);
+      grow.push_back(float(m.grids[f].k_e + float_budget(m.faces[f].surface)));
+    }
+    if (grow.size() > size_t(gpu.info().max_texture_size))
+      throw std::length_error("prepare_model: more faces in one atlas than the texture size allows");
+    m.grow.emplace_back(int(grow.size()), 1, gpgpu::Format::R32F);
+    m.grow.back().upload(grow);
+  }
+  if (!unpacked.empty())
+    throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
+                                        unpacked.front(), side));
+  return m;
+}
+
+}  // namespace queries
