@@ -209,14 +209,15 @@ TrimmedSurface IgesFaces::face_143(const EntityParams& p, const glm::dmat4& m) {
   reject_repeats(p, bounds, "boundary");
   TrimmedSurface f;
   f.surface = g_.surface(sptr, m, /*restrict_to_range=*/false);  // its boundaries bound it
-  for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)].de, k == 0));
+  for (int k = 0; k < n; ++k) f.loops.push_back(loop_141(bounds[static_cast<size_t>(k)].de, k == 0, f.surface, m));
   return f;
 }
 
-// 141: TYPE, PREF, SPTR, N, then per curve CRVPT, SENSE (1 same, 2 reversed), K, PSCPT(1..K).
-TrimLoop IgesFaces::loop_141(int de, bool outer) {
+// 141: TYPE, PREF, SPTR, N, then per curve CRVPT, SENSE (1 same, 2 reversed), K, PSCPT(1..K). A curve
+// with K = 0 is its model-space curve CRVPT projected onto the surface (project_curve.h).
+TrimLoop IgesFaces::loop_141(int de, bool outer, const Surface& surface, const glm::dmat4& m) {
   EntityParams p(g_.file(), g_.file().entry(de));
-  const int type = p.integer(1, 0, 1, "boundary type");
+  p.integer(1, 0, 1, "boundary type");  // 0: model-space curves only, projected below
   p.integer(2);
   p.pointer(3);
   const int n = p.integer(4, 1, std::max(1, p.size()), "number of curves N");
@@ -224,14 +225,16 @@ TrimLoop IgesFaces::loop_141(int de, bool outer) {
   loop.outer = outer;
   int i = 5;
   for (int c = 0; c < n; ++c) {
-    p.pointer(i, true);
+    const int crvpt = p.pointer(i, true);
     const int sense = p.integer(i + 1, 1, 2, "orientation SENSE");
     const int k = p.integer(i + 2, 0, std::max(0, p.size() - i - 2), "number of parameter curves K");
-    if (type == 0 || k == 0)
-      no_parameter_curve(
-          de, fmt::format("curve {} has no parameter-space curve; model-space-only curves of a 141 are not projected",
-                          c + 1));
     std::vector<Curve2> piece;
+    if (k == 0) {  // the model-space curve alone (TYPE 0, or no PSCPT given): projected
+      if (crvpt == 0)
+        no_parameter_curve(de, fmt::format("curve {} has neither a model-space nor a parameter curve", c + 1));
+      for (const Curve3& c3 : g_.curves(g_.expect(p, i, kCurveTypes, "a curve"), m))
+        piece.push_back(projected(surface, c3, de));
+    }
     for (int j = 0; j < k; ++j)
       for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 3 + j, kCurveTypes, "a curve")))
         piece.push_back(std::move(pc));

@@ -40,7 +40,7 @@ class IgesFaces {
   TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
   std::pair<int, int> curve_142(int de);
   Curve2 projected(const Surface& s, const Curve3& c, int de);
-  TrimLoop loop_141(int de, bool outer);
+  TrimLoop loop_141(int de, bool outer, const Surface& surface, const glm::dmat4& m);
   /// `surface`: the face's surface, onto which edges given only in model space are projected (null:
   /// not built yet, such edges refused).
   TrimLoop loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m);

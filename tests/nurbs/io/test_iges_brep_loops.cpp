@@ -232,6 +232,38 @@ TEST_CASE("142 with its curve only in model space: projected onto the surface") 
   }
 }
 
+TEST_CASE("141 curves only in model space (143 bounded surface, boundary TYPE 0): projected, SENSE followed") {
+  // The bump's boundary as four 3D lines; the top one is written left to right and used reversed.
+  nurbs::Model model;
+  nurbs::TrimmedSurface face;
+  face.surface = nurbs::io::test::bump();
+  model.bodies.push_back({"b", {face}, glm::dmat4(1.0)});
+  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(model));
+  const std::string surface = std::to_string(e.find(128));
+  const int c1 = line(e, {0, 0, 0}, {3, 0, 0}), c2 = line(e, {3, 0, 0}, {3, 3, 0});
+  const int c3 = line(e, {0, 3, 0}, {3, 3, 0}), c4 = line(e, {0, 3, 0}, {0, 0, 0});
+  auto bounded = [&](const char* top_sense) {
+    const int boundary = e.append(141, {"0", "0", surface, "4", std::to_string(c1), "1", "0", std::to_string(c2), "1",
+                                        "0", std::to_string(c3), top_sense, "0", std::to_string(c4), "1", "0"});
+    e.append(143, {"0", surface, "1", std::to_string(boundary)});
+  };
+  nurbs::io::IgesReadLog log;
+  SUBCASE("SENSE 2 on the top line") {
+    bounded("2");
+    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "bounded", {}, &log);
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(log.curves_projected == 4);
+    CHECK(log.trim_problems.empty());
+    CHECK(log.reoriented_loops == 0);
+    CHECK(first_loop_area(f) == doctest::Approx(1.0).epsilon(1e-9));
+  }
+  SUBCASE("SENSE 1 there: the loop does not close") {
+    bounded("1");
+    (void)nurbs::io::read_iges_text(e.text(), "bounded", {}, &log);
+    CHECK(!log.trim_problems.empty());
+  }
+}
+
 TEST_CASE("508 edge uses with no parameter curve (K = 0): the edges' model curves, along OF, projected") {
   // The 504's sides lie on the bump (z = 0 along its boundary); sides 3 and 4 run against the loop.
   BrepFile b;
