@@ -10,6 +10,13 @@
 /// Model::skipped_entities. Geometry stays in file units; Model::unit_scale_to_mm says what a
 /// unit is (G14/G15) unless options.convert_to_mm.
 ///
+/// Trim curves given only in model space (142 with BPTR = 0, 141 and 508 curves with K = 0) are
+/// projected onto the surface (project_curve.h). 514 face and 186 shell orientation flags set
+/// TrimmedSurface::reversed. Loops are finished once the whole model is read: small (u, v) gaps
+/// closed, loops going round a closed surface's seam closed along it (trim_seams.h), gaps that are
+/// one point on the surface within kTrimGap3d x model size closed (trim_surface_gaps.h), then
+/// checked (IgesReadLog::trim_problems) and oriented.
+///
 /// Loops: outer counter-clockwise, holes clockwise (reversed where the file differs). A face
 /// whose outer boundary is the domain boundary (144 N1 = 0, 510 with no outer loop) gets no loop
 /// when it has no holes (= untrimmed) and a 4-line domain-rectangle outer loop when it has holes,
