@@ -1,0 +1,154 @@
+#include "queries/clearance.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <stdexcept>
+
+#include "gpgpu/compact.h"
+#include "gpgpu/layout.h"
+#include "gpgpu/reduce.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+
+namespace queries {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1.
+struct Hierarchy {
+  std::vector<gpgpu::Texture> lo, hi;
+};
+
+Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion, const glm::dvec3& origin) {
+  if (m.atlases.size() != 1)
+    throw std::length_error(fmt::format("clearance: a model in {} atlases (one is supported)", m.atlases.size()));
+  const FaceAtlas& at = m.atlases[0];
+  Hierarchy h;
+  h.lo.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
+  h.hi.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
+  gpgpu::Program& leaf = gpu.program("aabb_leaf.frag");
+  const glm::mat4 mf(motion);
+  leaf.set_mat4("u_motion", &mf[0][0]);
+  const glm::vec3 o(origin);
+  leaf.set("u_origin", o.x, o.y, o.z);
+  const gpgpu::Input in[] = {
+      {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", &m.grow[0]}};
+  gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
+  gpu.run("aabb_leaf", leaf, in, out);
+  gpgpu::Program& merge = gpu.program("aabb_merge.frag");
+  while (h.lo.back().width() > 1 || h.lo.back().height() > 1) {
+    const int w = (h.lo.back().width() + 1) / 2, hh = (h.lo.back().height() + 1) / 2;
+    gpgpu::Texture lo(w, hh, gpgpu::Format::RGBA32F), hi(w, hh, gpgpu::Format::RGBA32F);
+    const gpgpu::Input min[] = {{"u_lo", &h.lo.back()}, {"u_hi", &h.hi.back()}};
+    gpgpu::Texture* mout[] = {&lo, &hi};
+    gpu.run("aabb_merge", merge, min, mout);
+    h.lo.push_back(std::move(lo));
+    h.hi.push_back(std::move(hi));
+  }
+  return h;
+}
+
+/// Two triangles of cell c of model m, in double, mapped by `motion`, with their corners' (u, v).
+struct CellTriangles {
+  glm::dvec3 p[2][3];
+  glm::dvec2 uv[2][3];
+};
+CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const glm::dmat4& motion) {
+  const nurbs::Surface& s = m.faces[size_t(c.face)].surface;
+  const nurbs::ParamGrid& g = m.grids[size_t(c.face)].grid;
+  const double u0 = g.u[size_t(c.i)], u1 = g.u[size_t(c.i) + 1], v0 = g.v[size_t(c.j)], v1 = g.v[size_t(c.j) + 1];
+  auto at = [&](double u, double v) { return glm::dvec3(motion * glm::dvec4(nurbs::surface_point(s, u, v), 1.0)); };
+  const glm::dvec3 a = at(u0, v0), b = at(u1, v0), cc = at(u0, v1), d = at(u1, v1);
+  return {{{a, b, d}, {a, d, cc}}, {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}}};
+}
+
+}  // namespace
+
+Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b) {
+  const glm::dvec3 origin = a.centre;
+  const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin), hb = build(gpu, b, motion_b, origin);
+  Clearance r;
+  // The surviving pairs: records (xa, ya, xb, yb) at the current levels, starting at the roots.
+  gpgpu::Texture pairs(1, 1, gpgpu::Format::RGBA32F);
+  pairs.upload(std::vector<float>{0, 0, 0, 0});
+  long long count = 1;
+  int la = int(ha.lo.size()) - 1, lb = int(hb.lo.size()) - 1;
+  gpgpu::Program& prog = gpu.program("aabb_pairs_minmax.frag");
+  const int max_size = gpu.info().max_texture_size;
+  while ((la > 0 || lb > 0) && count > 0) {
+    const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;
+    la -= da;
+    lb -= db;
+    const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, std::min(max_size, 4096));
+    gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
+    gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
+    prog.set("u_pair_count", int(count));
+    prog.set("u_descend", da, db);
+    prog.set("u_out_width", out.width);
+    const gpgpu::Input in[] = {{"u_pairs", &pairs},
+                               {"u_lo_a", &ha.lo[size_t(la)]},
+                               {"u_hi_a", &ha.hi[size_t(la)]},
+                               {"u_lo_b", &hb.lo[size_t(lb)]},
+                               {"u_hi_b", &hb.hi[size_t(lb)]}};
+    gpgpu::Texture* targets[] = {minmax.get(), records.get()};
+    gpu.run("aabb_pairs_minmax", prog, in, targets);
+    const double upper = gpgpu::reduce_min(gpu, *minmax.get(), 1);
+    // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
+    gpgpu::PooledTexture keep = gpu.acquire(out.width, out.height, gpgpu::Format::R8);
+    gpgpu::Program& thr = gpu.program("threshold_le.frag");
+    thr.set("u_cut", std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f);
+    const gpgpu::Input tin[] = {{"u_values", minmax.get()}};
+    gpgpu::Texture* tout[] = {keep.get()};
+    gpu.run("threshold_le", thr, tin, tout);
+    gpgpu::Compacted c = gpgpu::compact(gpu, *keep.get(), *records.get());
+    count = c.count;
+    pairs = std::move(c.records);
+    r.pairs_per_level.push_back(count);
+  }
+  // Leaf pairs: two triangles per cell on each side, in double.
+  std::vector<float> recs = count > 0 ? pairs.read() : std::vector<float>{};
+  double ka = 0.0, kb = 0.0;
+  r.distance = kInf;
+  for (long long k = 0; k < count; ++k) {
+    const auto ca = a.cell_at(0, int(recs[size_t(4 * k)]), int(recs[size_t(4 * k + 1)]));
+    const auto cb = b.cell_at(0, int(recs[size_t(4 * k + 2)]), int(recs[size_t(4 * k + 3)]));
+    if (!ca || !cb) continue;
+    ++r.leaf_pairs;
+    ka = std::max(ka, nurbs::grid_cell_k(a.bounds[size_t(ca->face)], a.grids[size_t(ca->face)].grid, ca->i, ca->j,
+                                         nurbs::KNorm::Euclidean));
+    kb = std::max(kb, nurbs::grid_cell_k(b.bounds[size_t(cb->face)], b.grids[size_t(cb->face)].grid, cb->i, cb->j,
+                                         nurbs::KNorm::Euclidean));
+    const CellTriangles ta = cell_triangles(a, *ca, glm::dmat4(1.0)), tb = cell_triangles(b, *cb, motion_b);
+    const nurbs::TrimmedSurface &fa = a.faces[size_t(ca->face)], &fb = b.faces[size_t(cb->face)];
+    for (int s = 0; s < 2; ++s)
+      for (int t = 0; t < 2; ++t) {
+        glm::dvec3 pa, pb, wa, wb;
+        const double d = triangle_distance(ta.p[s], tb.p[t], pa, pb, wa, wb);
+        if (d >= r.distance) continue;
+        // §5.3: a closest point inside a trimmed region is discarded (trim polygons at 1e-6 of the domain).
+        const glm::dvec2 uva = wa.x * ta.uv[s][0] + wa.y * ta.uv[s][1] + wa.z * ta.uv[s][2];
+        const glm::dvec2 uvb = wb.x * tb.uv[t][0] + wb.y * tb.uv[t][1] + wb.z * tb.uv[t][2];
+        if (!fa.loops.empty() && !nurbs::is_material(fa, uva, 1e-6 * nurbs::surface_domain_u(fa.surface).width()))
+          continue;
+        if (!fb.loops.empty() && !nurbs::is_material(fb, uvb, 1e-6 * nurbs::surface_domain_u(fb.surface).width()))
+          continue;
+        r.found = true;
+        r.distance = d;
+        r.point_a = pa;
+        r.point_b = pb;
+        r.uv_a = uva;
+        r.uv_b = uvb;
+        r.face_a = ca->face;
+        r.face_b = cb->face;
+      }
+  }
+  r.bound = ka + kb;
+  return r;
+}
+
+}  // namespace queries

@@ -1,0 +1,50 @@
+#pragma once
+/// \file clearance.h
+/// Minimum distance between two trimmed NURBS models (Krishnamurthy et al. §5.1-5.3): AABB
+/// hierarchies searched level by level on the GPU, the closest triangle pair on the CPU.
+///  - Leaves: one box per grid cell of every face of a model's atlas (prepared_model.h), grown by
+///    K_e and the float budget; cells with all samples trimmed away are empty (§5.3). Model B's
+///    boxes are refitted from its untransformed samples under a rigid motion (glsl/aabb_leaf.frag).
+///  - Hierarchy: boxes merged 2x2 into coarser levels up to one root, stored mip-style
+///    (glsl/aabb_merge.frag). Over the atlas this covers all faces of a model at once: a
+///    hierarchy of the whole object in place of the paper's voxel first stage (§5.4), same pruning.
+///  - Descent: from the root pair, the 4x4 child pairs of every surviving pair get the box-box min
+///    and max distance (Eqs. 13-20, glsl/aabb_pairs_minmax.frag); a min reduction gives the least
+///    upper bound U, pairs with lower bound <= U survive by stream reduction (their records stay on
+///    the GPU; one read-back of U and one of the count per level). Pairs per level are recorded
+///    (the paper's Fig. 12).
+///  - Leaves: the surviving cell pairs are read back; two triangles per cell from the surfaces in
+///    double; the closest triangle pair wins (0 when they intersect).
+/// Bound: |d - d*| < K_a + K_b (each surface within its K_e of its triangles), K maxed over the
+/// surviving cells of each side.
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "gpgpu/gpu.h"
+#include "queries/prepared_model.h"
+
+namespace queries {
+
+struct Clearance {
+  bool found = false;
+  double distance = 0.0;
+  double bound = 0.0;                     ///< |distance - true distance| < bound
+  glm::dvec3 point_a{0.0}, point_b{0.0};  ///< on the grid triangles; point_b in the moved position
+  glm::dvec2 uv_a{0.0}, uv_b{0.0};
+  int face_a = -1, face_b = -1;
+  std::vector<long long> pairs_per_level;  ///< surviving box pairs after each level (Fig. 12)
+  long long leaf_pairs = 0;                ///< cell pairs whose triangles were compared
+};
+
+/// The clearance between model `a` and model `b` moved by `motion_b` (rigid). Each model must fit
+/// one atlas (prepare_model makes one for grids up to the GPU's texture size).
+Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,
+                    const glm::dmat4& motion_b = glm::dmat4(1.0));
+
+/// Closest points of two triangles in double (0 distance and a common point when they intersect).
+double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
+                         glm::dvec3& wb);
+
+}  // namespace queries
