@@ -21,5 +21,6 @@ void add_info(CLI::App& app, const GlobalOptions& global);
 void add_generate(CLI::App& app, const GlobalOptions& global);
 void add_evaluate(CLI::App& app, const GlobalOptions& global);
 void add_distance(CLI::App& app, const GlobalOptions& global);
+void add_clearance(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   cli::add_generate(app, global);
   cli::add_evaluate(app, global);
   cli::add_distance(app, global);
+  cli::add_clearance(app, global);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,135 @@
+// `nurbsgl clearance A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG]`: minimum distance between two
+// models with the bound K_a + K_b (queries/clearance.h). B is first rotated by DEG degrees about
+// the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_a, point_b,
+// face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "cli/validators.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
+#include "queries/clearance.h"
+
+namespace cli {
+namespace {
+
+struct Options {
+  std::string a, b, move, rotate;
+  double rel_tolerance = 1e-5;
+  bool json = false, timings = false;
+};
+
+/// `count` finite numbers separated by commas or spaces; `what` names the option in errors.
+std::vector<double> numbers(const std::string& text, size_t count, const std::string& what) {
+  std::string spaced = text;
+  for (char& c : spaced)
+    if (c == ',') c = ' ';
+  std::istringstream in(spaced);
+  std::vector<double> v;
+  double x;
+  while (in >> x) v.push_back(x);
+  std::string rest;
+  if (v.size() != count || !in.eof() || std::any_of(v.begin(), v.end(), [](double y) { return !std::isfinite(y); }))
+    throw BadInput(fmt::format("{}: '{}' is not {} finite numbers", what, text, count));
+  return v;
+}
+
+double model_size_checked(const nurbs::Model& m, const std::string& path) {
+  const double size = nurbs::model_size(m);
+  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
+    throw BadInput(fmt::format("{}: {}", path, problems.front()));
+  return size;
+}
+
+void run(const GlobalOptions& global, const Options& o) {
+  glm::dmat4 motion(1.0);
+  if (!o.rotate.empty()) {
+    const auto r = numbers(o.rotate, 4, "--rotate-b");
+    const glm::dvec3 axis(r[0], r[1], r[2]);
+    if (glm::length(axis) == 0) throw BadInput("--rotate-b: the axis is zero");
+    motion = glm::rotate(glm::dmat4(1.0), r[3] * M_PI / 180.0, glm::normalize(axis));
+  }
+  if (!o.move.empty()) {
+    const auto t = numbers(o.move, 3, "--move-b");
+    motion = glm::translate(glm::dmat4(1.0), glm::dvec3(t[0], t[1], t[2])) * motion;
+  }
+  const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
+  const double size = std::max(model_size_checked(ma, o.a), model_size_checked(mb, o.b));
+  const double tolerance = o.rel_tolerance * size;
+  auto gpu = start_gpu(global);
+  const auto t0 = std::chrono::steady_clock::now();
+  const queries::PreparedModel a = queries::prepare_model(*gpu, nurbs::world_faces(ma), tolerance);
+  const queries::PreparedModel b = queries::prepare_model(*gpu, nurbs::world_faces(mb), tolerance);
+  gpu->finish();
+  if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
+    gpu->profiler().reset();
+    gpu->profiler().set_enabled(true);
+    gpu->profiler().set_sync(true);
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  const queries::Clearance c = queries::clearance(*gpu, a, b, motion);
+  const auto t2 = std::chrono::steady_clock::now();
+  const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
+  const double query_s = std::chrono::duration<double>(t2 - t1).count();
+  if (!c.found) throw CommandFailed("no pair of surface points found (every cell trimmed away?)");
+  if (o.json) {
+    nlohmann::json j{{"distance", c.distance},
+                     {"bound", c.bound},
+                     {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
+                     {"point_b", {c.point_b.x, c.point_b.y, c.point_b.z}},
+                     {"face_a", c.face_a},
+                     {"face_b", c.face_b},
+                     {"uv_a", {c.uv_a.x, c.uv_a.y}},
+                     {"uv_b", {c.uv_b.x, c.uv_b.y}},
+                     {"seconds", query_s},
+                     {"prepare_seconds", prepare_s},
+                     {"tolerance", tolerance},
+                     {"pairs_per_level", c.pairs_per_level},
+                     {"leaf_pairs", c.leaf_pairs}};
+    fmt::print("{}\n", j.dump(2));
+  } else {
+    fmt::print(
+        "clearance {:.9g} +- {:.3g} between face {} of A at ({:.6g}, {:.6g}, {:.6g}) and face {} of B at "
+        "({:.6g}, {:.6g}, {:.6g})\n",
+        c.distance, c.bound, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
+        c.point_b.z);
+    fmt::print("prepared in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} levels, {} leaf cell pairs\n",
+               prepare_s, tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+  }
+  if (o.timings) {
+    std::string levels;
+    for (long long n : c.pairs_per_level) levels += fmt::format(" {}", n);
+    std::fflush(stdout);
+    fmt::print(stderr, "pairs per level:{}\n{}", levels, gpu->profiler().table());
+  } else {
+    report_profile(*gpu, global);
+  }
+}
+
+}  // namespace
+
+void add_clearance(CLI::App& app, const GlobalOptions& global) {
+  auto* cmd = app.add_subcommand("clearance",
+                                 "Minimum distance between two models with a certified bound "
+                                 "(Krishnamurthy et al. 5.1-5.3)");
+  auto o = std::make_shared<Options>();
+  cmd->add_option("A", o->a, "First model file")->required();
+  cmd->add_option("B", o->b, "Second model file (may be the same file)")->required();
+  cmd->add_option("--move-b", o->move, "Translate B by DX,DY,DZ (after the rotation)");
+  cmd->add_option("--rotate-b", o->rotate, "Rotate B by DEG degrees about the axis AX,AY,AZ through the origin");
+  cmd->add_option("--tol", o->rel_tolerance, "K_e of the grids, relative to the larger model size")
+      ->check(relative_tolerance())
+      ->capture_default_str();
+  cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
+  cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  cmd->callback([&global, o] { run(global, *o); });
+}
+
+}  // namespace cli
