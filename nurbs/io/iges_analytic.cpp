@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <limits>
 #include <numbers>
 
@@ -382,6 +383,52 @@ void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, Tri
       }
       c.knots.push_back(static_cast<double>(line.size() - 1));
     }
+}
+
+TrimmedSurface bounded_plane_face(IgesGeometry& g, int de, const glm::dmat4& parent) {
+  const IgesDirectoryEntry& e = g.file().entry(de);
+  if (e.form != 1) g.fail(de, fmt::format("form {} of a plane is not a bounded plane face (form 1)", e.form));
+  EntityParams p(g.file(), e);
+  p.require(5);
+  const glm::dvec3 abc(p.real(1), p.real(2), p.real(3));
+  const double d = p.real(4);
+  if (!(glm::length(abc) > 0)) p.fail(1, "the plane's normal (A, B, C) is zero");
+  const int boundary = p.pointer(5);
+  const glm::dmat4 m = parent * g.transform(de);
+  // Plane point and normal in model space (normals map by the inverse transpose).
+  const glm::dvec3 o = glm::dvec3(m * glm::dvec4(d * abc / glm::dot(abc, abc), 1.0));
+  const glm::dvec3 n = glm::normalize(glm::transpose(glm::inverse(glm::dmat3(m))) * abc);
+  const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 e1 = glm::normalize(glm::cross(helper, n)), e2 = glm::cross(n, e1);
+  TrimLoop loop;
+  glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  double size = 0.0, off = 0.0;
+  for (const Curve3& c : g.curves(boundary, m)) {
+    Curve2 c2{c.degree, c.knots, {}, c.weights};
+    for (const glm::dvec3& q : c.points) {
+      const glm::dvec2 st(glm::dot(q - o, e1), glm::dot(q - o, e2));
+      c2.points.push_back(st);
+      lo = glm::min(lo, st);
+      hi = glm::max(hi, st);
+      off = std::max(off, std::abs(glm::dot(q - o, n)));
+    }
+    loop.curves.push_back(std::move(c2));
+  }
+  size = glm::length(hi - lo);
+  if (loop.curves.empty() || !(size > 0)) p.fail(5, "the boundary curve is empty or a point");
+  if (off > 1e-6 * size)
+    p.fail(5, fmt::format("the boundary's control points lie up to {:.3g} off the plane (size {:.3g})", off, size));
+  TrimmedSurface f;
+  Surface& s = f.surface;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = {lo.x, lo.x, hi.x, hi.x};
+  s.knots_v = {lo.y, lo.y, hi.y, hi.y};
+  for (double t : {lo.y, hi.y})
+    for (double u : {lo.x, hi.x}) s.points.push_back(o + u * e1 + t * e2);
+  loop.outer = true;
+  f.loops.push_back(std::move(loop));
+  return f;
 }
 
 }  // namespace nurbs::io

@@ -73,4 +73,12 @@ void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, Tri
 /// OpenCASCADE does not write on planes. Vertex-type entries (a loop of one vertex) add nothing.
 TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer);
 
+/// A 108 plane of form 1 (bounded, IGES 5.3 §4.8: A x + B y + C z = D, PTR a closed curve in it) as
+/// a face: a bilinear patch over the box of the boundary in an orthonormal frame (e1, e2) of the
+/// plane with e1 x e2 along (A, B, C), whose parameters are the frame coordinates, and one outer
+/// loop: the boundary curves mapped into the frame (affine: exact, rational curves keep their
+/// weights). Mapped by parent * (its transform chain). Throws ReadError for a zero normal, a
+/// boundary off the plane (beyond 1e-6 of its size) or a form other than 1.
+TrimmedSurface bounded_plane_face(IgesGeometry& g, int de, const glm::dmat4& parent);
+
 }  // namespace nurbs::io

@@ -86,6 +86,8 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   TrimmedSurface f;
   if (e.type == 128) {
     f.surface = g_.surface(de, parent);
+  } else if (e.type == 108) {
+    f = bounded_plane_face(g_, de, parent);
   } else {
     const glm::dmat4 m = parent * g_.transform(de);
     EntityParams p(g_.file(), e);
@@ -100,7 +102,7 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
         f = face_510(p, m);
         break;
       default:
-        g_.fail(de, "is not a face entity (128, 143, 144 or 510)");
+        g_.fail(de, "is not a face entity (108, 128, 143, 144 or 510)");
     }
   }
   f.face_id = de;

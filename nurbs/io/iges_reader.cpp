@@ -28,6 +28,7 @@ bool is_read_type(int type) {
     case 143:
     case 144:
     case 186:
+    case 108:  // bounded planes (form 1) are faces; 108 under a 143/144 is not read
     case 120:  // 120, 122, 190-198: analytic surfaces, read for the 510 faces on them (iges_analytic.h)
     case 122:
     case 190:
@@ -131,8 +132,9 @@ std::vector<Body> ModelBuilder::build() {
   Body loose{"faces", {}, glm::dmat4(1.0)};
   for (const IgesDirectoryEntry& e : file_.entries) {
     if (used_[index(e.de)]) continue;
-    const bool face = e.type == 144 || e.type == 143 || e.type == 510 ||
-                      (e.type == 128 && e.subordinate() != 1 && e.subordinate() != 3);
+    const bool independent = e.subordinate() != 1 && e.subordinate() != 3;
+    const bool face = e.type == 144 || e.type == 143 || e.type == 510 || (e.type == 128 && independent) ||
+                      (e.type == 108 && e.form == 1 && independent);
     if (face) add_face(loose, e.de, glm::dmat4(1.0));
   }
   if (!loose.faces.empty()) bodies.push_back(std::move(loose));
