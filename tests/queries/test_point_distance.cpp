@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -13,9 +14,12 @@
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/point_distance.h"
+#include "tests/shared_models.h"
 
 namespace {
 
@@ -169,4 +173,41 @@ TEST_CASE("point distance: many faces at once equal the best face, trimmed regio
   CHECK(trimmed_winners > 0);
   MESSAGE(q.atlases() << " atlas(es) for " << faces.size() << " faces; " << trimmed_winners
                       << " of 12 winners on trimmed faces");
+}
+
+TEST_CASE("point distance: every face of the shared IGES models takes part" * test::needs_shared_models()) {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(test::shared_models_dir()))
+    if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  REQUIRE(files.size() >= 8);
+  int faces = 0, queries_run = 0;
+  for (const auto& file : files) {
+    const nurbs::Model model = nurbs::io::read_model(file);
+    const double size = nurbs::model_size(model);
+    const auto all = nurbs::world_faces(model);
+    queries::PointDistanceQuery q(gpu, all, 1e-3 * size);
+    faces += int(all.size());
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& f : all)
+      for (const auto& p : f.surface.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const std::string name = file.filename().string();
+    CAPTURE(name);
+    for (const glm::dvec3& p : {0.5 * (lo + hi), lo - 0.1 * (hi - lo), glm::dvec3(hi.x, lo.y, 0.5 * (lo.z + hi.z))}) {
+      const queries::PointDistance d = q.query(p);
+      REQUIRE(d.found);
+      // The untrimmed twin of every face bounds it from below; on untrimmed winners it is equal.
+      double twin = 1e300;
+      for (size_t i = 0; i < all.size(); ++i)
+        twin = std::min(
+            twin, queries::point_distance_cpu(all[i].surface, q.model().bounds[i], q.grids()[i].grid, p).distance);
+      CHECK(d.distance >= twin - 1e-12 * size);
+      if (all[size_t(d.face)].loops.empty()) CHECK(d.distance <= twin + 1e-12 * size);
+      if (!all[size_t(d.face)].loops.empty()) CHECK(nurbs::is_material(all[size_t(d.face)], d.uv, 1e-9));
+      CHECK(d.bound <= 1e-3 * size);
+      ++queries_run;
+    }
+  }
+  MESSAGE(faces << " faces of " << files.size() << " shared files, " << queries_run << " queries");
 }
