@@ -75,7 +75,10 @@ int IgesGeometry::expect(const EntityParams& p, int i, std::initializer_list<int
   const int de = p.pointer(i, null_ok);
   if (de == 0) return 0;
   const int type = file_.entry(de).type;
-  if (std::find(types.begin(), types.end(), type) != types.end()) return de;
+  if (std::find(types.begin(), types.end(), type) != types.end()) {
+    referenced_.insert(de);
+    return de;
+  }
   const bool wants_curve = std::find(types.begin(), types.end(), 126) != types.end();
   const bool wants_surface = std::find(types.begin(), types.end(), 128) != types.end();
   if ((wants_curve && is_unsupported_curve_type(type)) || (wants_surface && is_unsupported_surface_type(type)))

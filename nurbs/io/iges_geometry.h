@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "nurbs/curve.h"
@@ -59,6 +60,10 @@ class IgesGeometry {
 
   [[nodiscard]] const IgesFile& file() const { return file_; }
 
+  /// True when `de` was handed out by expect(): some entity the reader converted uses it (a 116
+  /// point or 123 direction of an analytic surface, say), so it is read even if its type is not.
+  [[nodiscard]] bool referenced(int de) const { return referenced_.count(de) != 0; }
+
   /// How many 126/128 entities declared a parameter range inside their knot domain and were
   /// restricted to it (nurbs/restrict.h).
   [[nodiscard]] int ranges_restricted() const { return ranges_restricted_; }
@@ -74,6 +79,7 @@ class IgesGeometry {
   int ranges_restricted_ = 0;
   long long points_made_ = 0;    // control points of every curve and surface built so far
   std::vector<int> composites_;  // the 102s being expanded, outermost first: cycle detection
+  std::unordered_set<int> referenced_;  // entries returned by expect()
 };
 
 }  // namespace nurbs::io

@@ -56,6 +56,8 @@ class ModelBuilder {
       : file_(file), g_(file), faces_(g_, options, log), log_(log), used_(file.entries.size(), 0) {}
 
   std::vector<Body> build();
+  /// After build(): entries of types the reader does not convert that nothing read used, by type.
+  [[nodiscard]] std::map<int, int> skipped() const;
 
  private:
   size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
@@ -152,6 +154,13 @@ std::vector<Body> ModelBuilder::build() {
 
 }  // namespace
 
+std::map<int, int> ModelBuilder::skipped() const {
+  std::map<int, int> out;
+  for (const IgesDirectoryEntry& e : file_.entries)
+    if (!is_read_type(e.type) && !g_.referenced(e.de)) ++out[e.type];
+  return out;
+}
+
 Model read_iges_text(std::string text, const std::string& name, const IgesReadOptions& options, IgesReadLog* log) {
   IgesReadLog local;
   IgesReadLog& lg = log ? *log : local;
@@ -160,9 +169,9 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
   Model model;
   model.source = name;
   model.unit_scale_to_mm = file.global.unit_scale_to_mm;
-  for (const IgesDirectoryEntry& e : file.entries)
-    if (!is_read_type(e.type)) ++model.skipped_entities[e.type];
-  model.bodies = ModelBuilder(file, options, lg).build();
+  ModelBuilder builder(file, options, lg);
+  model.bodies = builder.build();
+  model.skipped_entities = builder.skipped();
   if (options.convert_to_mm && model.unit_scale_to_mm != 1.0) {
     for (Body& b : model.bodies)
       for (TrimmedSurface& f : b.faces)
