@@ -130,13 +130,11 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
         glm::dvec3 pa, pb, wa, wb;
         const double d = triangle_distance(ta.p[s], tb.p[t], pa, pb, wa, wb);
         if (d >= r.distance) continue;
-        // §5.3: a closest point inside a trimmed region is discarded (trim polygons at 1e-6 of the domain).
+        // §5.3: a closest point inside a trimmed region is discarded (PreparedModel::trims).
         const glm::dvec2 uva = wa.x * ta.uv[s][0] + wa.y * ta.uv[s][1] + wa.z * ta.uv[s][2];
         const glm::dvec2 uvb = wb.x * tb.uv[t][0] + wb.y * tb.uv[t][1] + wb.z * tb.uv[t][2];
-        if (!fa.loops.empty() && !nurbs::is_material(fa, uva, 1e-6 * nurbs::surface_domain_u(fa.surface).width()))
-          continue;
-        if (!fb.loops.empty() && !nurbs::is_material(fb, uvb, 1e-6 * nurbs::surface_domain_u(fb.surface).width()))
-          continue;
+        if (!fa.loops.empty() && !nurbs::is_material(a.trims[size_t(ca->face)], uva)) continue;
+        if (!fb.loops.empty() && !nurbs::is_material(b.trims[size_t(cb->face)], uvb)) continue;
         r.found = true;
         r.distance = d;
         r.point_a = pa;

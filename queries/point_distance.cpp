@@ -137,8 +137,7 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   for (const Candidate& c : cands) {
     const nurbs::TrimmedSurface& f = m_.faces[size_t(c.face)];
     if (!f.loops.empty()) {
-      const nurbs::TrimPolygons trim =
-          nurbs::flatten_trim(f, 1e-3 * (m_.grids[size_t(c.face)].grid.u[1] - m_.grids[size_t(c.face)].grid.u[0]));
+      const nurbs::TrimPolygons& trim = m_.trims[size_t(c.face)];
       if (!nurbs::is_material(trim, c.hit.uv)) continue;
       const auto& g = m_.grids[size_t(c.face)].grid;
       for (int corner = 0; corner < 4; ++corner)

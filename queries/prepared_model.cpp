@@ -8,6 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "nurbs/surface_eval.h"
+
 namespace queries {
 
 double float_budget(const nurbs::Surface& s) {
@@ -46,6 +48,9 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
     for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
     flatten.push_back(0.1 * step);
+    m.trims.push_back(m.faces[f].loops.empty()
+                          ? nurbs::TrimPolygons{}
+                          : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));
   }
   m.centre = 0.5 * (lo + hi);
   const int side = std::min(gpu.info().max_texture_size, 4096);

@@ -10,6 +10,7 @@
 
 #include "gpgpu/gpu.h"
 #include "nurbs/certified_grid.h"
+#include "nurbs/trim_classify.h"
 #include "nurbs/trimmed_surface.h"
 #include "queries/face_atlas.h"
 
@@ -26,7 +27,10 @@ struct PreparedModel {
   std::vector<nurbs::CertifiedGrid> grids;
   std::vector<FaceAtlas> atlases;
   std::vector<gpgpu::Texture> grow;  ///< per atlas: R32F, one texel per slot
-  glm::dvec3 centre{0.0};            ///< centre of the control-point box of all faces
+  /// Per face: its trim loops flattened within 1e-6 of its u domain width, for classifying the
+  /// closest points the queries find (empty for untrimmed faces).
+  std::vector<nurbs::TrimPolygons> trims;
+  glm::dvec3 centre{0.0};  ///< centre of the control-point box of all faces
 
   /// The cell whose lower-left sample is texel (x, y) of atlas `a`, if that texel starts a cell.
   [[nodiscard]] std::optional<FaceCell> cell_at(size_t a, int x, int y) const;
