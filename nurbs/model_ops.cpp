@@ -64,6 +64,15 @@ Box model_box(const Model& model) {
 
 double model_size(const Model& model) { return model_box(model).diagonal(); }
 
+Box control_box(const Surface& s) {
+  Box box{s.points.front(), s.points.front()};
+  for (const glm::dvec3& p : s.points) {
+    box.min = glm::min(box.min, p);
+    box.max = glm::max(box.max, p);
+  }
+  return box;
+}
+
 std::vector<std::string> validate_model_size(double size) {
   if (!std::isfinite(size)) return {fmt::format("model size is {} (coordinates too large for double precision)", size)};
   if (size < kMinModelSize)

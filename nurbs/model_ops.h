@@ -30,6 +30,9 @@ struct Box {
 };
 [[nodiscard]] Box model_box(const Model& model);
 
+/// Box of a surface's control points: it holds the surface (convex hull, positive weights).
+[[nodiscard]] Box control_box(const Surface& s);
+
 /// Model size = model_box(model).diagonal().
 [[nodiscard]] double model_size(const Model& model);
 

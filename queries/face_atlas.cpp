@@ -9,6 +9,7 @@
 
 #include "gpgpu/array_texture.h"
 #include "gpgpu/polygon_fill.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/surface_grid.h"
@@ -102,9 +103,8 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
     const size_t base_v = basis.size() / 4;
     const auto bv = tabulate_basis(s.knots_v, s.degree_v, s.count_v, g.v, 0, sl.height, dv);
     basis.insert(basis.end(), bv.begin(), bv.end());
-    glm::dvec3 lo = s.points.front(), hi = lo;
-    for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    const glm::dvec3 origin = 0.5 * (lo + hi);
+    const nurbs::Box box = nurbs::control_box(s);
+    const glm::dvec3 origin = 0.5 * (box.min + box.max);
     const size_t ctrl_base = ctrl.size() / 4;
     for (size_t i = 0; i < s.points.size(); ++i) {
       const double w = s.weights.empty() ? 1.0 : s.weights[i];

@@ -8,15 +8,15 @@
 #include <limits>
 #include <stdexcept>
 
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 
 namespace queries {
 
 double float_budget(const nurbs::Surface& s) {
-  glm::dvec3 lo = s.points.front(), hi = lo;
-  for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double magnitude = std::max(glm::length(lo), glm::length(hi));
-  return 1e-6 * glm::length(hi - lo) + 4.0 * 0x1.0p-24 * magnitude;
+  const nurbs::Box box = nurbs::control_box(s);
+  const double magnitude = std::max(glm::length(box.min), glm::length(box.max));
+  return 1e-6 * box.diagonal() + 4.0 * 0x1.0p-24 * magnitude;
 }
 
 std::optional<FaceCell> PreparedModel::cell_at(size_t a, int x, int y) const {
@@ -37,7 +37,9 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
   glm::dvec3 lo(kInf), hi(-kInf);
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const nurbs::Surface& s = m.faces[f].surface;
-    for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const nurbs::Box box = nurbs::control_box(s);
+    lo = glm::min(lo, box.min);
+    hi = glm::max(hi, box.max);
     m.bounds.push_back(nurbs::filip_bound(s));
     m.grids.push_back(nurbs::certified_grid(m.bounds.back(), tolerance, {max_samples}));
     if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));

@@ -10,6 +10,7 @@
 
 #include "gpgpu/array_texture.h"
 #include "nurbs/knot_vector.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 
 namespace queries {
@@ -121,12 +122,8 @@ GpuSurface upload_surface(const nurbs::Surface& s, int max_texture_size) {
   g.domain_v = nurbs::surface_domain_v(s);
   g.host_knots_u = s.knots_u;
   g.host_knots_v = s.knots_v;
-  glm::dvec3 lo = s.points.front(), hi = s.points.front();
-  for (const glm::dvec3& p : s.points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  g.origin = 0.5 * (lo + hi);
+  const nurbs::Box box = nurbs::control_box(s);
+  g.origin = 0.5 * (box.min + box.max);
   std::vector<float> pw(s.points.size() * 4);
   for (size_t i = 0; i < s.points.size(); ++i) {
     const double w = s.weights.empty() ? 1.0 : s.weights[i];

@@ -12,18 +12,10 @@
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/certified_grid.h"
+#include "nurbs/model_ops.h"
 #include "tests/nurbs/grid_check.h"
 
 namespace {
-
-double control_box_diagonal(const nurbs::Surface& s) {
-  glm::dvec3 lo = s.points.front(), hi = lo;
-  for (const auto& p : s.points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  return glm::length(hi - lo);
-}
 
 /// Slack for a sampled deviation against its bound: the bound is attained exactly by quadratics
 /// (u v at a cell centre), and both sides carry double rounding of points of size `scale`.
@@ -47,7 +39,7 @@ TEST_CASE("certified grids bound the deviation on random C0, high-degree and str
     const int p = 1 + seed % 11, q = 1 + (seed / 11) % 11;
     const double weight_ratio = seed / 121 == 0 ? 1.0 : (seed / 121 == 1 ? 10.0 : 1e3);
     const nurbs::Surface s = models::random_kinked_surface(std::uint64_t(seed) + 100, p, q, weight_ratio);
-    const double scale = control_box_diagonal(s), tol = 2e-3 * scale;
+    const double scale = nurbs::control_box(s).diagonal(), tol = 2e-3 * scale;
     const nurbs::FilipBound b = nurbs::filip_bound(s);
     // A limit well under the default keeps the test fast; surfaces that need more (weights 10^3 apart
     // on neighbouring points make the parametrisation, not the shape, very uneven) must say so.

@@ -7,6 +7,7 @@
 
 #include "../gpgpu/gl_fixture.h"
 #include "models/random_surfaces.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "queries/face_atlas.h"
 #include "queries/surface_grid.h"
@@ -74,9 +75,7 @@ TEST_CASE("face atlas: one pass evaluates every face as its CPU twin, one fill t
       const auto& f = faces[size_t(sl.face)];
       const auto cpu = queries::evaluate_surface_cpu(f.surface, grids[size_t(sl.face)]);
       const auto cpu_mask = queries::trim_mask_cpu(f, grids[size_t(sl.face)], flatten[size_t(sl.face)]);
-      glm::dvec3 lo = f.surface.points.front(), hi = lo;
-      for (const auto& p : f.surface.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
-      const double size = glm::length(hi - lo);
+      const double size = nurbs::control_box(f.surface).diagonal();
       for (int j = 0; j < sl.height; ++j)
         for (int i = 0; i < sl.width; ++i) {
           const size_t t = size_t(sl.y + j) * size_t(plan.width) + size_t(sl.x + i);

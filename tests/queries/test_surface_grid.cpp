@@ -19,15 +19,6 @@
 
 namespace {
 
-double control_box_diagonal(const nurbs::Surface& s) {
-  glm::dvec3 lo = s.points.front(), hi = lo;
-  for (const auto& p : s.points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  return glm::length(hi - lo);
-}
-
 struct Errors {
   double point = 0.0;       // max |GPU - CPU| / model size
   double normal_cos = 1.0;  // min cos(angle) between GPU and CPU normals where the CPU one is defined
@@ -41,7 +32,7 @@ Errors compare(gpgpu::Gpu& gpu, const nurbs::Surface& s, const nurbs::ParamGrid&
   const queries::SurfaceGridCpu cpu = queries::evaluate_surface_cpu(s, params);
   const auto pts = grid.read_points();
   const auto nrm = grid.read_normals();
-  const double size = control_box_diagonal(s);
+  const double size = nurbs::control_box(s).diagonal();
   Errors e;
   for (size_t k = 0; k < cpu.points.size(); ++k) {
     const glm::dvec3 gp(pts[4 * k], pts[4 * k + 1], pts[4 * k + 2]);
@@ -149,7 +140,7 @@ TEST_CASE("surface grid: knot-aligned grids of C0 surfaces, GPU against CPU") {
   for (uint64_t seed = 0; seed < 24; ++seed) {
     const int p = 1 + int(seed % 7), q = 1 + int(seed / 7 % 4);
     const nurbs::Surface s = models::random_kinked_surface(seed + 500, p, q, seed % 2 ? 100.0 : 1.0);
-    const double size = control_box_diagonal(s);
+    const double size = nurbs::control_box(s).diagonal();
     const nurbs::CertifiedGrid cg =
         nurbs::certified_grid(nurbs::filip_bound(s), 3e-2 * size, nurbs::GridLimits{200'000});
     CAPTURE(seed);
