@@ -41,13 +41,6 @@ std::vector<double> numbers(const std::string& text, size_t count, const std::st
   return v;
 }
 
-double model_size_checked(const nurbs::Model& m, const std::string& path) {
-  const double size = nurbs::model_size(m);
-  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
-    throw BadInput(fmt::format("{}: {}", path, problems.front()));
-  return size;
-}
-
 void run(const GlobalOptions& global, const Options& o) {
   glm::dmat4 motion(1.0);
   if (!o.rotate.empty()) {
@@ -61,7 +54,7 @@ void run(const GlobalOptions& global, const Options& o) {
     motion = glm::translate(glm::dmat4(1.0), glm::dvec3(t[0], t[1], t[2])) * motion;
   }
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
-  const double size = std::max(model_size_checked(ma, o.a), model_size_checked(mb, o.b));
+  const double size = std::max(checked_model_size(ma, o.a), checked_model_size(mb, o.b));
   const double tolerance = o.rel_tolerance * size;
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();

@@ -72,9 +72,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const std::vector<glm::dvec3> points =
       o.point.empty() ? read_points(o.points) : std::vector{parse_point(o.point, "--point")};
   const nurbs::Model model = nurbs::io::read_model(o.path);
-  const double size = nurbs::model_size(model);
-  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
-    throw BadInput(fmt::format("{}: {}", o.path, problems.front()));
+  const double size = checked_model_size(model, o.path);
   const auto faces = nurbs::world_faces(model);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();

@@ -71,14 +71,6 @@ nurbs::FaceGridReport face_grid(const nurbs::Surface& s, const Options& o, doubl
 
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
-/// A tenth of the grid's smallest step: the trim loops' flattening tolerance (parameter units).
-double flatten_tolerance(const nurbs::ParamGrid& g) {
-  double step = 1e300;
-  for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
-  for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
-  return 0.1 * step;
-}
-
 /// GPU work of one face or batch: times and, for --obj, the points.
 struct GpuWork {
   double eval_ms = 0, trim_ms = 0;
@@ -111,7 +103,7 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
   w.eval_ms = ms_since(t0);
   if (!f.loops.empty()) {
     t0 = std::chrono::steady_clock::now();
-    (void)queries::trim_masks(gpu, f, params, side, flatten_tolerance(params));
+    (void)queries::trim_masks(gpu, f, params, side, queries::trim_flatten_tolerance(params));
     gpu.finish();
     w.trim_ms = ms_since(t0);
   }
@@ -121,9 +113,7 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
 void run(const GlobalOptions& global, const Options& o) {
   const nurbs::Model model = nurbs::io::read_model(o.path);
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
-  const double size = nurbs::model_size(model);
-  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
-    throw BadInput(fmt::format("{}: {}", o.path, problems.front()));
+  const double size = checked_model_size(model, o.path);
   std::vector<int> chosen = o.faces;
   for (int index : chosen)
     if (index < 0 || index >= int(faces.size()))
@@ -170,7 +160,7 @@ void run(const GlobalOptions& global, const Options& o) {
   }
   nlohmann::json batches = nlohmann::json::array();
   std::vector<double> flatten;
-  for (const auto& p : params) flatten.push_back(flatten_tolerance(p));
+  for (const auto& p : params) flatten.push_back(queries::trim_flatten_tolerance(p));
   if (!plans.empty()) {  // build the atlas program outside the timing
     (void)queries::evaluate_atlas(*gpu, {1, 1, {}}, work, params, flatten);
     gpu->finish();

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "nurbs/model_ops.h"
+
 namespace cli {
 
 std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
@@ -26,6 +28,13 @@ void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options) {
   if (!options.profile) return;
   std::fflush(stdout);  // the table follows the command's own output, also when stdout is a pipe
   fmt::print(stderr, "\n{}", gpu.profiler().table());
+}
+
+double checked_model_size(const nurbs::Model& model, const std::string& path) {
+  const double size = nurbs::model_size(model);
+  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
+    throw BadInput(fmt::format("{}: {}", path, problems.front()));
+  return size;
 }
 
 }  // namespace cli

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gpgpu/gpu.h"
+#include "nurbs/model.h"
 
 namespace cli {
 
@@ -37,5 +38,9 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options);
 
 /// Prints the profiler's per-pass table on stderr when --profile was given.
 void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options);
+
+/// nurbs::model_size of the model read from `path`, refused as bad input (BadInput naming the
+/// file) when no tolerance can refer to it (nurbs::validate_model_size).
+double checked_model_size(const nurbs::Model& model, const std::string& path);
 
 }  // namespace cli

@@ -161,6 +161,13 @@ std::vector<double> params(const Segments& s, const std::vector<int>& cells) {
 
 }  // namespace
 
+double ParamGrid::min_step() const {
+  double step = kInf;
+  for (size_t i = 0; i + 1 < u.size(); ++i) step = std::min(step, u[i + 1] - u[i]);
+  for (size_t j = 0; j + 1 < v.size(); ++j) step = std::min(step, v[j + 1] - v[j]);
+  return step;
+}
+
 ParamGrid uniform_param_grid(Interval du, Interval dv, int n, int m) {
   ParamGrid g;
   for (int i = 0; i <= n; ++i) g.u.push_back(i == n ? du.max : du.min + du.width() * i / n);

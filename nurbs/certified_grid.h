@@ -30,6 +30,8 @@ struct ParamGrid {
   [[nodiscard]] long long samples() const {
     return static_cast<long long>(u.size()) * static_cast<long long>(v.size());
   }
+  /// The smallest step along either direction.
+  [[nodiscard]] double min_step() const;
 };
 
 /// The uniform grid of n x m cells over du x dv (sample i at du.min + du.width() i / n, the last one

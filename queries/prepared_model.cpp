@@ -10,6 +10,7 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
+#include "queries/trim_texture.h"
 
 namespace queries {
 
@@ -46,10 +47,7 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     const nurbs::ParamGrid& g = m.grids.back().grid;
     params.push_back(g);
     sizes.emplace_back(int(g.u.size()), int(g.v.size()));
-    double step = kInf;  // a tenth of the smallest step flattens the trim loops finely enough
-    for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
-    for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
-    flatten.push_back(0.1 * step);
+    flatten.push_back(trim_flatten_tolerance(g));
     m.trims.push_back(m.faces[f].loops.empty()
                           ? nurbs::TrimPolygons{}
                           : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));

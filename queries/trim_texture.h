@@ -25,6 +25,10 @@ namespace queries {
 std::vector<std::vector<glm::vec2>> trim_window_polygons(const nurbs::TrimmedSurface& face,
                                                          const nurbs::ParamGrid& params, double flatten_tolerance);
 
+/// The flattening tolerance the trim masks of a grid use: a tenth of its smallest step (parameter
+/// units), fine enough that flattening moves only samples within it of a trim curve.
+[[nodiscard]] inline double trim_flatten_tolerance(const nurbs::ParamGrid& g) { return 0.1 * g.min_step(); }
+
 /// One R8 mask per tile of the grid `params` cut in tiles of `tile_side` samples (the tiling of
 /// evaluate_surface: tiles share boundary samples), row-major. Faces without loops are all material;
 /// faces with holes but no outer loop get the domain rectangle as outer boundary. `flatten_tolerance`

@@ -39,10 +39,7 @@ struct Counts {
 /// every differing sample must lie within one cell (of its own size) of a trim curve.
 void check_face(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face, const nurbs::ParamGrid& g, int tile_side,
                 Counts& c) {
-  double step = 1e300;
-  for (size_t i = 0; i + 1 < g.u.size(); ++i) step = std::min(step, g.u[i + 1] - g.u[i]);
-  for (size_t j = 0; j + 1 < g.v.size(); ++j) step = std::min(step, g.v[j + 1] - g.v[j]);
-  const double tol = 0.1 * step;
+  const double tol = queries::trim_flatten_tolerance(g);
   const auto tiles = queries::trim_masks(gpu, face, g, tile_side, tol);
   const auto starts_u = queries::tile_starts(int(g.u.size()), tile_side);
   const auto starts_v = queries::tile_starts(int(g.v.size()), tile_side);
