@@ -27,10 +27,24 @@ std::optional<FaceCell> PreparedModel::cell_at(size_t a, int x, int y) const {
   return std::nullopt;
 }
 
+double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance) {
+  if (faces.empty()) return tolerance;
+  nurbs::Box all = nurbs::control_box(faces.front().surface);
+  for (const nurbs::TrimmedSurface& f : faces) {
+    const nurbs::Box b = nurbs::control_box(f.surface);
+    all.min = glm::min(all.min, b.min);
+    all.max = glm::max(all.max, b.max);
+  }
+  return std::max(tolerance, 1e-3 * all.diagonal());
+}
+
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples) {
+                            long long max_samples, Search search) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   PreparedModel m;
+  m.tolerance = tolerance;
+  m.search = search;
+  m.grid_tolerance = search == Search::CoarseToFine ? coarse_tolerance(faces, tolerance) : tolerance;
   m.faces = std::move(faces);
   std::vector<nurbs::ParamGrid> params;
   std::vector<std::pair<int, int>> sizes;
@@ -42,7 +56,7 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     lo = glm::min(lo, box.min);
     hi = glm::max(hi, box.max);
     m.bounds.push_back(nurbs::filip_bound(s));
-    m.grids.push_back(nurbs::certified_grid(m.bounds.back(), tolerance, {max_samples}));
+    m.grids.push_back(nurbs::certified_grid(m.bounds.back(), m.grid_tolerance, {max_samples}));
     if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));
     const nurbs::ParamGrid& g = m.grids.back().grid;
     params.push_back(g);

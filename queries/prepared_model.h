@@ -21,7 +21,19 @@ struct FaceCell {
   int face = -1, i = 0, j = 0;
 };
 
+/// How a query reaches its tolerance T.
+///  - Faithful (the paper): every face on a grid with K_e <= T everywhere; the GPU search ends at
+///    cells that already meet T.
+///  - CoarseToFine (beyond the paper, issue 8): every face on a coarse grid (K_e <= the coarse
+///    tolerance); the GPU search over it returns the candidate cells (lower bound <= the least upper
+///    bound) and only those are subdivided, in double on the CPU (queries/refine.h), pruned again
+///    against the improving upper bound, until every surviving cell meets T. Same guarantee.
+enum class Search { Faithful, CoarseToFine };
+
 struct PreparedModel {
+  double tolerance = 0.0;       ///< T: K_e of the cells the answers come from (model units)
+  double grid_tolerance = 0.0;  ///< K_e of the evaluated grids: T (Faithful) or the coarse tolerance
+  Search search = Search::Faithful;
   std::vector<nurbs::TrimmedSurface> faces;
   std::vector<nurbs::FilipBound> bounds;
   std::vector<nurbs::CertifiedGrid> grids;
@@ -39,8 +51,13 @@ struct PreparedModel {
 /// Prepares `faces` for queries at K_e <= `tolerance` (model units). Throws std::runtime_error
 /// naming a face that cannot meet it within `max_samples`, and std::length_error when a face's grid
 /// is larger than an atlas of the GPU's size.
+/// With Search::CoarseToFine the grids are evaluated at `coarse_tolerance(faces, tolerance)`.
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples = 1LL << 22);
+                            long long max_samples = 1LL << 22, Search search = Search::Faithful);
+
+/// The grid tolerance of the coarse-to-fine search: the larger of T and 1e-3 of the faces' control
+/// box diagonal (grids of a few thousand cells per face on the models at hand).
+[[nodiscard]] double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
 
 /// Float budget of one face's GPU samples: the tabulated evaluation's measured error (1.0e-7 of the
 /// control box, surface_grid.h) with a factor 10, plus 4 ulp of the largest coordinate (the atlas
