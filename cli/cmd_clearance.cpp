@@ -1,13 +1,18 @@
 // `nurbsgl clearance A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG]`: minimum distance between two
 // models with the bound K_a + K_b (queries/clearance.h). B is first rotated by DEG degrees about
 // the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_a, point_b,
-// face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query.
+// face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
+// one query per line of FILE (DX DY DZ AX AY AZ DEG: B rotated, then moved), B's hierarchy refitted
+// each time (the paper's Fig. 16): JSON {"frames", "prepare_seconds", "tolerance", "results": [...]}.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -21,8 +26,9 @@ namespace cli {
 namespace {
 
 struct Options {
-  std::string a, b, move, rotate;
+  std::string a, b, move, rotate, motion;
   double rel_tolerance = 1e-5;
+  queries::Search search = queries::Search::CoarseToFine;
   bool json = false, timings = false;
 };
 
@@ -41,25 +47,75 @@ std::vector<double> numbers(const std::string& text, size_t count, const std::st
   return v;
 }
 
+/// Rotation by deg degrees about `axis` through the origin, then the move t; `what` names the source.
+glm::dmat4 rigid_motion(const glm::dvec3& t, const glm::dvec3& axis, double deg, const std::string& what) {
+  glm::dmat4 m(1.0);
+  if (deg != 0.0) {
+    if (glm::length(axis) == 0) throw BadInput(fmt::format("{}: the rotation axis is zero", what));
+    m = glm::rotate(m, deg * M_PI / 180.0, glm::normalize(axis));
+  }
+  return glm::translate(glm::dmat4(1.0), t) * m;
+}
+
+/// The motions of B: one from --rotate-b / --move-b, or one per line of --motion FILE.
+std::vector<glm::dmat4> motions(const Options& o) {
+  if (o.motion.empty()) {
+    glm::dvec3 t(0.0), axis(0.0, 0.0, 1.0);
+    double deg = 0.0;
+    if (!o.rotate.empty()) {
+      const auto r = numbers(o.rotate, 4, "--rotate-b");
+      axis = {r[0], r[1], r[2]};
+      deg = r[3];
+      if (glm::length(axis) == 0) throw BadInput("--rotate-b: the axis is zero");
+    }
+    if (!o.move.empty()) {
+      const auto v = numbers(o.move, 3, "--move-b");
+      t = {v[0], v[1], v[2]};
+    }
+    return {rigid_motion(t, axis, deg, "--rotate-b")};
+  }
+  if (!o.move.empty() || !o.rotate.empty()) throw BadInput("--motion cannot be combined with --move-b or --rotate-b");
+  std::ifstream f;
+  if (o.motion != "-") {
+    f.open(o.motion);
+    if (!f) throw BadInput(fmt::format("--motion {}: cannot open the file", o.motion));
+  }
+  std::istream& in = o.motion == "-" ? std::cin : f;
+  std::vector<glm::dmat4> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
+    const std::string where = fmt::format("{}: line {}", o.motion, n);
+    const auto v = numbers(line, 7, where + " (DX DY DZ AX AY AZ DEG)");
+    out.push_back(rigid_motion({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, v[6], where));
+  }
+  if (out.empty()) throw BadInput(fmt::format("--motion {}: no frames", o.motion));
+  return out;
+}
+
+nlohmann::json result_json(const queries::Clearance& c, double seconds) {
+  return {{"distance", c.distance},
+          {"bound", c.bound},
+          {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
+          {"point_b", {c.point_b.x, c.point_b.y, c.point_b.z}},
+          {"face_a", c.face_a},
+          {"face_b", c.face_b},
+          {"uv_a", {c.uv_a.x, c.uv_a.y}},
+          {"uv_b", {c.uv_b.x, c.uv_b.y}},
+          {"seconds", seconds},
+          {"pairs_per_level", c.pairs_per_level},
+          {"leaf_pairs", c.leaf_pairs}};
+}
+
 void run(const GlobalOptions& global, const Options& o) {
-  glm::dmat4 motion(1.0);
-  if (!o.rotate.empty()) {
-    const auto r = numbers(o.rotate, 4, "--rotate-b");
-    const glm::dvec3 axis(r[0], r[1], r[2]);
-    if (glm::length(axis) == 0) throw BadInput("--rotate-b: the axis is zero");
-    motion = glm::rotate(glm::dmat4(1.0), r[3] * M_PI / 180.0, glm::normalize(axis));
-  }
-  if (!o.move.empty()) {
-    const auto t = numbers(o.move, 3, "--move-b");
-    motion = glm::translate(glm::dmat4(1.0), glm::dvec3(t[0], t[1], t[2])) * motion;
-  }
+  const std::vector<glm::dmat4> frames = motions(o);
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
   const double size = std::max(checked_model_size(ma, o.a), checked_model_size(mb, o.b));
   const double tolerance = o.rel_tolerance * size;
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
-  const queries::PreparedModel a = queries::prepare_model(*gpu, nurbs::world_faces(ma), tolerance);
-  const queries::PreparedModel b = queries::prepare_model(*gpu, nurbs::world_faces(mb), tolerance);
+  const queries::PreparedModel a = queries::prepare_model(*gpu, nurbs::world_faces(ma), tolerance, 1LL << 22, o.search);
+  const queries::PreparedModel b = queries::prepare_model(*gpu, nurbs::world_faces(mb), tolerance, 1LL << 22, o.search);
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
     gpu->profiler().reset();
@@ -67,25 +123,39 @@ void run(const GlobalOptions& global, const Options& o) {
     gpu->profiler().set_sync(true);
   }
   const auto t1 = std::chrono::steady_clock::now();
-  const queries::Clearance c = queries::clearance(*gpu, a, b, motion);
-  const auto t2 = std::chrono::steady_clock::now();
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
+  if (!o.motion.empty()) {
+    nlohmann::json results = nlohmann::json::array();
+    const bool progress = frames.size() > 1 && isatty(STDERR_FILENO);
+    for (size_t k = 0; k < frames.size(); ++k) {
+      const auto f0 = std::chrono::steady_clock::now();
+      const queries::Clearance c = queries::clearance(*gpu, a, b, frames[k]);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+      if (!c.found) throw CommandFailed(fmt::format("frame {}: no pair of surface points found", k + 1));
+      results.push_back(result_json(c, s));
+      if (progress) fmt::print(stderr, "\r[{}/{}] frames", k + 1, frames.size());
+      if (!o.json)
+        fmt::print("frame {}: clearance {:.9g} +- {:.3g} (faces {}, {}) in {:.1f} ms\n", k + 1, c.distance, c.bound,
+                   c.face_a, c.face_b, 1e3 * s);
+    }
+    if (progress) fmt::print(stderr, "\n");
+    if (o.json)
+      fmt::print(
+          "{}\n",
+          nlohmann::json{
+              {"frames", frames.size()}, {"prepare_seconds", prepare_s}, {"tolerance", tolerance}, {"results", results}}
+              .dump(2));
+    report_profile(*gpu, global);
+    return;
+  }
+  const queries::Clearance c = queries::clearance(*gpu, a, b, frames.front());
+  const auto t2 = std::chrono::steady_clock::now();
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
   if (!c.found) throw CommandFailed("no pair of surface points found (every cell trimmed away?)");
   if (o.json) {
-    nlohmann::json j{{"distance", c.distance},
-                     {"bound", c.bound},
-                     {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
-                     {"point_b", {c.point_b.x, c.point_b.y, c.point_b.z}},
-                     {"face_a", c.face_a},
-                     {"face_b", c.face_b},
-                     {"uv_a", {c.uv_a.x, c.uv_a.y}},
-                     {"uv_b", {c.uv_b.x, c.uv_b.y}},
-                     {"seconds", query_s},
-                     {"prepare_seconds", prepare_s},
-                     {"tolerance", tolerance},
-                     {"pairs_per_level", c.pairs_per_level},
-                     {"leaf_pairs", c.leaf_pairs}};
+    nlohmann::json j = result_json(c, query_s);
+    j["prepare_seconds"] = prepare_s;
+    j["tolerance"] = tolerance;
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print(
@@ -120,6 +190,9 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--tol", o->rel_tolerance, "K_e of the grids, relative to the larger model size")
       ->check(relative_tolerance())
       ->capture_default_str();
+  cmd->add_option("--motion", o->motion,
+                  "One query per line of FILE: DX DY DZ AX AY AZ DEG (B rotated, then moved; - reads stdin)");
+  add_search_option(cmd, o->search);
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });

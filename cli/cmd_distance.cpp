@@ -23,6 +23,7 @@ namespace {
 struct Options {
   std::string path, point, points;
   double rel_tolerance = 1e-5;
+  queries::Search search = queries::Search::CoarseToFine;
   bool json = false;
 };
 
@@ -76,7 +77,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const auto faces = nurbs::world_faces(model);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
-  queries::PointDistanceQuery query(*gpu, faces, o.rel_tolerance * size);
+  queries::PointDistanceQuery query(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
   const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
@@ -131,6 +132,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--tol", o->rel_tolerance, "K_e of the faces' grids, relative to the model size")
       ->check(relative_tolerance())
       ->capture_default_str();
+  add_search_option(cmd, o->search);
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });
 }

@@ -4,7 +4,10 @@
 /// false) and prints small bounds as 0.000000, so tolerances get their own check.
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <map>
 #include <string>
+
+#include "queries/prepared_model.h"
 
 namespace cli {
 
@@ -26,6 +29,19 @@ inline CLI::Validator relative_tolerance() {
         return "";
       },
       "in [1e-9, 1]");
+}
+
+/// `--search faithful|coarse-to-fine` (queries::Search): the paper's grids at the tolerance, or
+/// coarse grids refined where the answer can be (the default).
+inline CLI::Option* add_search_option(CLI::App* cmd, queries::Search& search) {
+  const std::map<std::string, queries::Search> names{{"faithful", queries::Search::Faithful},
+                                                     {"coarse-to-fine", queries::Search::CoarseToFine}};
+  return cmd
+      ->add_option("--search", search,
+                   "faithful: every face on a grid at the tolerance (the paper); coarse-to-fine: coarse grids, "
+                   "candidate cells refined in double until they meet it (same bound, fewer samples)")
+      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case))
+      ->default_str("coarse-to-fine");
 }
 
 }  // namespace cli

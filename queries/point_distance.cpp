@@ -77,8 +77,8 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
 }
 
 PointDistanceQuery::PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                                       long long max_samples)
-    : gpu_(gpu), m_(prepare_model(gpu, std::move(faces), tolerance, max_samples)) {}
+                                       long long max_samples, Search search)
+    : gpu_(gpu), m_(prepare_model(gpu, std::move(faces), tolerance, max_samples, search)) {}
 
 PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   PointDistance r;

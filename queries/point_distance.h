@@ -51,7 +51,7 @@ class PointDistanceQuery {
   /// `tolerance`: the K_e of every face's grid, model units. Throws when a face cannot meet it
   /// within `max_samples`, or when a face's grid does not fit an atlas of the GPU's size.
   PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                     long long max_samples = 1LL << 22);
+                     long long max_samples = 1LL << 22, Search search = Search::Faithful);
   PointDistance query(const glm::dvec3& p);
 
   [[nodiscard]] const std::vector<nurbs::CertifiedGrid>& grids() const { return m_.grids; }
