@@ -4,6 +4,7 @@
 // the minimum and maximum distance between the two boxes (Eqs. 13-20); the second target holds the
 // child pair record (xa, ya, xb, yb) for the next level. Missing or empty children: (+inf, +inf).
 #include "lib_layout.glsl"
+#include "lib_box.glsl"
 
 uniform sampler2D u_pairs;  // RGBA32F records (xa, ya, xb, yb) of the surviving pairs, row-major
 uniform int u_pair_count;
@@ -32,9 +33,6 @@ void main() {
   vec3 lo1 = texelFetch(u_lo_a, a, 0).xyz, hi1 = texelFetch(u_hi_a, a, 0).xyz;
   vec3 lo2 = texelFetch(u_lo_b, b, 0).xyz, hi2 = texelFetch(u_hi_b, b, 0).xyz;
   if (any(greaterThan(lo1, hi1)) || any(greaterThan(lo2, hi2))) return;  // empty box
-  vec3 B1 = 0.5 * (hi1 - lo1), B2 = 0.5 * (hi2 - lo2);
-  vec3 Dc = abs(0.5 * (lo1 + hi1) - 0.5 * (lo2 + hi2));
-  o_minmax = vec4(length(max(Dc - B1 - B2, vec3(0))),  // Eqs. (17)-(20)
-                  length(Dc + B1 + B2), 0.0, 0.0);     // Eqs. (13)-(16)
+  o_minmax = vec4(box_box_minmax(lo1, hi1, lo2, hi2), 0.0, 0.0);  // Eqs. (13)-(20)
   o_pair = vec4(vec2(a), vec2(b));
 }

@@ -1,0 +1,147 @@
+// The object first stage of Krishnamurthy et al. §5.4 (queries/voxel_stage.h): the GPU pass against
+// its CPU twin in double on random trimmed models under random rigid motions, tiling, and on exact
+// spheres (closest face pair known in closed form) that the face pair holding the closest points
+// is always kept, that U is an honest upper bound, and that the stage prunes face pairs at all.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "../gpgpu/gl_fixture.h"
+#include "models/exact_shapes.h"
+#include "models/random_surfaces.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "queries/voxel_stage.h"
+
+namespace {
+
+/// A rigid motion: a random rotation about a random axis through the origin, then `shift`.
+glm::dmat4 random_motion(models::Random& rng, const glm::dvec3& shift) {
+  const glm::dvec3 axis(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.1, 1));
+  return glm::translate(glm::dmat4(1.0), shift) * glm::rotate(glm::dmat4(1.0), rng.uniform(0, 6.28), axis);
+}
+
+/// `count` random trimmed faces, face k moved by k * `step`: a multi-face model spread along a line.
+std::vector<nurbs::TrimmedSurface> random_model(uint64_t seed, int count, const glm::dvec3& step) {
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (int k = 0; k < count; ++k) {
+    faces.push_back(models::random_trimmed_surface(seed + uint64_t(k)));
+    for (auto& p : faces.back().surface.points) p += double(k) * step;
+  }
+  return faces;
+}
+
+}  // namespace
+
+TEST_CASE("voxel stage: GPU face pairs equal the CPU twin on random trimmed models and motions") {
+  gpgpu::Gpu& gpu = test::gpu();
+  long long pairs = 0, kept = 0, borderline = 0;
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    models::Random rng(seed + 17);
+    const auto a = queries::voxelize(random_model(100 + 10 * seed, 3, {2.5, 0.0, 0.0}), {.n = 12 + 4 * int(seed % 3)});
+    const auto b = queries::voxelize(random_model(500 + 10 * seed, 3, {0.0, 2.5, 0.5}), {.n = 16});
+    const glm::dmat4 motion = random_motion(rng, {rng.uniform(-2, 4), rng.uniform(-2, 2), rng.uniform(2, 4)});
+    const queries::VoxelStage g = queries::voxel_stage(gpu, a, b, motion);
+    const queries::VoxelStage c = queries::voxel_stage_cpu(a, b, motion);
+    CAPTURE(seed);
+    REQUIRE(std::isfinite(c.upper));
+    CHECK(std::abs(g.upper - c.upper) <= 1e-6 * c.upper);  // float boxes rounded outwards, float distances
+    CHECK(g.face_pairs == c.face_pairs);
+    CHECK(std::abs(g.surviving_pairs - c.surviving_pairs) <= c.borderline_pairs);
+    CHECK(g.faces_a == c.faces_a);
+    CHECK(g.faces_b == c.faces_b);
+    CHECK(g.voxel_pairs == (long long)(a.voxels.size() * b.voxels.size()));
+    pairs += g.voxel_pairs;
+    kept += g.surviving_pairs;
+    borderline += c.borderline_pairs;
+  }
+  MESSAGE(pairs << " voxel pairs, " << kept << " survive, " << borderline << " within rounding of the cut");
+}
+
+TEST_CASE("voxel stage: tiles of the pair texture give the same pairs as one tile") {
+  gpgpu::Gpu& gpu = test::gpu();
+  models::Random rng(5);
+  const auto a = queries::voxelize(random_model(40, 2, {2.0, 0.0, 0.0}), {.n = 16});
+  const auto b = queries::voxelize(random_model(60, 2, {0.0, 2.0, 0.0}), {.n = 16});
+  const glm::dmat4 motion = random_motion(rng, {0.5, 1.0, 2.5});
+  const queries::VoxelStage one = queries::voxel_stage(gpu, a, b, motion);
+  // 257: prime, so the last row and column of tiles are partial.
+  const queries::VoxelStage tiled = queries::voxel_stage(gpu, a, b, motion, {.max_tile = 257});
+  CHECK(one.tiles == 1);
+  CHECK(tiled.tiles == int(((a.voxels.size() + 256) / 257) * ((b.voxels.size() + 256) / 257)));
+  CHECK(tiled.upper == one.upper);
+  CHECK(tiled.surviving_pairs == one.surviving_pairs);
+  CHECK(tiled.face_pairs == one.face_pairs);
+}
+
+TEST_CASE("voxel stage: exact spheres keep the closest face pair, U bounds the distance, pairs are pruned") {
+  gpgpu::Gpu& gpu = test::gpu();
+  int cases = 0;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    models::Random rng(seed + 1000);
+    // Four spheres per object spread over a 12-wide box: faces far apart, so most pairs are pruned.
+    std::vector<nurbs::TrimmedSurface> fa(4), fb(4);
+    std::vector<glm::dvec3> ca, cb;
+    std::vector<double> ra, rb;
+    for (int k = 0; k < 4; ++k) {
+      ca.emplace_back(rng.uniform(0, 12), rng.uniform(0, 12), rng.uniform(0, 3));
+      cb.emplace_back(rng.uniform(0, 12), rng.uniform(0, 12), rng.uniform(0, 3));
+      ra.push_back(rng.uniform(0.5, 1.5));
+      rb.push_back(rng.uniform(0.5, 1.5));
+      fa[size_t(k)].surface = models::rational_sphere(ra.back(), ca.back());
+      fb[size_t(k)].surface = models::rational_sphere(rb.back(), cb.back());
+    }
+    const glm::dmat4 motion = random_motion(rng, {rng.uniform(-1, 1), rng.uniform(-1, 1), 6.0 + rng.uniform(0, 2)});
+    // Exact distances of the sphere pairs (B's centres moved); the closest pair must be unique.
+    std::vector<std::pair<double, std::pair<int, int>>> d;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const glm::dvec3 c(motion * glm::dvec4(cb[size_t(j)], 1.0));
+        d.push_back({glm::length(ca[size_t(i)] - c) - ra[size_t(i)] - rb[size_t(j)], {i, j}});
+      }
+    std::sort(d.begin(), d.end());
+    CAPTURE(seed);
+    if (d[0].first <= 0.0 || d[1].first - d[0].first < 1e-3) continue;  // touching or ambiguous: not this test
+    const auto a = queries::voxelize(fa, {.n = 20}), b = queries::voxelize(fb, {.n = 20});
+    for (const queries::VoxelStage& s :
+         {queries::voxel_stage(gpu, a, b, motion), queries::voxel_stage_cpu(a, b, motion)}) {
+      CHECK(s.upper >= d[0].first);  // witnesses hold surface points: U is an upper bound
+      CHECK(std::binary_search(s.face_pairs.begin(), s.face_pairs.end(), d[0].second));
+      CHECK(s.face_pairs.size() < 16);
+      CHECK(s.surviving_pairs < s.voxel_pairs);
+    }
+    ++cases;
+  }
+  CHECK(cases >= 4);
+}
+
+TEST_CASE("voxel stage: the voxel grid lists every face of a dense sample of material points") {
+  // Conservative occupancy: sample each trimmed face far finer than its coarse grid, keep the
+  // material points, and find each one's face in the voxel holding it.
+  const auto faces = random_model(900, 3, {1.5, 0.5, 0.0});
+  const queries::VoxelGrid g = queries::voxelize(faces, {.n = 32, .skip_trimmed_cells = false});
+  long long checked = 0;
+  for (int f = 0; f < 3; ++f) {
+    const auto& s = faces[size_t(f)].surface;
+    const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    const auto trim = nurbs::flatten_trim(faces[size_t(f)], 1e-6 * du.width());
+    for (int j = 0; j <= 60; ++j)
+      for (int i = 0; i <= 60; ++i) {
+        const glm::dvec2 uv(du.min + du.width() * i / 60.0, dv.min + dv.width() * j / 60.0);
+        if (!faces[size_t(f)].loops.empty() && !nurbs::is_material(trim, uv)) continue;
+        const glm::ivec3 v = glm::clamp(glm::ivec3(glm::floor((nurbs::surface_point(s, uv.x, uv.y) - g.lo) / g.h)),
+                                        glm::ivec3(0), glm::ivec3(g.n - 1));
+        const auto it = std::lower_bound(g.voxels.begin(), g.voxels.end(), v.x + g.n * (v.y + g.n * v.z));
+        REQUIRE(it != g.voxels.end());
+        const size_t k = size_t(it - g.voxels.begin());
+        REQUIRE(*it == v.x + g.n * (v.y + g.n * v.z));
+        CHECK(std::binary_search(g.faces.begin() + g.face_begin[k], g.faces.begin() + g.face_begin[k + 1], f));
+        ++checked;
+      }
+  }
+  CHECK(std::count(g.witness.begin(), g.witness.end(), 1) > 0);
+  MESSAGE(checked << " material samples, " << g.voxels.size() << " occupied voxels of " << g.n * g.n * g.n);
+}
