@@ -22,11 +22,13 @@ Framebuffer::~Framebuffer() {
   if (id_ != 0) gl::DeleteFramebuffers(1, &id_);
 }
 
-void Framebuffer::attach(std::span<const GLuint> color_textures) {
+void Framebuffer::attach(std::span<const GLuint> color_textures) { attach(color_textures, 0); }
+
+void Framebuffer::attach(std::span<const GLuint> color_textures, int level) {
   detach();
   std::vector<GLenum> buffers;
   for (size_t i = 0; i < color_textures.size(); ++i) {
-    gl::NamedFramebufferTexture(id_, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), color_textures[i], 0);
+    gl::NamedFramebufferTexture(id_, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), color_textures[i], level);
     buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
   }
   attached_ = static_cast<int>(color_textures.size());
@@ -34,8 +36,8 @@ void Framebuffer::attach(std::span<const GLuint> color_textures) {
   gl::check_error("attaching framebuffer textures");
   const GLenum status = gl::CheckNamedFramebufferStatus(id_, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
-    throw FramebufferError(fmt::format("framebuffer incomplete: {} ({} colour attachment(s))", gl::enum_name(status),
-                                       color_textures.size()));
+    throw FramebufferError(fmt::format("framebuffer incomplete: {} ({} colour attachment(s){})", gl::enum_name(status),
+                                       color_textures.size(), level == 0 ? "" : fmt::format(", level {}", level)));
 }
 
 void Framebuffer::detach() {

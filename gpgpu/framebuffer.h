@@ -29,6 +29,8 @@ class Framebuffer {
   [[nodiscard]] GLuint id() const { return id_; }
   /// Replaces the colour attachments (detaching the previous ones) and checks completeness.
   void attach(std::span<const GLuint> color_textures);
+  /// The same with mip level `level` of every texture attached.
+  void attach(std::span<const GLuint> color_textures, int level);
   /// Detaches every colour attachment, so no texture stays referenced by this object.
   void detach();
 

@@ -10,6 +10,15 @@
 #include "gpgpu/gl_api.h"
 
 namespace gpgpu {
+namespace {
+
+/// The mip levels a sampler sees (texelFetch's lod counts from `base`).
+void set_level_range(GLuint texture, int base, int max) {
+  gl::TextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, base);
+  gl::TextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, max);
+}
+
+}  // namespace
 
 PooledTexture::~PooledTexture() {
   if (owner_ != nullptr && texture_.id() != 0) owner_->release(std::move(texture_));
@@ -56,7 +65,7 @@ Program& Gpu::program(const std::string& vertex, const std::string& fragment, co
 }
 
 void Gpu::run(std::string_view name, const Program& program, std::span<const Input> inputs,
-              std::span<Texture* const> outputs, std::optional<Region> viewport) {
+              std::span<Texture* const> outputs, std::optional<Region> viewport, int output_level) {
   std::vector<GLuint> ids;
   for (const Texture* t : outputs) ids.push_back(t->id());
   // Checked before any GL state changes: a bad pass throws and leaves nothing bound.
@@ -67,14 +76,20 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(fmt::format("pass '{}': {}", name, e.what()));
     }
-    // Reading a texture while rendering into it is a feedback loop: undefined results (GL 4.5 §9.3).
-    if (std::find(ids.begin(), ids.end(), in.texture->id()) != ids.end())
+    // Reading a texture while rendering into it is a feedback loop: undefined results (GL 4.5 §9.3),
+    // unless the pass sees only other levels than the one rendered (§9.3.1).
+    const bool other_level = in.level >= 0 && in.level != output_level;
+    if (in.level >= in.texture->levels())
+      throw std::invalid_argument(fmt::format("pass '{}': sampler '{}' reads level {} of a texture with {} level(s)",
+                                              name, in.sampler, in.level, in.texture->levels()));
+    if (!other_level && std::find(ids.begin(), ids.end(), in.texture->id()) != ids.end())
       throw std::invalid_argument(
           fmt::format("pass '{}' (program {}): sampler '{}' reads texture {}, which it also writes", name,
                       program.name(), in.sampler, in.texture->id()));
   }
-  framebuffer_->attach(ids);  // throws FramebufferError when incomplete (no outputs, bad texture)
-  const Region vp = viewport.value_or(Region{0, 0, outputs[0]->width(), outputs[0]->height()});
+  framebuffer_->attach(ids, output_level);  // throws FramebufferError when incomplete (no outputs, bad texture)
+  const Region vp =
+      viewport.value_or(Region{0, 0, outputs[0]->level_width(output_level), outputs[0]->level_height(output_level)});
 
   profiler_.begin(name);
   gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_->id());
@@ -84,6 +99,7 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
   for (GLuint i = 0; i < ids.size(); ++i) gl::ColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   gl::UseProgram(program.id());
   for (size_t i = 0; i < inputs.size(); ++i) {
+    if (inputs[i].level >= 0) set_level_range(inputs[i].texture->id(), inputs[i].level, inputs[i].level);
     gl::BindTextureUnit(static_cast<GLuint>(i), inputs[i].texture->id());
     gl::ProgramUniform1i(program.id(), samplers[i], static_cast<int>(i));
   }
@@ -91,7 +107,10 @@ void Gpu::run(std::string_view name, const Program& program, std::span<const Inp
   gl::DrawArrays(GL_TRIANGLES, 0, 3);
 
   gl::BindVertexArray(0);
-  for (size_t i = 0; i < inputs.size(); ++i) gl::BindTextureUnit(static_cast<GLuint>(i), 0);
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    gl::BindTextureUnit(static_cast<GLuint>(i), 0);
+    if (inputs[i].level >= 0) set_level_range(inputs[i].texture->id(), 0, inputs[i].texture->levels() - 1);
+  }
   gl::UseProgram(0);
   gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   profiler_.end();

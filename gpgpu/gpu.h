@@ -20,9 +20,12 @@
 namespace gpgpu {
 
 /// A kernel input: the sampler uniform name (array elements as "u_levels[3]") and its texture.
+/// `level` >= 0 shows the pass only that mip level (as its lod 0: base = max level), so a pass may
+/// read one level of a texture while it renders into another (a box pyramid built level by level).
 struct Input {
   std::string sampler;
   const Texture* texture = nullptr;
+  int level = -1;
 };
 
 class Gpu;
@@ -67,9 +70,11 @@ class Gpu {
   /// unless `viewport` is given), `inputs` on texture units 0..n-1, blend/depth/scissor/stencil off,
   /// draws the full-screen triangle, then unbinds everything. Timed under `name`. Throws
   /// std::invalid_argument, naming the pass, the program and the sampler, when an input's sampler is
-  /// not an active uniform of `program` or an input texture is also an output.
+  /// not an active uniform of `program` or an input texture is also an output (unless the input
+  /// shows only another level than `output_level`). `output_level`: the mip level rendered into
+  /// (the default viewport is that level's size).
   void run(std::string_view name, const Program& program, std::span<const Input> inputs,
-           std::span<Texture* const> outputs, std::optional<Region> viewport = std::nullopt);
+           std::span<Texture* const> outputs, std::optional<Region> viewport = std::nullopt, int output_level = 0);
 
   /// Waits until every submitted pass has finished (glFinish): for wall-clock timing.
   void finish();

@@ -61,16 +61,26 @@ std::string_view format_name(Format f) {
   return "?";
 }
 
-Texture::Texture(int width, int height, Format format) : width_(width), height_(height), format_(format) {
+Texture::Texture(int width, int height, Format format) : Texture(width, height, format, 1) {}
+
+Texture::Texture(int width, int height, Format format, int levels)
+    : width_(width), height_(height), levels_(levels), format_(format) {
   GLint max_size = 0;
   gl::GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   if (width < 1 || height < 1 || width > max_size || height > max_size)
     throw std::invalid_argument(
         fmt::format("texture size {}x{} outside 1..GL_MAX_TEXTURE_SIZE ({})", width, height, max_size));
+  int max_levels = 1;
+  while ((std::max(width, height) >> max_levels) > 0) ++max_levels;
+  if (levels < 1 || levels > max_levels)
+    throw std::invalid_argument(
+        fmt::format("{} mip levels for a {}x{} texture (it can have 1..{})", levels, width, height, max_levels));
   gl::CreateTextures(GL_TEXTURE_2D, 1, &id_);
-  gl::TextureStorage2D(id_, 1, internal_format(format), width, height);
-  // NEAREST everywhere: integer textures are incomplete with linear filters.
-  gl::TextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl::TextureStorage2D(id_, levels, internal_format(format), width, height);
+  // NEAREST everywhere: integer textures are incomplete with linear filters. With mip levels the
+  // minification filter names them, so every level belongs to the texture's fetchable range.
+  gl::TextureParameteri(id_, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
+  gl::TextureParameteri(id_, GL_TEXTURE_MAX_LEVEL, levels - 1);
   gl::TextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   gl::TextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl::TextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -82,7 +92,7 @@ Texture::~Texture() {
 }
 
 Texture::Texture(Texture&& o) noexcept
-    : id_(std::exchange(o.id_, 0)), width_(o.width_), height_(o.height_), format_(o.format_) {}
+    : id_(std::exchange(o.id_, 0)), width_(o.width_), height_(o.height_), levels_(o.levels_), format_(o.format_) {}
 
 Texture& Texture::operator=(Texture&& o) noexcept {
   if (this != &o) {
@@ -90,6 +100,7 @@ Texture& Texture::operator=(Texture&& o) noexcept {
     id_ = std::exchange(o.id_, 0);
     width_ = o.width_;
     height_ = o.height_;
+    levels_ = o.levels_;
     format_ = o.format_;
   }
   return *this;
@@ -137,6 +148,19 @@ std::vector<float> Texture::read(Region region) const {
   gl::GetTextureSubImage(id_, 0, r.x, r.y, 0, r.width, r.height, 1, pixel_format(format_), GL_FLOAT,
                          static_cast<GLsizei>(out.size() * sizeof(float)), out.data());
   gl::check_error("reading a texture back");
+  return out;
+}
+
+std::vector<float> Texture::read_level(int level) const {
+  if (is_integer(format_)) throw std::invalid_argument("float read of an integer texture; use read_u32");
+  if (level < 0 || level >= levels_)
+    throw std::out_of_range(fmt::format("mip level {} of a texture with {} level(s)", level, levels_));
+  const int w = level_width(level), h = level_height(level);
+  std::vector<float> out(size_t(w) * size_t(h) * size_t(channels(format_)));
+  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl::GetTextureSubImage(id_, level, 0, 0, 0, w, h, 1, pixel_format(format_), GL_FLOAT,
+                         static_cast<GLsizei>(out.size() * sizeof(float)), out.data());
+  gl::check_error("reading a texture level back");
   return out;
 }
 
