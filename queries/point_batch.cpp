@@ -1,0 +1,375 @@
+#include "queries/point_batch.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <queue>
+#include <stdexcept>
+#include <utility>
+
+#include "gpgpu/layout.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/trim_classify.h"
+
+namespace queries {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+
+int pow2_at_least(int n) {
+  int p = 1;
+  while (p < n) p *= 2;
+  return p;
+}
+
+/// Point-box minimum distance (Eqs. 9-12) of a box stored as float corners; +inf for an empty box.
+double box_distance(const glm::dvec3& q, const float* lo, const float* hi) {
+  if (lo[0] > hi[0]) return kInf;
+  const glm::dvec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
+  return glm::length(glm::max(glm::max(l - q, q - h), glm::dvec3(0.0)));
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(m) {
+  if (m.search != Search::Faithful)
+    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
+  glm::dvec3 lo(kInf), hi(-kInf);
+  double k = 0.0, budget = 0.0;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    k = std::max(k, m.grids[f].k_e);
+    budget = std::max(budget, float_budget(m.faces[f].surface));
+    const nurbs::Box box = nurbs::control_box(m.faces[f].surface);
+    lo = glm::min(lo, box.min);
+    hi = glm::max(hi, box.max);
+  }
+  model_bound_ = k + budget;
+  radius_ = m.faces.empty() ? 0.0 : 0.5 * glm::length(hi - lo);
+  const glm::vec3 o(m.centre);
+  for (const FaceAtlas& fa : m.atlases) {
+    // Level 0 padded to powers of two, so that every level halves exactly (mip sizes round down).
+    const int w0 = pow2_at_least(fa.plan.width), h0 = pow2_at_least(fa.plan.height);
+    int levels = 1;
+    while ((std::max(w0, h0) >> levels) > 0) ++levels;
+    Atlas at;
+    at.lo = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+    at.hi = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+    gpgpu::Program& fill = gpu.program("fill_constant.frag");
+    for (gpgpu::Texture* t : {&at.lo, &at.hi}) {  // empty boxes in the padding
+      const float v = t == &at.lo ? kInfF : -kInfF;
+      fill.set("u_value", v, v, v, v);
+      gpgpu::Texture* out[] = {t};
+      gpu.run("point_batch_empty", fill, {}, out);
+    }
+    gpgpu::Texture no_growth(std::max<int>(1, int(fa.plan.slots.size())), 1, gpgpu::Format::R32F);
+    no_growth.upload(std::vector<float>(size_t(no_growth.width()), 0.0f));
+    gpgpu::Program& leaf = gpu.program("aabb_leaf.frag");
+    const glm::mat4 identity(1.0f);
+    leaf.set_mat4("u_motion", &identity[0][0]);
+    leaf.set("u_origin", o.x, o.y, o.z);
+    const gpgpu::Input in[] = {
+        {"u_points", &fa.points}, {"u_slot_of", &fa.slot_of}, {"u_mask", &fa.mask}, {"u_grow", &no_growth}};
+    gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
+    gpu.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
+    gpgpu::Program& merge = gpu.program("aabb_merge.frag");
+    for (int l = 1; l < levels; ++l) {
+      const gpgpu::Input fine[] = {{"u_lo", &at.lo, l - 1}, {"u_hi", &at.hi, l - 1}};
+      gpu.run("point_batch_merge", merge, fine, boxes, std::nullopt, l);
+    }
+    at.samples = fa.points.read();
+    at.slot_of = fa.slot_of.read();
+    at.mask = fa.mask.read();
+    atlases_.push_back(std::move(at));
+  }
+}
+
+double PointBatch::slack(const glm::dvec3& p) const { return kFloatSlack * (glm::length(p - m_.centre) + radius_); }
+
+std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm::dvec3> points) {
+  std::vector<std::vector<BatchCell>> out(atlases_.size());
+  if (points.empty()) return out;
+  const gpgpu::Layout2D lay = gpgpu::layout_pow2(int64_t(points.size()), std::min(gpu_.info().max_texture_size, 4096));
+  std::vector<float> q(size_t(lay.capacity()) * 4, 0.0f);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const glm::vec3 d(points[i] - m_.centre);
+    std::copy_n(&d.x, 3, q.begin() + ptrdiff_t(4 * i));
+  }
+  gpgpu::PooledTexture pts = gpu_.acquire(lay.width, lay.height, gpgpu::Format::RGBA32F);
+  pts->upload(q);
+  gpgpu::PooledTexture res = gpu_.acquire(lay.width, lay.height, gpgpu::Format::RGBA32F);
+  gpgpu::Program& prog = gpu_.program("point_batch.frag");
+  const glm::vec3 o(m_.centre);
+  prog.set("u_origin", o.x, o.y, o.z);
+  prog.set("u_count", int(points.size()));
+  prog.set("u_width", lay.width);
+  prog.set("u_slack", float(kFloatSlack));
+  prog.set("u_radius", float(radius_));
+  for (size_t a = 0; a < atlases_.size(); ++a) {
+    prog.set("u_top", atlases_[a].lo.levels() - 1);
+    prog.set("u_size", atlases_[a].lo.width(), atlases_[a].lo.height());
+    const gpgpu::Input in[] = {{"u_points", pts.get()},
+                               {"u_lo", &atlases_[a].lo},
+                               {"u_hi", &atlases_[a].hi},
+                               {"u_samples", &m_.atlases[a].points}};
+    gpgpu::Texture* target[] = {res.get()};
+    gpu_.run("point_batch", prog, in, target);
+    const std::vector<float> r = res->read();
+    out[a].resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+      out[a][i] = {double(r[4 * i]), int(r[4 * i + 1]), int(r[4 * i + 2]), (long long)(r[4 * i + 3])};
+  }
+  return out;
+}
+
+void PointBatch::build_cpu_pyramid(Atlas& at) {
+  if (!at.cpu_lo.empty()) return;
+  const size_t a = size_t(&at - atlases_.data());
+  const AtlasPlan& plan = m_.atlases[a].plan;
+  const int w = plan.width, h = plan.height, w0 = at.lo.width(), h0 = at.lo.height();
+  const glm::vec3 o(m_.centre);
+  // Level 0: aabb_leaf.frag in float (the same boxes, bit for bit), empty outside the cells.
+  std::vector<float> lo(size_t(w0) * size_t(h0) * 3, kInfF), hi(lo.size(), -kInfF);
+  for (int y = 0; y + 1 < h; ++y)
+    for (int x = 0; x + 1 < w; ++x) {
+      const auto at_texel = [&](int k) { return size_t(y + (k >> 1)) * size_t(w) + size_t(x + (k & 1)); };
+      const float slot = at.slot_of[at_texel(0)];
+      bool cell = slot >= 0.0f, material = false;
+      for (int k = 1; k < 4; ++k) cell = cell && at.slot_of[at_texel(k)] == slot;
+      for (int k = 0; k < 4 && cell; ++k) material = material || at.mask[at_texel(k)] > 0.5f;
+      if (!cell || !material) continue;
+      float* l = &lo[(size_t(y) * size_t(w0) + size_t(x)) * 3];
+      float* u = &hi[(size_t(y) * size_t(w0) + size_t(x)) * 3];
+      for (int k = 0; k < 4; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const float v = at.samples[4 * at_texel(k) + size_t(c)] - o[c];
+          l[c] = std::min(l[c], v), u[c] = std::max(u[c], v);
+        }
+    }
+  at.cpu_lo.push_back(std::move(lo));
+  at.cpu_hi.push_back(std::move(hi));
+  // Levels 1..: the 2x2 merge of aabb_merge.frag.
+  for (int l = 1; l < at.lo.levels(); ++l) {
+    const int fw = at.lo.level_width(l - 1), fh = at.lo.level_height(l - 1);
+    const int lw = at.lo.level_width(l), lh = at.lo.level_height(l);
+    std::vector<float> nlo(size_t(lw) * size_t(lh) * 3, kInfF), nhi(nlo.size(), -kInfF);
+    for (int y = 0; y < lh; ++y)
+      for (int x = 0; x < lw; ++x)
+        for (int k = 0; k < 4; ++k) {
+          const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
+          if (cx >= fw || cy >= fh) continue;
+          for (int c = 0; c < 3; ++c) {
+            const size_t src = (size_t(cy) * size_t(fw) + size_t(cx)) * 3 + size_t(c);
+            const size_t dst = (size_t(y) * size_t(lw) + size_t(x)) * 3 + size_t(c);
+            nlo[dst] = std::min(nlo[dst], at.cpu_lo.back()[src]);
+            nhi[dst] = std::max(nhi[dst], at.cpu_hi.back()[src]);
+          }
+        }
+    at.cpu_lo.push_back(std::move(nlo));
+    at.cpu_hi.push_back(std::move(nhi));
+  }
+}
+
+BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
+  Atlas& at = atlases_[a];
+  build_cpu_pyramid(at);
+  const glm::vec3 of(m_.centre);
+  const glm::dvec3 q(glm::vec3(p - m_.centre));  // the GPU's float point
+  const double eps = kFloatSlack * (glm::length(q) + double(float(radius_)));
+  const int w = m_.atlases[a].plan.width;
+  auto box = [&](int level, int x, int y) {
+    const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
+    return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
+  };
+  auto sample = [&](int x, int y) {
+    const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
+    return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - of);
+  };
+  struct Node {
+    int level, x, y;
+    double d;
+  };
+  const int top = at.lo.levels() - 1;
+  std::vector<Node> stack{{top, 0, 0, box(top, 0, 0)}};
+  BatchCell best{kInf, -1, -1, 0};
+  while (!stack.empty()) {
+    const Node n = stack.back();
+    stack.pop_back();
+    if (n.d > best.distance + eps) continue;
+    const int cw = at.lo.level_width(n.level - 1), ch = at.lo.level_height(n.level - 1);
+    double d[4];
+    for (int k = 0; k < 4; ++k) {
+      const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
+      d[k] = cx < cw && cy < ch ? box(n.level - 1, cx, cy) : kInf;
+    }
+    if (n.level == 1) {  // the children are cells: their two triangles
+      for (int k = 0; k < 4; ++k) {
+        if (d[k] > best.distance + eps) continue;
+        const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
+        const glm::dvec3 s00 = sample(cx, cy), s10 = sample(cx + 1, cy), s01 = sample(cx, cy + 1),
+                         s11 = sample(cx + 1, cy + 1);
+        glm::dvec3 wts;
+        const double t = std::min(glm::length(closest_on_triangle(q, s00, s10, s11, wts) - q),
+                                  glm::length(closest_on_triangle(q, s00, s11, s01, wts) - q));
+        ++best.tested;
+        if (t < best.distance) best.distance = t, best.x = cx, best.y = cy;
+      }
+      continue;
+    }
+    // The sorting network of point_batch.frag (same order on ties).
+    int order[4] = {0, 1, 2, 3};
+    double ds[4] = {d[0], d[1], d[2], d[3]};
+    for (const auto& [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}})
+      if (ds[j] < ds[i]) std::swap(ds[i], ds[j]), std::swap(order[i], order[j]);
+    for (int i = 3; i >= 0; --i)
+      if (d[order[i]] <= best.distance + eps)
+        stack.push_back({n.level - 1, 2 * n.x + (order[i] & 1), 2 * n.y + (order[i] >> 1), d[order[i]]});
+  }
+  return best;
+}
+
+PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y) const {
+  const Atlas& at = atlases_[a];
+  const AtlasPlan& plan = m_.atlases[a].plan;
+  const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
+  const auto f = size_t(sl.face);
+  const int i = x - sl.x, j = y - sl.y;
+  const nurbs::ParamGrid& g = m_.grids[f].grid;
+  auto sample = [&](int dx, int dy) {
+    const float* s = &at.samples[4 * (size_t(y + dy) * size_t(plan.width) + size_t(x + dx))];
+    return glm::dvec3(s[0], s[1], s[2]);
+  };
+  const double u0 = g.u[size_t(i)], u1 = g.u[size_t(i) + 1], v0 = g.v[size_t(j)], v1 = g.v[size_t(j) + 1];
+  const glm::dvec3 sa = sample(0, 0), sb = sample(1, 0), sc = sample(0, 1), sd = sample(1, 1);
+  // The two triangles of point_distance.cpp cell_hit, with their corners' parameters.
+  const glm::dvec3 tri[2][3] = {{sa, sb, sd}, {sa, sd, sc}};
+  const glm::dvec2 par[2][3] = {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}};
+  PointDistance r;
+  r.distance = kInf;
+  for (int t = 0; t < 2; ++t) {
+    glm::dvec3 w;
+    const glm::dvec3 c = closest_on_triangle(p, tri[t][0], tri[t][1], tri[t][2], w);
+    const double d = glm::length(c - p);
+    if (d < r.distance) r.distance = d, r.point = c, r.uv = w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2];
+  }
+  r.found = true;
+  r.face = sl.face;
+  if (!m_.faces[f].loops.empty())
+    for (int corner = 0; corner < 4; ++corner)
+      if (!nurbs::is_material(m_.trims[f], {g.u[size_t(i + (corner & 1))], g.v[size_t(j + (corner >> 1))]}))
+        r.on_trim_edge = true;
+  const double k = model_bound_ + 2.0 * slack(p);
+  r.bound = k;
+  r.point_bound = std::sqrt(4 * k * r.distance + k * k);
+  return r;
+}
+
+bool PointBatch::material(const PointDistance& r) const {
+  const auto f = size_t(r.face);
+  return m_.faces[f].loops.empty() || nurbs::is_material(m_.trims[f], r.uv);
+}
+
+PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best) {
+  size_t win = best.size();
+  long long tested = 0;
+  bool overflow = false;
+  for (size_t a = 0; a < best.size(); ++a) {
+    overflow = overflow || best[a].tested < 0;
+    tested += std::max(0LL, best[a].tested);
+    if (best[a].x >= 0 && (win == best.size() || best[a].distance < best[win].distance)) win = a;
+  }
+  PointDistance r;
+  if (!overflow && win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
+  if (overflow || (r.found && !material(r))) {  // §5.3: the winner lies in a trimmed region
+    ++stats_.fallbacks;
+    r = search_material(p);
+  }
+  r.candidates = tested;
+  return r;
+}
+
+PointDistance PointBatch::search_material(const glm::dvec3& p) {
+  // Best first over every atlas's pyramid, in double; a triangle point in a trimmed region is
+  // discarded and the search goes on, as the faithful path does.
+  struct Node {
+    double d;
+    size_t a;
+    int level, x, y;
+    bool operator>(const Node& o) const { return d > o.d; }
+  };
+  const glm::dvec3 q(glm::vec3(p - m_.centre));
+  const double eps = slack(p);
+  std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
+  auto box = [&](size_t a, int level, int x, int y) {
+    const size_t i = (size_t(y) * size_t(atlases_[a].lo.level_width(level)) + size_t(x)) * 3;
+    return box_distance(q, &atlases_[a].cpu_lo[size_t(level)][i], &atlases_[a].cpu_hi[size_t(level)][i]);
+  };
+  for (size_t a = 0; a < atlases_.size(); ++a) {
+    build_cpu_pyramid(atlases_[a]);
+    const int top = atlases_[a].lo.levels() - 1;
+    open.push({box(a, top, 0, 0), a, top, 0, 0});
+  }
+  PointDistance best;
+  best.distance = kInf;
+  while (!open.empty() && open.top().d <= best.distance + eps) {
+    const Node n = open.top();
+    open.pop();
+    if (!std::isfinite(n.d)) break;
+    if (n.level == 0) {
+      const PointDistance r = cell_result(p, n.a, n.x, n.y);
+      if (r.distance < best.distance && material(r)) best = r;
+      continue;
+    }
+    const Atlas& at = atlases_[n.a];
+    for (int k = 0; k < 4; ++k) {
+      const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
+      if (cx < at.lo.level_width(n.level - 1) && cy < at.lo.level_height(n.level - 1))
+        open.push({box(n.a, n.level - 1, cx, cy), n.a, n.level - 1, cx, cy});
+    }
+  }
+  if (!std::isfinite(best.distance)) return PointDistance{};
+  return best;
+}
+
+std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {
+  stats_ = {};
+  stats_.points = static_cast<long long>(points.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto cells = descend_gpu(points);
+  stats_.gpu_seconds = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<PointDistance> out;
+  out.reserve(points.size());
+  std::vector<BatchCell> best(atlases_.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t a = 0; a < atlases_.size(); ++a) best[a] = cells[a][i];
+    out.push_back(finish(points[i], best));
+    stats_.cells_tested += out.back().candidates;
+  }
+  stats_.cpu_seconds = seconds_since(t1);
+  return out;
+}
+
+PointDistance PointBatch::query_cpu(const glm::dvec3& p) {
+  std::vector<BatchCell> best;
+  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p));
+  return finish(p, best);
+}
+
+std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
+  return (hi ? atlases_[a].hi : atlases_[a].lo).read_level(level);
+}
+
+const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {
+  build_cpu_pyramid(atlases_[a]);
+  return (hi ? atlases_[a].cpu_hi : atlases_[a].cpu_lo)[size_t(level)];
+}
+
+}  // namespace queries

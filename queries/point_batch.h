@@ -1,0 +1,104 @@
+#pragma once
+/// \file point_batch.h
+/// Batched point projection (issue 8, beyond the paper): many query points at once against a
+/// prepared model, one fragment per point (glsl/point_batch.frag). Per atlas of the model:
+///  1. once: the box of every cell's four float samples (glsl/aabb_leaf.frag, ungrown) merged 2x2
+///     up to one root (glsl/aabb_merge.frag), the levels stored as mip levels of one texture
+///     (Krishnamurthy et al. §5.1 hierarchies);
+///  2. per batch: one pass in which every point descends the pyramid depth first, nearest child
+///     first, pruned by its best triangle distance so far, and ends at the closest cell triangle;
+///     one read-back of (distance, cell) for all points;
+///  3. per point on the CPU, in double: the winning cell's two triangles from its float samples,
+///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
+///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
+///     point whose winner lies in a trimmed region is searched again on the CPU (best first over the
+///     same pyramid, trimmed triangle points discarded, as the faithful path does).
+/// Bound, per point (|distance - true distance| <= bound):
+///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
+///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
+///   triangle distances, which can make it pick a cell up to 2 eps farther than the closest one
+///   (it prunes only boxes beyond best + eps). point_bound = sqrt(4 K d + K^2) with K = bound.
+/// Needs Search::Faithful grids (the cells the answers come from meet the tolerance).
+#include <glm/vec3.hpp>
+#include <span>
+#include <vector>
+
+#include "gpgpu/gpu.h"
+#include "queries/point_distance.h"
+#include "queries/prepared_model.h"
+
+namespace queries {
+
+/// Relative float slack of the descent (16 float ulp of |q| + the model's radius).
+inline constexpr double kFloatSlack = 0x1.0p-20;
+
+/// Figures of the last batch.
+struct PointBatchStats {
+  long long points = 0;
+  long long cells_tested = 0;  ///< triangle pairs evaluated by the descent (summed over points)
+  long long fallbacks = 0;     ///< points searched again on the CPU (winner in a trimmed region)
+  double gpu_seconds = 0.0;    ///< upload, descent passes and read-back
+  double cpu_seconds = 0.0;    ///< the double-precision finishing (and fallbacks)
+};
+
+/// The best cell of one atlas for one point: triangle distance (+inf: none), the cell's texel,
+/// the cells tested (-1: the descent's stack overflowed).
+struct BatchCell {
+  double distance = 0.0;
+  int x = -1, y = -1;
+  long long tested = 0;
+};
+
+class PointBatch {
+ public:
+  /// Builds the pyramids on the GPU and reads the atlases' samples, masks and slot indices back
+  /// once. `m` (Search::Faithful, else std::invalid_argument) must outlive this object.
+  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m);
+
+  /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
+  /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent.
+  std::vector<PointDistance> query(std::span<const glm::dvec3> points);
+
+  /// CPU twin in double: the same pyramid built on the CPU from the read-back samples, the same
+  /// descent, the same finishing. The test oracle of query().
+  PointDistance query_cpu(const glm::dvec3& p);
+
+  /// Step 2 alone, per atlas then per point: the GPU pass and its twin (tests compare them).
+  std::vector<std::vector<BatchCell>> descend_gpu(std::span<const glm::dvec3> points);
+  BatchCell descend_cpu(size_t atlas, const glm::dvec3& p);
+
+  /// Level `level` of atlas `a`'s pyramid, lo (or hi) corners, 4 floats per texel: from the GPU,
+  /// and the CPU twin's (3 floats per texel).
+  [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
+  [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
+  [[nodiscard]] int levels(size_t a) const { return atlases_[a].lo.levels(); }
+
+  /// The part of every bound that does not depend on the point: K_e + float budget (model units).
+  [[nodiscard]] double model_bound() const { return model_bound_; }
+  /// The float slack eps of the descent for point p (model units).
+  [[nodiscard]] double slack(const glm::dvec3& p) const;
+  [[nodiscard]] const PointBatchStats& stats() const { return stats_; }
+
+ private:
+  struct Atlas {
+    gpgpu::Texture lo, hi;                   ///< the pyramid, mip levels
+    std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
+    std::vector<float> slot_of;              ///< slot index per texel, -1 outside
+    std::vector<float> mask;                 ///< trim mask per texel, 1 = material
+    std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
+    std::vector<std::vector<float>> cpu_hi;
+  };
+  void build_cpu_pyramid(Atlas& at);
+  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best);
+  PointDistance search_material(const glm::dvec3& p);
+  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y) const;
+  [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
+
+  gpgpu::Gpu& gpu_;
+  const PreparedModel& m_;
+  std::vector<Atlas> atlases_;
+  double model_bound_ = 0.0, radius_ = 0.0;
+  PointBatchStats stats_;
+};
+
+}  // namespace queries

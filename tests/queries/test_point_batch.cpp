@@ -1,0 +1,189 @@
+// Batched point projection (issue 8, beyond the paper): the GPU pyramid and descent against their
+// CPU twin in double (same boxes bit for bit, same cells within the float slack), and the results
+// against the faithful per-point query (Krishnamurthy et al. §3.1-3.2, §4) on randomized points:
+// |d - d_ref| <= bound + bound_ref, closest points within sqrt(4 K d + K^2) of each other; trimmed
+// faces (§5.3) on the generated trimmed surface: every winner material, the CPU search taking over
+// when the GPU's winner lies in a hole.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "../gpgpu/gl_fixture.h"
+#include "models/paper_surfaces.h"
+#include "models/random_surfaces.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "queries/point_batch.h"
+#include "queries/point_distance.h"
+
+namespace {
+
+/// A few random faces side by side (trimmed and not), and random points around them (fixed seed):
+/// a quarter of them on the surfaces, the rest in the box grown by half its size.
+std::vector<nurbs::TrimmedSurface> spread_faces(int count) {
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (uint64_t seed = 0; seed < uint64_t(count); ++seed) {
+    faces.push_back(models::random_trimmed_surface(seed + 7));
+    for (auto& p : faces.back().surface.points) p += glm::dvec3(3.0 * double(seed % 3), 3.0 * double(seed / 3), 0.0);
+  }
+  return faces;
+}
+
+std::vector<glm::dvec3> random_points(const std::vector<nurbs::TrimmedSurface>& faces, int count, uint64_t seed) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& f : faces) {
+    const nurbs::Box b = nurbs::control_box(f.surface);
+    lo = glm::min(lo, b.min), hi = glm::max(hi, b.max);
+  }
+  const glm::dvec3 pad = 0.5 * (hi - lo);
+  models::Random rng(seed);
+  std::vector<glm::dvec3> out;
+  for (int k = 0; k < count; ++k) {
+    if (k % 4 == 0) {  // on a surface
+      const nurbs::Surface& s = faces[size_t(k / 4) % faces.size()].surface;
+      const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+      out.push_back(nurbs::surface_point(s, rng.uniform(du.min, du.max), rng.uniform(dv.min, dv.max)));
+    } else {
+      out.emplace_back(rng.uniform(lo.x - pad.x, hi.x + pad.x), rng.uniform(lo.y - pad.y, hi.y + pad.y),
+                       rng.uniform(lo.z - pad.z, hi.z + pad.z));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("point batch: the GPU pyramid equals the CPU twin's, level by level, bit for bit") {
+  gpgpu::Gpu& gpu = test::gpu();
+  const auto faces = spread_faces(5);
+  const queries::PreparedModel m = queries::prepare_model(gpu, faces, 5e-3);
+  queries::PointBatch batch(gpu, m);
+  REQUIRE(m.atlases.size() == 1);
+  int nonempty_leaves = 0;
+  for (int l = 0; l < batch.levels(0); ++l)
+    for (bool hi : {false, true}) {
+      const std::vector<float> g = batch.gpu_level(0, l, hi), c = batch.cpu_level(0, l, hi);
+      REQUIRE(g.size() / 4 == c.size() / 3);
+      int differ = 0;
+      for (size_t t = 0; t < c.size() / 3; ++t)
+        for (size_t k = 0; k < 3; ++k) differ += g[4 * t + k] != c[3 * t + k];  // min/max of the same floats
+      CAPTURE(l);
+      CHECK(differ == 0);
+      if (l == 0 && !hi)
+        for (size_t t = 0; t < c.size() / 3; ++t) nonempty_leaves += std::isfinite(c[3 * t]);
+    }
+  // The root holds every cell; a leaf per cell with material samples.
+  CHECK(batch.levels(0) >= 2);
+  CHECK(batch.gpu_level(0, batch.levels(0) - 1, false).size() == 4);
+  CHECK(nonempty_leaves > 100);
+}
+
+TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the faithful query") {
+  gpgpu::Gpu& gpu = test::gpu();
+  const auto faces = spread_faces(6);
+  const double tol = 3e-3;
+  const queries::PreparedModel m = queries::prepare_model(gpu, faces, tol);
+  queries::PointBatch batch(gpu, m);
+  queries::PointDistanceQuery faithful(gpu, faces, tol);
+  const std::vector<glm::dvec3> points = random_points(faces, 320, 5);
+  double budget = 0.0;  // the float budget of the samples, the largest over the faces
+  for (const auto& f : faces) budget = std::max(budget, queries::float_budget(f.surface));
+  const auto cells = batch.descend_gpu(points);
+  const std::vector<queries::PointDistance> res = batch.query(points);
+  REQUIRE(res.size() == points.size());
+  const long long fallbacks = batch.stats().fallbacks;
+  double worst_twin = 0.0, worst_ratio = 0.0;
+  int compared = 0, closest_checked = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    CAPTURE(i);
+    const glm::dvec3& p = points[i];
+    // Twin of the pass: the same float boxes, distances in double; the float pass may stop at a cell
+    // up to 2 eps farther (its pruning slack), never closer than the twin's best.
+    const queries::BatchCell twin = batch.descend_cpu(0, p);
+    const double eps = batch.slack(p);
+    CHECK(cells[0][i].tested > 0);
+    CHECK(std::abs(cells[0][i].distance - twin.distance) <= 2 * eps);
+    worst_twin = std::max(worst_twin, std::abs(cells[0][i].distance - twin.distance) / eps);
+    // Twin of the whole query (descent + finishing in double).
+    const queries::PointDistance cpu = batch.query_cpu(p), &r = res[i];
+    REQUIRE(r.found);
+    CHECK(std::abs(r.distance - cpu.distance) <= 2 * eps);
+    CHECK(r.bound <= tol + budget + 2 * eps);  // K_e <= T, the float budget, the pass's slack
+    CHECK(std::abs(glm::length(r.point - p) - r.distance) <= 1e-9);
+    if (!faces[size_t(r.face)].loops.empty()) CHECK(nurbs::is_material(m.trims[size_t(r.face)], r.uv));
+    // Against the faithful per-point path (a third of the points: several passes each).
+    if (i % 3 != 0) continue;
+    const queries::PointDistance ref = faithful.query(p);
+    REQUIRE(ref.found);
+    CAPTURE(r.distance);
+    CAPTURE(ref.distance);
+    CHECK(std::abs(r.distance - ref.distance) <= r.bound + ref.bound);
+    worst_ratio = std::max(worst_ratio, std::abs(r.distance - ref.distance) / (r.bound + ref.bound));
+    ++compared;
+    // Closest points: each within its Theorem 2 radius of the true one, unless two are equally close
+    // (a tie); then the distance of each from p still agrees within the bounds.
+    if (glm::length(r.point - ref.point) <= r.point_bound + ref.point_bound)
+      ++closest_checked;
+    else
+      CHECK(std::abs(glm::length(r.point - p) - ref.distance) <= r.bound + ref.bound);
+  }
+  CHECK(closest_checked > compared * 3 / 4);
+  MESSAGE(points.size() << " points: |GPU - twin| max " << worst_twin << " eps; " << compared
+                        << " against the faithful path, |d - d_ref| / (K + K_ref) max " << worst_ratio << ", "
+                        << closest_checked << " closest points within the Theorem 2 radii; " << fallbacks
+                        << " CPU fallbacks in the batch");
+}
+
+TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes searched again on the CPU") {
+  gpgpu::Gpu& gpu = test::gpu();
+  const std::vector<nurbs::TrimmedSurface> faces{models::trimmed_wavy_surface_100x105()};
+  const double size = nurbs::control_box(faces[0].surface).diagonal(), tol = 2e-3 * size;
+  const queries::PreparedModel m = queries::prepare_model(gpu, faces, tol);
+  queries::PointBatch batch(gpu, m);
+  queries::PointDistanceQuery faithful(gpu, faces, tol);
+  // Points just above the holes (u, v centres of the circles: the closest triangle lies in the hole)
+  // and random points above the footprint.
+  const nurbs::Surface& s = faces[0].surface;
+  std::vector<glm::dvec3> points;
+  models::Random rng(8);
+  for (const glm::dvec2 c : {glm::dvec2(0.3, 0.3), glm::dvec2(0.7, 0.65), glm::dvec2(0.3, 0.72)})
+    for (int k = 0; k < 4; ++k)
+      points.push_back(nurbs::surface_point(s, c.x + rng.uniform(-0.03, 0.03), c.y + rng.uniform(-0.03, 0.03)) +
+                       glm::dvec3(0, 0, rng.uniform(0.0, 2.0)));
+  for (int k = 0; k < 28; ++k) points.emplace_back(rng.uniform(-10, 110), rng.uniform(-10, 110), rng.uniform(5, 40));
+  const auto res = batch.query(points);
+  const long long fallbacks = batch.stats().fallbacks;
+  CHECK(fallbacks > 0);  // points above the holes: closest cell triangles end in them
+  int edge = 0, same_edge = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(res[i].found);
+    CHECK(nurbs::is_material(m.trims[0], res[i].uv));
+    edge += res[i].on_trim_edge;
+    const queries::PointDistance ref = faithful.query(points[i]);
+    CAPTURE(res[i].distance);
+    CAPTURE(ref.distance);
+    CHECK(std::abs(res[i].distance - ref.distance) <= res[i].bound + ref.bound);
+    same_edge += res[i].on_trim_edge == ref.on_trim_edge;
+    CHECK(std::abs(res[i].distance - batch.query_cpu(points[i]).distance) <= 2 * batch.slack(points[i]));
+  }
+  MESSAGE(points.size() << " points on the trimmed surface: " << fallbacks << " CPU fallbacks, " << edge
+                        << " on trim edges (" << same_edge << " as the faithful path says)");
+}
+
+TEST_CASE("point batch: coarse-to-fine models and empty batches") {
+  gpgpu::Gpu& gpu = test::gpu();
+  const auto faces = spread_faces(1);
+  const queries::PreparedModel coarse =
+      queries::prepare_model(gpu, faces, 1e-2, 1LL << 22, queries::Search::CoarseToFine);
+  CHECK_THROWS_WITH_AS(queries::PointBatch(gpu, coarse),
+                       "PointBatch: the model must be prepared with Search::Faithful (grids meeting T)",
+                       std::invalid_argument);
+  const queries::PreparedModel m = queries::prepare_model(gpu, faces, 1e-2);
+  queries::PointBatch batch(gpu, m);
+  CHECK(batch.query({}).empty());
+  CHECK(batch.stats().points == 0);
+}
