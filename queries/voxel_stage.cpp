@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -212,11 +213,12 @@ glm::vec4 round_out(const glm::dvec3& x, double dir, float w) {
   return f;
 }
 
-/// lo and hi textures (RGBA32F, layout_for): xyz relative to `origin`, w = witness flag in lo.
+/// lo and hi textures (RGBA32F, layout_pow2: no integer division in the pass): xyz relative to
+/// `origin`, w = witness flag in lo.
 std::pair<gpgpu::Texture, gpgpu::Texture> upload_boxes(const std::vector<std::pair<glm::dvec3, glm::dvec3>>& bx,
                                                        const std::vector<char>& witness, const glm::dvec3& origin,
                                                        int max_size) {
-  const gpgpu::Layout2D l = gpgpu::layout_for(std::max<int64_t>(1, int64_t(bx.size())), max_size);
+  const gpgpu::Layout2D l = gpgpu::layout_pow2(std::max<int64_t>(1, int64_t(bx.size())), max_size);
   std::vector<float> lo(size_t(l.capacity()) * 4, 0.0f), hi(size_t(l.capacity()) * 4, 0.0f);
   for (size_t k = 0; k < bx.size(); ++k) {
     const glm::vec4 l4 = round_out(bx[k].first - origin, -1.0, witness[k] ? 1.0f : 0.0f);
@@ -229,6 +231,76 @@ std::pair<gpgpu::Texture, gpgpu::Texture> upload_boxes(const std::vector<std::pa
   t.first.upload(lo);
   t.second.upload(hi);
   return t;
+}
+
+/// Positions in g.voxels in Morton (Z) order of the voxel coordinates: consecutive voxels are
+/// close in all three axes, so a tile's rows (or columns) have a small hull.
+std::vector<size_t> morton_order(const VoxelGrid& g) {
+  const auto key = [&](int v) {
+    const int c[3] = {v % g.n, (v / g.n) % g.n, v / (g.n * g.n)};
+    uint64_t k = 0;
+    for (int bit = 0; bit < 21; ++bit)
+      for (int a = 0; a < 3; ++a) k |= uint64_t((c[a] >> bit) & 1) << (3 * bit + a);
+    return k;
+  };
+  std::vector<std::pair<uint64_t, size_t>> keys;
+  for (size_t k = 0; k < g.voxels.size(); ++k) keys.emplace_back(key(g.voxels[k]), k);
+  std::sort(keys.begin(), keys.end());
+  std::vector<size_t> order;
+  for (const auto& k : keys) order.push_back(k.second);
+  return order;
+}
+
+/// Boxes and witness flags of `g` in `order`, B's refitted under `motion`.
+struct OrderedBoxes {
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> box;
+  std::vector<char> witness;
+};
+OrderedBoxes ordered_boxes(const VoxelGrid& g, const glm::dmat4& motion, const std::vector<size_t>& order) {
+  const auto bx = boxes(g, motion);
+  OrderedBoxes r;
+  for (size_t k : order) {
+    r.box.push_back(bx[k]);
+    r.witness.push_back(g.witness[k]);
+  }
+  return r;
+}
+
+/// An upper bound of the clearance from one witness pair, in O(voxels): the witness voxel of A
+/// nearest the centre of B's boxes, and the witness voxel of B nearest to that one. Seeds the cut
+/// of the first tiles; +inf when a side has no witness.
+double seed_upper(const std::vector<std::pair<glm::dvec3, glm::dvec3>>& ba, const std::vector<char>& wa,
+                  const std::vector<std::pair<glm::dvec3, glm::dvec3>>& bb, const std::vector<char>& wb) {
+  const auto nearest = [](const auto& bx, const std::vector<char>& w, const glm::dvec3& p) {
+    size_t best = bx.size();
+    double d = kInf;
+    for (size_t k = 0; k < bx.size(); ++k)
+      if (w[k] && glm::length(0.5 * (bx[k].first + bx[k].second) - p) < d) {
+        d = glm::length(0.5 * (bx[k].first + bx[k].second) - p);
+        best = k;
+      }
+    return best;
+  };
+  glm::dvec3 centre(0.0);
+  for (const auto& x : bb) centre += 0.5 * (x.first + x.second) / double(bb.size());
+  const size_t i = nearest(ba, wa, centre);
+  if (i == ba.size()) return kInf;
+  const size_t j = nearest(bb, wb, 0.5 * (ba[i].first + ba[i].second));
+  return j == bb.size() ? kInf : box_box_minmax(ba[i].first, ba[i].second, bb[j].first, bb[j].second).second;
+}
+
+/// Lower bound of every pair of a tile: the distance of the box of its rows' boxes (A, from a0,
+/// h of them) and the box of its columns' boxes (B, from b0, w of them).
+double tile_lower(const std::vector<std::pair<glm::dvec3, glm::dvec3>>& ba, size_t a0, size_t h,
+                  const std::vector<std::pair<glm::dvec3, glm::dvec3>>& bb, size_t b0, size_t w) {
+  const auto hull = [](const auto& bx, size_t k0, size_t count) {
+    std::pair<glm::dvec3, glm::dvec3> u{glm::dvec3(kInf), glm::dvec3(-kInf)};
+    for (size_t k = k0; k < k0 + count; ++k) u = {glm::min(u.first, bx[k].first), glm::max(u.second, bx[k].second)};
+    return u;
+  };
+  const auto [lo1, hi1] = hull(ba, a0, h);
+  const auto [lo2, hi2] = hull(bb, b0, w);
+  return box_box_minmax(lo1, hi1, lo2, hi2).first;
 }
 
 }  // namespace
@@ -305,54 +377,75 @@ VoxelStage voxel_stage(gpgpu::Gpu& gpu, const VoxelGrid& a, const VoxelGrid& b, 
   if (r.voxel_pairs == 0) return r;
   const int max_size = gpu.info().max_texture_size, side = std::min(options.max_tile, max_size);
   const glm::dvec3 origin = a.lo + 0.5 * double(a.n) * a.h;  // keeps coordinates small in float
-  const auto ta = upload_boxes(boxes(a, glm::dmat4(1.0)), a.witness, origin, max_size);
-  const auto tb = upload_boxes(boxes(b, motion_b), b.witness, origin, max_size);
+  // Rows and columns in Morton order (tiles compact in space); order_* maps them back to voxels.
+  const std::vector<size_t> order_a = morton_order(a), order_b = morton_order(b);
+  const OrderedBoxes oa = ordered_boxes(a, glm::dmat4(1.0), order_a), ob = ordered_boxes(b, motion_b, order_b);
+  const auto &ba = oa.box, &bb = ob.box;
+  const auto ta = upload_boxes(ba, oa.witness, origin, max_size), tb = upload_boxes(bb, ob.witness, origin, max_size);
+  // One sweep over the tiles: each tile's candidates are kept against the best U so far (never
+  // below the final U, so a superset), with their lower bounds, and filtered by the final U below.
+  double running = seed_upper(ba, oa.witness, bb, ob.witness) * (1 + 1e-6);  // a float margin above it
   lap(r.timings.upload);
-  // Tiles: rows of A by columns of B, each within the texture size.
-  const int rows = int((r.voxels_a + side - 1) / side), cols = int((r.voxels_b + side - 1) / side);
-  r.tiles = rows * cols;
   gpgpu::Program& prog = gpu.program("voxel_pairs_minmax.frag");
+  gpgpu::Program& thr = gpu.program("threshold_le.frag");
   const gpgpu::Input in[] = {
       {"u_lo_a", &ta.first}, {"u_hi_a", &ta.second}, {"u_lo_b", &tb.first}, {"u_hi_b", &tb.second}};
-  const auto render = [&](int tr, int tc) {
-    const int h = int(std::min<long long>(side, r.voxels_a - (long long)tr * side));
-    const int w = int(std::min<long long>(side, r.voxels_b - (long long)tc * side));
-    gpgpu::PooledTexture mm = gpu.acquire(w, h, gpgpu::Format::RG32F);
-    prog.set("u_offset", tc * side, tr * side);
+  struct Candidate {
+    size_t ia, ib;
+    float lower;
+  };
+  std::vector<Candidate> cands;
+  const auto cut_of = [&](double u) {
+    return std::isfinite(u) ? float(u * (1 + options.slack)) : std::numeric_limits<float>::max();
+  };
+  // Tiles nearest first (by the distance of their rows' and columns' hulls): U falls fast, and with
+  // cull_tiles the far ones are skipped. The result does not depend on the order.
+  std::vector<std::pair<double, std::pair<size_t, size_t>>> tiles;
+  for (size_t a0 = 0; a0 < ba.size(); a0 += size_t(side))
+    for (size_t b0 = 0; b0 < bb.size(); b0 += size_t(side))
+      tiles.push_back(
+          {tile_lower(ba, a0, std::min(size_t(side), ba.size() - a0), bb, b0, std::min(size_t(side), bb.size() - b0)),
+           {a0, b0}});
+  std::sort(tiles.begin(), tiles.end());
+  r.tiles = int(tiles.size());
+  for (const auto& [lower, tile] : tiles) {
+    const auto [a0, b0] = tile;
+    const size_t h = std::min(size_t(side), ba.size() - a0), w = std::min(size_t(side), bb.size() - b0);
+    // Its pairs' max >= min >= the hulls' distance: a tile beyond the cut holds no answer.
+    if (options.cull_tiles && lower > 1.0001 * double(cut_of(running))) {
+      ++r.culled_tiles;
+      continue;
+    }
+    gpgpu::PooledTexture mm = gpu.acquire(int(w), int(h), gpgpu::Format::RG32F);
+    prog.set("u_offset", int(b0), int(a0));
     gpgpu::Texture* out[] = {mm.get()};
     gpu.run("voxel_pairs_minmax", prog, in, out);
     lap(r.timings.minmax);
-    return mm;
-  };
-  std::vector<gpgpu::PooledTexture> kept;  // the one tile's min/max, not rendered twice
-  for (int tr = 0; tr < rows; ++tr)
-    for (int tc = 0; tc < cols; ++tc) {
-      gpgpu::PooledTexture mm = render(tr, tc);
-      r.upper = std::min(r.upper, double(gpgpu::reduce_min(gpu, *mm, 1)));
-      lap(r.timings.reduce);
-      if (r.tiles == 1) kept.push_back(std::move(mm));
-    }
-  gpgpu::Program& thr = gpu.program("threshold_le.frag");
-  thr.set("u_cut", std::isfinite(r.upper) ? float(r.upper * (1 + options.slack)) : std::numeric_limits<float>::max());
-  for (int tr = 0; tr < rows; ++tr)
-    for (int tc = 0; tc < cols; ++tc) {
-      gpgpu::PooledTexture mm = r.tiles == 1 ? std::move(kept[0]) : render(tr, tc);
-      gpgpu::PooledTexture keep = gpu.acquire(mm->width(), mm->height(), gpgpu::Format::R8);
-      const gpgpu::Input tin[] = {{"u_values", mm.get()}};
-      gpgpu::Texture* tout[] = {keep.get()};
-      gpu.run("threshold_le", thr, tin, tout);
-      const gpgpu::Compacted c = gpgpu::compact(gpu, *keep, *mm);
-      lap(r.timings.compact);
-      r.surviving_pairs += c.count;
-      if (c.count == 0) continue;
-      const std::vector<uint32_t> src = c.read_source();
-      for (int64_t k = 0; k < c.count; ++k) {
-        const size_t idx = src[size_t(k)], w = size_t(mm->width());
-        mark_faces(a, b, size_t(tr) * size_t(side) + idx / w, size_t(tc) * size_t(side) + idx % w, mark);
-      }
-      lap(r.timings.readback);
+    const double u = gpgpu::reduce_min(gpu, *mm, 1);
+    r.upper = std::min(r.upper, u);
+    running = std::min(running, u);
+    lap(r.timings.reduce);
+    gpgpu::PooledTexture keep = gpu.acquire(int(w), int(h), gpgpu::Format::R8);
+    thr.set("u_cut", cut_of(running));
+    const gpgpu::Input tin[] = {{"u_values", mm.get()}};
+    gpgpu::Texture* tout[] = {keep.get()};
+    gpu.run("threshold_le", thr, tin, tout);
+    const gpgpu::Compacted c = gpgpu::compact(gpu, *keep, *mm);
+    lap(r.timings.compact);
+    const std::vector<uint32_t> src = c.read_source();
+    const std::vector<float> rec = c.read_records();
+    for (int64_t k = 0; k < c.count; ++k)
+      cands.push_back({a0 + src[size_t(k)] / w, b0 + src[size_t(k)] % w, rec[size_t(2 * k)]});
+    lap(r.timings.readback);
+  }
+  const float cut = cut_of(r.upper);
+  for (const Candidate& c : cands)
+    if (c.lower <= cut) {
+      ++r.surviving_pairs;
+      mark_faces(a, b, order_a[c.ia], order_b[c.ib], mark);
     }
   finish(a, b, mark, r);
+  lap(r.timings.readback);
   r.timings.total = since(t0);
   return r;
 }

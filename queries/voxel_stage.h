@@ -68,6 +68,10 @@ VoxelGrid voxelize(const std::vector<nurbs::TrimmedSurface>& faces, const Voxeli
 struct VoxelOptions {
   double slack = 1e-5;  ///< pairs with lower bound <= U (1 + slack) survive (float rounding of both)
   int max_tile = 4096;  ///< tile side for the pair texture (further capped by GL_MAX_TEXTURE_SIZE)
+  /// Beyond the paper: skip a tile whose rows' and columns' hulls are farther apart than the cut so
+  /// far (its pairs could neither lower U nor survive). Same result; voxels are in z-major order,
+  /// so a tile's rows and columns are slabs of the objects.
+  bool cull_tiles = false;
 };
 
 struct VoxelTimings {
@@ -80,16 +84,17 @@ struct VoxelStage {
   double upper = 0.0;                           ///< U: least witness-pair max distance (+inf if none)
   long long voxels_a = 0, voxels_b = 0;         ///< occupied voxels
   long long voxel_pairs = 0, surviving_pairs = 0;
-  int tiles = 0;  ///< pair texture tiles (GPU path)
+  int tiles = 0, culled_tiles = 0;  ///< pair texture tiles, tiles skipped (GPU path)
   /// CPU twin: pairs whose lower bound is within 1e-6 (relative) of the cut, which the float GPU
   /// pass may put on either side.
   long long borderline_pairs = 0;
   VoxelTimings timings;
 };
 
-/// The §5.4 stage on the GPU: A fixed, B moved by `motion_b` (rigid). Pair texture passes
-/// (glsl/voxel_pairs_minmax.frag), reduce_min of G, threshold_le and compact per tile; the kept
-/// voxel pairs are read back and turned into face pairs on the CPU.
+/// The §5.4 stage on the GPU: A fixed, B moved by `motion_b` (rigid). Per tile of the pair texture
+/// one pass (glsl/voxel_pairs_minmax.frag), reduce_min of G, threshold_le at the best U so far
+/// (seeded with one witness pair found on the CPU) and compact; the candidates and their lower
+/// bounds are read back, kept when within the final U and turned into face pairs on the CPU.
 VoxelStage voxel_stage(gpgpu::Gpu& gpu, const VoxelGrid& a, const VoxelGrid& b,
                        const glm::dmat4& motion_b = glm::dmat4(1.0), const VoxelOptions& options = {});
 

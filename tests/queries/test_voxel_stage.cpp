@@ -61,12 +61,14 @@ TEST_CASE("voxel stage: GPU face pairs equal the CPU twin on random trimmed mode
   MESSAGE(pairs << " voxel pairs, " << kept << " survive, " << borderline << " within rounding of the cut");
 }
 
-TEST_CASE("voxel stage: tiles of the pair texture give the same pairs as one tile") {
+TEST_CASE("voxel stage: tiles of the pair texture, culled or not, give the same pairs as one tile") {
   gpgpu::Gpu& gpu = test::gpu();
   models::Random rng(5);
-  const auto a = queries::voxelize(random_model(40, 2, {2.0, 0.0, 0.0}), {.n = 16});
-  const auto b = queries::voxelize(random_model(60, 2, {0.0, 2.0, 0.0}), {.n = 16});
-  const glm::dmat4 motion = random_motion(rng, {0.5, 1.0, 2.5});
+  // Faces spread along x (A, x in about [-1, 7]) and y (B), B moved beyond A's last face: the tiles
+  // of A's first faces are far from the answer.
+  const auto a = queries::voxelize(random_model(40, 3, {3.0, 0.0, 0.0}), {.n = 16});
+  const auto b = queries::voxelize(random_model(60, 3, {0.0, 3.0, 0.0}), {.n = 16});
+  const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), {12.0, -3.0, 0.0}) * random_motion(rng, {0, 0, 0});
   const queries::VoxelStage one = queries::voxel_stage(gpu, a, b, motion);
   // 257: prime, so the last row and column of tiles are partial.
   const queries::VoxelStage tiled = queries::voxel_stage(gpu, a, b, motion, {.max_tile = 257});
@@ -75,6 +77,13 @@ TEST_CASE("voxel stage: tiles of the pair texture give the same pairs as one til
   CHECK(tiled.upper == one.upper);
   CHECK(tiled.surviving_pairs == one.surviving_pairs);
   CHECK(tiled.face_pairs == one.face_pairs);
+  // Culling tiles (beyond the paper) changes nothing but the work.
+  const queries::VoxelStage culled = queries::voxel_stage(gpu, a, b, motion, {.max_tile = 257, .cull_tiles = true});
+  CHECK(culled.upper == one.upper);
+  CHECK(culled.surviving_pairs == one.surviving_pairs);
+  CHECK(culled.face_pairs == one.face_pairs);
+  CHECK(culled.culled_tiles > 0);
+  MESSAGE(tiled.tiles << " tiles, " << culled.culled_tiles << " culled");
 }
 
 TEST_CASE("voxel stage: exact spheres keep the closest face pair, U bounds the distance, pairs are pruned") {
