@@ -10,10 +10,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "../gpgpu/gl_fixture.h"
+#include "../shared_models.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/clearance.h"
 #include "queries/voxel_stage.h"
 
 namespace {
@@ -153,4 +157,29 @@ TEST_CASE("voxel stage: the voxel grid lists every face of a dense sample of mat
   }
   CHECK(std::count(g.witness.begin(), g.witness.end(), 1) > 0);
   MESSAGE(checked << " material samples, " << g.voxels.size() << " occupied voxels of " << g.n * g.n * g.n);
+}
+
+TEST_CASE("voxel stage: teapot beside the vase wall, GPU = twin, the clearance's face pair kept" *
+          test::needs_shared_models()) {
+  // The pair of experiments/bench_voxel_stage.cpp (its default move), at 16^3 voxels to stay fast.
+  gpgpu::Gpu& gpu = test::gpu();
+  const nurbs::Model vase = nurbs::io::read_model(test::shared_models_dir() / "generated/vase_shell_t2.igs");
+  const nurbs::Model teapot = nurbs::io::read_model(test::shared_models_dir() / "generated/teapot_bezier32.igs");
+  const auto fa = nurbs::world_faces(vase), fb = nurbs::world_faces(teapot);
+  const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), {33.75, 0.0, 48.65});
+  const auto a = queries::voxelize(fa, {.n = 16}), b = queries::voxelize(fb, {.n = 16});
+  const queries::VoxelStage g = queries::voxel_stage(gpu, a, b, motion), c = queries::voxel_stage_cpu(a, b, motion);
+  CHECK(g.face_pairs == c.face_pairs);
+  CHECK(std::abs(g.surviving_pairs - c.surviving_pairs) <= c.borderline_pairs);
+  CHECK(g.face_pairs.size() < fa.size() * fb.size());
+  // The hierarchy search over all faces (clearance.h) at 5e-4 of the vase size: its closest points
+  // are within its bound of the true ones, far less than a voxel, so its face pair must be kept.
+  const double tol = 5e-4 * nurbs::model_size(vase);
+  const queries::Clearance cl =
+      queries::clearance(gpu, queries::prepare_model(gpu, fa, tol), queries::prepare_model(gpu, fb, tol), motion);
+  REQUIRE(cl.found);
+  CHECK(g.upper >= cl.distance - cl.bound);
+  CHECK(std::binary_search(g.face_pairs.begin(), g.face_pairs.end(), std::pair{cl.face_a, cl.face_b}));
+  MESSAGE("clearance " << cl.distance << " (faces " << cl.face_a << ", " << cl.face_b << "), U " << g.upper << ", "
+                       << g.face_pairs.size() << " of " << fa.size() * fb.size() << " face pairs kept");
 }
