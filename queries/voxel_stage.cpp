@@ -74,6 +74,29 @@ nurbs::ParamGrid split_long_cells(const nurbs::ParamGrid& g, const Samples& s, d
   return r;
 }
 
+/// Per cell of `g` (row-major, u fastest): 1 where an edge of a trim loop may pass through it. An
+/// edge marks every cell its parameter box overlaps, the box grown by twice the flattening
+/// tolerance of PreparedModel::trims (1e-6 of the u width) so the true curve is covered too.
+std::vector<char> crossed_cells(const nurbs::TrimPolygons& t, const nurbs::ParamGrid& g) {
+  std::vector<char> out(size_t(g.cells_u()) * size_t(g.cells_v()), 0);
+  const double eps = 2e-6 * std::max(g.u.back() - g.u.front(), g.v.back() - g.v.front());
+  const auto range = [](const std::vector<double>& lines, double lo, double hi) {
+    const int last = int(lines.size()) - 2;  // the last cell
+    const int i0 = int(std::upper_bound(lines.begin(), lines.end(), lo) - lines.begin()) - 1;
+    const int i1 = int(std::upper_bound(lines.begin(), lines.end(), hi) - lines.begin()) - 1;
+    return std::pair{std::clamp(i0, 0, last), std::clamp(i1, 0, last)};
+  };
+  for (const auto& loop : t.loops)
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const glm::dvec2 p = loop[k], q = loop[(k + 1) % loop.size()];
+      const auto [i0, i1] = range(g.u, std::min(p.x, q.x) - eps, std::max(p.x, q.x) + eps);
+      const auto [j0, j1] = range(g.v, std::min(p.y, q.y) - eps, std::max(p.y, q.y) + eps);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) out[size_t(j) * size_t(g.cells_u()) + size_t(i)] = 1;
+    }
+  return out;
+}
+
 VoxelGrid build(const std::vector<FaceInput>& in, const VoxelizeOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   VoxelGrid g;
@@ -96,6 +119,9 @@ VoxelGrid build(const std::vector<FaceInput>& in, const VoxelizeOptions& o) {
     const nurbs::ParamGrid grid = split_long_cells(coarse, evaluate(face, coarse), 0.5 * voxel);
     const Samples s = evaluate(face, grid);
     const size_t nu = grid.u.size();
+    const std::vector<char> crossed = o.skip_trimmed_cells && !face.face->loops.empty()
+                                          ? crossed_cells(*face.trim, grid)
+                                          : std::vector<char>(size_t(grid.cells_u()) * size_t(grid.cells_v()), 1);
     for (size_t k = 0; k < s.p.size(); ++k)
       if (s.material[k]) material.push_back(s.p[k]);
     for (int j = 0; j < grid.cells_v(); ++j)
@@ -103,7 +129,9 @@ VoxelGrid build(const std::vector<FaceInput>& in, const VoxelizeOptions& o) {
         ++g.cells;
         const size_t c[4] = {size_t(j) * nu + size_t(i), size_t(j) * nu + size_t(i) + 1, size_t(j + 1) * nu + size_t(i),
                              size_t(j + 1) * nu + size_t(i) + 1};
-        if (o.skip_trimmed_cells && !(s.material[c[0]] || s.material[c[1]] || s.material[c[2]] || s.material[c[3]])) {
+        // No material corner and no trim edge through it: the whole cell is trimmed away.
+        if (!crossed[size_t(j) * size_t(grid.cells_u()) + size_t(i)] &&
+            !(s.material[c[0]] || s.material[c[1]] || s.material[c[2]] || s.material[c[3]])) {
           ++g.skipped_cells;
           continue;
         }
@@ -129,7 +157,7 @@ VoxelGrid build(const std::vector<FaceInput>& in, const VoxelizeOptions& o) {
   g.h = (hi - lo) / double(o.n);
   const auto index = [&](const glm::dvec3& x) {
     glm::ivec3 r;
-    for (int a = 0; a < 3; ++a) r[a] = std::clamp(int(std::floor((x[a] - lo[a]) / g.h[a])), 0, o.n - 1);
+    for (int a = 0; a < 3; ++a) r[a] = int(std::clamp(std::floor((x[a] - lo[a]) / g.h[a]), 0.0, o.n - 1.0));
     return r;
   };
   // Face references: (voxel, face) keys, sorted and unique, become the CSR lists.

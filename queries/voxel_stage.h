@@ -11,11 +11,13 @@
 /// of the cell's two triangles, so within the box of its 4 corners grown by that cell's K_e, and
 /// every voxel that box overlaps gets the face. Hence every surface point lies in a voxel listing
 /// its face.
-///  - Trimmed faces (§5.3): with VoxelizeOptions::skip_trimmed_cells (default, as the GPU leaf pass
-///    aabb_leaf.frag does) a cell whose 4 corners are all outside material is skipped. Material in
-///    such a cell is a trim feature narrower than a cell; the surface-surface search skips the same
-///    cells, so it could not report a point there either (the paper's §5.3 limitation). Turn it off
-///    for occupancy that holds for every material point.
+///  - Trimmed faces (§5.3): with VoxelizeOptions::skip_trimmed_cells (default) a cell is skipped
+///    when its 4 corners are outside material and no edge of the face's trim polygons passes
+///    through it (its parameter box, grown by twice the flattening tolerance). That is a proof: a
+///    material point in the cell and a non-material corner would have the trim boundary between
+///    them, inside the (convex) cell. The corner test alone, as the GPU leaf pass aabb_leaf.frag
+///    uses it, is the paper's §5.3 limitation (material between the corners of a cell is lost); it
+///    is not used here. Off: every cell of every face is kept.
 ///
 /// Honest upper bounds. The max distance of a voxel pair bounds the clearance only when both voxels
 /// hold surface material; a voxel is a "witness" when it holds a material grid sample (an exact
@@ -36,7 +38,7 @@ namespace queries {
 struct VoxelizeOptions {
   int n = 40;                      ///< voxels per axis (the paper's 40^3)
   double cell_fraction = 0.25;     ///< K_e of the coarse grids, as a fraction of the voxel size
-  bool skip_trimmed_cells = true;  ///< skip cells with no material corner (see the file comment)
+  bool skip_trimmed_cells = true;  ///< skip cells proven trimmed away (see the file comment)
 };
 
 /// A voxel grid of one object in its own (unmoved) frame. Voxel (i, j, k) has index
