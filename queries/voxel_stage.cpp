@@ -402,7 +402,10 @@ VoxelStage voxel_stage(gpgpu::Gpu& gpu, const VoxelGrid& a, const VoxelGrid& b, 
   VoxelStage r = start(a, b);
   std::vector<char> mark(size_t(a.face_count) * size_t(b.face_count), 0);
   r.upper = kInf;
-  if (r.voxel_pairs == 0) return r;
+  if (r.voxel_pairs == 0) {
+    finish(a, b, mark, r);
+    return r;
+  }
   const int max_size = gpu.info().max_texture_size, side = std::min(options.max_tile, max_size);
   const glm::dvec3 origin = a.lo + 0.5 * double(a.n) * a.h;  // keeps coordinates small in float
   // Rows and columns in Morton order (tiles compact in space); order_* maps them back to voxels.

@@ -76,8 +76,11 @@ struct VoxelOptions {
   bool cull_tiles = false;
 };
 
+/// Wall-clock seconds of the GPU path, each stage ended by a glFinish: upload = B's refit, Morton
+/// order, seed bound and box textures; minmax / reduce / compact = the passes of all tiles
+/// (compact includes the threshold pass); readback = candidates read back, filtered, face pairs.
 struct VoxelTimings {
-  double upload = 0, minmax = 0, reduce = 0, compact = 0, readback = 0, total = 0;  ///< seconds
+  double upload = 0, minmax = 0, reduce = 0, compact = 0, readback = 0, total = 0;
 };
 
 struct VoxelStage {

@@ -204,3 +204,16 @@ TEST_CASE("voxel stage: teapot beside the vase wall, GPU = twin, the clearance's
   MESSAGE("clearance " << cl.distance << " (faces " << cl.face_a << ", " << cl.face_b << "), U " << g.upper << ", "
                        << g.face_pairs.size() << " of " << fa.size() * fb.size() << " face pairs kept");
 }
+
+TEST_CASE("voxel stage: a model without faces gives no pairs and no upper bound") {
+  const queries::VoxelGrid empty = queries::voxelize(std::vector<nurbs::TrimmedSurface>{});
+  const queries::VoxelGrid b = queries::voxelize(random_model(7, 2, {2.0, 0.0, 0.0}), {.n = 8});
+  for (const queries::VoxelStage& s :
+       {queries::voxel_stage(test::gpu(), empty, b), queries::voxel_stage_cpu(empty, b)}) {
+    CHECK(s.voxels_a == 0);
+    CHECK(s.voxel_pairs == 0);
+    CHECK(s.face_pairs.empty());
+    CHECK(s.faces_b == std::vector<char>(2, 0));
+    CHECK(std::isinf(s.upper));
+  }
+}
