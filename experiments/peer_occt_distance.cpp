@@ -1,0 +1,255 @@
+// OpenCASCADE peer of the distance experiments (issue 8, experiments/distance_tables.py): the same
+// IGES files, the same rigid motion of B, the same machine; prints JSON, asserts nothing.
+//  shapes A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG] | [--motion FILE] [--repeat N]:
+//      BRepExtrema_DistShapeShape between A and B moved (rotated by DEG degrees about the axis
+//      through the origin, then moved, as `nurbsgl clearance`); per motion the median of N runs.
+//      --witness FILE: how far given closest points (nurbsgl's) lie from OCCT's A and B faces.
+//  points MODEL --points FILE [--repeat N]: GeomAPI_ProjectPointOnSurf, one projector per face
+//      initialised once on the face's surface and its UV bounds (trims ignored), min over faces.
+// Reads the models with nurbs-free OCCT code only (IGESControl_Reader), so it is an independent peer.
+#include <fmt/format.h>
+
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <CLI/CLI.hpp>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <Precision.hxx>
+#include <Standard_Version.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+/// Finite numbers separated by commas or spaces; throws naming `what` unless there are `count`.
+std::vector<double> numbers(const std::string& text, size_t count, const std::string& what) {
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream in(spaced);
+  std::vector<double> v;
+  for (double x; in >> x;) v.push_back(x);
+  if (v.size() != count || !in.eof())
+    throw std::runtime_error(fmt::format("{}: '{}' is not {} numbers", what, text, count));
+  return v;
+}
+
+/// Rotation by deg degrees about (ax, ay, az) through the origin, then the move (dx, dy, dz):
+/// v = {dx, dy, dz, ax, ay, az, deg}, the line format of `nurbsgl clearance --motion`.
+gp_Trsf rigid_motion(const std::vector<double>& v) {
+  gp_Trsf rotation, move;
+  if (v[6] != 0.0) rotation.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(v[3], v[4], v[5])), v[6] * M_PI / 180.0);
+  move.SetTranslation(gp_Vec(v[0], v[1], v[2]));
+  return move * rotation;  // applied right to left: rotation first
+}
+
+TopoDS_Shape read_iges(const std::string& path, double& seconds) {
+  const auto t0 = Clock::now();
+  IGESControl_Reader reader;
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
+  reader.TransferRoots();
+  TopoDS_Shape shape = reader.OneShape();
+  seconds = seconds_since(t0);
+  if (shape.IsNull()) throw std::runtime_error(path + ": OCCT transferred no shape");
+  return shape;
+}
+
+/// The largest vertex, edge or face tolerance of the shape: OCCT's own precision on its answer.
+double shape_tolerance(const TopoDS_Shape& s) {
+  double t = Precision::Confusion();
+  for (TopExp_Explorer e(s, TopAbs_VERTEX); e.More(); e.Next())
+    t = std::max(t, BRep_Tool::Tolerance(TopoDS::Vertex(e.Current())));
+  for (TopExp_Explorer e(s, TopAbs_EDGE); e.More(); e.Next())
+    t = std::max(t, BRep_Tool::Tolerance(TopoDS::Edge(e.Current())));
+  for (TopExp_Explorer e(s, TopAbs_FACE); e.More(); e.Next())
+    t = std::max(t, BRep_Tool::Tolerance(TopoDS::Face(e.Current())));
+  return t;
+}
+
+nlohmann::json point_json(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+/// Distance from p to the shape: how far another program's witness point lies from OCCT's faces.
+double gap(const gp_Pnt& p, const TopoDS_Shape& shape) {
+  BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(p).Vertex(), shape);
+  return d.IsDone() && d.NbSolution() > 0 ? d.Value() : INFINITY;
+}
+
+/// Per line "FRAME AX AY AZ BX BY BZ" (FRAME from 0): the distances of the witness points (the
+/// closest points another program reports) to A and to B moved as in that frame.
+nlohmann::json witness_gaps(const std::string& file, const TopoDS_Shape& a, const TopoDS_Shape& b,
+                            const std::vector<std::vector<double>>& frames) {
+  std::ifstream f(file);
+  if (!f) throw std::runtime_error("--witness " + file + ": cannot open the file");
+  nlohmann::json out = nlohmann::json::array();
+  int n = 0;
+  for (std::string line; std::getline(f, line);) {
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const auto v = numbers(line, 7, fmt::format("{}: line {}", file, n));
+    const size_t k = size_t(v[0]);
+    if (v[0] < 0 || k >= frames.size())
+      throw std::runtime_error(fmt::format("{}: line {}: no frame {}", file, n, v[0]));
+    const TopoDS_Shape moved = b.Moved(TopLoc_Location(rigid_motion(frames[k])));
+    out.push_back(
+        {{"frame", k}, {"gap_a", gap(gp_Pnt(v[1], v[2], v[3]), a)}, {"gap_b", gap(gp_Pnt(v[4], v[5], v[6]), moved)}});
+  }
+  return out;
+}
+
+int shapes(const std::string& a_path, const std::string& b_path, const std::string& move, const std::string& rotate,
+           const std::string& motion, const std::string& witness, int repeat) {
+  std::vector<std::vector<double>> frames;
+  if (motion.empty()) {
+    std::vector<double> v{0, 0, 0, 0, 0, 1, 0};
+    if (!move.empty()) std::copy_n(numbers(move, 3, "--move-b").begin(), 3, v.begin());
+    if (!rotate.empty()) std::copy_n(numbers(rotate, 4, "--rotate-b").begin(), 4, v.begin() + 3);
+    frames.push_back(v);
+  } else {
+    std::ifstream f(motion);
+    if (!f) throw std::runtime_error("--motion " + motion + ": cannot open the file");
+    int n = 0;
+    for (std::string line; std::getline(f, line);) {
+      ++n;
+      if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#')
+        continue;
+      frames.push_back(numbers(line, 7, fmt::format("{}: line {}", motion, n)));
+    }
+  }
+  double read_a = 0, read_b = 0;
+  const TopoDS_Shape a = read_iges(a_path, read_a), b = read_iges(b_path, read_b);
+  const double tolerance = shape_tolerance(a) + shape_tolerance(b);
+  nlohmann::json results = nlohmann::json::array();
+  for (const auto& frame : frames) {
+    const TopoDS_Shape moved = b.Moved(TopLoc_Location(rigid_motion(frame)));
+    std::vector<double> times;
+    nlohmann::json r;
+    for (int k = 0; k < repeat; ++k) {
+      const auto t0 = Clock::now();
+      BRepExtrema_DistShapeShape d(a, moved);
+      times.push_back(seconds_since(t0));
+      if (!d.IsDone() || d.NbSolution() < 1) {
+        r = {{"done", false}};
+        continue;
+      }
+      r = {{"done", true},
+           {"distance", d.Value()},
+           {"point_a", point_json(d.PointOnShape1(1))},
+           {"point_b", point_json(d.PointOnShape2(1))},
+           {"solutions", d.NbSolution()}};
+    }
+    r["seconds"] = median(times);
+    r["first_seconds"] = times.front();
+    results.push_back(r);
+  }
+  nlohmann::json out{
+      {"occt", OCC_VERSION_COMPLETE}, {"read_seconds", read_a + read_b}, {"tolerance", tolerance}, {"repeat", repeat}};
+  if (motion.empty()) {
+    out.update(results.front());
+  } else {
+    out["frames"] = frames.size();
+    out["results"] = results;
+  }
+  if (!witness.empty()) out["witnesses"] = witness_gaps(witness, a, b, frames);
+  fmt::print("{}\n", out.dump(2));
+  return 0;
+}
+
+int points(const std::string& model, const std::string& file, int repeat) {
+  std::vector<gp_Pnt> input;
+  std::ifstream f(file);
+  if (!f) throw std::runtime_error("--points " + file + ": cannot open the file");
+  int n = 0;
+  for (std::string line; std::getline(f, line);) {
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const auto v = numbers(line, 3, fmt::format("{}: line {}", file, n));
+    input.emplace_back(v[0], v[1], v[2]);
+  }
+  double read_s = 0;
+  const TopoDS_Shape shape = read_iges(model, read_s);
+  const auto t0 = Clock::now();
+  std::deque<GeomAPI_ProjectPointOnSurf> projectors;  // not movable: a deque never relocates
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    projectors.emplace_back();
+    projectors.back().Init(BRep_Tool::Surface(face), u0, u1, v0, v1);
+  }
+  const double init_s = seconds_since(t0);
+  std::vector<double> times;
+  nlohmann::json results = nlohmann::json::array();
+  for (int k = 0; k < repeat; ++k) {
+    results = nlohmann::json::array();
+    const auto t1 = Clock::now();
+    for (const gp_Pnt& p : input) {
+      double best = INFINITY;
+      gp_Pnt closest;
+      for (auto& proj : projectors) {
+        proj.Perform(p);
+        if (proj.NbPoints() > 0 && proj.LowerDistance() < best) {
+          best = proj.LowerDistance();
+          closest = proj.NearestPoint();
+        }
+      }
+      results.push_back(std::isfinite(best) ? nlohmann::json{{"distance", best}, {"point", point_json(closest)}}
+                                            : nlohmann::json{{"distance", nullptr}});
+    }
+    times.push_back(seconds_since(t1));
+  }
+  const nlohmann::json out{
+      {"occt", OCC_VERSION_COMPLETE}, {"read_seconds", read_s},   {"init_seconds", init_s}, {"points", input.size()},
+      {"faces", projectors.size()},   {"seconds", median(times)}, {"repeat", repeat},       {"results", results}};
+  fmt::print("{}\n", out.dump(1));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"OpenCASCADE peer of nurbsgl distance and clearance (JSON on stdout)"};
+  app.require_subcommand(1);
+  std::string a, b, move, rotate, motion, witness, model, file;
+  int repeat = 5;
+  auto* s = app.add_subcommand("shapes", "BRepExtrema_DistShapeShape between A and B moved");
+  s->add_option("A", a, "First IGES model")->required();
+  s->add_option("B", b, "Second IGES model")->required();
+  s->add_option("--move-b", move, "Translate B by DX,DY,DZ (after the rotation)");
+  s->add_option("--rotate-b", rotate, "Rotate B by DEG degrees about AX,AY,AZ through the origin");
+  s->add_option("--motion", motion, "One query per line: DX DY DZ AX AY AZ DEG");
+  s->add_option("--witness", witness,
+                "Lines FRAME AX AY AZ BX BY BZ: distance of these points to A and to B moved as in FRAME (from 0)");
+  s->add_option("--repeat", repeat, "Runs per query; the median is reported")->check(CLI::PositiveNumber);
+  auto* p = app.add_subcommand("points", "GeomAPI_ProjectPointOnSurf of every point, projectors initialised once");
+  p->add_option("MODEL", model, "IGES model")->required();
+  p->add_option("--points", file, "x y z per line")->required();
+  p->add_option("--repeat", repeat, "Runs over all points; the median is reported")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the reader's chatter
+  try {
+    return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "peer_occt_distance: {}\n", e.what());
+    return 2;
+  }
+}
