@@ -196,8 +196,13 @@ TEST_CASE("voxel stage: teapot beside the vase wall, GPU = twin, the clearance's
   // The hierarchy search over all faces (clearance.h) at 5e-4 of the vase size: its closest points
   // are within its bound of the true ones, far less than a voxel, so its face pair must be kept.
   const double tol = 5e-4 * nurbs::model_size(vase);
-  const queries::Clearance cl =
-      queries::clearance(gpu, queries::prepare_model(gpu, fa, tol), queries::prepare_model(gpu, fb, tol), motion);
+  const queries::PreparedModel pa = queries::prepare_model(gpu, fa, tol), pb = queries::prepare_model(gpu, fb, tol);
+  const queries::Clearance cl = queries::clearance(gpu, pa, pb, motion);
+  // A prepared model (its Filip bounds and trim polygons) gives the same voxel grid as its faces.
+  const queries::VoxelGrid ap = queries::voxelize(pa, {.n = 16});
+  CHECK(ap.voxels == a.voxels);
+  CHECK(ap.faces == a.faces);
+  CHECK(ap.witness == a.witness);
   REQUIRE(cl.found);
   CHECK(g.upper >= cl.distance - cl.bound);
   CHECK(std::binary_search(g.face_pairs.begin(), g.face_pairs.end(), std::pair{cl.face_a, cl.face_b}));
