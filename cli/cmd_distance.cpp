@@ -1,7 +1,8 @@
 // `nurbsgl distance MODEL --point X,Y,Z | --points FILE`: minimum distance from points to a trimmed
 // NURBS model with the bounds of Krishnamurthy et al. §4 (queries/point_distance.h). JSON for
 // --point: distance, bound, point, face, uv, seconds (and point_bound, on_trim_edge, candidates);
-// for --points: {"points", "seconds", "results": [...]} in input order.
+// for --points: {"points", "seconds", "results": [...]} in input order. --points runs the batched
+// projection (queries/point_batch.h: all points in one pass); --per-point keeps one query per point.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -9,12 +10,14 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli/commands.h"
 #include "cli/validators.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
+#include "queries/point_batch.h"
 #include "queries/point_distance.h"
 
 namespace cli {
@@ -25,6 +28,7 @@ struct Options {
   double rel_tolerance = 1e-5;
   queries::Search search = queries::Search::CoarseToFine;
   bool json = false;
+  bool per_point = false;
 };
 
 /// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
@@ -77,16 +81,29 @@ void run(const GlobalOptions& global, const Options& o) {
   const auto faces = nurbs::world_faces(model);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
-  queries::PointDistanceQuery query(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
+  std::vector<queries::PointDistance> results;
+  std::optional<queries::PointDistanceQuery> query;
+  std::optional<queries::PreparedModel> prepared;
+  std::optional<queries::PointBatch> batch;
+  const bool batched = !o.points.empty() && !o.per_point;
+  if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
+    prepared.emplace(queries::prepare_model(*gpu, faces, o.rel_tolerance * size));
+    batch.emplace(*gpu, *prepared);
+  } else {
+    query.emplace(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
+  }
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
-  const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
-  std::vector<queries::PointDistance> results;
-  for (size_t k = 0; k < points.size(); ++k) {
-    results.push_back(query.query(points[k]));
-    if (progress && k % 100 == 0) fmt::print(stderr, "\r[{}/{}] points", k, points.size());
+  if (batched) {
+    results = batch->query(points);
+  } else {
+    const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
+    for (size_t k = 0; k < points.size(); ++k) {
+      results.push_back(query->query(points[k]));
+      if (progress && k % 100 == 0) fmt::print(stderr, "\r[{}/{}] points", k, points.size());
+    }
+    if (progress) fmt::print(stderr, "\n");
   }
-  if (progress) fmt::print(stderr, "\n");
   const auto t2 = std::chrono::steady_clock::now();
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
@@ -102,6 +119,8 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     j["prepare_seconds"] = prepare_s;
     j["tolerance"] = o.rel_tolerance * size;
+    if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
+    if (batched) j["fallbacks"] = batch->stats().fallbacks;
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print("{} faces, model size {:.6g}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
@@ -110,12 +129,14 @@ void run(const GlobalOptions& global, const Options& o) {
       const auto& r = results[k];
       fmt::print(
           "point ({:.6g}, {:.6g}, {:.6g}): distance {:.9g} +- {:.3g}, closest ({:.9g}, {:.9g}, {:.9g}) within "
-          "{:.3g}, face {} (u, v) = ({:.6g}, {:.6g}){}, {} candidate cells\n",
+          "{:.3g}, face {} (u, v) = ({:.6g}, {:.6g}){}, {} {}\n",
           points[k].x, points[k].y, points[k].z, r.distance, r.bound, r.point.x, r.point.y, r.point.z, r.point_bound,
-          r.face, r.uv.x, r.uv.y, r.on_trim_edge ? " on a trim edge" : "", r.candidates);
+          r.face, r.uv.x, r.uv.y, r.on_trim_edge ? " on a trim edge" : "", r.candidates,
+          batched ? "cells tested" : "candidate cells");
     }
-    fmt::print("{} queries in {:.3f} s ({:.2f} ms each)\n", points.size(), query_s,
-               1e3 * query_s / double(points.size()));
+    fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), query_s,
+               1e3 * query_s / double(points.size()),
+               batched ? fmt::format(", batched; {} searched again on the CPU", batch->stats().fallbacks) : "");
   }
   report_profile(*gpu, global);
 }
@@ -133,6 +154,9 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
       ->check(relative_tolerance())
       ->capture_default_str();
   add_search_option(cmd, o->search);
+  cmd->add_flag("--per-point", o->per_point,
+                "With --points: one query per point (the faithful path, --search applies) instead of the batched "
+                "projection (all points in one pass on faithful grids)");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });
 }

@@ -5,11 +5,11 @@
 // node pruned when that distance exceeds the best triangle distance so far plus the float slack.
 // At the cells the two triangles of the four samples (the diagonal of queries/point_distance.cpp).
 // Output per point: (best triangle distance, cell x, cell y, cells tested); (+inf, -1, -1, n) when
-// no cell is material; w = -1 if the stack overflowed (the caller then searches on the CPU). Every triangle lies in its cell's box, so the pruning never drops a closer
+// no cell is material. Every triangle lies in its cell's box, so the pruning never drops a closer
 // triangle; the CPU twin is queries/point_batch.cpp descend().
 #include "point_batch_triangle.frag"
 
-uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, row-major, width u_width
+uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, 16 per 4 x 4 tile, tiles row-major
 uniform sampler2D u_lo;      // RGBA32F box pyramid, all levels (empty box: lo = +inf, hi = -inf)
 uniform sampler2D u_hi;
 uniform sampler2D u_samples;  // RGBA32F atlas of samples (model coordinates)
@@ -23,7 +23,6 @@ uniform float u_radius;    // half the diagonal of the model's box
 out vec4 o_result;
 
 const float kInf = 1.0 / 0.0;
-const int kStack = 48;  // >= 3 (levels - 1) + 1 for 13 levels (a 4096^2 atlas)
 
 float box_dist(vec3 q, ivec2 t, int level) {
   vec3 lo = texelFetch(u_lo, t, level).xyz, hi = texelFetch(u_hi, t, level).xyz;
@@ -42,40 +41,47 @@ void cswap(inout vec4 d, inout ivec4 k, int i, int j) {
   }
 }
 
+// No stack array (dynamically indexed arrays are slow on llvmpipe): per level j, 8 bits of `pend`
+// hold the siblings still to visit at that level, nearest first (count in bits 0-1, then 2-bit
+// child indices); bit j of `busy` says some are left. Ancestors are the current texel >> k.
+uint get_pend(uvec4 p, int j) { return (p[j >> 2] >> uint(8 * (j & 3))) & 255u; }
+void set_pend(inout uvec4 p, inout uint busy, int j, uint v) {
+  uint sh = uint(8 * (j & 3));
+  p[j >> 2] = (p[j >> 2] & ~(255u << sh)) | (v << sh);
+  busy = (v & 3u) != 0u ? busy | (1u << uint(j)) : busy & ~(1u << uint(j));
+}
+
 void main() {
   ivec2 g = ivec2(gl_FragCoord.xy);
-  int index = g.y * u_width + g.x;
+  int index = (((g.y >> 2) * (u_width >> 2) + (g.x >> 2)) << 4) + ((g.y & 3) << 2) + (g.x & 3);
   if (index >= u_count) {
     o_result = vec4(kInf, -1.0, -1.0, 0.0);
     return;
   }
   vec3 q = texelFetch(u_points, g, 0).xyz;
   float slack = u_slack * (length(q) + u_radius);
-  int st_node[kStack];  // level | x << 4 | y << 17
-  float st_dist[kStack];
-  int sp = 0;
-  st_node[sp] = u_top;
-  st_dist[sp++] = box_dist(q, ivec2(0), u_top);
   float best = kInf;
   ivec2 cell = ivec2(-1);
   int tested = 0;
-  bool overflow = false;  // cannot happen within kStack (see above); reported, never silent
-  while (sp > 0) {
-    --sp;
-    if (st_dist[sp] > best + slack) continue;
-    int node = st_node[sp], level = node & 15;
-    ivec2 base = 2 * ivec2((node >> 4) & 8191, node >> 17);
+  int level = u_top;
+  ivec2 xy = ivec2(0);
+  uvec4 pend = uvec4(0u);
+  uint busy = 0u;
+  bool done = box_dist(q, xy, level) == kInf;
+  while (!done) {
+    // Expand the node (level, xy): its four children's boxes.
+    ivec2 base = 2 * xy;
     // Not textureSize(u_lo, level - 1): llvmpipe answers a size query for the first fragment's lod
     // in every lane, and the lod differs between fragments here.
     ivec2 size = max(ivec2(1), u_size >> (level - 1));
-    float d[4];
+    vec4 dv;
     for (int k = 0; k < 4; ++k) {
       ivec2 c = base + ivec2(k & 1, k >> 1);
-      d[k] = (c.x < size.x && c.y < size.y) ? box_dist(q, c, level - 1) : kInf;
+      dv[k] = (c.x < size.x && c.y < size.y) ? box_dist(q, c, level - 1) : kInf;
     }
     if (level == 1) {  // the children are cells: their triangles
       for (int k = 0; k < 4; ++k) {
-        if (d[k] > best + slack) continue;
+        if (dv[k] > best + slack) continue;
         ivec2 c = base + ivec2(k & 1, k >> 1);
         vec3 a = texelFetch(u_samples, c, 0).xyz - u_origin;
         vec3 b = texelFetch(u_samples, c + ivec2(1, 0), 0).xyz - u_origin;
@@ -88,28 +94,41 @@ void main() {
           cell = c;
         }
       }
-      continue;
-    }
-    // Children nearest first: a 4-sorting network on (distance, child), push the farthest first
-    // (an insertion sort through dynamically indexed arrays gave wrong orders on llvmpipe).
-    vec4 dv = vec4(d[0], d[1], d[2], d[3]);
-    ivec4 order = ivec4(0, 1, 2, 3);
-    cswap(dv, order, 0, 1);
-    cswap(dv, order, 2, 3);
-    cswap(dv, order, 0, 2);
-    cswap(dv, order, 1, 3);
-    cswap(dv, order, 1, 2);
-    for (int i = 3; i >= 0; --i) {
-      int k = order[i];
-      if (d[k] > best + slack) continue;
-      if (sp >= kStack) {
-        overflow = true;
+    } else {
+      // Children nearest first (a sorting network; an insertion sort through dynamically indexed
+      // arrays gave wrong orders on llvmpipe): go to the nearest, keep the others within reach.
+      ivec4 order = ivec4(0, 1, 2, 3);
+      cswap(dv, order, 0, 1);
+      cswap(dv, order, 2, 3);
+      cswap(dv, order, 0, 2);
+      cswap(dv, order, 1, 3);
+      cswap(dv, order, 1, 2);
+      float reach = best + slack;
+      if (dv[0] <= reach) {
+        uint n = uint(dv[1] <= reach) + uint(dv[2] <= reach) + uint(dv[3] <= reach);  // sorted: a prefix
+        set_pend(pend, busy, level - 1, n | uint(order[1] << 2) | uint(order[2] << 4) | uint(order[3] << 6));
+        xy = base + ivec2(order[0] & 1, order[0] >> 1);
+        --level;
         continue;
       }
-      ivec2 c = base + ivec2(k & 1, k >> 1);
-      st_node[sp] = (level - 1) | (c.x << 4) | (c.y << 17);
-      st_dist[sp++] = d[k];
+    }
+    // Back up to the nearest sibling left at the lowest level; pruned ones end their level (the
+    // rest are farther).
+    while (true) {
+      uint m = busy & ~((1u << uint(level)) - 1u);
+      if (m == 0u) {
+        done = true;
+        break;
+      }
+      int j = findLSB(m);
+      uint v = get_pend(pend, j);
+      int k = int((v >> 2) & 3u);
+      set_pend(pend, busy, j, ((v & 3u) - 1u) | ((v >> 4) << 2));
+      xy = 2 * (xy >> (j + 1 - level)) + ivec2(k & 1, k >> 1);
+      level = j;
+      if (box_dist(q, xy, level) <= best + slack) break;
+      set_pend(pend, busy, j, 0u);
     }
   }
-  o_result = vec4(best, float(cell.x), float(cell.y), overflow ? -1.0 : float(tested));
+  o_result = vec4(best, float(cell.x), float(cell.y), float(tested));
 }

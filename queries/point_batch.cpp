@@ -1,5 +1,7 @@
 #include "queries/point_batch.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,6 +33,27 @@ double box_distance(const glm::dvec3& q, const float* lo, const float* hi) {
   if (lo[0] > hi[0]) return kInf;
   const glm::dvec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
   return glm::length(glm::max(glm::max(l - q, q - h), glm::dvec3(0.0)));
+}
+
+/// Indices of `points` sorted by the Morton code of their position in the cube of half side
+/// `half` about `centre` (10 bits per axis, outside points clamped to its faces).
+std::vector<uint32_t> morton_order(std::span<const glm::dvec3> points, const glm::dvec3& centre, double half) {
+  const auto spread = [](uint32_t v) {  // 10 bits -> every third of 30
+    v = (v | (v << 16)) & 0x030000FFu;
+    v = (v | (v << 8)) & 0x0300F00Fu;
+    v = (v | (v << 4)) & 0x030C30C3u;
+    return (v | (v << 2)) & 0x09249249u;
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> keyed(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const glm::dvec3 t = glm::clamp((points[i] - centre) / (2.0 * std::max(half, 1e-300)) + 0.5, 0.0, 1.0);
+    const glm::uvec3 c(t * 1023.0);
+    keyed[i] = {spread(c.x) | (spread(c.y) << 1) | (spread(c.z) << 2), uint32_t(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> order(points.size());
+  for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -96,20 +119,32 @@ double PointBatch::slack(const glm::dvec3& p) const { return kFloatSlack * (glm:
 std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm::dvec3> points) {
   std::vector<std::vector<BatchCell>> out(atlases_.size());
   if (points.empty()) return out;
-  const gpgpu::Layout2D lay = gpgpu::layout_pow2(int64_t(points.size()), std::min(gpu_.info().max_texture_size, 4096));
-  std::vector<float> q(size_t(lay.capacity()) * 4, 0.0f);
+  // Neighbouring fragments run in lockstep (SIMD lanes, warps), each as long as its slowest point:
+  // points sorted along a Morton curve and laid out in 4 x 4 tiles keep the lanes' paths alike.
+  const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
+  const int max_size = std::min(gpu_.info().max_texture_size, 4096);
+  int width = 4;
+  while (width < max_size && int64_t(width) * width < int64_t(points.size())) width *= 2;
+  const int64_t tiles_per_row = width / 4, tiles = (int64_t(points.size()) + 15) / 16;
+  const int height = int(4 * ((tiles + tiles_per_row - 1) / tiles_per_row));
+  if (height > max_size) throw std::length_error(fmt::format("PointBatch: {} points in one batch", points.size()));
+  const auto texel_of = [&](size_t i) {  // slot i of the sorted points -> texel index
+    const int64_t tile = int64_t(i >> 4), t = int64_t(i & 15);
+    return size_t((4 * (tile / tiles_per_row) + (t >> 2)) * width + 4 * (tile % tiles_per_row) + (t & 3));
+  };
+  std::vector<float> q(size_t(width) * size_t(height) * 4, 0.0f);
   for (size_t i = 0; i < points.size(); ++i) {
-    const glm::vec3 d(points[i] - m_.centre);
-    std::copy_n(&d.x, 3, q.begin() + ptrdiff_t(4 * i));
+    const glm::vec3 d(points[order[i]] - m_.centre);
+    std::copy_n(&d.x, 3, q.begin() + ptrdiff_t(4 * texel_of(i)));
   }
-  gpgpu::PooledTexture pts = gpu_.acquire(lay.width, lay.height, gpgpu::Format::RGBA32F);
+  gpgpu::PooledTexture pts = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
   pts->upload(q);
-  gpgpu::PooledTexture res = gpu_.acquire(lay.width, lay.height, gpgpu::Format::RGBA32F);
+  gpgpu::PooledTexture res = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
   gpgpu::Program& prog = gpu_.program("point_batch.frag");
   const glm::vec3 o(m_.centre);
   prog.set("u_origin", o.x, o.y, o.z);
   prog.set("u_count", int(points.size()));
-  prog.set("u_width", lay.width);
+  prog.set("u_width", width);
   prog.set("u_slack", float(kFloatSlack));
   prog.set("u_radius", float(radius_));
   for (size_t a = 0; a < atlases_.size(); ++a) {
@@ -123,8 +158,10 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
     gpu_.run("point_batch", prog, in, target);
     const std::vector<float> r = res->read();
     out[a].resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i)
-      out[a][i] = {double(r[4 * i]), int(r[4 * i + 1]), int(r[4 * i + 2]), (long long)(r[4 * i + 3])};
+    for (size_t i = 0; i < points.size(); ++i) {
+      const float* v = &r[4 * texel_of(i)];
+      out[a][order[i]] = {double(v[0]), int(v[1]), int(v[2]), (long long)(v[3])};
+    }
   }
   return out;
 }
@@ -235,7 +272,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
   return best;
 }
 
-PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y) const {
+PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge) const {
   const Atlas& at = atlases_[a];
   const AtlasPlan& plan = m_.atlases[a].plan;
   const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
@@ -261,7 +298,7 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
   }
   r.found = true;
   r.face = sl.face;
-  if (!m_.faces[f].loops.empty())
+  if (trim_edge && !m_.faces[f].loops.empty())
     for (int corner = 0; corner < 4; ++corner)
       if (!nurbs::is_material(m_.trims[f], {g.u[size_t(i + (corner & 1))], g.v[size_t(j + (corner >> 1))]}))
         r.on_trim_edge = true;
@@ -279,17 +316,25 @@ bool PointBatch::material(const PointDistance& r) const {
 PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best) {
   size_t win = best.size();
   long long tested = 0;
-  bool overflow = false;
   for (size_t a = 0; a < best.size(); ++a) {
-    overflow = overflow || best[a].tested < 0;
-    tested += std::max(0LL, best[a].tested);
+    tested += best[a].tested;
     if (best[a].x >= 0 && (win == best.size() || best[a].distance < best[win].distance)) win = a;
   }
   PointDistance r;
-  if (!overflow && win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
-  if (overflow || (r.found && !material(r))) {  // §5.3: the winner lies in a trimmed region
+  if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
+  if (r.found && !material(r)) {
+    // §5.3: the closest triangle point lies in a trimmed region; the CPU search takes the closest
+    // material one. The true closest point may lie on a trim curve crossing a discarded cell, so
+    // the bound widens by the gap to the discarded triangle (d* >= d_discarded - K holds for any
+    // material point), and the result is on a trim edge.
     ++stats_.fallbacks;
+    const double closest_any = r.distance;
     r = search_material(p);
+    if (r.found && r.distance > closest_any) {
+      r.bound += r.distance - closest_any;
+      r.point_bound = std::sqrt(4 * r.bound * r.distance + r.bound * r.bound);
+      r.on_trim_edge = true;
+    }
   }
   r.candidates = tested;
   return r;
@@ -318,13 +363,15 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
   }
   PointDistance best;
   best.distance = kInf;
+  Node win{};
   while (!open.empty() && open.top().d <= best.distance + eps) {
     const Node n = open.top();
     open.pop();
     if (!std::isfinite(n.d)) break;
     if (n.level == 0) {
-      const PointDistance r = cell_result(p, n.a, n.x, n.y);
-      if (r.distance < best.distance && material(r)) best = r;
+      // on_trim_edge (four more classifications) only for the winner.
+      const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
+      if (r.distance < best.distance && material(r)) best = r, win = n;
       continue;
     }
     const Atlas& at = atlases_[n.a];
@@ -335,7 +382,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
     }
   }
   if (!std::isfinite(best.distance)) return PointDistance{};
-  return best;
+  return cell_result(p, win.a, win.x, win.y, true);
 }
 
 std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {

@@ -12,7 +12,9 @@
 ///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
 ///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
 ///     point whose winner lies in a trimmed region is searched again on the CPU (best first over the
-///     same pyramid, trimmed triangle points discarded, as the faithful path does).
+///     same pyramid, trimmed triangle points discarded, as the faithful path does); its bound then
+///     widens by the gap to the discarded triangle and it is on_trim_edge (the true closest point
+///     may lie on the trim curve inside a discarded cell).
 /// Bound, per point (|distance - true distance| <= bound):
 ///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
 ///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
@@ -42,7 +44,7 @@ struct PointBatchStats {
 };
 
 /// The best cell of one atlas for one point: triangle distance (+inf: none), the cell's texel,
-/// the cells tested (-1: the descent's stack overflowed).
+/// the cells tested.
 struct BatchCell {
   double distance = 0.0;
   int x = -1, y = -1;
@@ -91,7 +93,7 @@ class PointBatch {
   void build_cpu_pyramid(Atlas& at);
   PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best);
   PointDistance search_material(const glm::dvec3& p);
-  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y) const;
+  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true) const;
   [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
 
   gpgpu::Gpu& gpu_;
