@@ -115,6 +115,10 @@ TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the
     if (!r.on_trim_edge) CHECK(r.bound <= tol + budget + 2 * eps);
     CHECK(r.bound >= batch.model_bound());
     CHECK(std::abs(glm::length(r.point - p) - r.distance) <= 1e-9);
+    // (u, v): the surface there lies within K_e + the float budget of the triangle point (Theorem 1
+    // bounds the surface against its linear interpolant at the same parameters).
+    const nurbs::Surface& s = faces[size_t(r.face)].surface;
+    CHECK(glm::length(nurbs::surface_point(s, r.uv.x, r.uv.y) - r.point) <= batch.model_bound());
     if (!faces[size_t(r.face)].loops.empty()) CHECK(nurbs::is_material(m.trims[size_t(r.face)], r.uv));
     // Against the faithful per-point path (a third of the points: several passes each).
     if (i % 3 != 0) continue;
