@@ -544,15 +544,16 @@ class Runner:
                         "ms_per_point": 1e3 * occt["seconds"] / n, "points_per_s": n / occt["seconds"]})
         write_csv(self.path("points_summary.csv"), summary)
         fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
-        ax0.bar([s["method"].replace(" (", "\n(").replace(", ", ",\n") for s in summary],
-                [s["ms_per_point"] for s in summary])
+        labels = [s["method"].replace(" (", "\n(").replace(", ", ",\n").replace("OCCT GeomAPI_", "OCCT\n")
+                  for s in summary]
+        ax0.bar(labels, [s["ms_per_point"] for s in summary])
         ax0.set_yscale("log")
         ax0.set_ylabel("ms per point")
         ax0.set_title(f"{n} points near the 100x105 surface")
         for key, j in runs.items():
             ratios = [r[f"{key}_diff_occt"] / r[f"{key}_bound"] for r in rows if r[f"{key}_diff_occt"] != ""]
             ax1.hist(ratios, bins=40, range=(-3, 3), alpha=0.5, label=j["label"])
-        ax1.set_xlabel("(d_OCCT - d) / bound, clipped to +-3 (within the bound: |x| <= 1)")
+        ax1.set_xlabel("(d_OCCT - d) / bound (within the bound: |x| <= 1; beyond +-3 not shown)")
         ax1.set_ylabel("points")
         ax1.legend()
         fig.tight_layout()

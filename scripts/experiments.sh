@@ -5,7 +5,7 @@
 # enabled (BUILD_DIR, default build-bench, configured here if new; the base packages come from
 # scripts/setup.sh). Exits 2 naming the apt-get line when the peer's packages or matplotlib are missing.
 # Usage: scripts/experiments.sh [OUT_DIR] [experiments/distance_tables.py options, e.g. --quick, tables]
-#   OUT_DIR defaults to BUILD_DIR/experiments.
+#   OUT_DIR defaults to BUILD_DIR/experiments; the summary is also written to OUT_DIR/summary.txt.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build-bench}
@@ -28,5 +28,6 @@ cmake --build "$build" -j"$(nproc)" --target nurbsgl peer_occt_distance
 python=/usr/bin/python3
 [ -x "$python" ] || python=python3
 start=$(date +%s)
-"$python" experiments/distance_tables.py --build "$build" --out "$out" "$@"
+mkdir -p "$out"
+"$python" experiments/distance_tables.py --build "$build" --out "$out" "$@" | tee "$out/summary.txt"
 echo "experiments: $(($(date +%s) - start)) s"
