@@ -142,6 +142,16 @@ class Runner:
         gl = ["--gl", self.a.gl] if self.a.gl else []
         return run_json([self.a.nurbsgl, *gl, *args], stderr_to)
 
+    def each_method(self, what, run):
+        """{method: run(method)} for the methods whose run succeeds; a failure is reported, not fatal."""
+        out = {}
+        for m in METHODS:
+            try:
+                out[m] = run(m)
+            except RuntimeError as e:
+                print(f"\n{what}: {m} failed: {e}")
+        return out
+
     def clearance(self, a, b, method, *args, stderr_to=None):
         return self.nurbsgl("clearance", a, b, *args, "--search", method, "--tol", str(self.a.tol), "--json",
                             stderr_to=stderr_to)
@@ -188,10 +198,10 @@ class Runner:
         reps = self.a.reps
         motion = self.path(f"{table}_motion.txt")
         write_lines(motion, [motion_line(p) for _, p, _ in positions for _ in range(reps)])
-        ours = {}
-        for m in METHODS:
-            ours[m] = self.clearance(a, b, m, "--motion", motion)
-        last = {(k, m): ours[m]["results"][(k + 1) * reps - 1] for k in range(len(positions)) for m in METHODS}
+        ours = self.each_method(table, lambda m: self.clearance(a, b, m, "--motion", motion))
+        if not ours:
+            return
+        last = {(k, m): ours[m]["results"][(k + 1) * reps - 1] for k in range(len(positions)) for m in ours}
         occt, gaps = self.occt_shapes(table, a, b, [motion_line(p) for _, p, _ in positions],
                                       [(k, r["point_a"], r["point_b"]) for (k, _), r in last.items()], max(reps, 3))
         gaps = dict(zip(last.keys(), gaps))
@@ -201,7 +211,7 @@ class Runner:
         rows, levels = [], []
         for k, (name, pos, where) in enumerate(positions):
             o = occt["results"][k]
-            for m in METHODS:
+            for m in ours:
                 j = ours[m]
                 frames = j["results"][k * reps:(k + 1) * reps]
                 r = frames[-1]
@@ -247,9 +257,10 @@ class Runner:
         names = [p[0] for p in positions]
         w = 0.27
         for i, (label, key, filt) in enumerate([
-                ("faithful", "query_s", "faithful"), ("coarse-to-fine", "query_s", "coarse-to-fine"),
-                ("OCCT", "occt_s", "faithful")]):
-            ys = [1e3 * next(r[key] for r in rows if r["position"] == n and r["method"] == filt) for n in names]
+                ("faithful", "query_s", ["faithful"]), ("coarse-to-fine", "query_s", ["coarse-to-fine"]),
+                ("OCCT", "occt_s", METHODS)]):
+            ys = [1e3 * next((r[key] for r in rows if r["position"] == n and r["method"] in filt), math.nan)
+                  for n in names]
             ax0.bar([x + (i - 1) * w for x in range(len(names))], ys, w, label=label)
         ax0.set_xticks(range(len(names)), names)
         ax0.set_yscale("log")
@@ -258,7 +269,8 @@ class Runner:
         ax0.set_title(f"{table}: time per position")
         ax0.legend()
         for i, m in enumerate(METHODS):
-            ys = [next(r["bound_over_size"] for r in rows if r["position"] == n and r["method"] == m) for n in names]
+            ys = [next((r["bound_over_size"] for r in rows if r["position"] == n and r["method"] == m), math.nan)
+                  for n in names]
             ax1.bar([x + (i - 0.5) * w for x in range(len(names))], ys, w, label=m)
         ax1.axhline(2 * self.a.tol, color="k", ls="--", lw=0.8, label="2 x tol (K_a + K_b)")
         ax1.set_xticks(range(len(names)), names)
@@ -294,11 +306,15 @@ class Runner:
     def table2(self):
         a, b = self.model("paper-199x33"), self.model("paper-100x105")
         name, pos, _ = POSITIONS[0]
-        rows = []
-        for m in METHODS:
-            err = []
-            j = self.clearance(a, b, m, "--move-b", ",".join(f"{x:g}" for x in pos[:3]), "--rotate-b",
-                               ",".join(f"{x:g}" for x in pos[3:]), "--timings", stderr_to=err)
+        rows, errs = [], {}
+
+        def run(m):
+            errs[m] = []
+            return self.clearance(a, b, m, "--move-b", ",".join(f"{x:g}" for x in pos[:3]), "--rotate-b",
+                                  ",".join(f"{x:g}" for x in pos[3:]), "--timings", stderr_to=errs[m])
+
+        for m, j in self.each_method("table2", run).items():
+            err = errs[m]
             rows.append({"method": m, "pass": "prepare (grids, wall)", "calls": "", "gpu_ms": "",
                          "cpu_ms": 1e3 * j["prepare_seconds"]})
             for line in err[0].splitlines():
@@ -315,10 +331,11 @@ class Runner:
         passes = [r for r in rows if r["calls"] != ""]
         names = list(dict.fromkeys(r["pass"] for r in passes))
         fig, ax = plt.subplots(figsize=(7, 4))
-        bottom = [0.0] * len(METHODS)
+        methods = list(dict.fromkeys(r["method"] for r in rows))
+        bottom = [0.0] * len(methods)
         for n in names:
-            ys = [sum(r["gpu_ms"] for r in passes if r["pass"] == n and r["method"] == m) for m in METHODS]
-            ax.bar(METHODS, ys, 0.5, bottom=bottom, label=n)
+            ys = [sum(r["gpu_ms"] for r in passes if r["pass"] == n and r["method"] == m) for m in methods]
+            ax.bar(methods, ys, 0.5, bottom=bottom, label=n)
             bottom = [b0 + y for b0, y in zip(bottom, ys)]
         ax.set_ylabel("GPU ms (GL_TIME_ELAPSED)")
         ax.set_title(f"Table 2: passes of one query (Table 1, position '{name}')")
@@ -327,10 +344,10 @@ class Runner:
         fig.savefig(self.path("table2.png"), dpi=110)
         plt.close(fig)
         print(f"\ntable2: passes of one clearance query, Table 1 position '{name}' (ms, synchronised)")
-        print(f"{'pass':<36} " + " ".join(f"{m + ' gpu':>20} {m + ' cpu':>20}" for m in METHODS))
+        print(f"{'pass':<36} " + " ".join(f"{m + ' gpu':>20} {m + ' cpu':>20}" for m in methods))
         for n in list(dict.fromkeys(r["pass"] for r in rows)):
             cells = []
-            for m in METHODS:
+            for m in methods:
                 r = next((r for r in rows if r["pass"] == n and r["method"] == m), None)
                 g = "" if r is None or r["gpu_ms"] == "" else f"{r['gpu_ms']:.1f}"
                 c = "" if r is None else f"{r['cpu_ms']:.1f}"
@@ -349,18 +366,20 @@ class Runner:
             lines.append(f"{100 * t:.6g} {-20 + 10 * s:.6g} {-6 + 2 * c:.6g} 0 0 1 {10 * s:.6g}")
         motion = self.path("fig16_motion.txt")
         write_lines(motion, lines)
-        ours = {m: self.clearance(a, b, m, "--motion", motion) for m in METHODS}
-        occt, gaps = self.occt_shapes("fig16", a, b, lines, [(k, r["point_a"], r["point_b"]) for m in METHODS
+        ours = self.each_method("fig16", lambda m: self.clearance(a, b, m, "--motion", motion))
+        if not ours:
+            return
+        occt, gaps = self.occt_shapes("fig16", a, b, lines, [(k, r["point_a"], r["point_b"]) for m in ours
                                                               for k, r in enumerate(ours[m]["results"])], 1)
-        gaps = {m: gaps[i * frames:(i + 1) * frames] for i, m in enumerate(METHODS)}
+        gaps = {m: gaps[i * frames:(i + 1) * frames] for i, m in enumerate(ours)}
         back = self.gaps_where_occt_smaller(a, b, occt["results"], [[float(x) for x in ln.split()] for ln in lines],
-                                            [(k, r["distance"], r["bound"], occt["tolerance"]) for m in METHODS
+                                            [(k, r["distance"], r["bound"], occt["tolerance"]) for m in ours
                                              for k, r in enumerate(ours[m]["results"])])
         rows = []
         for k in range(frames):
             o = occt["results"][k]
             row = {"frame": k + 1, "motion": lines[k], "occt_distance": o.get("distance", ""), "occt_s": o["seconds"]}
-            for m in METHODS:
+            for m in ours:
                 r = ours[m]["results"][k]
                 row[f"{m}_s"] = r["seconds"]
                 row[f"{m}_distance"] = r["distance"]
@@ -372,7 +391,7 @@ class Runner:
         write_csv(self.path("fig16.csv"), rows)
         fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
         x = [r["frame"] for r in rows]
-        for m in METHODS:
+        for m in ours:
             ax0.plot(x, [1e3 * r[f"{m}_s"] for r in rows], label=m)
             ax1.plot(x, [r[f"{m}_bound"] for r in rows], label=f"bound, {m}")
         ax0.plot(x, [1e3 * r["occt_s"] for r in rows], label="OCCT")
@@ -393,7 +412,7 @@ class Runner:
         plt.close(fig)
         occt_ms = 1e3 * statistics.median(r["occt_s"] for r in rows)
         print(f"\nfig16: {frames} frames, tol {self.a.tol:g} x model size (median ms per frame; bound min-max)")
-        for m in METHODS:
+        for m in ours:
             ms = 1e3 * statistics.median(r[f"{m}_s"] for r in rows)
             bounds = [r[f"{m}_bound"] for r in rows]
             bad = verdicts(r[f"{m}_within"] for r in rows)
@@ -423,14 +442,7 @@ class Runner:
                 continue
             motion = self.path(f"table5_{name}_motion.txt")
             write_lines(motion, [motion_line(pos)] * self.a.reps)
-            ours = {}
-            for m in METHODS:
-                try:
-                    j = self.clearance(a, b, m, "--motion", motion)
-                except RuntimeError as e:
-                    print(f"\ntable5: {name} {m} failed: {e}")
-                    continue
-                ours[m] = j
+            ours = self.each_method(f"table5 {name}", lambda m: self.clearance(a, b, m, "--motion", motion))
             if not ours:
                 continue
             occt, gaps = self.occt_shapes(f"table5_{name}", a, b, [motion_line(pos)],
@@ -506,11 +518,16 @@ class Runner:
         sample_file = self.path("points_input_sample.txt")
         write_lines(sample_file, [f"{x:.9g} {y:.9g} {z:.9g}" for x, y, z in pts[:sample]])
         tol = ["--tol", str(self.a.tol), "--json"]
-        runs = {"points": self.nurbsgl("distance", model, "--points", file, *tol)}
-        runs["points"]["label"] = f"--points ({runs['points'].get('path', 'as the CLI gives it')})"
+        runs = {}
+        try:
+            runs["points"] = self.nurbsgl("distance", model, "--points", file, *tol)
+            runs["points"]["label"] = f"--points ({runs['points'].get('path', 'as the CLI gives it')})"
+        except RuntimeError as e:
+            print(f"\npoints: --points failed: {e}")
         per_point = "--per-point" in subprocess.run([self.a.nurbsgl, "distance", "--help"], capture_output=True,
                                                     text=True).stdout
-        for m in METHODS:
+
+        def one_by_one(m):
             if per_point:
                 j = self.nurbsgl("distance", model, "--points", sample_file, "--per-point", "--search", m, *tol)
             else:  # one process per point: the query time is the JSON's, the prepare time the median
@@ -519,7 +536,11 @@ class Runner:
                 j = {"results": single, "seconds": sum(r["seconds"] for r in single),
                      "prepare_seconds": statistics.median(r["prepare_seconds"] for r in single)}
             j["label"] = f"per point, {m}"
-            runs[m] = j
+            return j
+
+        runs.update(self.each_method("points", one_by_one))
+        if not runs:
+            return
         occt = self.peer("points", model, "--points", file, "--repeat", "3")
         rows = []
         for k, p in enumerate(pts):
@@ -571,9 +592,10 @@ class Runner:
                   f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.2f}x, "
                   f"max |d - d_OCCT| {max(diffs):.2e}, OCCT outside our bound: {bad}")
         pairs = [(r["points_distance"] - r["faithful_distance"], r["points_bound"] + r["faithful_bound"]) for r in rows
-                 if r["faithful_distance"] != ""]
-        print(f"  --points vs per point (faithful) on {len(pairs)} points: max |diff| "
-              f"{max(abs(d) for d, _ in pairs):.2e}, beyond both bounds on {sum(abs(d) > b for d, b in pairs)}")
+                 if "points" in runs and "faithful" in runs and r["faithful_distance"] != ""]
+        if pairs:
+            print(f"  --points vs per point (faithful) on {len(pairs)} points: max |diff| "
+                  f"{max(abs(d) for d, _ in pairs):.2e}, beyond both bounds on {sum(abs(d) > b for d, b in pairs)}")
         print(f"  {'OCCT':<31} {n} points, init {1e3 * occt['init_seconds']:.2f} ms, {occt_ms:.3f} ms/point, "
               f"no projection found for {none} points")
 
@@ -600,6 +622,10 @@ def main():
     a.peer = a.peer or os.path.join(a.build, "experiments", "peer_occt_distance")
     a.out = a.out or os.path.join(a.build, "experiments")
     r = Runner(a)
+    info = r.nurbsgl("gpu-info", "--json")
+    commit = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+    print(f"nurbsgl {commit.stdout.strip() or '(no git)'} on {info['renderer']} ({info['backend']}), "
+          f"{os.cpu_count()} CPU cores; OCCT on one core")
     every = ["tables", "table2", "fig16", "table5", "points"]
     todo = every if not a.experiments or "all" in a.experiments else a.experiments
     for name in todo:
