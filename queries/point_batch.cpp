@@ -75,6 +75,9 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(
     hi = glm::max(hi, box.max);
   }
   model_bound_ = k + budget;
+  trim_edges_.resize(m.faces.size());
+  for (size_t f = 0; f < m.faces.size(); ++f)
+    if (!m.faces[f].loops.empty()) trim_edges_[f] = TrimEdges(m.trims[f], m.grids[f].grid);
   radius_ = m.faces.empty() ? 0.0 : 0.5 * glm::length(hi - lo);
   const glm::vec3 o(m.centre);
   for (const FaceAtlas& fa : m.atlases) {
@@ -272,21 +275,26 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
   return best;
 }
 
-PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge) const {
+FaceCell PointBatch::cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const {
   const Atlas& at = atlases_[a];
   const AtlasPlan& plan = m_.atlases[a].plan;
   const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
-  const auto f = size_t(sl.face);
-  const int i = x - sl.x, j = y - sl.y;
+  for (int k = 0; k < 4; ++k) {
+    const float* s = &at.samples[4 * (size_t(y + (k >> 1)) * size_t(plan.width) + size_t(x + (k & 1)))];
+    corners[k] = glm::dvec3(s[0], s[1], s[2]);
+  }
+  return {sl.face, x - sl.x, y - sl.y};
+}
+
+PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge) const {
+  glm::dvec3 corner[4];
+  const FaceCell cell = cell_corners(a, x, y, corner);
+  const auto f = size_t(cell.face);
+  const int i = cell.i, j = cell.j;
   const nurbs::ParamGrid& g = m_.grids[f].grid;
-  auto sample = [&](int dx, int dy) {
-    const float* s = &at.samples[4 * (size_t(y + dy) * size_t(plan.width) + size_t(x + dx))];
-    return glm::dvec3(s[0], s[1], s[2]);
-  };
   const double u0 = g.u[size_t(i)], u1 = g.u[size_t(i) + 1], v0 = g.v[size_t(j)], v1 = g.v[size_t(j) + 1];
-  const glm::dvec3 sa = sample(0, 0), sb = sample(1, 0), sc = sample(0, 1), sd = sample(1, 1);
   // The two triangles of point_distance.cpp cell_hit, with their corners' parameters.
-  const glm::dvec3 tri[2][3] = {{sa, sb, sd}, {sa, sd, sc}};
+  const glm::dvec3 tri[2][3] = {{corner[0], corner[1], corner[3]}, {corner[0], corner[3], corner[2]}};
   const glm::dvec2 par[2][3] = {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}};
   PointDistance r;
   r.distance = kInf;
@@ -297,10 +305,10 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
     if (d < r.distance) r.distance = d, r.point = c, r.uv = w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2];
   }
   r.found = true;
-  r.face = sl.face;
+  r.face = cell.face;
   if (trim_edge && !m_.faces[f].loops.empty())
-    for (int corner = 0; corner < 4; ++corner)
-      if (!nurbs::is_material(m_.trims[f], {g.u[size_t(i + (corner & 1))], g.v[size_t(j + (corner >> 1))]}))
+    for (int c = 0; c < 4; ++c)
+      if (!nurbs::is_material(m_.trims[f], {g.u[size_t(i + (c & 1))], g.v[size_t(j + (c >> 1))]}))
         r.on_trim_edge = true;
   const double k = model_bound_ + 2.0 * slack(p);
   r.bound = k;
@@ -322,19 +330,9 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   }
   PointDistance r;
   if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
-  if (r.found && !material(r)) {
-    // §5.3: the closest triangle point lies in a trimmed region; the CPU search takes the closest
-    // material one. The true closest point may lie on a trim curve crossing a discarded cell, so
-    // the bound widens by the gap to the discarded triangle (d* >= d_discarded - K holds for any
-    // material point), and the result is on a trim edge.
+  if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
     ++stats_.fallbacks;
-    const double closest_any = r.distance;
     r = search_material(p);
-    if (r.found && r.distance > closest_any) {
-      r.bound += r.distance - closest_any;
-      r.point_bound = std::sqrt(4 * r.bound * r.distance + r.bound * r.bound);
-      r.on_trim_edge = true;
-    }
   }
   r.candidates = tested;
   return r;
@@ -364,6 +362,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
   PointDistance best;
   best.distance = kInf;
   Node win{};
+  bool on_edge = false;
   while (!open.empty() && open.top().d <= best.distance + eps) {
     const Node n = open.top();
     open.pop();
@@ -371,7 +370,17 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
     if (n.level == 0) {
       // on_trim_edge (four more classifications) only for the winner.
       const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
-      if (r.distance < best.distance && material(r)) best = r, win = n;
+      if (r.distance >= best.distance) continue;
+      if (material(r)) {
+        best = r, win = n, on_edge = false;
+        continue;
+      }
+      // The closest material point of this cell's triangles lies on the trim curve.
+      glm::dvec3 corners[4];
+      const FaceCell c = cell_corners(n.a, n.x, n.y, corners);
+      TrimEdgeHit h{best.distance};
+      if (trim_edges_[size_t(c.face)].closest(p, c.i, c.j, corners, h))
+        best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face, on_edge = true;
       continue;
     }
     const Atlas& at = atlases_[n.a];
@@ -382,7 +391,12 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
     }
   }
   if (!std::isfinite(best.distance)) return PointDistance{};
-  return cell_result(p, win.a, win.x, win.y, true);
+  if (!on_edge) return cell_result(p, win.a, win.x, win.y, true);
+  best.found = true;
+  best.on_trim_edge = true;
+  best.bound = model_bound_ + 2.0 * slack(p);
+  best.point_bound = std::sqrt(4 * best.bound * best.distance + best.bound * best.bound);
+  return best;
 }
 
 std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {

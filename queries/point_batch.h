@@ -11,10 +11,12 @@
 ///  3. per point on the CPU, in double: the winning cell's two triangles from its float samples,
 ///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
 ///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
-///     point whose winner lies in a trimmed region is searched again on the CPU (best first over the
-///     same pyramid, trimmed triangle points discarded, as the faithful path does); its bound then
-///     widens by the gap to the discarded triangle and it is on_trim_edge (the true closest point
-///     may lie on the trim curve inside a discarded cell).
+///     point whose winner lies in a trimmed region is searched again on the CPU, best first over
+///     the same pyramid: a cell whose closest triangle point is material gives it, a cell whose
+///     closest point is trimmed gives the closest point of the trim polygon's pieces inside it
+///     (point_batch_trim.h; such a winner is on_trim_edge). Cells with all four samples trimmed are
+///     culled (a feature thinner than a cell is missed, as in the faithful path); trim points are
+///     those of the flattened polygons (nurbs::flatten_trim, within 1e-6 of the u domain).
 /// Bound, per point (|distance - true distance| <= bound):
 ///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
 ///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "gpgpu/gpu.h"
+#include "queries/point_batch_trim.h"
 #include "queries/point_distance.h"
 #include "queries/prepared_model.h"
 
@@ -94,11 +97,14 @@ class PointBatch {
   PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best);
   PointDistance search_material(const glm::dvec3& p);
   PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true) const;
+  /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
+  FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
   [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
 
   gpgpu::Gpu& gpu_;
   const PreparedModel& m_;
   std::vector<Atlas> atlases_;
+  std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
   double model_bound_ = 0.0, radius_ = 0.0;
   PointBatchStats stats_;
 };

@@ -1,0 +1,108 @@
+#include "queries/point_batch_trim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace queries {
+namespace {
+
+/// Index of the cell of `knots` holding x (clamped to the first and last cell).
+int cell_index(const std::vector<double>& knots, double x) {
+  const auto it = std::upper_bound(knots.begin(), knots.end(), x);
+  return std::clamp(int(it - knots.begin()) - 1, 0, int(knots.size()) - 2);
+}
+
+}  // namespace
+
+TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& grid)
+    : trim_(&trim),
+      grid_(&grid),
+      side_step_(1e-9 * std::max(grid.u.back() - grid.u.front(), grid.v.back() - grid.v.front())) {
+  const int nu = grid.cells_u();
+  // Steps shorter than half the smallest cell: consecutive steps lie in the same or neighbouring
+  // cells, and the piece between them touches at most their two cells and the two corner cells.
+  const double step = 0.5 * grid.min_step();
+  std::vector<int64_t> keys;
+  for (size_t k = 0; k < trim.loops.size(); ++k) {
+    const auto& loop = trim.loops[k];
+    for (size_t e = 0; e < loop.size(); ++e) {
+      const glm::dvec2 a = loop[e], b = loop[(e + 1) % loop.size()];
+      const int steps = std::max(1, int(std::ceil(glm::length(b - a) / step)));
+      keys.clear();
+      glm::ivec2 prev(cell_index(grid.u, a.x), cell_index(grid.v, a.y));
+      for (int s = 0; s <= steps; ++s) {
+        const glm::dvec2 q = a + (b - a) * (double(s) / steps);
+        const glm::ivec2 c(cell_index(grid.u, q.x), cell_index(grid.v, q.y));
+        for (const glm::ivec2 t : {c, prev, glm::ivec2(c.x, prev.y), glm::ivec2(prev.x, c.y)})
+          keys.push_back(int64_t(t.y) * nu + t.x);
+        prev = c;
+      }
+      std::sort(keys.begin(), keys.end());
+      keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+      for (int64_t key : keys) cells_[key].emplace_back(int(k), int(e));
+    }
+  }
+}
+
+bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const {
+  if (trim_ == nullptr) return false;
+  const auto it = cells_.find(int64_t(j) * grid_->cells_u() + i);
+  if (it == cells_.end()) return false;
+  const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
+  const double v0 = grid_->v[size_t(j)], v1 = grid_->v[size_t(j) + 1];
+  bool improved = false;
+  for (const auto& [k, e] : it->second) {
+    const auto& loop = trim_->loops[size_t(k)];
+    const glm::dvec2 a = loop[size_t(e)], b = loop[(size_t(e) + 1) % loop.size()];
+    // The edge in unit-cell coordinates, clipped to [0, 1]^2 (Liang-Barsky).
+    const glm::dvec2 sa((a.x - u0) / (u1 - u0), (a.y - v0) / (v1 - v0));
+    const glm::dvec2 sd((b.x - u0) / (u1 - u0) - sa.x, (b.y - v0) / (v1 - v0) - sa.y);
+    double l0 = 0.0, l1 = 1.0;
+    bool inside = true;
+    for (int c = 0; c < 2 && inside; ++c)
+      for (const auto& [q, r] : {std::pair{-sd[c], sa[c]}, std::pair{sd[c], 1.0 - sa[c]}}) {
+        if (q == 0.0) {
+          inside = inside && r >= 0.0;
+          continue;
+        }
+        const double l = r / q;
+        if (q < 0.0) l0 = std::max(l0, l);
+        if (q > 0.0) l1 = std::min(l1, l);
+      }
+    if (!inside || l0 > l1) continue;
+    // Split where it crosses the diagonal s = t; each piece is straight on its triangle.
+    double cuts[3] = {l0, l1, l1};
+    const double denom = sd.x - sd.y;
+    if (denom != 0.0) {
+      const double l = (sa.y - sa.x) / denom;
+      if (l > l0 && l < l1) cuts[1] = l;
+    }
+    for (int piece = 0; piece < 2; ++piece) {
+      const double m0 = cuts[piece], m1 = cuts[piece + 1];
+      if (m1 <= m0 && piece == 1) continue;
+      const glm::dvec2 st0 = sa + m0 * sd, st1 = sa + m1 * sd, mid = 0.5 * (st0 + st1);
+      const bool lower = mid.x >= mid.y;
+      // (s, t) in the unit cell -> the piece's triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t >= s.
+      const auto on = [&](glm::dvec2 st) {
+        return lower ? corners[0] + st.x * (corners[1] - corners[0]) + st.y * (corners[3] - corners[1])
+                     : corners[0] + st.y * (corners[2] - corners[0]) + st.x * (corners[3] - corners[2]);
+      };
+      const glm::dvec3 q0 = on(st0), q1 = on(st1), d = q1 - q0;
+      const double len2 = glm::dot(d, d);
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - q0, d) / len2, 0.0, 1.0) : 0.0;
+      const glm::dvec3 q = q0 + t * d;
+      const double dist = glm::length(q - p);
+      if (dist >= best.distance) continue;
+      const glm::dvec2 st = st0 + t * (st1 - st0), uv(u0 + st.x * (u1 - u0), v0 + st.y * (v1 - v0));
+      const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
+      if (!nurbs::is_material(*trim_, uv + side) && !nurbs::is_material(*trim_, uv - side)) continue;
+      best = {dist, q, uv};
+      improved = true;
+    }
+  }
+  return improved;
+}
+
+}  // namespace queries

@@ -1,0 +1,48 @@
+#pragma once
+/// \file point_batch_trim.h
+/// The trim boundary inside the grid cells of a face (Krishnamurthy et al. §5.3), for the batched
+/// point projection (point_batch.h): when the closest point of a cell's two triangles lies in a
+/// trimmed region, the closest material point of those triangles lies on the trim curve (or on the
+/// cell's edges, which its neighbours hold). The face's flattened trim polygons are indexed by the
+/// cells their edges cross; inside a cell each edge piece is mapped onto the cell's triangles (the
+/// same piecewise-linear interpolant the triangle distances use), where it is a straight segment.
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "nurbs/certified_grid.h"
+#include "nurbs/trim_classify.h"
+
+namespace queries {
+
+/// A point of the interpolant with its parameters.
+struct TrimEdgeHit {
+  double distance = 0.0;
+  glm::dvec3 point{0.0};
+  glm::dvec2 uv{0.0};
+};
+
+class TrimEdges {
+ public:
+  TrimEdges() = default;
+  /// Indexes the edges of `trim` by the cells of `grid` they cross (both must outlive this).
+  TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& grid);
+
+  /// The closest point to p of the trim edges inside cell (i, j), whose corner points are
+  /// corners[k] at (u_{i + (k & 1)}, v_{j + (k >> 1)}); triangles (0, 1, 3) and (0, 3, 2) as
+  /// point_distance.cpp cell_hit. Replaces `best` when closer; true if it did. A point of an edge
+  /// counts only where material lies beside it (is_material 1e-9 of the domain to either side):
+  /// a hole's edge outside the outer loop bounds no material.
+  bool closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const;
+
+ private:
+  const nurbs::TrimPolygons* trim_ = nullptr;
+  const nurbs::ParamGrid* grid_ = nullptr;
+  double side_step_ = 0.0;
+  std::unordered_map<int64_t, std::vector<std::pair<int, int>>> cells_;  ///< cell -> (loop, edge)
+};
+
+}  // namespace queries
