@@ -208,6 +208,36 @@ TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes s
                         << " closer on a trim edge (checked by sampling)");
 }
 
+TEST_CASE("point batch: a hole reaching out of the outer loop bounds no material outside it") {
+  gpgpu::Gpu& gpu = test::gpu();
+  // The wavy surface with material [0.2, 0.8]^2 less the square hole [0.7, 0.9] x [0.4, 0.6]: the
+  // hole's edge u = 0.9 lies in the trimmed-away region, with no material beside it.
+  nurbs::TrimmedSurface face;
+  face.surface = models::wavy_surface_100x105();
+  const auto square = [](glm::dvec2 lo, glm::dvec2 hi, bool ccw) {
+    std::vector<glm::dvec2> c{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+    if (!ccw) std::reverse(c.begin(), c.end());
+    nurbs::TrimLoop loop;
+    loop.outer = ccw;
+    for (size_t k = 0; k < 4; ++k) loop.curves.push_back(models::trim_line(c[k], c[(k + 1) % 4]));
+    return loop;
+  };
+  face.loops = {square({0.2, 0.2}, {0.8, 0.8}, true), square({0.7, 0.4}, {0.9, 0.6}, false)};
+  const queries::PreparedModel m = queries::prepare_model(gpu, {face}, 2e-3 * 141.6);
+  queries::PointBatch batch(gpu, m);
+  // Above (0.92, 0.5): the hole's outside edge at u = 0.9 is 2 mm away, the nearest material (the
+  // corners (0.8, 0.4) and (0.8, 0.6) of the outer loop) more than 10 mm.
+  const glm::dvec3 p = nurbs::surface_point(face.surface, 0.92, 0.5) + glm::dvec3(0, 0, 0.5);
+  const queries::PointDistance r = batch.query(std::vector{p}).front();
+  CAPTURE(r.distance);
+  CAPTURE(r.uv.x);
+  CAPTURE(r.uv.y);
+  CHECK(r.on_trim_edge);
+  CHECK(std::abs(r.uv.x - 0.8) < 1e-6);                  // on the outer loop's edge u = 0.8 ...
+  CHECK(std::abs(std::abs(r.uv.y - 0.5) - 0.1) < 1e-2);  // ... at the hole's corner
+  CHECK(r.distance > 10.0);
+}
+
 TEST_CASE("point batch: coarse-to-fine models and empty batches") {
   gpgpu::Gpu& gpu = test::gpu();
   const auto faces = spread_faces(1);
