@@ -308,8 +308,7 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
   r.face = cell.face;
   if (trim_edge && !m_.faces[f].loops.empty())
     for (int c = 0; c < 4; ++c)
-      if (!nurbs::is_material(m_.trims[f], {g.u[size_t(i + (c & 1))], g.v[size_t(j + (c >> 1))]}))
-        r.on_trim_edge = true;
+      if (!trim_edges_[f].is_material({g.u[size_t(i + (c & 1))], g.v[size_t(j + (c >> 1))]})) r.on_trim_edge = true;
   const double k = model_bound_ + 2.0 * slack(p);
   r.bound = k;
   r.point_bound = std::sqrt(4 * k * r.distance + k * k);
@@ -318,7 +317,7 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
 
 bool PointBatch::material(const PointDistance& r) const {
   const auto f = size_t(r.face);
-  return m_.faces[f].loops.empty() || nurbs::is_material(m_.trims[f], r.uv);
+  return m_.faces[f].loops.empty() || trim_edges_[f].is_material(r.uv);
 }
 
 PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best) {

@@ -16,10 +16,67 @@ int cell_index(const std::vector<double>& knots, double x) {
 
 }  // namespace
 
+BandedTrim::BandedTrim(const nurbs::TrimPolygons& trim) : trim_(&trim) {
+  for (const auto& poly : trim.loops) {
+    Loop l;
+    double lo = 1e300, hi = -1e300;
+    for (const glm::dvec2& q : poly) lo = std::min(lo, q.y), hi = std::max(hi, q.y);
+    const int bands = std::clamp(int(poly.size() / 4), 1, 4096);
+    l.v0 = lo;
+    l.height = hi > lo ? (hi - lo) / bands : 1.0;
+    l.bands.resize(size_t(bands));
+    const auto band = [&](double v) { return std::clamp(int((v - l.v0) / l.height), 0, bands - 1); };
+    for (size_t e = 0; e < poly.size(); ++e) {
+      const double a = poly[e].y, b = poly[(e + 1) % poly.size()].y;
+      for (int k = band(std::min(a, b)); k <= band(std::max(a, b)); ++k) l.bands[size_t(k)].push_back(int(e));
+    }
+    loops_.push_back(std::move(l));
+  }
+}
+
+int BandedTrim::winding(size_t k, glm::dvec2 p) const {
+  const Loop& l = loops_[k];
+  if (p.y < l.v0 || l.bands.empty()) return 0;
+  // The band of band() in the constructor (the same arithmetic, clamped to the top band, whose
+  // edges give nothing above the loop).
+  const size_t b = std::min(size_t((p.y - l.v0) / l.height), l.bands.size() - 1);
+  const auto& poly = trim_->loops[k];
+  int wn = 0;
+  // The arithmetic of nurbs::winding_number, on the edges whose v range may hold p.y.
+  for (int e : l.bands[b]) {
+    const glm::dvec2 a = poly[size_t(e)], c = poly[(size_t(e) + 1) % poly.size()];
+    const double side = (c.x - a.x) * (p.y - a.y) - (p.x - a.x) * (c.y - a.y);
+    if (a.y <= p.y) {
+      if (c.y > p.y && side > 0) ++wn;
+    } else if (c.y <= p.y && side < 0) {
+      --wn;
+    }
+  }
+  return wn;
+}
+
+bool BandedTrim::is_material(glm::dvec2 uv) const {
+  // The rules of nurbs::is_material.
+  const nurbs::TrimPolygons& t = *trim_;
+  if (uv.x < t.domain_u.min || uv.x > t.domain_u.max || uv.y < t.domain_v.min || uv.y > t.domain_v.max) return false;
+  bool any_outer = false, in_outer = false;
+  for (size_t k = 0; k < t.loops.size(); ++k) {
+    const bool inside = winding(k, uv) != 0;
+    if (t.outer[k]) {
+      any_outer = true;
+      in_outer = in_outer || inside;
+    } else if (inside) {
+      return false;
+    }
+  }
+  return any_outer ? in_outer : true;
+}
+
 TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& grid)
     : trim_(&trim),
       grid_(&grid),
-      side_step_(1e-9 * std::max(grid.u.back() - grid.u.front(), grid.v.back() - grid.v.front())) {
+      side_step_(1e-9 * std::max(grid.u.back() - grid.u.front(), grid.v.back() - grid.v.front())),
+      banded_(trim) {
   const int nu = grid.cells_u();
   // Steps shorter than half the smallest cell: consecutive steps lie in the same or neighbouring
   // cells, and the piece between them touches at most their two cells and the two corner cells.
@@ -97,7 +154,7 @@ bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corn
       if (dist >= best.distance) continue;
       const glm::dvec2 st = st0 + t * (st1 - st0), uv(u0 + st.x * (u1 - u0), v0 + st.y * (v1 - v0));
       const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
-      if (!nurbs::is_material(*trim_, uv + side) && !nurbs::is_material(*trim_, uv - side)) continue;
+      if (!banded_.is_material(uv + side) && !banded_.is_material(uv - side)) continue;
       best = {dist, q, uv};
       improved = true;
     }

@@ -25,6 +25,25 @@ struct TrimEdgeHit {
   glm::dvec2 uv{0.0};
 };
 
+/// nurbs::is_material with the same answer, bit for bit, in far fewer steps: each loop's edges
+/// sorted into horizontal bands of its box, so a winding number (Sunday's rule counts only the
+/// edges whose half-open v range holds the point) reads only the point's band.
+class BandedTrim {
+ public:
+  BandedTrim() = default;
+  explicit BandedTrim(const nurbs::TrimPolygons& trim);  ///< `trim` must outlive this
+  [[nodiscard]] bool is_material(glm::dvec2 uv) const;
+
+ private:
+  struct Loop {
+    double v0 = 0.0, height = 1.0;
+    std::vector<std::vector<int>> bands;  ///< edge indices per band
+  };
+  [[nodiscard]] int winding(size_t k, glm::dvec2 p) const;
+  const nurbs::TrimPolygons* trim_ = nullptr;
+  std::vector<Loop> loops_;
+};
+
 class TrimEdges {
  public:
   TrimEdges() = default;
@@ -37,11 +56,14 @@ class TrimEdges {
   /// counts only where material lies beside it (is_material 1e-9 of the domain to either side):
   /// a hole's edge outside the outer loop bounds no material.
   bool closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const;
+  /// nurbs::is_material(trim, uv) (BandedTrim).
+  [[nodiscard]] bool is_material(glm::dvec2 uv) const { return banded_.is_material(uv); }
 
  private:
   const nurbs::TrimPolygons* trim_ = nullptr;
   const nurbs::ParamGrid* grid_ = nullptr;
   double side_step_ = 0.0;
+  BandedTrim banded_;
   std::unordered_map<int64_t, std::vector<std::pair<int, int>>> cells_;  ///< cell -> (loop, edge)
 };
 

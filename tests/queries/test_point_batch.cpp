@@ -82,6 +82,36 @@ bool agree_with_faithful(const std::vector<nurbs::TrimmedSurface>& faces, const 
 
 }  // namespace
 
+TEST_CASE("point batch: the banded trim classification equals nurbs::is_material") {
+  // Random trimmed faces, the trimmed 100 x 105 surface; random (u, v) and every polygon vertex and
+  // edge midpoint (the ties of the half-open rule).
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (uint64_t seed = 0; seed < 12; ++seed) faces.push_back(models::random_trimmed_surface(seed));
+  faces.push_back(models::trimmed_wavy_surface_100x105());
+  models::Random rng(17);
+  long long checked = 0, material = 0, differ = 0;
+  for (const auto& f : faces) {
+    if (f.loops.empty()) continue;
+    const nurbs::TrimPolygons t = nurbs::flatten_trim(f, 1e-6 * nurbs::surface_domain_u(f.surface).width());
+    const queries::BandedTrim banded(t);
+    std::vector<glm::dvec2> uvs;
+    for (int k = 0; k < 2000; ++k)
+      uvs.emplace_back(rng.uniform(t.domain_u.min, t.domain_u.max), rng.uniform(t.domain_v.min, t.domain_v.max));
+    for (const auto& loop : t.loops)
+      for (size_t e = 0; e < loop.size(); ++e)
+        uvs.insert(uvs.end(), {loop[e], 0.5 * (loop[e] + loop[(e + 1) % loop.size()])});
+    for (const glm::dvec2& uv : uvs) {
+      const bool want = nurbs::is_material(t, uv);
+      differ += banded.is_material(uv) != want;
+      material += want;
+      ++checked;
+    }
+  }
+  CHECK(differ == 0);
+  CHECK(material > checked / 10);
+  MESSAGE(checked << " (u, v) classified, " << material << " material, " << differ << " differ");
+}
+
 TEST_CASE("point batch: the GPU pyramid equals the CPU twin's, level by level, bit for bit") {
   gpgpu::Gpu& gpu = test::gpu();
   const auto faces = spread_faces(5);
