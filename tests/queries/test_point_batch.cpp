@@ -8,16 +8,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <glm/geometric.hpp>
 
 #include "../gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
+#include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/point_batch.h"
 #include "queries/point_distance.h"
+#include "tests/shared_models.h"
 
 namespace {
 
@@ -280,4 +283,43 @@ TEST_CASE("point batch: coarse-to-fine models and empty batches") {
   queries::PointBatch batch(gpu, m);
   CHECK(batch.query({}).empty());
   CHECK(batch.stats().points == 0);
+}
+
+TEST_CASE("point batch: every face of the shared IGES models takes part" * test::needs_shared_models()) {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(test::shared_models_dir()))
+    if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  REQUIRE(files.size() >= 8);
+  int faces = 0, points_run = 0, edge_closer = 0;
+  long long fallbacks = 0;
+  for (const auto& file : files) {
+    const nurbs::Model model = nurbs::io::read_model(file);
+    const double size = nurbs::model_size(model);
+    const auto all = nurbs::world_faces(model);
+    const queries::PreparedModel m = queries::prepare_model(gpu, all, 1e-3 * size);
+    queries::PointBatch batch(gpu, m);
+    queries::PointDistanceQuery faithful(gpu, all, 1e-3 * size);
+    faces += int(all.size());
+    const std::string name = file.filename().string();
+    CAPTURE(name);
+    const std::vector<glm::dvec3> points = random_points(all, 24, 9);
+    const auto res = batch.query(points);
+    fallbacks += batch.stats().fallbacks;
+    for (size_t i = 0; i < points.size(); ++i) {
+      CAPTURE(i);
+      const queries::PointDistance& r = res[i];
+      REQUIRE(r.found);
+      // The twin: same pyramid and descent in double (within the pass's float slack).
+      CHECK(std::abs(r.distance - batch.query_cpu(points[i]).distance) <= 2 * batch.slack(points[i]));
+      CHECK(r.bound <= 1e-3 * size + batch.model_bound());
+      if (!all[size_t(r.face)].loops.empty() && !r.on_trim_edge)
+        CHECK(nurbs::is_material(m.trims[size_t(r.face)], r.uv));
+      if (i % 8 == 0) agree_with_faithful(all, m.trims, points[i], r, faithful.query(points[i]), edge_closer);
+      ++points_run;
+    }
+  }
+  MESSAGE(faces << " faces of " << files.size() << " shared files, " << points_run << " points, " << fallbacks
+                << " CPU fallbacks, " << edge_closer << " closer than the faithful path on a trim edge");
 }
