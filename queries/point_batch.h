@@ -5,9 +5,11 @@
 ///  1. once: the box of every cell's four float samples (glsl/aabb_leaf.frag, ungrown) merged 2x2
 ///     up to one root (glsl/aabb_merge.frag), the levels stored as mip levels of one texture
 ///     (Krishnamurthy et al. §5.1 hierarchies);
-///  2. per batch: one pass in which every point descends the pyramid depth first, nearest child
-///     first, pruned by its best triangle distance so far, and ends at the closest cell triangle;
-///     one read-back of (distance, cell) for all points;
+///  2. per batch: the points sorted along a Morton curve and laid out in 4 x 4 tiles (lanes that
+///     run together descend alike), one pass in which every point descends the pyramid depth
+///     first, nearest child first, with no stack array (siblings left per level in bit fields),
+///     pruned by its best triangle distance so far, ending at the closest cell triangle; one
+///     read-back of (distance, cell) for all points;
 ///  3. per point on the CPU, in double: the winning cell's two triangles from its float samples,
 ///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
 ///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
@@ -21,7 +23,9 @@
 ///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
 ///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
 ///   triangle distances, which can make it pick a cell up to 2 eps farther than the closest one
-///   (it prunes only boxes beyond best + eps). point_bound = sqrt(4 K d + K^2) with K = bound.
+///   (it prunes only boxes beyond best + eps). eps is a stated allowance (16 ulp; the distances
+///   are taken to points, edge lines and planes, a few roundings each), not a proof; the tests
+///   measure |pass - twin in double| <= 0.06 eps. point_bound = sqrt(4 K d + K^2) with K = bound.
 /// Needs Search::Faithful grids (the cells the answers come from meet the tolerance).
 #include <glm/vec3.hpp>
 #include <span>
