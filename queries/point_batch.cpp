@@ -10,6 +10,7 @@
 #include <limits>
 #include <queue>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "gpgpu/layout.h"
@@ -320,7 +321,7 @@ bool PointBatch::material(const PointDistance& r) const {
   return m_.faces[f].loops.empty() || trim_edges_[f].is_material(r.uv);
 }
 
-PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best) {
+PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks) const {
   size_t win = best.size();
   long long tested = 0;
   for (size_t a = 0; a < best.size(); ++a) {
@@ -330,14 +331,14 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   PointDistance r;
   if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
   if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
-    ++stats_.fallbacks;
+    ++fallbacks;
     r = search_material(p);
   }
   r.candidates = tested;
   return r;
 }
 
-PointDistance PointBatch::search_material(const glm::dvec3& p) {
+PointDistance PointBatch::search_material(const glm::dvec3& p) const {
   // Best first over every atlas's pyramid, in double; a triangle point in a trimmed region is
   // discarded and the search goes on, as the faithful path does.
   struct Node {
@@ -354,7 +355,6 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) {
     return box_distance(q, &atlases_[a].cpu_lo[size_t(level)][i], &atlases_[a].cpu_hi[size_t(level)][i]);
   };
   for (size_t a = 0; a < atlases_.size(); ++a) {
-    build_cpu_pyramid(atlases_[a]);
     const int top = atlases_[a].lo.levels() - 1;
     open.push({box(a, top, 0, 0), a, top, 0, 0});
   }
@@ -405,22 +405,39 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
   const auto cells = descend_gpu(points);
   stats_.gpu_seconds = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
-  std::vector<PointDistance> out;
-  out.reserve(points.size());
-  std::vector<BatchCell> best(atlases_.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (size_t a = 0; a < atlases_.size(); ++a) best[a] = cells[a][i];
-    out.push_back(finish(points[i], best));
-    stats_.cells_tested += out.back().candidates;
-  }
+  // The searches of points whose winner is trimmed read the CPU pyramids: built before the threads.
+  for (size_t f = 0; f < m_.faces.size(); ++f)
+    if (!m_.faces[f].loops.empty()) {
+      for (Atlas& at : atlases_) build_cpu_pyramid(at);
+      break;
+    }
+  // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
+  // least 128 points each (the tests' batches of hundreds run on two threads).
+  std::vector<PointDistance> out(points.size());
+  const size_t threads = std::clamp<size_t>(points.size() / 128, 1, std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<long long> fallbacks(threads, 0), tested(threads, 0);
+  auto work = [&](size_t t) {
+    std::vector<BatchCell> best(atlases_.size());
+    for (size_t i = t * points.size() / threads; i < (t + 1) * points.size() / threads; ++i) {
+      for (size_t a = 0; a < atlases_.size(); ++a) best[a] = cells[a][i];
+      out[i] = finish(points[i], best, fallbacks[t]);
+      tested[t] += out[i].candidates;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& th : pool) th.join();
+  for (size_t t = 0; t < threads; ++t) stats_.fallbacks += fallbacks[t], stats_.cells_tested += tested[t];
   stats_.cpu_seconds = seconds_since(t1);
   return out;
 }
 
 PointDistance PointBatch::query_cpu(const glm::dvec3& p) {
   std::vector<BatchCell> best;
-  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p));
-  return finish(p, best);
+  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p));  // builds the pyramids
+  long long fallbacks = 0;
+  return finish(p, best, fallbacks);
 }
 
 std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {

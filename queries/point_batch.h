@@ -47,7 +47,7 @@ struct PointBatchStats {
   long long cells_tested = 0;  ///< triangle pairs evaluated by the descent (summed over points)
   long long fallbacks = 0;     ///< points searched again on the CPU (winner in a trimmed region)
   double gpu_seconds = 0.0;    ///< upload, descent passes and read-back
-  double cpu_seconds = 0.0;    ///< the double-precision finishing (and fallbacks)
+  double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
 };
 
 /// The best cell of one atlas for one point: triangle distance (+inf: none), the cell's texel,
@@ -98,8 +98,9 @@ class PointBatch {
     std::vector<std::vector<float>> cpu_hi;
   };
   void build_cpu_pyramid(Atlas& at);
-  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best);
-  PointDistance search_material(const glm::dvec3& p);
+  /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
+  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks) const;
+  PointDistance search_material(const glm::dvec3& p) const;
   PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true) const;
   /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
   FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
