@@ -104,7 +104,14 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds) {
           {"uv_b", {c.uv_b.x, c.uv_b.y}},
           {"seconds", seconds},
           {"pairs_per_level", c.pairs_per_level},
-          {"leaf_pairs", c.leaf_pairs}};
+          {"leaf_pairs", c.leaf_pairs},
+          {"on_trim_edge", c.on_trim_edge},
+          {"meets_tolerance", c.meets_tolerance},
+          {"refine",
+           {{"rounds", c.rounds},
+            {"cells", c.refined_cells},
+            {"most_pairs", c.most_pairs},
+            {"seconds", c.refine_seconds}}}};
 }
 
 void run(const GlobalOptions& global, const Options& o) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -13,6 +14,7 @@
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/refine.h"
 
 namespace queries {
 namespace {
@@ -112,19 +114,40 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   }
   // Leaf pairs: two triangles per cell on each side, in double.
   std::vector<float> recs = count > 0 ? pairs.read() : std::vector<float>{};
-  double ka = 0.0, kb = 0.0;
-  r.distance = kInf;
+  std::vector<std::pair<FaceCell, FaceCell>> leaves;
   for (long long k = 0; k < count; ++k) {
     const auto ca = a.cell_at(0, int(recs[size_t(4 * k)]), int(recs[size_t(4 * k + 1)]));
     const auto cb = b.cell_at(0, int(recs[size_t(4 * k + 2)]), int(recs[size_t(4 * k + 3)]));
-    if (!ca || !cb) continue;
-    ++r.leaf_pairs;
-    ka = std::max(ka, nurbs::grid_cell_k(a.bounds[size_t(ca->face)], a.grids[size_t(ca->face)].grid, ca->i, ca->j,
+    if (ca && cb) leaves.emplace_back(*ca, *cb);
+  }
+  r.leaf_pairs = static_cast<long long>(leaves.size());
+  if (a.search == Search::CoarseToFine || b.search == Search::CoarseToFine) {
+    // Candidates refined in double until the answer is proven within T (refine.h).
+    const auto t0 = std::chrono::steady_clock::now();
+    const Refined f = refine_pairs(a, b, motion_b, leaves, std::max(a.tolerance, b.tolerance));
+    r.refine_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.found = f.found;
+    r.distance = f.distance;
+    r.bound = f.bound;
+    r.point_a = f.point_a, r.point_b = f.point_b;
+    r.uv_a = f.uv_a, r.uv_b = f.uv_b;
+    r.face_a = f.face_a, r.face_b = f.face_b;
+    r.on_trim_edge = f.on_trim_edge;
+    r.meets_tolerance = f.meets_tolerance;
+    r.rounds = f.rounds;
+    r.refined_cells = f.cells;
+    r.most_pairs = f.most_pairs;
+    return r;
+  }
+  double ka = 0.0, kb = 0.0;
+  r.distance = kInf;
+  for (const auto& [ca, cb] : leaves) {
+    ka = std::max(ka, nurbs::grid_cell_k(a.bounds[size_t(ca.face)], a.grids[size_t(ca.face)].grid, ca.i, ca.j,
                                          nurbs::KNorm::Euclidean));
-    kb = std::max(kb, nurbs::grid_cell_k(b.bounds[size_t(cb->face)], b.grids[size_t(cb->face)].grid, cb->i, cb->j,
+    kb = std::max(kb, nurbs::grid_cell_k(b.bounds[size_t(cb.face)], b.grids[size_t(cb.face)].grid, cb.i, cb.j,
                                          nurbs::KNorm::Euclidean));
-    const CellTriangles ta = cell_triangles(a, *ca, glm::dmat4(1.0)), tb = cell_triangles(b, *cb, motion_b);
-    const nurbs::TrimmedSurface &fa = a.faces[size_t(ca->face)], &fb = b.faces[size_t(cb->face)];
+    const CellTriangles ta = cell_triangles(a, ca, glm::dmat4(1.0)), tb = cell_triangles(b, cb, motion_b);
+    const nurbs::TrimmedSurface &fa = a.faces[size_t(ca.face)], &fb = b.faces[size_t(cb.face)];
     for (int s = 0; s < 2; ++s)
       for (int t = 0; t < 2; ++t) {
         glm::dvec3 pa, pb, wa, wb;
@@ -133,16 +156,16 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
         // §5.3: a closest point inside a trimmed region is discarded (PreparedModel::trims).
         const glm::dvec2 uva = wa.x * ta.uv[s][0] + wa.y * ta.uv[s][1] + wa.z * ta.uv[s][2];
         const glm::dvec2 uvb = wb.x * tb.uv[t][0] + wb.y * tb.uv[t][1] + wb.z * tb.uv[t][2];
-        if (!fa.loops.empty() && !nurbs::is_material(a.trims[size_t(ca->face)], uva)) continue;
-        if (!fb.loops.empty() && !nurbs::is_material(b.trims[size_t(cb->face)], uvb)) continue;
+        if (!fa.loops.empty() && !nurbs::is_material(a.trims[size_t(ca.face)], uva)) continue;
+        if (!fb.loops.empty() && !nurbs::is_material(b.trims[size_t(cb.face)], uvb)) continue;
         r.found = true;
         r.distance = d;
         r.point_a = pa;
         r.point_b = pb;
         r.uv_a = uva;
         r.uv_b = uvb;
-        r.face_a = ca->face;
-        r.face_b = cb->face;
+        r.face_a = ca.face;
+        r.face_b = cb.face;
       }
   }
   r.bound = ka + kb;

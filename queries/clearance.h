@@ -35,7 +35,14 @@ struct Clearance {
   glm::dvec2 uv_a{0.0}, uv_b{0.0};
   int face_a = -1, face_b = -1;
   std::vector<long long> pairs_per_level;  ///< surviving box pairs after each level (Fig. 12)
-  long long leaf_pairs = 0;                ///< cell pairs whose triangles were compared
+  long long leaf_pairs = 0;                ///< cell pairs at the finest level of the GPU search
+  // Search::CoarseToFine (refine.h): exact surface points, d* in [distance - bound, distance].
+  bool on_trim_edge = false;    ///< a cell of the answer is partly trimmed (the looser §5.3 case)
+  bool meets_tolerance = true;  ///< bound <= T (false when the refinement hit its budget)
+  int rounds = 0;               ///< subdivision rounds on the CPU
+  long long refined_cells = 0;  ///< cells evaluated on the CPU
+  long long most_pairs = 0;     ///< largest candidate set of a round
+  double refine_seconds = 0.0;  ///< time of the CPU refinement
 };
 
 /// The clearance between model `a` and model `b` moved by `motion_b` (rigid). Each model must fit

@@ -13,6 +13,7 @@
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/refine.h"
 
 namespace queries {
 namespace {
@@ -103,11 +104,7 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   // Pass 2: the cells whose lower bound is within U (a relative 1e-5 above it covers float rounding
   // of both), compacted and read back.
   const float cut = std::isfinite(upper) ? float(upper * (1 + 1e-5)) : std::numeric_limits<float>::max();
-  struct Candidate {
-    CellHit hit;
-    int face, i, j;
-  };
-  std::vector<Candidate> cands;
+  std::vector<FaceCell> cells;
   for (size_t a = 0; a < m_.atlases.size(); ++a) {
     const FaceAtlas& at = m_.atlases[a];
     gpgpu::PooledTexture keep = gpu_.acquire(at.plan.width, at.plan.height, gpgpu::Format::R8);
@@ -118,15 +115,35 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     gpu_.run("threshold_le", prog, in, out);
     const gpgpu::Compacted c = gpgpu::compact(gpu_, *keep.get(), *minmax[a].get());
     if (c.count == 0) continue;
-    for (uint32_t idx : c.read_source()) {
-      const auto cell = m_.cell_at(a, int(idx % uint32_t(at.plan.width)), int(idx / uint32_t(at.plan.width)));
-      if (!cell) continue;
-      const auto f = size_t(cell->face);
-      cands.push_back(
-          {cell_hit(m_.faces[f].surface, m_.grids[f].grid, cell->i, cell->j, p), cell->face, cell->i, cell->j});
-    }
+    for (uint32_t idx : c.read_source())
+      if (const auto cell = m_.cell_at(a, int(idx % uint32_t(at.plan.width)), int(idx / uint32_t(at.plan.width))))
+        cells.push_back(*cell);
   }
-  r.candidates = static_cast<long long>(cands.size());
+  r.candidates = static_cast<long long>(cells.size());
+  if (m_.search == Search::CoarseToFine) {  // candidates refined in double until they meet T (refine.h)
+    const Refined f = refine_point(m_, cells, p, m_.tolerance);
+    r.found = f.found;
+    r.distance = f.distance;
+    r.point = f.point_a;
+    r.uv = f.uv_a;
+    r.face = f.face_a;
+    r.bound = f.bound;
+    r.point_bound = std::sqrt(4 * f.bound * f.distance + f.bound * f.bound);
+    r.on_trim_edge = f.on_trim_edge;
+    r.meets_tolerance = f.meets_tolerance;
+    r.rounds = f.rounds;
+    r.refined_cells = f.cells;
+    return r;
+  }
+  // Faithful: two triangles per candidate cell in double.
+  struct Candidate {
+    CellHit hit;
+    int face, i, j;
+  };
+  std::vector<Candidate> cands;
+  for (const FaceCell& c : cells)
+    cands.push_back(
+        {cell_hit(m_.faces[size_t(c.face)].surface, m_.grids[size_t(c.face)].grid, c.i, c.j, p), c.face, c.i, c.j});
   // On the CPU: the closest triangle point that is material (§5.3); K_e maxed over the candidates.
   std::sort(cands.begin(), cands.end(),
             [](const Candidate& x, const Candidate& y) { return x.hit.distance < y.hit.distance; });

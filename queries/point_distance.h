@@ -43,6 +43,10 @@ struct PointDistance {
   long long cells = 0;       ///< cells tested on the GPU
   long long candidates = 0;  ///< cells whose lower bound is within U (read back)
   double upper = 0.0;        ///< U, the least upper bound over the cells
+  // Search::CoarseToFine (refine.h): the point is an exact surface point, bound = U - L.
+  bool meets_tolerance = true;  ///< bound <= T (false when the refinement hit its budget)
+  int rounds = 0;               ///< subdivision rounds
+  long long refined_cells = 0;  ///< cells evaluated on the CPU
 };
 
 /// A model prepared for many point queries (grids, atlases and masks stay on the GPU).

@@ -38,17 +38,14 @@ double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double 
   return std::max(tolerance, 1e-3 * all.diagonal());
 }
 
-PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples, Search search) {
+PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance, long long max_samples,
+                               Search search) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   PreparedModel m;
   m.tolerance = tolerance;
   m.search = search;
   m.grid_tolerance = search == Search::CoarseToFine ? coarse_tolerance(faces, tolerance) : tolerance;
   m.faces = std::move(faces);
-  std::vector<nurbs::ParamGrid> params;
-  std::vector<std::pair<int, int>> sizes;
-  std::vector<double> flatten;
   glm::dvec3 lo(kInf), hi(-kInf);
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const nurbs::Surface& s = m.faces[f].surface;
@@ -58,15 +55,25 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     m.bounds.push_back(nurbs::filip_bound(s));
     m.grids.push_back(nurbs::certified_grid(m.bounds.back(), m.grid_tolerance, {max_samples}));
     if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));
-    const nurbs::ParamGrid& g = m.grids.back().grid;
-    params.push_back(g);
-    sizes.emplace_back(int(g.u.size()), int(g.v.size()));
-    flatten.push_back(trim_flatten_tolerance(g));
     m.trims.push_back(m.faces[f].loops.empty()
                           ? nurbs::TrimPolygons{}
                           : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));
   }
   m.centre = 0.5 * (lo + hi);
+  return m;
+}
+
+PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
+                            long long max_samples, Search search) {
+  PreparedModel m = prepare_geometry(std::move(faces), tolerance, max_samples, search);
+  std::vector<nurbs::ParamGrid> params;
+  std::vector<std::pair<int, int>> sizes;
+  std::vector<double> flatten;
+  for (const nurbs::CertifiedGrid& cg : m.grids) {
+    params.push_back(cg.grid);
+    sizes.emplace_back(int(cg.grid.u.size()), int(cg.grid.v.size()));
+    flatten.push_back(trim_flatten_tolerance(cg.grid));
+  }
   const int side = std::min(gpu.info().max_texture_size, 4096);
   std::vector<int> unpacked;
   for (const AtlasPlan& plan : plan_atlases(sizes, side, static_cast<long long>(side) * side, unpacked)) {

@@ -51,6 +51,11 @@ struct PreparedModel {
 /// Prepares `faces` for queries at K_e <= `tolerance` (model units). Throws std::runtime_error
 /// naming a face that cannot meet it within `max_samples`, and std::length_error when a face's grid
 /// is larger than an atlas of the GPU's size.
+/// The CPU part of prepare_model: bounds, certified grids, trim polygons and centre, no atlases
+/// (what the refinement of refine.h and the CPU twins need).
+PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance,
+                               long long max_samples = 1LL << 22, Search search = Search::Faithful);
+
 /// With Search::CoarseToFine the grids are evaluated at `coarse_tolerance(faces, tolerance)`.
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                             long long max_samples = 1LL << 22, Search search = Search::Faithful);

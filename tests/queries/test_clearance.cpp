@@ -13,6 +13,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "queries/clearance.h"
+#include "tests/queries/distance_reference.h"
 
 namespace {
 
@@ -101,5 +102,42 @@ TEST_CASE("clearance: two exact spheres, and a rigid motion of the second") {
     CHECK(glm::length(c.point_a - dir) < 0.1);  // near the true closest point of the first sphere
     MESSAGE("gap " << gap << ": distance " << c.distance << " +- " << c.bound << ", pairs per level "
                    << c.pairs_per_level.size() << " levels, " << c.leaf_pairs << " leaf pairs");
+  }
+}
+
+TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, against the faithful path") {
+  gpgpu::Gpu& gpu = test::gpu();
+  nurbs::TrimmedSurface s1, s2;
+  s1.surface = models::rational_sphere(1.0);
+  s2.surface = models::rational_sphere(2.0);
+  const double tol = 1e-4;
+  const auto a = queries::prepare_model(gpu, {s1}, tol, 1LL << 22, queries::Search::CoarseToFine);
+  const auto b = queries::prepare_model(gpu, {s2}, tol, 1LL << 22, queries::Search::CoarseToFine);
+  for (double gap : {0.02, 1.5}) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(-1, 0.4, 2));
+    const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), (3.0 + gap) * dir);
+    const queries::Clearance c = queries::clearance(gpu, a, b, motion);
+    CAPTURE(gap);
+    test::check_proven(c.found, c.meets_tolerance, c.distance, c.bound, tol, gap, 1e-12);
+    CHECK(std::abs(glm::length(c.point_a - c.point_b) - c.distance) < 1e-12);
+    CHECK(glm::length(c.point_a - dir) < 0.02);
+    MESSAGE("gap " << gap << ": " << c.distance << " - " << c.bound << ", " << c.leaf_pairs << " GPU leaf pairs, "
+                   << c.rounds << " CPU rounds, " << c.refined_cells << " cells");
+  }
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    nurbs::TrimmedSurface fa, fb;
+    fa.surface = models::random_surface(seed + 310, 2, 1 + int(seed % 3), seed % 2 == 1);
+    fb.surface = models::random_surface(seed + 710, 1 + int(seed % 3), 2, false);
+    for (auto& p : fb.surface.points) p += glm::dvec3(-0.2, 0.4, 2.2);
+    const double t = 2e-3;
+    const auto fa_f = queries::prepare_model(gpu, {fa}, t), fb_f = queries::prepare_model(gpu, {fb}, t);
+    const auto fa_c = queries::prepare_model(gpu, {fa}, t, 1LL << 22, queries::Search::CoarseToFine);
+    const auto fb_c = queries::prepare_model(gpu, {fb}, t, 1LL << 22, queries::Search::CoarseToFine);
+    const queries::Clearance f = queries::clearance(gpu, fa_f, fb_f), c = queries::clearance(gpu, fa_c, fb_c);
+    CAPTURE(seed);
+    REQUIRE(c.found);
+    CHECK(c.bound <= t);
+    CHECK(std::abs(f.distance - c.distance) <= f.bound + c.bound);
+    CHECK(std::abs(glm::length(c.point_a - nurbs::surface_point(fa.surface, c.uv_a.x, c.uv_a.y))) < 1e-12);
   }
 }

@@ -19,60 +19,8 @@
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/point_distance.h"
+#include "tests/queries/distance_reference.h"
 #include "tests/shared_models.h"
-
-namespace {
-
-/// Independent reference: the closest of 200 x 200 samples, then projected Newton on
-/// f(u, v) = |S(u, v) - p|^2 from the best 8 samples and one more start (clamped to the domain).
-/// The extra start (the query's own answer) only helps the reference find the global minimum where
-/// folds of a random net hide it between samples; every distance is still computed on the surface.
-struct Reference {
-  double distance;
-  glm::dvec3 point;
-};
-Reference reference(const nurbs::Surface& s, const glm::dvec3& p, glm::dvec2 extra_start) {
-  const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
-  constexpr int N = 200;
-  std::vector<std::pair<double, glm::dvec2>> samples;
-  for (int j = 0; j <= N; ++j)
-    for (int i = 0; i <= N; ++i) {
-      const glm::dvec2 uv(du.min + du.width() * i / N, dv.min + dv.width() * j / N);
-      samples.emplace_back(glm::length(nurbs::surface_point(s, uv.x, uv.y) - p), uv);
-    }
-  std::partial_sort(samples.begin(), samples.begin() + 8, samples.end(),
-                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  Reference best{samples.front().first, nurbs::surface_point(s, samples.front().second.x, samples.front().second.y)};
-  for (int k = 0; k < 9; ++k) {
-    glm::dvec2 uv = k < 8 ? samples[size_t(k)].second : extra_start;
-    double f = glm::length(nurbs::surface_point(s, uv.x, uv.y) - p);
-    for (int it = 0; it < 40; ++it) {
-      const nurbs::SurfaceDerivatives d = nurbs::surface_derivatives(s, uv.x, uv.y);
-      const glm::dvec3 r = d.s - p;
-      const double gu = glm::dot(r, d.su), gv = glm::dot(r, d.sv);
-      const double huu = glm::dot(d.su, d.su) + glm::dot(r, d.suu), hvv = glm::dot(d.sv, d.sv) + glm::dot(r, d.svv);
-      const double huv = glm::dot(d.su, d.sv) + glm::dot(r, d.suv);
-      const double det = huu * hvv - huv * huv;
-      // Newton where the Hessian is positive definite, else a gradient step; halved until it descends.
-      glm::dvec2 step =
-          det > 0 && huu > 0
-              ? glm::dvec2((hvv * gu - huv * gv) / det, (huu * gv - huv * gu) / det)
-              : glm::dvec2(gu, gv) /
-                    std::max(glm::length(d.su) * glm::length(d.su) + glm::length(d.sv) * glm::length(d.sv), 1e-300);
-      bool moved = false;
-      for (int half = 0; half < 30 && !moved; ++half, step *= 0.5) {
-        const glm::dvec2 next = glm::clamp(uv - step, glm::dvec2(du.min, dv.min), glm::dvec2(du.max, dv.max));
-        const double fn = glm::length(nurbs::surface_point(s, next.x, next.y) - p);
-        if (fn < f) uv = next, f = fn, moved = true;
-      }
-      if (!moved) break;
-    }
-    if (f < best.distance) best = {f, nurbs::surface_point(s, uv.x, uv.y)};
-  }
-  return best;
-}
-
-}  // namespace
 
 TEST_CASE("point distance: GPU query = CPU twin, within K of the reference (Theorems 1 and 2)") {
   gpgpu::Gpu& gpu = test::gpu();
@@ -89,7 +37,7 @@ TEST_CASE("point distance: GPU query = CPU twin, within K of the reference (Theo
       const glm::dvec3 p(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5));
       const queries::PointDistance gpu_r = q.query(p);
       const queries::PointDistance cpu_r = queries::point_distance_cpu(face.surface, b, q.grids()[0].grid, p);
-      const Reference ref = reference(face.surface, p, gpu_r.uv);
+      const test::Reference ref = test::reference(face.surface, p, gpu_r.uv);
       CAPTURE(seed);
       CAPTURE(k);
       REQUIRE(gpu_r.found);
@@ -207,4 +155,32 @@ TEST_CASE("point distance: every face of the shared IGES models takes part" * te
     }
   }
   MESSAGE(faces << " faces of " << files.size() << " shared files, " << queries_run << " queries");
+}
+
+TEST_CASE("point distance: coarse-to-fine search, proven interval holds the reference and the faithful answer") {
+  gpgpu::Gpu& gpu = test::gpu();
+  int queries = 0;
+  long long coarse_cells = 0, fine_cells = 0;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    nurbs::TrimmedSurface face;
+    face.surface = models::random_surface(seed + 90, 1 + int(seed % 3), 3, seed % 2 == 0);
+    const double size = nurbs::control_box(face.surface).diagonal(), tol = 2e-4 * size;
+    queries::PointDistanceQuery faithful(gpu, {face}, tol);
+    queries::PointDistanceQuery c2f(gpu, {face}, tol, 1LL << 22, queries::Search::CoarseToFine);
+    coarse_cells += c2f.model().grids[0].grid.samples(), fine_cells += faithful.model().grids[0].grid.samples();
+    models::Random rng(seed + 1);
+    for (int k = 0; k < 4; ++k) {
+      const glm::dvec3 p(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5));
+      const queries::PointDistance f = faithful.query(p), c = c2f.query(p);
+      const test::Reference ref = test::reference(face.surface, p, c.uv);
+      CAPTURE(seed);
+      CAPTURE(k);
+      test::check_proven(c.found, c.meets_tolerance, c.distance, c.bound, tol, ref.distance, 1e-12 * size);
+      CHECK(std::abs(glm::length(c.point - p) - c.distance) <= 1e-14 * size);  // realised
+      CHECK(std::abs(f.distance - c.distance) <= f.bound + c.bound);
+      ++queries;
+    }
+  }
+  CHECK(coarse_cells * 4 < fine_cells);
+  MESSAGE(queries << " queries; samples evaluated: coarse-to-fine " << coarse_cells << ", faithful " << fine_cells);
 }

@@ -1,0 +1,357 @@
+#include "queries/refine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <map>
+
+#include "nurbs/filip_bound.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "queries/clearance.h"
+#include "queries/point_distance.h"
+
+namespace queries {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A parameter rectangle of one face: corners 0..3 at (u0, v0), (u1, v0), (u0, v1), (u1, v1).
+struct Cell {
+  int face = -1;
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  glm::dvec3 corner[4];
+  unsigned material = 0;  ///< bit k: corner k lies inside the trim
+  double k = 0;           ///< K_e of the rectangle
+  glm::dvec3 lo{0.0}, hi{0.0};
+  int32_t first_child = -1;  ///< children, once split: [first_child, first_child + children)
+  int32_t children = 0;
+  bool splittable = true;
+
+  [[nodiscard]] glm::dvec2 uv(int c) const { return {c & 1 ? u1 : u0, c & 2 ? v1 : v0}; }
+  /// Triangle t (0: corners 0, 1, 3; 1: corners 0, 3, 2), the diagonal of the GPU path's cells.
+  static constexpr int kTri[2][3] = {{0, 1, 3}, {0, 3, 2}};
+  void triangle(int t, glm::dvec3 out[3]) const {
+    for (int k = 0; k < 3; ++k) out[k] = corner[kTri[t][k]];
+  }
+  /// (u, v) of the point with barycentric weights w in triangle t.
+  [[nodiscard]] glm::dvec2 uv_at(int t, const glm::dvec3& w) const {
+    return w.x * uv(kTri[t][0]) + w.y * uv(kTri[t][1]) + w.z * uv(kTri[t][2]);
+  }
+};
+
+/// Least distance between a point and a box (Eqs. 9-12) and between two boxes (Eqs. 13-20).
+double point_box(const glm::dvec3& p, const Cell& c) {
+  return glm::length(glm::max(glm::max(c.lo - p, p - c.hi), glm::dvec3(0.0)));
+}
+double box_box(const Cell& a, const Cell& b) {
+  return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
+}
+
+/// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
+class Cells {
+ public:
+  Cells(const PreparedModel& m, const glm::dmat4& motion) : m_(m), motion_(motion) {}
+
+  std::vector<Cell> all;
+
+  /// The cell of grid cell c (its index).
+  uint32_t add_grid_cell(const FaceCell& c) {
+    const auto key = std::make_tuple(c.face, c.i, c.j);
+    if (const auto it = grid_index_.find(key); it != grid_index_.end()) return it->second;
+    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+    Cell cell;
+    cell.face = c.face;
+    cell.u0 = g.u[size_t(c.i)], cell.u1 = g.u[size_t(c.i) + 1];
+    cell.v0 = g.v[size_t(c.j)], cell.v1 = g.v[size_t(c.j) + 1];
+    for (int k = 0; k < 4; ++k) set_corner(cell, k, at(cell.face, cell.uv(k)));
+    finish(cell);
+    all.push_back(cell);
+    return grid_index_[key] = uint32_t(all.size() - 1);
+  }
+
+  /// The surface point at uv of `face` (moved) and whether it is material.
+  struct Sample {
+    glm::dvec3 p{0.0};
+    bool material = false;
+  };
+  Sample at(int face, glm::dvec2 uv) {
+    const nurbs::TrimmedSurface& f = m_.faces[size_t(face)];
+    const glm::dvec3 q = glm::dvec3(motion_ * glm::dvec4(nurbs::surface_point(f.surface, uv.x, uv.y), 1.0));
+    return {q, f.loops.empty() || nurbs::is_material(m_.trims[size_t(face)], uv)};
+  }
+
+  /// Splits cell i 2 x 2 (once); children with no material are culled.
+  void split(uint32_t i) {
+    if (all[i].first_child >= 0 || !all[i].splittable) return;
+    const Cell p = all[i];
+    const double um = 0.5 * (p.u0 + p.u1), vm = 0.5 * (p.v0 + p.v1);
+    // The 3 x 3 samples of the children: the parent's corners and five new ones.
+    Sample s[3][3];
+    s[0][0] = {p.corner[0], bool(p.material & 1)};
+    s[2][0] = {p.corner[1], bool(p.material & 2)};
+    s[0][2] = {p.corner[2], bool(p.material & 4)};
+    s[2][2] = {p.corner[3], bool(p.material & 8)};
+    const double us[3] = {p.u0, um, p.u1}, vs[3] = {p.v0, vm, p.v1};
+    for (int x = 0; x < 3; ++x)
+      for (int y = 0; y < 3; ++y)
+        if (x == 1 || y == 1) s[x][y] = at(p.face, {us[x], vs[y]});
+    const auto first = int32_t(all.size());
+    for (int cy = 0; cy < 2; ++cy)
+      for (int cx = 0; cx < 2; ++cx) {
+        Cell c;
+        c.face = p.face;
+        c.u0 = us[cx], c.u1 = us[cx + 1], c.v0 = vs[cy], c.v1 = vs[cy + 1];
+        for (int k = 0; k < 4; ++k) set_corner(c, k, s[cx + (k & 1)][cy + (k >> 1)]);
+        if (c.material == 0 && !trim_crosses(c)) continue;  // entirely trimmed away
+        finish(c);
+        all.push_back(c);
+      }
+    all[i].first_child = first;
+    all[i].children = int32_t(all.size()) - first;
+  }
+
+ private:
+  static void set_corner(Cell& c, int k, const Sample& s) {
+    c.corner[k] = s.p;
+    if (s.material) c.material |= 1u << k;
+  }
+
+  void finish(Cell& c) const {
+    c.k = nurbs::filip_k_rect(m_.bounds[size_t(c.face)], {c.u0, c.u1}, {c.v0, c.v1}, nurbs::KNorm::Euclidean);
+    c.lo = glm::min(glm::min(c.corner[0], c.corner[1]), glm::min(c.corner[2], c.corner[3]));
+    c.hi = glm::max(glm::max(c.corner[0], c.corner[1]), glm::max(c.corner[2], c.corner[3]));
+    // Grown by K_e and the rounding of the double evaluation (a few ulp of the coordinates).
+    const double grow = c.k + 1e-14 * std::max(glm::length(c.lo), glm::length(c.hi));
+    c.lo -= glm::dvec3(grow);
+    c.hi += glm::dvec3(grow);
+    const nurbs::Interval du = nurbs::surface_domain_u(m_.faces[size_t(c.face)].surface);
+    const nurbs::Interval dv = nurbs::surface_domain_v(m_.faces[size_t(c.face)].surface);
+    c.splittable = c.u1 - c.u0 > 1e-12 * du.width() && c.v1 - c.v0 > 1e-12 * dv.width();
+  }
+
+  /// Whether an edge of the face's trim polygons meets the cell's rectangle (then material may lie
+  /// inside even with every corner trimmed).
+  bool trim_crosses(const Cell& c) const {
+    const nurbs::TrimPolygons& t = m_.trims[size_t(c.face)];
+    const glm::dvec2 lo(c.u0, c.v0), hi(c.u1, c.v1);
+    for (const auto& loop : t.loops)
+      for (size_t e = 0; e < loop.size(); ++e)
+        if (segment_meets_box(loop[e], loop[(e + 1) % loop.size()], lo, hi)) return true;
+    return false;
+  }
+
+  /// Liang-Barsky clipping of segment ab against the box [lo, hi].
+  static bool segment_meets_box(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
+    double t0 = 0.0, t1 = 1.0;
+    const glm::dvec2 d = b - a;
+    for (int axis = 0; axis < 2; ++axis) {
+      if (d[axis] == 0.0) {
+        if (a[axis] < lo[axis] || a[axis] > hi[axis]) return false;
+        continue;
+      }
+      double ta = (lo[axis] - a[axis]) / d[axis], tb = (hi[axis] - a[axis]) / d[axis];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
+  const PreparedModel& m_;
+  glm::dmat4 motion_;
+  std::map<std::tuple<int, int, int>, uint32_t> grid_index_;
+};
+
+/// The children of cell i to pair with (itself when it is not split).
+std::pair<uint32_t, uint32_t> children_of(Cells& cells, uint32_t i, bool split) {
+  if (!split || !cells.all[i].splittable) return {i, 1};
+  cells.split(i);
+  return {uint32_t(cells.all[i].first_child), uint32_t(cells.all[i].children)};
+}
+
+}  // namespace
+
+Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start, const glm::dvec3& p, double tolerance,
+                     RefineLimits limits) {
+  Cells cells(m, glm::dmat4(1.0));
+  std::vector<uint32_t> cand;
+  for (const FaceCell& c : start) cand.push_back(cells.add_grid_cell(c));
+  std::sort(cand.begin(), cand.end());
+  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  Refined r;
+  r.distance = kInf;
+  double lower = kInf;
+  uint32_t best_cell = 0;
+  auto offer = [&](const glm::dvec3& q, glm::dvec2 uv, int face, uint32_t cell) {
+    const double d = glm::length(q - p);
+    if (d < r.distance) r.distance = d, r.point_a = q, r.uv_a = uv, r.face_a = face, best_cell = cell;
+  };
+  std::vector<double> low(cand.size());
+  while (!cand.empty()) {
+    r.most_pairs = std::max(r.most_pairs, static_cast<long long>(cand.size()));
+    // Upper bounds: material corners, then the surface at the closest triangle point's (u, v).
+    for (uint32_t i : cand) {
+      const Cell& c = cells.all[i];
+      for (int k = 0; k < 4; ++k)
+        if (c.material & (1u << k)) offer(c.corner[k], c.uv(k), c.face, i);
+    }
+    // Lower bounds: the point-box distance, and the distance to the cell's triangles less K_e.
+    low.resize(cand.size());
+    double nearest = kInf;
+    uint32_t near_cell = 0;
+    glm::dvec2 near_uv(0.0);
+    for (size_t n = 0; n < cand.size(); ++n) {
+      const Cell& c = cells.all[cand[n]];
+      low[n] = point_box(p, c);
+      if (low[n] > r.distance) continue;
+      double tri_low = kInf;
+      for (int t = 0; t < 2; ++t) {
+        glm::dvec3 tri[3], w;
+        c.triangle(t, tri);
+        const double d = glm::length(closest_on_triangle(p, tri[0], tri[1], tri[2], w) - p);
+        tri_low = std::min(tri_low, d);
+        if (d < nearest) nearest = d, near_cell = cand[n], near_uv = c.uv_at(t, w);
+      }
+      low[n] = std::max(low[n], tri_low - c.k);
+    }
+    if (std::isfinite(nearest)) {
+      const Cells::Sample q = cells.at(cells.all[near_cell].face, near_uv);
+      if (q.material) offer(q.p, near_uv, cells.all[near_cell].face, near_cell);
+    }
+    std::vector<uint32_t> next;
+    double next_lower = kInf;
+    for (size_t n = 0; n < cand.size(); ++n) {
+      if (low[n] > r.distance) continue;
+      if (low[n] >= r.distance - tolerance || !cells.all[cand[n]].splittable) {
+        lower = std::min(lower, low[n]);
+        if (low[n] < r.distance - tolerance) r.meets_tolerance = false;
+        continue;
+      }
+      next.push_back(cand[n]);
+      next_lower = std::min(next_lower, low[n]);
+    }
+    if (next.empty()) break;
+    if (4 * static_cast<long long>(next.size()) > limits.max_pairs || r.rounds >= limits.max_rounds) {
+      lower = std::min(lower, next_lower);
+      r.meets_tolerance = false;
+      break;
+    }
+    cand.clear();
+    for (uint32_t i : next) {
+      const auto [first, n] = children_of(cells, i, true);
+      for (uint32_t c = first; c < first + n; ++c) cand.push_back(c);
+    }
+    ++r.rounds;
+  }
+  r.cells = static_cast<long long>(cells.all.size());
+  if (!std::isfinite(r.distance)) return r;
+  r.found = true;
+  r.point_b = p;
+  r.bound = r.distance - std::min(lower, r.distance);
+  r.on_trim_edge = cells.all[best_cell].material != 15u;
+  return r;
+}
+
+Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                     const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance, RefineLimits limits) {
+  Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (const auto& [x, y] : start) pairs.emplace_back(ca.add_grid_cell(x), cb.add_grid_cell(y));
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  Refined r;
+  r.distance = kInf;
+  double lower = kInf;
+  std::pair<uint32_t, uint32_t> best{0, 0};
+  auto offer = [&](const glm::dvec3& qa, const glm::dvec3& qb, glm::dvec2 uva, glm::dvec2 uvb, uint32_t i, uint32_t j) {
+    const double d = glm::length(qa - qb);
+    if (d >= r.distance) return;
+    r.distance = d;
+    r.point_a = qa, r.point_b = qb;
+    r.uv_a = uva, r.uv_b = uvb;
+    r.face_a = ca.all[i].face, r.face_b = cb.all[j].face;
+    best = {i, j};
+  };
+  std::vector<double> low;
+  while (!pairs.empty()) {
+    r.most_pairs = std::max(r.most_pairs, static_cast<long long>(pairs.size()));
+    // Upper bounds: material corner pairs, then the surfaces at the closest triangle points' (u, v).
+    for (const auto& [i, j] : pairs) {
+      const Cell &x = ca.all[i], &y = cb.all[j];
+      for (int k = 0; k < 4; ++k)
+        for (int l = 0; l < 4; ++l)
+          if ((x.material & (1u << k)) && (y.material & (1u << l)))
+            offer(x.corner[k], y.corner[l], x.uv(k), y.uv(l), i, j);
+    }
+    // Lower bounds: box-box, and the distance of the cells' triangles less K_a + K_b.
+    low.resize(pairs.size());
+    double nearest = kInf;
+    size_t near_pair = 0;
+    glm::dvec2 near_a(0.0), near_b(0.0);
+    for (size_t n = 0; n < pairs.size(); ++n) {
+      const Cell &x = ca.all[pairs[n].first], &y = cb.all[pairs[n].second];
+      low[n] = box_box(x, y);
+      if (low[n] > r.distance) continue;
+      double tri_low = kInf;
+      for (int s = 0; s < 2; ++s)
+        for (int t = 0; t < 2; ++t) {
+          glm::dvec3 ta[3], tb[3], pa, pb, wa, wb;
+          x.triangle(s, ta);
+          y.triangle(t, tb);
+          const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
+          tri_low = std::min(tri_low, d);
+          if (d < nearest) nearest = d, near_pair = n, near_a = x.uv_at(s, wa), near_b = y.uv_at(t, wb);
+        }
+      low[n] = std::max(low[n], tri_low - x.k - y.k);
+    }
+    if (std::isfinite(nearest)) {
+      const auto [i, j] = pairs[near_pair];
+      const Cells::Sample qa = ca.at(ca.all[i].face, near_a), qb = cb.at(cb.all[j].face, near_b);
+      if (qa.material && qb.material) offer(qa.p, qb.p, near_a, near_b, i, j);
+    }
+    std::vector<std::pair<uint32_t, uint32_t>> next;
+    double next_lower = kInf;
+    for (size_t n = 0; n < pairs.size(); ++n) {
+      const auto [i, j] = pairs[n];
+      if (low[n] > r.distance) continue;
+      if (low[n] >= r.distance - tolerance || (!ca.all[i].splittable && !cb.all[j].splittable)) {
+        lower = std::min(lower, low[n]);
+        if (low[n] < r.distance - tolerance) r.meets_tolerance = false;
+        continue;
+      }
+      next.emplace_back(i, j);
+      next_lower = std::min(next_lower, low[n]);
+    }
+    if (next.empty()) break;
+    if (16 * static_cast<long long>(next.size()) > limits.max_pairs || r.rounds >= limits.max_rounds) {
+      lower = std::min(lower, next_lower);
+      r.meets_tolerance = false;
+      break;
+    }
+    pairs.clear();
+    for (const auto& [i, j] : next) {
+      // Split the side that holds most of the pair's error (both when they are close).
+      const double ki = ca.all[i].k, kj = cb.all[j].k;
+      bool si = ca.all[i].splittable && ki >= 0.25 * kj, sj = cb.all[j].splittable && kj >= 0.25 * ki;
+      if (!si && !sj) si = ca.all[i].splittable, sj = !si;  // one side at least (both unsplittable settled)
+      const auto [fi, ni] = children_of(ca, i, si);
+      const auto [fj, nj] = children_of(cb, j, sj);
+      for (uint32_t x = fi; x < fi + ni; ++x)
+        for (uint32_t y = fj; y < fj + nj; ++y) pairs.emplace_back(x, y);
+    }
+    ++r.rounds;
+  }
+  r.cells = static_cast<long long>(ca.all.size() + cb.all.size());
+  if (!std::isfinite(r.distance)) return r;
+  r.found = true;
+  r.bound = r.distance - std::min(lower, r.distance);
+  r.on_trim_edge = ca.all[best.first].material != 15u || cb.all[best.second].material != 15u;
+  return r;
+}
+
+}  // namespace queries

@@ -1,0 +1,59 @@
+#pragma once
+/// \file refine.h
+/// The coarse-to-fine search (issue 8, beyond the paper; Search::CoarseToFine in prepared_model.h).
+/// The GPU search over coarse grids (point_distance.h, clearance.h) returns the cells, or cell
+/// pairs, whose lower bound is within its least upper bound. Here, in double on the CPU, those
+/// cells are subdivided and pruned again until the answer is proven within the tolerance T:
+///  - a cell is a parameter rectangle of one face with the surface evaluated at its four corners;
+///    its box is the corners' box grown by its K_e (nurbs::filip_k_rect, Euclidean): the surface
+///    over the rectangle lies within K_e of its two triangles (Filip et al.), which lie in the box;
+///  - upper bound U: the least distance between material corner samples (exact surface points
+///    inside the trim), so every U is realised by a pair of points that the answer returns;
+///  - lower bound of a cell (pair): point-box (box-box) distance, Eqs. (9)-(12) and (13)-(20);
+///  - a cell (pair) whose lower bound exceeds U is dropped; one whose lower bound is within T of U is
+///    settled (nothing inside can beat U by more than T); the others are split 2 x 2 (in a pair,
+///    only the side whose K_e is not far below the other's) and tested again;
+///  - rectangles with no material corner that no trim edge crosses are culled (entirely trimmed).
+/// Result: distance U with bound U - L, L the least lower bound of the settled cells (pairs), so
+/// d* lies in [U - bound, U] and bound <= T unless the search stopped at its pair budget (then
+/// meets_tolerance is false and the bound is what was proven).
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <utility>
+#include <vector>
+
+#include "queries/prepared_model.h"
+
+namespace queries {
+
+/// The outcome of a refinement: the proven interval [distance - bound, distance] and where the
+/// distance is realised.
+struct Refined {
+  bool found = false;  ///< false when every cell was culled (no material)
+  double distance = 0.0, bound = 0.0;
+  glm::dvec3 point_a{0.0}, point_b{0.0};  ///< exact surface points (point_b: the query point, for points)
+  glm::dvec2 uv_a{0.0}, uv_b{0.0};
+  int face_a = -1, face_b = -1;
+  bool on_trim_edge = false;    ///< a cell of the answer has a trimmed corner
+  bool meets_tolerance = true;  ///< bound <= T (false: stopped at max_pairs)
+  int rounds = 0;               ///< subdivision rounds
+  long long cells = 0;          ///< cells evaluated (four corners each, shared with the parent)
+  long long most_pairs = 0;     ///< the largest set of candidates in a round
+};
+
+struct RefineLimits {
+  long long max_pairs = 1LL << 21;  ///< candidates per round before the search stops unproven
+  int max_rounds = 60;
+};
+
+/// Refines the candidate cells `start` of model `m` for the point p to tolerance T.
+Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start, const glm::dvec3& p, double tolerance,
+                     RefineLimits limits = {});
+
+/// Refines the candidate cell pairs `start` of models a and b (b moved by motion_b) to tolerance T.
+Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                     const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance,
+                     RefineLimits limits = {});
+
+}  // namespace queries

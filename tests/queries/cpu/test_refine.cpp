@@ -1,0 +1,144 @@
+// The coarse-to-fine refinement (queries/refine.h) on the CPU, from every cell of a coarse grid,
+// against independent references in double: the answer is realised by material surface points, the
+// true distance lies in [distance - bound, distance], and bound <= T.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "models/exact_shapes.h"
+#include "models/random_surfaces.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "queries/point_distance.h"
+#include "queries/refine.h"
+#include "tests/queries/distance_reference.h"
+
+namespace {
+
+/// Every cell of every face's grid: the candidates a GPU search that pruned nothing would return.
+std::vector<queries::FaceCell> all_cells(const queries::PreparedModel& m) {
+  std::vector<queries::FaceCell> out;
+  for (size_t f = 0; f < m.faces.size(); ++f)
+    for (int j = 0; j < m.grids[f].grid.cells_v(); ++j)
+      for (int i = 0; i < m.grids[f].grid.cells_u(); ++i) out.push_back({int(f), i, j});
+  return out;
+}
+
+std::vector<std::pair<queries::FaceCell, queries::FaceCell>> all_pairs(const queries::PreparedModel& a,
+                                                                       const queries::PreparedModel& b) {
+  std::vector<std::pair<queries::FaceCell, queries::FaceCell>> out;
+  for (const auto& x : all_cells(a))
+    for (const auto& y : all_cells(b)) out.emplace_back(x, y);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("refine: point distance on random surfaces, proven interval against Newton references") {
+  int cases = 0;
+  double worst = 0.0;
+  for (uint64_t seed = 0; seed < 12; ++seed) {
+    nurbs::TrimmedSurface face;
+    face.surface = models::random_surface(seed + 40, 1 + int(seed % 4), 1 + int(seed / 4 % 3), seed % 2 == 1);
+    const double size = nurbs::control_box(face.surface).diagonal(), tol = 1e-5 * size;
+    const auto m = queries::prepare_geometry({face}, tol, 1LL << 22, queries::Search::CoarseToFine);
+    CHECK(m.grid_tolerance > 50 * tol);  // coarse grids: the refinement does the work
+    models::Random rng(seed);
+    for (int k = 0; k < 5; ++k) {
+      const glm::dvec3 p(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5));
+      const queries::Refined r = queries::refine_point(m, all_cells(m), p, tol);
+      const test::Reference ref = test::reference(face.surface, p, r.uv_a);
+      CAPTURE(seed);
+      CAPTURE(k);
+      test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, ref.distance, 1e-12 * size);
+      // Realised: the point is the surface at uv, at the reported distance.
+      CHECK(glm::length(r.point_a - nurbs::surface_point(face.surface, r.uv_a.x, r.uv_a.y)) <= 1e-14 * size);
+      CHECK(std::abs(glm::length(r.point_a - p) - r.distance) <= 1e-14 * size);
+      worst = std::max(worst, (r.distance - ref.distance) / tol);
+      ++cases;
+    }
+  }
+  MESSAGE(cases << " points: distance - reference <= " << worst << " T");
+}
+
+TEST_CASE("refine: trimmed faces, the answer is material and below every material sample") {
+  for (uint64_t seed = 0; seed < 8; ++seed) {
+    const nurbs::TrimmedSurface face = models::random_trimmed_surface(seed);
+    const double size = nurbs::control_box(face.surface).diagonal(), tol = 1e-5 * size;
+    const auto m = queries::prepare_geometry({face}, 1e-2 * size);
+    const nurbs::Interval du = nurbs::surface_domain_u(face.surface), dv = nurbs::surface_domain_v(face.surface);
+    models::Random rng(seed + 5);
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 p(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5));
+      const queries::Refined r = queries::refine_point(m, all_cells(m), p, tol);
+      CAPTURE(seed);
+      CAPTURE(k);
+      REQUIRE(r.found);
+      CHECK(r.bound <= tol);
+      CHECK(nurbs::is_material(m.trims[0], r.uv_a));
+      // No material sample is closer than the proven lower bound.
+      double sampled = 1e300;
+      for (int j = 0; j <= 60; ++j)
+        for (int i = 0; i <= 60; ++i) {
+          const glm::dvec2 uv(du.min + du.width() * i / 60, dv.min + dv.width() * j / 60);
+          if (nurbs::is_material(m.trims[0], uv))
+            sampled = std::min(sampled, glm::length(nurbs::surface_point(face.surface, uv.x, uv.y) - p));
+        }
+      CHECK(sampled >= r.distance - r.bound - 1e-12 * size);
+    }
+  }
+}
+
+TEST_CASE("refine: exact spheres moved, the gap lies in the proven interval") {
+  nurbs::TrimmedSurface s1, s2;
+  s1.surface = models::rational_sphere(1.0);
+  s2.surface = models::rational_sphere(2.0);
+  const double tol = 1e-5;
+  // Grids at 2e-2 so that every cell pair can be the start (the GPU search prunes them in use).
+  const auto a = queries::prepare_geometry({s1}, 2e-2);
+  const auto b = queries::prepare_geometry({s2}, 2e-2);
+  for (double gap : {0.01, 0.7, 3.0}) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(1, 2, -0.5));
+    const glm::dmat4 motion =
+        glm::translate(glm::dmat4(1.0), (3.0 + gap) * dir) * glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0.3, 1, 0.2));
+    const queries::Refined r = queries::refine_pairs(a, b, motion, all_pairs(a, b), tol);
+    CAPTURE(gap);
+    test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, gap, 1e-12);
+    CHECK(std::abs(glm::length(r.point_a - r.point_b) - r.distance) < 1e-12);
+    CHECK(std::abs(glm::length(r.point_a) - 1.0) < 1e-12);
+    CHECK(glm::length(r.point_a - dir) < 0.01);
+    MESSAGE("gap " << gap << ": " << r.distance << " - " << r.bound << ", " << r.rounds << " rounds, " << r.cells
+                   << " cells, at most " << r.most_pairs << " pairs");
+  }
+}
+
+TEST_CASE("refine: surface pairs, the lower bound holds against alternating projections") {
+  for (uint64_t seed = 0; seed < 5; ++seed) {
+    nurbs::TrimmedSurface fa, fb;
+    fa.surface = models::random_surface(seed + 300, 1 + int(seed % 3), 2, seed % 2 == 1);
+    fb.surface = models::random_surface(seed + 700, 2, 1 + int(seed % 3), seed % 3 == 1);
+    const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, -0.2, 2.0 + 0.1 * double(seed)));
+    const double tol = 1e-5 * 3.0;
+    const auto a = queries::prepare_geometry({fa}, 5e-2), b = queries::prepare_geometry({fb}, 5e-2);
+    const queries::Refined r = queries::refine_pairs(a, b, motion, all_pairs(a, b), tol);
+    CAPTURE(seed);
+    REQUIRE(r.found);
+    CHECK(r.bound <= tol);
+    // Reference: alternate closest-point projections from the answer's own points (each step a
+    // realised distance that cannot increase), ending at a local minimum of the pair.
+    nurbs::Surface moved = fb.surface;
+    for (auto& p : moved.points) p = glm::dvec3(motion * glm::dvec4(p, 1.0));
+    glm::dvec3 pa = r.point_a, pb = r.point_b;
+    double d = glm::length(pa - pb);
+    for (int it = 0; it < 2; ++it) {
+      pb = test::reference(moved, pa, r.uv_b).point;
+      pa = test::reference(fa.surface, pb, r.uv_a).point;
+      d = std::min(d, glm::length(pa - pb));
+    }
+    CHECK(d <= r.distance + 1e-12);
+    CHECK(d >= r.distance - r.bound - 1e-12);
+  }
+}
