@@ -114,6 +114,12 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds) {
             {"seconds", c.refine_seconds}}}};
 }
 
+long long samples(const queries::PreparedModel& m) {
+  long long n = 0;
+  for (const auto& g : m.grids) n += g.grid.samples();
+  return n;
+}
+
 void run(const GlobalOptions& global, const Options& o) {
   const std::vector<glm::dmat4> frames = motions(o);
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
@@ -162,6 +168,11 @@ void run(const GlobalOptions& global, const Options& o) {
   if (o.json) {
     nlohmann::json j = result_json(c, query_s);
     j["prepare_seconds"] = prepare_s;
+    j["prepare"] = {{"bounds_seconds", a.bounds_seconds + b.bounds_seconds},
+                    {"grids_seconds", a.grids_seconds + b.grids_seconds},
+                    {"atlas_seconds", a.atlas_seconds + b.atlas_seconds},
+                    {"grid_tolerance", std::max(a.grid_tolerance, b.grid_tolerance)},
+                    {"samples", samples(a) + samples(b)}};
     j["tolerance"] = tolerance;
     fmt::print("{}\n", j.dump(2));
   } else {

@@ -75,11 +75,31 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   const glm::dvec3 origin = a.centre;
   const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin), hb = build(gpu, b, motion_b, origin);
   Clearance r;
-  // The surviving pairs: records (xa, ya, xb, yb) at the current levels, starting at the roots.
-  gpgpu::Texture pairs(1, 1, gpgpu::Format::RGBA32F);
-  pairs.upload(std::vector<float>{0, 0, 0, 0});
-  long long count = 1;
+  // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
+  // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them
+  // (the levels above prune little and cost a pair pass, a reduction and a compaction each).
+  constexpr long long kStartPairs = 4096;
   int la = int(ha.lo.size()) - 1, lb = int(hb.lo.size()) - 1;
+  auto nodes = [](const Hierarchy& h, int l) {
+    return static_cast<long long>(h.lo[size_t(l)].width()) * h.lo[size_t(l)].height();
+  };
+  while (la > 0 || lb > 0) {
+    const bool down_a = la > 0 && (la >= lb || lb == 0);
+    const int na = down_a ? la - 1 : la, nb = down_a ? lb : lb - 1;
+    if (nodes(ha, na) * nodes(hb, nb) > kStartPairs) break;
+    la = na, lb = nb;
+  }
+  std::vector<float> start;
+  const gpgpu::Texture &ta = ha.lo[size_t(la)], &tb = hb.lo[size_t(lb)];
+  for (int ya = 0; ya < ta.height(); ++ya)
+    for (int xa = 0; xa < ta.width(); ++xa)
+      for (int yb = 0; yb < tb.height(); ++yb)
+        for (int xb = 0; xb < tb.width(); ++xb) start.insert(start.end(), {float(xa), float(ya), float(xb), float(yb)});
+  long long count = static_cast<long long>(start.size() / 4);
+  const gpgpu::Layout2D start_layout = gpgpu::layout_pow2(count, 4096);
+  start.resize(size_t(start_layout.width) * size_t(start_layout.height) * 4, 0.0f);
+  gpgpu::Texture pairs(start_layout.width, start_layout.height, gpgpu::Format::RGBA32F);
+  pairs.upload(start);
   gpgpu::Program& prog = gpu.program("aabb_pairs_minmax.frag");
   const int max_size = gpu.info().max_texture_size;
   while ((la > 0 || lb > 0) && count > 0) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -35,7 +36,7 @@ double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double 
     all.min = glm::min(all.min, b.min);
     all.max = glm::max(all.max, b.max);
   }
-  return std::max(tolerance, 1e-3 * all.diagonal());
+  return std::max(tolerance, 5e-4 * all.diagonal());
 }
 
 PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance, long long max_samples,
@@ -52,12 +53,17 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
     const nurbs::Box box = nurbs::control_box(s);
     lo = glm::min(lo, box.min);
     hi = glm::max(hi, box.max);
+    const auto t0 = std::chrono::steady_clock::now();
     m.bounds.push_back(nurbs::filip_bound(s));
+    const auto t1 = std::chrono::steady_clock::now();
     m.grids.push_back(nurbs::certified_grid(m.bounds.back(), m.grid_tolerance, {max_samples}));
     if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));
     m.trims.push_back(m.faces[f].loops.empty()
                           ? nurbs::TrimPolygons{}
                           : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));
+    const auto t2 = std::chrono::steady_clock::now();
+    m.bounds_seconds += std::chrono::duration<double>(t1 - t0).count();
+    m.grids_seconds += std::chrono::duration<double>(t2 - t1).count();
   }
   m.centre = 0.5 * (lo + hi);
   return m;
@@ -66,6 +72,7 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                             long long max_samples, Search search) {
   PreparedModel m = prepare_geometry(std::move(faces), tolerance, max_samples, search);
+  const auto t0 = std::chrono::steady_clock::now();
   std::vector<nurbs::ParamGrid> params;
   std::vector<std::pair<int, int>> sizes;
   std::vector<double> flatten;
@@ -88,6 +95,8 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     m.grow.emplace_back(int(grow.size()), 1, gpgpu::Format::R32F);
     m.grow.back().upload(grow);
   }
+  gpu.finish();
+  m.atlas_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!unpacked.empty())
     throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
                                         unpacked.front(), side));

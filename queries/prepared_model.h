@@ -43,6 +43,9 @@ struct PreparedModel {
   /// closest points the queries find (empty for untrimmed faces).
   std::vector<nurbs::TrimPolygons> trims;
   glm::dvec3 centre{0.0};  ///< centre of the control-point box of all faces
+  /// Preparation time: Filip bounds (Bézier extraction and bounds), certified grids and trim
+  /// polygons, GPU atlases (evaluation and trim masks).
+  double bounds_seconds = 0.0, grids_seconds = 0.0, atlas_seconds = 0.0;
 
   /// The cell whose lower-left sample is texel (x, y) of atlas `a`, if that texel starts a cell.
   [[nodiscard]] std::optional<FaceCell> cell_at(size_t a, int x, int y) const;
@@ -60,7 +63,7 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                             long long max_samples = 1LL << 22, Search search = Search::Faithful);
 
-/// The grid tolerance of the coarse-to-fine search: the larger of T and 1e-3 of the faces' control
+/// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).
 [[nodiscard]] double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
 
