@@ -180,8 +180,8 @@ TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the
     // Trimmed winners are material, or points of the trim polygon (on a trim edge).
     if (!faces[size_t(r.face)].loops.empty() && !r.on_trim_edge)
       CHECK(nurbs::is_material(m.trims[size_t(r.face)], r.uv));
-    // Against the faithful per-point path (a fifth of the points: several passes each).
-    if (i % 5 != 0) continue;
+    // Against the faithful per-point path (an eighth of the points: several passes each).
+    if (i % 8 != 0) continue;
     const queries::PointDistance ref = faithful.query(p);
     REQUIRE(ref.found);
     CAPTURE(r.distance);
@@ -207,7 +207,7 @@ TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the
 TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes searched again on the CPU") {
   gpgpu::Gpu& gpu = test::gpu();
   const std::vector<nurbs::TrimmedSurface> faces{models::trimmed_wavy_surface_100x105()};
-  const double size = nurbs::control_box(faces[0].surface).diagonal(), tol = 2e-3 * size;
+  const double size = nurbs::control_box(faces[0].surface).diagonal(), tol = 5e-3 * size;
   const queries::PreparedModel m = queries::prepare_model(gpu, faces, tol);
   queries::PointBatch batch(gpu, m);
   queries::PointDistanceQuery faithful(gpu, faces, tol);
@@ -256,7 +256,7 @@ TEST_CASE("point batch: a hole reaching out of the outer loop bounds no material
     return loop;
   };
   face.loops = {square({0.2, 0.2}, {0.8, 0.8}, true), square({0.7, 0.4}, {0.9, 0.6}, false)};
-  const queries::PreparedModel m = queries::prepare_model(gpu, {face}, 2e-3 * 141.6);
+  const queries::PreparedModel m = queries::prepare_model(gpu, {face}, 5e-3 * 141.6);
   queries::PointBatch batch(gpu, m);
   // Above (0.92, 0.5): the hole's outside edge at u = 0.9 is 2 mm away, the nearest material (the
   // corners (0.8, 0.4) and (0.8, 0.6) of the outer loop) more than 10 mm.
@@ -304,7 +304,7 @@ TEST_CASE("point batch: every face of the shared IGES models takes part" * test:
     faces += int(all.size());
     const std::string name = file.filename().string();
     CAPTURE(name);
-    const std::vector<glm::dvec3> points = random_points(all, 24, 9);
+    const std::vector<glm::dvec3> points = random_points(all, 12, 9);
     const auto res = batch.query(points);
     fallbacks += batch.stats().fallbacks;
     for (size_t i = 0; i < points.size(); ++i) {
@@ -316,7 +316,7 @@ TEST_CASE("point batch: every face of the shared IGES models takes part" * test:
       CHECK(r.bound <= 1e-3 * size + batch.model_bound());
       if (!all[size_t(r.face)].loops.empty() && !r.on_trim_edge)
         CHECK(nurbs::is_material(m.trims[size_t(r.face)], r.uv));
-      if (i % 8 == 0) agree_with_faithful(all, m.trims, points[i], r, faithful.query(points[i]), edge_closer);
+      if (i % 4 == 0) agree_with_faithful(all, m.trims, points[i], r, faithful.query(points[i]), edge_closer);
       ++points_run;
     }
   }
