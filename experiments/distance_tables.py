@@ -231,6 +231,9 @@ class Runner:
                     "prepare_s": j["prepare_seconds"] if k == 0 else "",
                     "first_query_s": frames[0]["seconds"], "query_s": steady, "levels": len(r["pairs_per_level"]),
                     "leaf_pairs": r["leaf_pairs"], "meets_tolerance": r.get("meets_tolerance", ""),
+                    "refine_rounds": r.get("refine", {}).get("rounds", ""),
+                    "refine_cells": r.get("refine", {}).get("cells", ""),
+                    "refine_s": r.get("refine", {}).get("seconds", ""),
                     "on_trim_edge": r.get("on_trim_edge", ""), "face_a": r["face_a"], "face_b": r["face_b"],
                     "point_a": fmt_xyz(r["point_a"]), "point_b": fmt_xyz(r["point_b"]),
                     "occt_distance": d_o if d_o is not None else "", "occt_s": o["seconds"],
@@ -326,6 +329,10 @@ class Runner:
             err = errs[m]
             rows.append({"method": m, "pass": "prepare (grids, wall)", "calls": "", "gpu_ms": "",
                          "cpu_ms": 1e3 * j["prepare_seconds"]})
+            for key, v in j.get("prepare", {}).items():  # the CLI's preparation breakdown, where it gives one
+                if key.endswith("_seconds"):
+                    rows.append({"method": m, "pass": f"  prepare: {key[:-8]}", "calls": "", "gpu_ms": "",
+                                 "cpu_ms": 1e3 * v})
             for line in err[0].splitlines():
                 f = line.split()
                 if len(f) == 4 and re.fullmatch(r"\d+", f[1]):
@@ -334,10 +341,14 @@ class Runner:
                 elif len(f) == 3 and f[0] == "total":
                     rows.append({"method": m, "pass": "total (passes)", "calls": "", "gpu_ms": float(f[1]),
                                  "cpu_ms": float(f[2])})
+            if "refine" in j:
+                rows.append({"method": m, "pass": "refine (CPU, double)", "gpu_ms": "",
+                             "calls": f"{j['refine'].get('rounds')} rounds, {j['refine'].get('cells')} cells",
+                             "cpu_ms": 1e3 * j["refine"].get("seconds", math.nan)})
             rows.append({"method": m, "pass": "query (wall, passes synchronised)", "calls": "", "gpu_ms": "",
                          "cpu_ms": 1e3 * j["seconds"]})
         write_csv(self.path("table2.csv"), rows)
-        passes = [r for r in rows if r["calls"] != ""]
+        passes = [r for r in rows if isinstance(r["calls"], int)]
         names = list(dict.fromkeys(r["pass"] for r in passes))
         fig, ax = plt.subplots(figsize=(7, 4))
         methods = list(dict.fromkeys(r["method"] for r in rows))
