@@ -1,20 +1,57 @@
 #include "nurbs/bezier_extraction.h"
 
+#include <algorithm>
+
 #include "nurbs/knot_insertion.h"
 
 namespace nurbs {
 
 HomogeneousCurve refine_to_bezier(const HomogeneousCurve& curve) {
-  HomogeneousCurve h = clamp_curve(curve);
+  const HomogeneousCurve h = clamp_curve(curve);
   const int p = h.degree;
-  const Interval dom = knot_domain(h.knots, p, static_cast<int>(h.points.size()));
-  // Distinct interior knot values, collected first because insertion changes the vector.
-  std::vector<double> interior;
-  for (double k : h.knots) {
-    if (k > dom.min && k < dom.max && (interior.empty() || interior.back() != k)) interior.push_back(k);
+  const std::vector<double>& U = h.knots;
+  const auto& P = h.points;
+  const int m = static_cast<int>(U.size()) - 1;  // U[0 .. m], m = n + p + 1
+  // The Bézier segments in one sweep (The NURBS Book A5.6, DecomposeCurve): each interior knot is
+  // raised to multiplicity p in place, O(n p^2), instead of one whole-curve insertion per knot.
+  HomogeneousCurve out;
+  out.degree = p;
+  std::vector<glm::dvec4> seg(P.begin(), P.begin() + p + 1), next(static_cast<size_t>(p + 1));
+  std::vector<double> alphas(static_cast<size_t>(std::max(p, 1)));
+  out.points.push_back(seg[0]);
+  out.knots.assign(static_cast<size_t>(p + 1), U[static_cast<size_t>(p)]);
+  int a = p, b = p + 1;
+  while (b < m) {
+    const int i = b;
+    while (b < m && U[static_cast<size_t>(b + 1)] == U[static_cast<size_t>(b)]) ++b;
+    const int mult = b - i + 1;
+    if (mult < p) {
+      const double numer = U[static_cast<size_t>(b)] - U[static_cast<size_t>(a)];
+      for (int j = p; j > mult; --j)
+        alphas[static_cast<size_t>(j - mult - 1)] = numer / (U[static_cast<size_t>(a + j)] - U[static_cast<size_t>(a)]);
+      const int r = p - mult;
+      for (int j = 1; j <= r; ++j) {
+        const int save = r - j, first = mult + j;
+        for (int k = p; k >= first; --k) {
+          const double alpha = alphas[static_cast<size_t>(k - first)];
+          seg[static_cast<size_t>(k)] =
+              alpha * seg[static_cast<size_t>(k)] + (1.0 - alpha) * seg[static_cast<size_t>(k - 1)];
+        }
+        if (b < m) next[static_cast<size_t>(save)] = seg[static_cast<size_t>(p)];
+      }
+    }
+    // Segment done: its points after the shared first one; the knot between it and the next p times.
+    out.points.insert(out.points.end(), seg.begin() + 1, seg.end());
+    if (b < m) {
+      out.knots.insert(out.knots.end(), static_cast<size_t>(p), U[static_cast<size_t>(b)]);
+      for (int k = p - mult; k <= p; ++k) next[static_cast<size_t>(k)] = P[static_cast<size_t>(b - p + k)];
+      seg.swap(next);
+      a = b;
+      ++b;
+    }
   }
-  for (double k : interior) h = insert_knot(h, k, p);  // capped at multiplicity p inside
-  return h;
+  out.knots.insert(out.knots.end(), static_cast<size_t>(p + 1), U[static_cast<size_t>(m - p)]);
+  return out;
 }
 
 namespace {
