@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <thread>
 
 #include "nurbs/bernstein_poly.h"
 #include "nurbs/bezier_extraction.h"
@@ -279,11 +280,19 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   b.breaks_v = breaks(s.knots_v, b.domain_v);
   const auto patches = extract_bezier_patches(s);
   const size_t nu = b.breaks_u.size() - 1;
-  for (const auto& patch : patches) {
-    b.patches.push_back(subdivisions > 0 ? split_patch_bounds(patch, subdivisions)
-                                         : adaptive_patch_bounds(patch, AdaptiveRefinement{}));
-    b.whole = max_of(b.whole, b.patches.back());
-  }
+  // Patches are independent: bounded on every hardware thread (same result in any order).
+  b.patches.resize(patches.size());
+  auto bound_range = [&](size_t first, size_t step) {
+    for (size_t k = first; k < patches.size(); k += step)
+      b.patches[k] = subdivisions > 0 ? split_patch_bounds(patches[k], subdivisions)
+                                      : adaptive_patch_bounds(patches[k], AdaptiveRefinement{});
+  };
+  const size_t threads = patches.size() < 64 ? 1 : std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(bound_range, t, threads);
+  bound_range(0, threads);
+  for (auto& t : pool) t.join();
+  for (const auto& m : b.patches) b.whole = max_of(b.whole, m);
   // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
   b.c1_u.assign(b.breaks_u.size(), true);
   b.c1_v.assign(b.breaks_v.size(), true);
