@@ -399,6 +399,19 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
 }
 
 std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {
+  if (points.size() > points_per_pass_) {  // pass by pass, figures summed
+    PointBatchStats total;
+    std::vector<PointDistance> out;
+    out.reserve(points.size());
+    for (size_t s = 0; s < points.size(); s += points_per_pass_) {
+      const auto part = query(points.subspan(s, std::min(points_per_pass_, points.size() - s)));
+      out.insert(out.end(), part.begin(), part.end());
+      total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
+      total.gpu_seconds += stats_.gpu_seconds, total.cpu_seconds += stats_.cpu_seconds;
+    }
+    stats_ = total;
+    return out;
+  }
   stats_ = {};
   stats_.points = static_cast<long long>(points.size());
   const auto t0 = std::chrono::steady_clock::now();

@@ -27,6 +27,7 @@
 ///   are taken to points, edge lines and planes, a few roundings each), not a proof; the tests
 ///   measure |pass - twin in double| <= 0.06 eps. point_bound = sqrt(4 K d + K^2) with K = bound.
 /// Needs Search::Faithful grids (the cells the answers come from meet the tolerance).
+#include <algorithm>
 #include <glm/vec3.hpp>
 #include <span>
 #include <vector>
@@ -65,8 +66,11 @@ class PointBatch {
   PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m);
 
   /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
-  /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent.
+  /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent. More
+  /// points than points_per_pass() go in several passes.
   std::vector<PointDistance> query(std::span<const glm::dvec3> points);
+  [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
+  void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
 
   /// CPU twin in double: the same pyramid built on the CPU from the read-back samples, the same
   /// descent, the same finishing. The test oracle of query().
@@ -112,6 +116,7 @@ class PointBatch {
   std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
   double model_bound_ = 0.0, radius_ = 0.0;
   PointBatchStats stats_;
+  size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
 };
 
 }  // namespace queries

@@ -154,6 +154,12 @@ TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the
   const std::vector<queries::PointDistance> res = batch.query(points);
   REQUIRE(res.size() == points.size());
   const long long fallbacks = batch.stats().fallbacks;
+  // The same points in passes of 100: the same answers.
+  batch.set_points_per_pass(100);
+  const std::vector<queries::PointDistance> parts = batch.query(points);
+  CHECK(batch.stats().points == 320);
+  CHECK(batch.stats().fallbacks == fallbacks);
+  for (size_t i = 0; i < points.size(); ++i) CHECK(parts[i].distance == res[i].distance);
   double worst_twin = 0.0, worst_ratio = 0.0;
   int compared = 0, closest_checked = 0, edge_closer = 0;
   for (size_t i = 0; i < points.size(); ++i) {
