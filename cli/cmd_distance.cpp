@@ -155,8 +155,8 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   add_search_option(cmd, o->search);
   cmd->add_flag("--per-point", o->per_point,
-                "With --points: one query per point (the faithful path, --search applies) instead of the batched "
-                "projection (all points in one pass on faithful grids)");
+                "With --points: one query per point (the per-point path; --search applies) instead of the batched "
+                "projection (all points in one pass, on faithful grids)");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });
 }
