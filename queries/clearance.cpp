@@ -144,7 +144,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   if (a.search == Search::CoarseToFine || b.search == Search::CoarseToFine) {
     // Candidates refined in double until the answer is proven within T (refine.h).
     const auto t0 = std::chrono::steady_clock::now();
-    const Refined f = refine_pairs(a, b, motion_b, leaves, std::max(a.tolerance, b.tolerance));
+    const Refined f = refine_pairs(a, b, motion_b, leaves, a.tolerance + b.tolerance);
     r.refine_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.found = f.found;
     r.distance = f.distance;

@@ -16,7 +16,9 @@
 ///  - Leaves: the surviving cell pairs are read back; two triangles per cell from the surfaces in
 ///    double; the closest triangle pair wins (0 when they intersect).
 /// Bound: |d - d*| < K_a + K_b (each surface within its K_e of its triangles), K maxed over the
-/// surviving cells of each side.
+/// surviving cells of each side. With Search::CoarseToFine (refine.h) the candidates are refined
+/// until d* is proven in [distance - bound, distance] with bound <= T_a + T_b (the faithful
+/// path's K_a + K_b), distance realised by two material surface points.
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -51,10 +53,56 @@ double box_box(const Cell& a, const Cell& b) {
   return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
 }
 
+/// Local closest point of surface s to p from (u, v): projected Newton on |S(u, v) - p|^2 (a
+/// gradient step where the Hessian is not positive definite), clamped to the domain, each step
+/// halved until it lowers the distance. Every value it returns is a true surface point, so it can
+/// only improve an upper bound.
+glm::dvec2 project(const nurbs::Surface& s, const glm::dvec3& p, glm::dvec2 uv, int iterations) {
+  const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+  const glm::dvec2 lo(du.min, dv.min), hi(du.max, dv.max);
+  double f = glm::length(nurbs::surface_point(s, uv.x, uv.y) - p);
+  for (int it = 0; it < iterations; ++it) {
+    const nurbs::SurfaceDerivatives d = nurbs::surface_derivatives(s, uv.x, uv.y);
+    const glm::dvec3 r = d.s - p;
+    const double gu = glm::dot(r, d.su), gv = glm::dot(r, d.sv);
+    const double huu = glm::dot(d.su, d.su) + glm::dot(r, d.suu), hvv = glm::dot(d.sv, d.sv) + glm::dot(r, d.svv);
+    const double huv = glm::dot(d.su, d.sv) + glm::dot(r, d.suv), det = huu * hvv - huv * huv;
+    glm::dvec2 step = det > 0 && huu > 0
+                          ? glm::dvec2((hvv * gu - huv * gv) / det, (huu * gv - huv * gu) / det)
+                          : glm::dvec2(gu, gv) / std::max(glm::dot(d.su, d.su) + glm::dot(d.sv, d.sv), 1e-300);
+    bool moved = false;
+    for (int half = 0; half < 20 && !moved; ++half, step *= 0.5) {
+      const glm::dvec2 next = glm::clamp(uv - step, lo, hi);
+      const double fn = glm::length(nurbs::surface_point(s, next.x, next.y) - p);
+      if (fn < f) uv = next, f = fn, moved = true;
+    }
+    if (!moved) break;
+  }
+  return uv;
+}
+
+/// How loose a cell's bounds are: K_e inside the trim, the box diagonal on a trim edge.
+double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi - c.lo); }
+
 /// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
 class Cells {
  public:
-  Cells(const PreparedModel& m, const glm::dmat4& motion) : m_(m), motion_(motion) {}
+  Cells(const PreparedModel& m, const glm::dmat4& motion) : m_(m), motion_(motion), inverse_(glm::inverse(motion)) {}
+
+  /// Polishes (u, v) on `face` towards the closest point to q (q in moved coordinates). When the
+  /// Newton point is trimmed away (the closest point often lies on a trim edge), the last material
+  /// point on the way there from the material start uv, by bisection.
+  glm::dvec2 polish(int face, const glm::dvec3& q, glm::dvec2 uv, int iterations) {
+    const glm::dvec2 to =
+        project(m_.faces[size_t(face)].surface, glm::dvec3(inverse_ * glm::dvec4(q, 1.0)), uv, iterations);
+    if (at(face, to).material) return to;
+    glm::dvec2 in = uv, out = to;
+    for (int k = 0; k < 16; ++k) {
+      const glm::dvec2 mid = 0.5 * (in + out);
+      (at(face, mid).material ? in : out) = mid;
+    }
+    return in;
+  }
 
   std::vector<Cell> all;
 
@@ -163,7 +211,7 @@ class Cells {
   }
 
   const PreparedModel& m_;
-  glm::dmat4 motion_;
+  glm::dmat4 motion_, inverse_;
   std::map<std::tuple<int, int, int>, uint32_t> grid_index_;
 };
 
@@ -220,8 +268,13 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
       low[n] = std::max(low[n], tri_low - c.k);
     }
     if (std::isfinite(nearest)) {
-      const Cells::Sample q = cells.at(cells.all[near_cell].face, near_uv);
-      if (q.material) offer(q.p, near_uv, cells.all[near_cell].face, near_cell);
+      const int face = cells.all[near_cell].face;
+      const Cells::Sample q = cells.at(face, near_uv);
+      if (q.material) offer(q.p, near_uv, face, near_cell);
+      // A tighter upper bound: Newton from the best point so far (kept only where material).
+      const glm::dvec2 uv = cells.polish(r.face_a, p, r.uv_a, 8);
+      const Cells::Sample polished = cells.at(r.face_a, uv);
+      if (polished.material) offer(polished.p, uv, r.face_a, best_cell);
     }
     std::vector<uint32_t> next;
     double next_lower = kInf;
@@ -313,6 +366,20 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
       const auto [i, j] = pairs[near_pair];
       const Cells::Sample qa = ca.at(ca.all[i].face, near_a), qb = cb.at(cb.all[j].face, near_b);
       if (qa.material && qb.material) offer(qa.p, qb.p, near_a, near_b, i, j);
+      // A tighter upper bound: alternating Newton projections from the best pair so far, each
+      // step a pair of true surface points (kept only where both are material).
+      glm::dvec2 ua = r.uv_a, ub = r.uv_b;
+      glm::dvec3 pa = r.point_a;
+      const auto [bi, bj] = best;
+      for (int it = 0; it < 4; ++it) {
+        ub = cb.polish(r.face_b, pa, ub, 6);
+        const Cells::Sample sb = cb.at(r.face_b, ub);
+        ua = ca.polish(r.face_a, sb.p, ua, 6);
+        const Cells::Sample sa = ca.at(r.face_a, ua);
+        if (!sa.material || !sb.material) break;
+        offer(sa.p, sb.p, ua, ub, bi, bj);
+        pa = sa.p;
+      }
     }
     std::vector<std::pair<uint32_t, uint32_t>> next;
     double next_lower = kInf;
@@ -327,6 +394,9 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
       next.emplace_back(i, j);
       next_lower = std::min(next_lower, low[n]);
     }
+    if (std::getenv("NURBSGL_REFINE_DEBUG"))
+      std::fprintf(stderr, "round %d: %zu pairs, U %.9g, %zu to split, next lower %.9g\n", r.rounds, pairs.size(),
+                   r.distance, next.size(), next_lower);
     if (next.empty()) break;
     if (16 * static_cast<long long>(next.size()) > limits.max_pairs || r.rounds >= limits.max_rounds) {
       lower = std::min(lower, next_lower);
@@ -335,8 +405,10 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
     }
     pairs.clear();
     for (const auto& [i, j] : next) {
-      // Split the side that holds most of the pair's error (both when they are close).
-      const double ki = ca.all[i].k, kj = cb.all[j].k;
+      // Split the side that holds most of the pair's error (both when they are close): K_e for a
+      // cell inside the trim, its extent for one on a trim edge (there the gap to the closest
+      // material point shrinks with the cell's size, not with K_e).
+      const double ki = slack(ca.all[i]), kj = slack(cb.all[j]);
       bool si = ca.all[i].splittable && ki >= 0.25 * kj, sj = cb.all[j].splittable && kj >= 0.25 * ki;
       if (!si && !sj) si = ca.all[i].splittable, sj = !si;  // one side at least (both unsplittable settled)
       const auto [fi, ni] = children_of(ca, i, si);

@@ -7,16 +7,21 @@
 ///  - a cell is a parameter rectangle of one face with the surface evaluated at its four corners;
 ///    its box is the corners' box grown by its K_e (nurbs::filip_k_rect, Euclidean): the surface
 ///    over the rectangle lies within K_e of its two triangles (Filip et al.), which lie in the box;
-///  - upper bound U: the least distance between material corner samples (exact surface points
-///    inside the trim), so every U is realised by a pair of points that the answer returns;
+///  - upper bound U: the least distance between material surface points: cell corners, the
+///    surface at the closest triangle points' (u, v), and Newton projections from the best pair
+///    (alternating between the faces; a Newton point that is trimmed away is pulled back to the
+///    last material point on the way, so minima on trim edges are reached). Every U is realised
+///    by points that the answer returns;
 ///  - lower bound of a cell (pair): point-box (box-box) distance, Eqs. (9)-(12) and (13)-(20);
 ///  - a cell (pair) whose lower bound exceeds U is dropped; one whose lower bound is within T of U is
 ///    settled (nothing inside can beat U by more than T); the others are split 2 x 2 (in a pair,
-///    only the side whose K_e is not far below the other's) and tested again;
+///    only the side whose slack is not far below the other's: K_e inside the trim, the cell's
+///    extent on a trim edge, where the gap shrinks with the size) and tested again;
 ///  - rectangles with no material corner that no trim edge crosses are culled (entirely trimmed).
 /// Result: distance U with bound U - L, L the least lower bound of the settled cells (pairs), so
 /// d* lies in [U - bound, U] and bound <= T unless the search stopped at its pair budget (then
-/// meets_tolerance is false and the bound is what was proven).
+/// meets_tolerance is false and the bound is what was proven). NURBSGL_REFINE_DEBUG=1 prints each
+/// round (pairs, U, cells to split, least lower bound) on stderr.
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
