@@ -570,11 +570,23 @@ class Runner:
         if not runs:
             return
         occt = self.peer("points", model, "--points", file, "--repeat", "3")
+        big = 2000 if self.a.quick else self.a.batch_points
+        if big > n and "points" in runs:  # throughput at scale: the batched path only (OCCT is per point anyway)
+            big_file = self.path("points_input_large.txt")
+            write_lines(big_file, [f"{rnd.uniform(0, 100):.9g} {rnd.uniform(0, 100):.9g} {rnd.uniform(11, 29):.9g}"
+                                   for _ in range(big)])
+            try:
+                runs["large"] = self.nurbsgl("distance", model, "--points", big_file, *tol)
+                runs["large"]["label"] = f"--points ({runs['large'].get('path', 'as the CLI gives it')}, {big} points)"
+            except RuntimeError as e:
+                print(f"\npoints: --points with {big} points failed: {e}")
         rows = []
         for k, p in enumerate(pts):
             o = occt["results"][k]["distance"]
             row = {"i": k, "x": p[0], "y": p[1], "z": p[2], "occt_distance": "" if o is None else o}
             for key, j in runs.items():
+                if key == "large":
+                    continue
                 r = j["results"][k] if k < len(j["results"]) else None
                 row[f"{key}_distance"] = r["distance"] if r else ""
                 row[f"{key}_bound"] = r["bound"] if r else ""
@@ -598,8 +610,10 @@ class Runner:
         ax0.bar(labels, [s["ms_per_point"] for s in summary])
         ax0.set_yscale("log")
         ax0.set_ylabel("ms per point")
-        ax0.set_title(f"{n} points near the 100x105 surface")
+        ax0.set_title("points near the 100x105 surface")
         for key, j in runs.items():
+            if key == "large":
+                continue
             ratios = [r[f"{key}_diff_occt"] / r[f"{key}_bound"] for r in rows if r[f"{key}_diff_occt"] != ""]
             ax1.hist(ratios, bins=40, range=(-3, 3), alpha=0.5, label=j["label"])
         ax1.set_xlabel("(d_OCCT - d) / bound (within the bound: |x| <= 1; beyond +-3 not shown)")
@@ -613,6 +627,10 @@ class Runner:
         print(f"\npoints: {n} random points near the 100x105 surface, tol {self.a.tol:g} x model size")
         for s in summary[:-1]:
             m = s["key"]
+            if m == "large":
+                print(f"  {s['method']:<31} prepare {1e3 * s['prepare_s']:.0f} ms, {s['ms_per_point']:.4f} ms/point "
+                      f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.1f}x")
+                continue
             diffs = [abs(r[f"{m}_diff_occt"]) for r in rows if r[f"{m}_diff_occt"] != ""]
             bad = verdicts(r[f"{m}_within"] for r in rows if r[f"{m}_within"])
             print(f"  {s['method']:<31} {s['points']} points, prepare {1e3 * s['prepare_s']:.0f} ms, "
@@ -642,6 +660,7 @@ def main():
     p.add_argument("--tol", type=float, default=1e-5, help="tolerance relative to the model size")
     p.add_argument("--reps", type=int, default=4, help="queries per position (the first is reported apart)")
     p.add_argument("--points", type=int, default=1000, help="random points of the points experiment")
+    p.add_argument("--batch-points", type=int, default=100000, help="points of the batched throughput run")
     p.add_argument("--per-point-sample", type=int, default=200, help="points of the one-query-per-point runs")
     p.add_argument("--gl", help="GL backend passed to nurbsgl")
     p.add_argument("--quick", action="store_true", help="one position, fewer frames and points")
