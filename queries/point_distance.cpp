@@ -168,8 +168,15 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     r.face = c.face;
     break;
   }
+  // Theorem 1 holds for the closest triangle point of all candidates; when closer ones were
+  // discarded as trimmed (their cells may still hold material up to the trim edge), the proven
+  // bound widens to reach down to them, and the answer is on a trim edge (§5.3's looser case).
   r.bound = k;
-  r.point_bound = std::sqrt(4 * k * r.distance + k * k);
+  if (r.found && !cands.empty() && cands.front().hit.distance < r.distance) {
+    r.bound = std::max(k, r.distance - cands.front().hit.distance + k);
+    r.on_trim_edge = true;
+  }
+  r.point_bound = std::sqrt(4 * r.bound * r.distance + r.bound * r.bound);
   return r;
 }
 
