@@ -29,13 +29,6 @@ int pow2_at_least(int n) {
   return p;
 }
 
-/// Point-box minimum distance (Eqs. 9-12) of a box stored as float corners; +inf for an empty box.
-double box_distance(const glm::dvec3& q, const float* lo, const float* hi) {
-  if (lo[0] > hi[0]) return kInf;
-  const glm::dvec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
-  return glm::length(glm::max(glm::max(l - q, q - h), glm::dvec3(0.0)));
-}
-
 /// Indices of `points` sorted by the Morton code of their position in the cube of half side
 /// `half` about `centre` (10 bits per axis, outside points clamped to its faces).
 std::vector<uint32_t> morton_order(std::span<const glm::dvec3> points, const glm::dvec3& centre, double half) {
@@ -170,112 +163,6 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   return out;
 }
 
-void PointBatch::build_cpu_pyramid(Atlas& at) {
-  if (!at.cpu_lo.empty()) return;
-  const size_t a = size_t(&at - atlases_.data());
-  const AtlasPlan& plan = m_.atlases[a].plan;
-  const int w = plan.width, h = plan.height, w0 = at.lo.width(), h0 = at.lo.height();
-  const glm::vec3 o(m_.centre);
-  // Level 0: aabb_leaf.frag in float (the same boxes, bit for bit), empty outside the cells.
-  std::vector<float> lo(size_t(w0) * size_t(h0) * 3, kInfF), hi(lo.size(), -kInfF);
-  for (int y = 0; y + 1 < h; ++y)
-    for (int x = 0; x + 1 < w; ++x) {
-      const auto at_texel = [&](int k) { return size_t(y + (k >> 1)) * size_t(w) + size_t(x + (k & 1)); };
-      const float slot = at.slot_of[at_texel(0)];
-      bool cell = slot >= 0.0f, material = false;
-      for (int k = 1; k < 4; ++k) cell = cell && at.slot_of[at_texel(k)] == slot;
-      for (int k = 0; k < 4 && cell; ++k) material = material || at.mask[at_texel(k)] > 0.5f;
-      if (!cell || !material) continue;
-      float* l = &lo[(size_t(y) * size_t(w0) + size_t(x)) * 3];
-      float* u = &hi[(size_t(y) * size_t(w0) + size_t(x)) * 3];
-      for (int k = 0; k < 4; ++k)
-        for (int c = 0; c < 3; ++c) {
-          const float v = at.samples[4 * at_texel(k) + size_t(c)] - o[c];
-          l[c] = std::min(l[c], v), u[c] = std::max(u[c], v);
-        }
-    }
-  at.cpu_lo.push_back(std::move(lo));
-  at.cpu_hi.push_back(std::move(hi));
-  // Levels 1..: the 2x2 merge of aabb_merge.frag.
-  for (int l = 1; l < at.lo.levels(); ++l) {
-    const int fw = at.lo.level_width(l - 1), fh = at.lo.level_height(l - 1);
-    const int lw = at.lo.level_width(l), lh = at.lo.level_height(l);
-    std::vector<float> nlo(size_t(lw) * size_t(lh) * 3, kInfF), nhi(nlo.size(), -kInfF);
-    for (int y = 0; y < lh; ++y)
-      for (int x = 0; x < lw; ++x)
-        for (int k = 0; k < 4; ++k) {
-          const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
-          if (cx >= fw || cy >= fh) continue;
-          for (int c = 0; c < 3; ++c) {
-            const size_t src = (size_t(cy) * size_t(fw) + size_t(cx)) * 3 + size_t(c);
-            const size_t dst = (size_t(y) * size_t(lw) + size_t(x)) * 3 + size_t(c);
-            nlo[dst] = std::min(nlo[dst], at.cpu_lo.back()[src]);
-            nhi[dst] = std::max(nhi[dst], at.cpu_hi.back()[src]);
-          }
-        }
-    at.cpu_lo.push_back(std::move(nlo));
-    at.cpu_hi.push_back(std::move(nhi));
-  }
-}
-
-BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
-  Atlas& at = atlases_[a];
-  build_cpu_pyramid(at);
-  const glm::vec3 of(m_.centre);
-  const glm::dvec3 q(glm::vec3(p - m_.centre));  // the GPU's float point
-  const double eps = kFloatSlack * (glm::length(q) + double(float(radius_)));
-  const int w = m_.atlases[a].plan.width;
-  auto box = [&](int level, int x, int y) {
-    const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
-    return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
-  };
-  auto sample = [&](int x, int y) {
-    const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
-    return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - of);
-  };
-  struct Node {
-    int level, x, y;
-    double d;
-  };
-  const int top = at.lo.levels() - 1;
-  std::vector<Node> stack{{top, 0, 0, box(top, 0, 0)}};
-  BatchCell best{kInf, -1, -1, 0};
-  while (!stack.empty()) {
-    const Node n = stack.back();
-    stack.pop_back();
-    if (n.d > best.distance + eps) continue;
-    const int cw = at.lo.level_width(n.level - 1), ch = at.lo.level_height(n.level - 1);
-    double d[4];
-    for (int k = 0; k < 4; ++k) {
-      const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
-      d[k] = cx < cw && cy < ch ? box(n.level - 1, cx, cy) : kInf;
-    }
-    if (n.level == 1) {  // the children are cells: their two triangles
-      for (int k = 0; k < 4; ++k) {
-        if (d[k] > best.distance + eps) continue;
-        const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
-        const glm::dvec3 s00 = sample(cx, cy), s10 = sample(cx + 1, cy), s01 = sample(cx, cy + 1),
-                         s11 = sample(cx + 1, cy + 1);
-        glm::dvec3 wts;
-        const double t = std::min(glm::length(closest_on_triangle(q, s00, s10, s11, wts) - q),
-                                  glm::length(closest_on_triangle(q, s00, s11, s01, wts) - q));
-        ++best.tested;
-        if (t < best.distance) best.distance = t, best.x = cx, best.y = cy;
-      }
-      continue;
-    }
-    // The sorting network of point_batch.frag (same order on ties).
-    int order[4] = {0, 1, 2, 3};
-    double ds[4] = {d[0], d[1], d[2], d[3]};
-    for (const auto& [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}})
-      if (ds[j] < ds[i]) std::swap(ds[i], ds[j]), std::swap(order[i], order[j]);
-    for (int i = 3; i >= 0; --i)
-      if (d[order[i]] <= best.distance + eps)
-        stack.push_back({n.level - 1, 2 * n.x + (order[i] & 1), 2 * n.y + (order[i] >> 1), d[order[i]]});
-  }
-  return best;
-}
-
 FaceCell PointBatch::cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const {
   const Atlas& at = atlases_[a];
   const AtlasPlan& plan = m_.atlases[a].plan;
@@ -338,66 +225,6 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   return r;
 }
 
-PointDistance PointBatch::search_material(const glm::dvec3& p) const {
-  // Best first over every atlas's pyramid, in double; a triangle point in a trimmed region is
-  // discarded and the search goes on, as the faithful path does.
-  struct Node {
-    double d;
-    size_t a;
-    int level, x, y;
-    bool operator>(const Node& o) const { return d > o.d; }
-  };
-  const glm::dvec3 q(glm::vec3(p - m_.centre));
-  const double eps = slack(p);
-  std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
-  auto box = [&](size_t a, int level, int x, int y) {
-    const size_t i = (size_t(y) * size_t(atlases_[a].lo.level_width(level)) + size_t(x)) * 3;
-    return box_distance(q, &atlases_[a].cpu_lo[size_t(level)][i], &atlases_[a].cpu_hi[size_t(level)][i]);
-  };
-  for (size_t a = 0; a < atlases_.size(); ++a) {
-    const int top = atlases_[a].lo.levels() - 1;
-    open.push({box(a, top, 0, 0), a, top, 0, 0});
-  }
-  PointDistance best;
-  best.distance = kInf;
-  Node win{};
-  bool on_edge = false;
-  while (!open.empty() && open.top().d <= best.distance + eps) {
-    const Node n = open.top();
-    open.pop();
-    if (!std::isfinite(n.d)) break;
-    if (n.level == 0) {
-      // on_trim_edge (four more classifications) only for the winner.
-      const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
-      if (r.distance >= best.distance) continue;
-      if (material(r)) {
-        best = r, win = n, on_edge = false;
-        continue;
-      }
-      // The closest material point of this cell's triangles lies on the trim curve.
-      glm::dvec3 corners[4];
-      const FaceCell c = cell_corners(n.a, n.x, n.y, corners);
-      TrimEdgeHit h{best.distance};
-      if (trim_edges_[size_t(c.face)].closest(p, c.i, c.j, corners, h))
-        best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face, on_edge = true;
-      continue;
-    }
-    const Atlas& at = atlases_[n.a];
-    for (int k = 0; k < 4; ++k) {
-      const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
-      if (cx < at.lo.level_width(n.level - 1) && cy < at.lo.level_height(n.level - 1))
-        open.push({box(n.a, n.level - 1, cx, cy), n.a, n.level - 1, cx, cy});
-    }
-  }
-  if (!std::isfinite(best.distance)) return PointDistance{};
-  if (!on_edge) return cell_result(p, win.a, win.x, win.y, true);
-  best.found = true;
-  best.on_trim_edge = true;
-  best.bound = model_bound_ + 2.0 * slack(p);
-  best.point_bound = std::sqrt(4 * best.bound * best.distance + best.bound * best.bound);
-  return best;
-}
-
 std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {
   if (points.size() > points_per_pass_) {  // pass by pass, figures summed
     PointBatchStats total;
@@ -446,20 +273,8 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
   return out;
 }
 
-PointDistance PointBatch::query_cpu(const glm::dvec3& p) {
-  std::vector<BatchCell> best;
-  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p));  // builds the pyramids
-  long long fallbacks = 0;
-  return finish(p, best, fallbacks);
-}
-
 std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
   return (hi ? atlases_[a].hi : atlases_[a].lo).read_level(level);
-}
-
-const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {
-  build_cpu_pyramid(atlases_[a]);
-  return (hi ? atlases_[a].cpu_hi : atlases_[a].cpu_lo)[size_t(level)];
 }
 
 }  // namespace queries
