@@ -2,7 +2,8 @@
 // samples of the cell with lower-left sample (x, y), mapped by u_motion (rigid motion of the object:
 // boxes refitted from the untransformed samples), grown by the face's K_e + float budget. Cells
 // that are not cells, or whose four samples are all trimmed away (§5.3), are empty: lo = +inf,
-// hi = -inf. Coordinates relative to u_origin.
+// hi = -inf; so are the cells of faces with a negative growth (left out by a first stage).
+// Coordinates relative to u_origin.
 uniform sampler2D u_points;   // RGBA32F atlas of samples
 uniform sampler2D u_slot_of;  // R32F: slot index or -1
 uniform sampler2D u_mask;     // R8 trim mask
@@ -34,8 +35,8 @@ void main() {
     hi = max(hi, p);
     material += texelFetch(u_mask, t, 0).r > 0.5 ? 1.0 : 0.0;
   }
-  if (material == 0.0) return;
   float grow = texelFetch(u_grow, ivec2(slot, 0), 0).r;
+  if (material == 0.0 || grow < 0.0) return;  // all trimmed, or the face left out by a first stage
   o_lo = vec4(lo - vec3(grow), 0.0);
   o_hi = vec4(hi + vec3(grow), 0.0);
 }

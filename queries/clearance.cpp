@@ -26,7 +26,8 @@ struct Hierarchy {
   std::vector<gpgpu::Texture> lo, hi;
 };
 
-Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion, const glm::dvec3& origin) {
+Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion, const glm::dvec3& origin,
+                const std::vector<char>* faces) {
   if (m.atlases.size() != 1)
     throw std::length_error(fmt::format("clearance: a model in {} atlases (one is supported)", m.atlases.size()));
   const FaceAtlas& at = m.atlases[0];
@@ -38,8 +39,19 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
   leaf.set_mat4("u_motion", &mf[0][0]);
   const glm::vec3 o(origin);
   leaf.set("u_origin", o.x, o.y, o.z);
+  // Faces left out by a first stage (voxel_stage.h) get a negative growth: their leaves are empty.
+  const gpgpu::Texture* grow = &m.grow[0];
+  gpgpu::Texture filtered;
+  if (faces) {
+    std::vector<float> g = m.grow[0].read();
+    for (size_t sl = 0; sl < at.plan.slots.size(); ++sl)
+      if (!(*faces)[size_t(at.plan.slots[sl].face)]) g[sl] = -1.0f;
+    filtered = gpgpu::Texture(int(g.size()), 1, gpgpu::Format::R32F);
+    filtered.upload(g);
+    grow = &filtered;
+  }
   const gpgpu::Input in[] = {
-      {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", &m.grow[0]}};
+      {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", grow}};
   gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
   gpu.run("aabb_leaf", leaf, in, out);
   gpgpu::Program& merge = gpu.program("aabb_merge.frag");
@@ -71,9 +83,10 @@ CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const gl
 
 }  // namespace
 
-Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b) {
+Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                    const std::vector<char>* faces_a, const std::vector<char>* faces_b) {
   const glm::dvec3 origin = a.centre;
-  const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin), hb = build(gpu, b, motion_b, origin);
+  const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin, faces_a), hb = build(gpu, b, motion_b, origin, faces_b);
   Clearance r;
   // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
   // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them
