@@ -142,3 +142,33 @@ TEST_CASE("refine: surface pairs, the lower bound holds against alternating proj
     CHECK(d >= r.distance - r.bound - 1e-12);
   }
 }
+
+TEST_CASE("refine: the cases the paper warns about: contact, a point on the surface, a point over a pole") {
+  nurbs::TrimmedSurface s1, s2;
+  s1.surface = models::rational_sphere(1.0);
+  s2.surface = models::rational_sphere(2.0);
+  const double tol = 1e-5;
+  const auto a = queries::prepare_geometry({s1}, 2e-2), b = queries::prepare_geometry({s2}, 2e-2);
+  // Intersecting and touching spheres: distance 0 within the bound, the two points together.
+  for (double gap : {-0.4, 0.0}) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(0.2, -1, 0.7));
+    const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), (3.0 + gap) * dir);
+    const queries::Refined r = queries::refine_pairs(a, b, motion, all_pairs(a, b), tol);
+    CAPTURE(gap);
+    test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, 0.0, 1e-12);
+    CHECK(glm::length(r.point_a - r.point_b) <= tol);
+    CHECK(std::abs(glm::length(r.point_a) - 1.0) < 1e-12);  // on the first sphere
+  }
+  // Points on the surface, and over both poles of the sphere's parametrisation (axis z).
+  models::Random rng(7);
+  for (int k = 0; k < 6; ++k) {
+    const glm::dvec3 on = glm::normalize(glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+    const queries::Refined r = queries::refine_point(a, all_cells(a), on, tol);
+    test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, 0.0, 1e-12);
+  }
+  for (double z : {1.5, -1.5, 0.25}) {
+    const queries::Refined r = queries::refine_point(a, all_cells(a), {0.0, 0.0, z}, tol);
+    CAPTURE(z);
+    test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, std::abs(std::abs(z) - 1.0), 1e-12);
+  }
+}
