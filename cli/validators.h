@@ -4,7 +4,6 @@
 /// false) and prints small bounds as 0.000000, so tolerances get their own check.
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <map>
 #include <string>
 
 #include "queries/prepared_model.h"
@@ -34,13 +33,16 @@ inline CLI::Validator relative_tolerance() {
 /// `--search faithful|coarse-to-fine` (queries::Search): the paper's grids at the tolerance, or
 /// coarse grids refined where the answer can be (the default).
 inline CLI::Option* add_search_option(CLI::App* cmd, queries::Search& search) {
-  const std::map<std::string, queries::Search> names{{"faithful", queries::Search::Faithful},
-                                                     {"coarse-to-fine", queries::Search::CoarseToFine}};
   return cmd
-      ->add_option("--search", search,
-                   "faithful: every face on a grid at the tolerance (the paper); coarse-to-fine: coarse grids, "
-                   "candidate cells refined in double until they meet it (same bound, fewer samples)")
-      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case))
+      ->add_option_function<std::string>(
+          "--search",
+          [&search](const std::string& name) {
+            search = name == "faithful" ? queries::Search::Faithful : queries::Search::CoarseToFine;
+          },
+          "faithful: every face on a grid at the tolerance (the paper); coarse-to-fine: coarse grids, candidate "
+          "cells refined in double until they meet it (same bound, fewer samples)")
+      ->check(CLI::IsMember({"faithful", "coarse-to-fine"}))
+      ->type_name("faithful|coarse-to-fine")
       ->default_str("coarse-to-fine");
 }
 
