@@ -7,6 +7,9 @@
 uniform sampler2D u_points;   // RGBA32F atlas of samples
 uniform sampler2D u_slot_of;  // R32F: slot index or -1
 uniform sampler2D u_mask;     // R8 trim mask
+#ifdef TRIM_CROSSED
+uniform sampler2D u_crossed;  // R8: 1 where a trim edge crosses the cell with lower-left sample (x, y)
+#endif
 uniform sampler2D u_grow;     // R32F per slot
 uniform mat4 u_motion;        // model -> common frame, applied before u_origin is subtracted
 uniform vec3 u_origin;
@@ -35,6 +38,10 @@ void main() {
     hi = max(hi, p);
     material += texelFetch(u_mask, t, 0).r > 0.5 ? 1.0 : 0.0;
   }
+#ifdef TRIM_CROSSED
+  // Material may lie between the samples where a trim edge crosses the cell: not culled then.
+  if (texelFetch(u_crossed, g, 0).r > 0.5) material = max(material, 0.5);
+#endif
   float grow = texelFetch(u_grow, ivec2(slot, 0), 0).r;
   if (material == 0.0 || grow < 0.0) return;  // all trimmed, or the face left out by a first stage
   o_lo = vec4(lo - vec3(grow), 0.0);

@@ -8,6 +8,9 @@
 uniform sampler2D u_points;   // RGBA32F atlas of samples (x, y, z, w)
 uniform sampler2D u_slot_of;  // R32F: slot index or -1
 uniform sampler2D u_mask;     // R8 trim mask, 1 = material
+#ifdef TRIM_CROSSED
+uniform sampler2D u_crossed;  // R8: 1 where a trim edge crosses the cell with lower-left sample (x, y)
+#endif
 uniform sampler2D u_grow;     // R32F per slot: K_e + float budget, model units
 uniform vec3 u_point;         // query point relative to u_origin
 uniform vec3 u_origin;        // subtracted from the samples (keeps the differences small in float)
@@ -35,6 +38,10 @@ void main() {
     hi = max(hi, p);
     material += texelFetch(u_mask, t, 0).r > 0.5 ? 1.0 : 0.0;
   }
+#ifdef TRIM_CROSSED
+  // Material may lie between the samples where a trim edge crosses the cell: not culled then.
+  if (texelFetch(u_crossed, g, 0).r > 0.5) material = max(material, 0.5);
+#endif
   if (material == 0.0) {
     o_minmax = vec4(kInf, kInf, 0.0, 0.0);
     return;

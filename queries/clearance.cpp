@@ -34,7 +34,7 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
   Hierarchy h;
   h.lo.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
   h.hi.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
-  gpgpu::Program& leaf = gpu.program("aabb_leaf.frag");
+  gpgpu::Program& leaf = gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
   const glm::mat4 mf(motion);
   leaf.set_mat4("u_motion", &mf[0][0]);
   const glm::vec3 o(origin);
@@ -50,8 +50,11 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
     filtered.upload(g);
     grow = &filtered;
   }
-  const gpgpu::Input in[] = {
-      {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", grow}};
+  const gpgpu::Input in[] = {{"u_points", &at.points},
+                             {"u_slot_of", &at.slot_of},
+                             {"u_mask", &at.mask},
+                             {"u_grow", grow},
+                             {"u_crossed", &m.crossed[0]}};
   gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
   gpu.run("aabb_leaf", leaf, in, out);
   gpgpu::Program& merge = gpu.program("aabb_merge.frag");

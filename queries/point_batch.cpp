@@ -91,12 +91,16 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(
     }
     gpgpu::Texture no_growth(std::max<int>(1, int(fa.plan.slots.size())), 1, gpgpu::Format::R32F);
     no_growth.upload(std::vector<float>(size_t(no_growth.width()), 0.0f));
-    gpgpu::Program& leaf = gpu.program("aabb_leaf.frag");
+    const size_t index = size_t(&fa - m.atlases.data());
+    gpgpu::Program& leaf = gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
     const glm::mat4 identity(1.0f);
     leaf.set_mat4("u_motion", &identity[0][0]);
     leaf.set("u_origin", o.x, o.y, o.z);
-    const gpgpu::Input in[] = {
-        {"u_points", &fa.points}, {"u_slot_of", &fa.slot_of}, {"u_mask", &fa.mask}, {"u_grow", &no_growth}};
+    const gpgpu::Input in[] = {{"u_points", &fa.points},
+                               {"u_slot_of", &fa.slot_of},
+                               {"u_mask", &fa.mask},
+                               {"u_grow", &no_growth},
+                               {"u_crossed", &m.crossed[index]}};
     gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
     gpu.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
     gpgpu::Program& merge = gpu.program("aabb_merge.frag");
@@ -107,6 +111,7 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(
     at.samples = fa.points.read();
     at.slot_of = fa.slot_of.read();
     at.mask = fa.mask.read();
+    at.crossed = m.crossed[index].read();
     atlases_.push_back(std::move(at));
   }
 }

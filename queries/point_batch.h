@@ -98,6 +98,7 @@ class PointBatch {
     std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
     std::vector<float> slot_of;              ///< slot index per texel, -1 outside
     std::vector<float> mask;                 ///< trim mask per texel, 1 = material
+    std::vector<float> crossed;              ///< 1 where a trim edge crosses the texel's cell (PreparedModel)
     std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
     std::vector<std::vector<float>> cpu_hi;
   };

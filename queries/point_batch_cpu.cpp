@@ -32,7 +32,8 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
   const AtlasPlan& plan = m_.atlases[a].plan;
   const int w = plan.width, h = plan.height, w0 = at.lo.width(), h0 = at.lo.height();
   const glm::vec3 o(m_.centre);
-  // Level 0: aabb_leaf.frag in float (the same boxes, bit for bit), empty outside the cells.
+  // Level 0: aabb_leaf.frag (TRIM_CROSSED) in float (the same boxes, bit for bit), empty outside the
+  // cells and in cells with no material sample that no trim edge crosses.
   std::vector<float> lo(size_t(w0) * size_t(h0) * 3, kInfF), hi(lo.size(), -kInfF);
   for (int y = 0; y + 1 < h; ++y)
     for (int x = 0; x + 1 < w; ++x) {
@@ -41,6 +42,7 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
       bool cell = slot >= 0.0f, material = false;
       for (int k = 1; k < 4; ++k) cell = cell && at.slot_of[at_texel(k)] == slot;
       for (int k = 0; k < 4 && cell; ++k) material = material || at.mask[at_texel(k)] > 0.5f;
+      material = material || (cell && at.crossed[at_texel(0)] > 0.5f);  // a trim edge crosses the cell
       if (!cell || !material) continue;
       float* l = &lo[(size_t(y) * size_t(w0) + size_t(x)) * 3];
       float* u = &hi[(size_t(y) * size_t(w0) + size_t(x)) * 3];

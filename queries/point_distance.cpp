@@ -90,11 +90,14 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   for (size_t a = 0; a < m_.atlases.size(); ++a) {
     const FaceAtlas& at = m_.atlases[a];
     minmax.push_back(gpu_.acquire(at.plan.width, at.plan.height, gpgpu::Format::RG32F));
-    gpgpu::Program& prog = gpu_.program("point_aabb_minmax.frag");
+    gpgpu::Program& prog = gpu_.program("point_aabb_minmax.frag", {{"TRIM_CROSSED", "1"}});
     prog.set("u_point", q.x, q.y, q.z);
     prog.set("u_origin", o.x, o.y, o.z);
-    const gpgpu::Input in[] = {
-        {"u_points", &at.points}, {"u_slot_of", &at.slot_of}, {"u_mask", &at.mask}, {"u_grow", &m_.grow[a]}};
+    const gpgpu::Input in[] = {{"u_points", &at.points},
+                               {"u_slot_of", &at.slot_of},
+                               {"u_mask", &at.mask},
+                               {"u_grow", &m_.grow[a]},
+                               {"u_crossed", &m_.crossed[a]}};
     gpgpu::Texture* out[] = {minmax.back().get()};
     gpu_.run("point_aabb_minmax", prog, in, out);
     upper = std::min(upper, double(gpgpu::reduce_min(gpu_, *minmax.back().get(), 1)));

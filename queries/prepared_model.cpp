@@ -28,6 +28,33 @@ std::optional<FaceCell> PreparedModel::cell_at(size_t a, int x, int y) const {
   return std::nullopt;
 }
 
+std::vector<uint8_t> crossed_cells(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& g) {
+  const int nu = g.cells_u(), nv = g.cells_v();
+  std::vector<uint8_t> out(size_t(nu) * size_t(nv), 0);
+  auto cell_of = [](const std::vector<double>& t, double x) {  // the cell holding x, clamped
+    const auto it = std::upper_bound(t.begin(), t.end(), x);
+    return std::clamp(int(it - t.begin()) - 1, 0, int(t.size()) - 2);
+  };
+  for (const auto& loop : trim.loops)
+    for (size_t e = 0; e < loop.size(); ++e) {
+      glm::dvec2 a = loop[e], b = loop[(e + 1) % loop.size()];
+      if (a.x > b.x) std::swap(a, b);
+      for (int i = cell_of(g.u, a.x), last = cell_of(g.u, b.x); i <= last; ++i) {
+        // The part of the edge over column i, then the rows it spans there.
+        const double x0 = std::max(a.x, g.u[size_t(i)]), x1 = std::min(b.x, g.u[size_t(i) + 1]);
+        double y0 = a.y, y1 = b.y;
+        if (b.x > a.x) {
+          y0 = a.y + (b.y - a.y) * ((std::min(x0, b.x) - a.x) / (b.x - a.x));
+          y1 = a.y + (b.y - a.y) * ((std::max(x1, a.x) - a.x) / (b.x - a.x));
+        }
+        if (y0 > y1) std::swap(y0, y1);
+        for (int j = cell_of(g.v, y0), top = cell_of(g.v, y1); j <= top; ++j)
+          out[size_t(j) * size_t(nu) + size_t(i)] = 1;
+      }
+    }
+  return out;
+}
+
 double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance) {
   if (faces.empty()) return tolerance;
   nurbs::Box all = nurbs::control_box(faces.front().surface);
@@ -98,6 +125,19 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
       throw std::length_error("prepare_model: more faces in one atlas than the texture size allows");
     m.grow.emplace_back(int(grow.size()), 1, gpgpu::Format::R32F);
     m.grow.back().upload(grow);
+    std::vector<uint8_t> crossed(size_t(plan.width) * size_t(plan.height), 0);
+    for (const AtlasSlot& sl : plan.slots) {
+      const auto f = size_t(sl.face);
+      if (m.faces[f].loops.empty()) continue;
+      const nurbs::ParamGrid& g = m.grids[f].grid;
+      const std::vector<uint8_t> c = crossed_cells(m.trims[f], g);
+      for (int j = 0; j < g.cells_v(); ++j)
+        for (int i = 0; i < g.cells_u(); ++i)
+          crossed[size_t(sl.y + j) * size_t(plan.width) + size_t(sl.x + i)] =
+              c[size_t(j) * size_t(g.cells_u()) + size_t(i)] ? 255 : 0;  // R8 reads 1.0
+    }
+    m.crossed.emplace_back(plan.width, plan.height, gpgpu::Format::R8);
+    m.crossed.back().upload(std::span<const uint8_t>(crossed));
   }
   gpu.finish();
   m.atlas_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -4,6 +4,7 @@
 /// grid (K_e <= tolerance on every cell), all faces evaluated in atlases with their trim masks
 /// (face_atlas.h), and per atlas slot the growth of its cell boxes: K_e plus the float budget of
 /// the GPU samples. Evaluated once; queries reuse it.
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <optional>
 #include <vector>
@@ -39,6 +40,10 @@ struct PreparedModel {
   std::vector<nurbs::CertifiedGrid> grids;
   std::vector<FaceAtlas> atlases;
   std::vector<gpgpu::Texture> grow;  ///< per atlas: R32F, one texel per slot
+  /// Per atlas: R8, 1 where an edge of the face's trim polygons crosses the cell with lower-left
+  /// sample (x, y). Such a cell is not culled even when its four samples are trimmed away: the
+  /// paper's §5.3 corner test alone loses material between samples (a thin strip along a trim).
+  std::vector<gpgpu::Texture> crossed;
   /// Per face: its trim loops flattened within 1e-6 of its u domain width, for classifying the
   /// closest points the queries find (empty for untrimmed faces).
   std::vector<nurbs::TrimPolygons> trims;
@@ -66,6 +71,10 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).
 [[nodiscard]] double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
+
+/// The cells of grid g (row-major, cells_u x cells_v, 1 = crossed) that an edge of `trim` meets;
+/// edges outside the grid count for the nearest cells.
+[[nodiscard]] std::vector<uint8_t> crossed_cells(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& g);
 
 /// Float budget of one face's GPU samples: the tabulated evaluation's measured error (1.0e-7 of the
 /// control box, surface_grid.h) with a factor 10, plus 4 ulp of the largest coordinate (the atlas
