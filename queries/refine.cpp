@@ -272,9 +272,11 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
       const Cells::Sample q = cells.at(face, near_uv);
       if (q.material) offer(q.p, near_uv, face, near_cell);
       // A tighter upper bound: Newton from the best point so far (kept only where material).
-      const glm::dvec2 uv = cells.polish(r.face_a, p, r.uv_a, 8);
-      const Cells::Sample polished = cells.at(r.face_a, uv);
-      if (polished.material) offer(polished.p, uv, r.face_a, best_cell);
+      if (r.face_a >= 0) {
+        const glm::dvec2 uv = cells.polish(r.face_a, p, r.uv_a, 8);
+        const Cells::Sample polished = cells.at(r.face_a, uv);
+        if (polished.material) offer(polished.p, uv, r.face_a, best_cell);
+      }
     }
     std::vector<uint32_t> next;
     double next_lower = kInf;
@@ -371,7 +373,7 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
       glm::dvec2 ua = r.uv_a, ub = r.uv_b;
       glm::dvec3 pa = r.point_a;
       const auto [bi, bj] = best;
-      for (int it = 0; it < 4; ++it) {
+      for (int it = 0; it < 4 && r.face_a >= 0; ++it) {
         ub = cb.polish(r.face_b, pa, ub, 6);
         const Cells::Sample sb = cb.at(r.face_b, ub);
         ua = ca.polish(r.face_a, sb.p, ua, 6);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "../gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
@@ -18,6 +19,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/clearance.h"
 #include "queries/point_distance.h"
 #include "tests/queries/distance_reference.h"
 #include "tests/shared_models.h"
@@ -197,4 +199,28 @@ TEST_CASE("point distance: coarse-to-fine search, proven interval holds the refe
   }
   CHECK(coarse_cells * 2 < fine_cells);  // coarse grids at 5e-4 of the size, faithful at 2e-4
   MESSAGE(queries << " queries; samples evaluated: coarse-to-fine " << coarse_cells << ", faithful " << fine_cells);
+}
+
+TEST_CASE("point distance and clearance: a trimmed face smaller than one grid cell is not culled (5.3)") {
+  // A flat bilinear face: its certified grid is one cell, whose four corners lie outside the small
+  // disc that trims it. The corner test of the paper alone culls it; the crossed-cell flag keeps it.
+  gpgpu::Gpu& gpu = test::gpu();
+  nurbs::TrimmedSurface plate;
+  plate.surface.degree_u = plate.surface.degree_v = 1;
+  plate.surface.count_u = plate.surface.count_v = 2;
+  plate.surface.knots_u = plate.surface.knots_v = {0, 0, 1, 1};
+  plate.surface.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}};
+  plate.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.1, true)}, true});
+  for (const auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+    queries::PointDistanceQuery q(gpu, {plate}, 1e-3, 1LL << 22, search);
+    REQUIRE(q.grids()[0].grid.cells_u() * q.grids()[0].grid.cells_v() == 1);
+    const queries::PointDistance d = q.query({5.0, 5.0, 2.0});
+    REQUIRE(d.found);
+    CHECK(std::abs(d.distance - 2.0) <= d.bound + 1e-12);
+    CHECK(d.bound <= 1e-3);
+  }
+  const auto a = queries::prepare_model(gpu, {plate}, 1e-3, 1LL << 22, queries::Search::CoarseToFine);
+  const queries::Clearance c = queries::clearance(gpu, a, a, glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, 0, 3)));
+  REQUIRE(c.found);
+  CHECK(std::abs(c.distance - 3.0) <= c.bound + 1e-12);
 }
