@@ -123,6 +123,15 @@ long long samples(const queries::PreparedModel& m) {
   return n;
 }
 
+/// The preparation of both models: time per stage, grid tolerance and samples evaluated.
+nlohmann::json prepare_json(const queries::PreparedModel& a, const queries::PreparedModel& b) {
+  return {{"bounds_seconds", a.bounds_seconds + b.bounds_seconds},
+          {"grids_seconds", a.grids_seconds + b.grids_seconds},
+          {"atlas_seconds", a.atlas_seconds + b.atlas_seconds},
+          {"grid_tolerance", std::max(a.grid_tolerance, b.grid_tolerance)},
+          {"samples", samples(a) + samples(b)}};
+}
+
 void run(const GlobalOptions& global, const Options& o) {
   const std::vector<glm::dmat4> frames = motions(o);
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
@@ -179,11 +188,12 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     if (progress) fmt::print(stderr, "\n");
     if (o.json)
-      fmt::print(
-          "{}\n",
-          nlohmann::json{
-              {"frames", frames.size()}, {"prepare_seconds", prepare_s}, {"tolerance", tolerance}, {"results", results}}
-              .dump(2));
+      fmt::print("{}\n", nlohmann::json{{"frames", frames.size()},
+                                        {"prepare_seconds", prepare_s},
+                                        {"prepare", prepare_json(a, b)},
+                                        {"tolerance", tolerance},
+                                        {"results", results}}
+                             .dump(2));
     report_profile(*gpu, global);
     return;
   }
@@ -195,11 +205,7 @@ void run(const GlobalOptions& global, const Options& o) {
     nlohmann::json j = result_json(c, query_s);
     if (voxel) j["first_stage"] = stage;
     j["prepare_seconds"] = prepare_s;
-    j["prepare"] = {{"bounds_seconds", a.bounds_seconds + b.bounds_seconds},
-                    {"grids_seconds", a.grids_seconds + b.grids_seconds},
-                    {"atlas_seconds", a.atlas_seconds + b.atlas_seconds},
-                    {"grid_tolerance", std::max(a.grid_tolerance, b.grid_tolerance)},
-                    {"samples", samples(a) + samples(b)}};
+    j["prepare"] = prepare_json(a, b);
     j["tolerance"] = tolerance;
     fmt::print("{}\n", j.dump(2));
   } else {
