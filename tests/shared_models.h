@@ -8,7 +8,9 @@
 /// that runs no test case exits with kSkipExitCode (test_main.cpp), ctest's SKIP_RETURN_CODE.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 
 namespace test {
 
@@ -20,6 +22,15 @@ inline std::filesystem::path shared_models_dir() { return std::filesystem::path(
 
 /// True when the shared model folder exists.
 inline bool shared_models_present() { return std::filesystem::is_directory(shared_models_dir()); }
+
+/// Every IGES file (.igs, .iges) under shared_models_dir(), sorted.
+inline std::vector<std::filesystem::path> shared_iges_files() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(shared_models_dir()))
+    if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
 /// doctest decorator: suite "shared_models", skipped (decided at registration) when the folder is absent.
 struct needs_shared_models {

@@ -293,10 +293,7 @@ TEST_CASE("point batch: coarse-to-fine models and empty batches") {
 
 TEST_CASE("point batch: every face of the shared IGES models takes part" * test::needs_shared_models()) {
   gpgpu::Gpu& gpu = test::gpu();
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(test::shared_models_dir()))
-    if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::filesystem::path> files = test::shared_iges_files();
   REQUIRE(files.size() >= 8);
   int faces = 0, points_run = 0, edge_closer = 0;
   long long fallbacks = 0;

@@ -121,10 +121,7 @@ TEST_CASE("point distance: many faces at once equal the best face, trimmed regio
 
 TEST_CASE("point distance: every face of the shared IGES models takes part" * test::needs_shared_models()) {
   gpgpu::Gpu& gpu = test::gpu();
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(test::shared_models_dir()))
-    if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::filesystem::path> files = test::shared_iges_files();
   REQUIRE(files.size() >= 8);
   int faces = 0, queries_run = 0, widened = 0;
   for (const auto& file : files) {

@@ -19,12 +19,7 @@
 namespace fs = std::filesystem;
 
 TEST_CASE("certified grids on every face of the shared IGES models" * test::needs_shared_models()) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::recursive_directory_iterator(test::shared_models_dir())) {
-    const std::string ext = e.path().extension().string();
-    if (ext == ".igs" || ext == ".iges") files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test::shared_iges_files();
   REQUIRE(files.size() >= 8);
   int faces_checked = 0, cells_checked = 0;
   for (const fs::path& file : files) {

@@ -423,12 +423,7 @@ TEST_CASE("close_gaps_on_surface: a side drawn past the corner is cut back to it
 }
 
 TEST_CASE("shared IGES files read with 0 trim problems" * test::needs_shared_models()) {
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::recursive_directory_iterator(test::shared_models_dir())) {
-    const std::string ext = entry.path().extension().string();
-    if (ext == ".igs" || ext == ".iges") files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test::shared_iges_files();
   CHECK(files.size() >= 10);
   for (const fs::path& file : files) {
     CAPTURE(file.string());
