@@ -17,6 +17,7 @@ packages=(
   libopenexr-dev                             # EXR dumps of float textures
   doctest-dev                                # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev # command line, JSON output, formatting
+  libeigen3-dev                              # SVD of the trim-curve lifting (tessellation §4)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,62 @@
+#pragma once
+/// \file tess_types.h
+/// The data passed between the stages of the trimmed NURBS tessellation of Balázs, Guthe and Klein
+/// (WSCG 2004; ../shared/papers/balazs-trimmed-nurbs-tessellation.txt). One face goes through:
+///   §4 trim curves -> 3D Bézier curves (trim_bezier3d.h)      -> TrimCurve3
+///   §5 trim loops  -> polylines within gamma * eps (trim_polyline.h) -> LoopPolyline
+///   §5 surface     -> kd-tree (or quadtree) cells within (1 - ...) eps (surface_cells.h) -> Cell
+///   §6 cells + loops -> half-edge graph -> material polygons (half_edge_trim.h)
+///   §7 polygons    -> triangles in (u, v) (triangulate.h)
+///   §8 (u, v)      -> surface points, coherent evaluation (coherent_eval.h) -> FaceMesh
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "nurbs/knot_vector.h"
+
+namespace nurbs::tess {
+
+/// How the surface error of a cell is measured (§5 "NURBS Surfaces").
+enum class SurfaceError {
+  Conservative,  ///< control points vs the bilinear approximation, plus the twist term: guaranteed
+  Approximate,   ///< surface points at the control points' parameters instead: fewer triangles
+};
+/// How the surface domain is subdivided (§5): the paper's kd-tree, or the quadtree of [Kah02].
+enum class Subdivision { KdTree, Quadtree };
+/// How a trim curve that is not flat enough is split (§5 "Trimming Loops").
+enum class CurveSplit { Midpoint, Arbitrary };
+
+/// A trim loop of one face approximated by a closed polyline (last point joins the first, not repeated).
+/// uv[i] is in the face's parameter plane; xyz[i] = S(uv[i]) exactly (a point of the 3D trim curve).
+/// Orientation as in trimmed_surface.h: outer loops counter-clockwise, holes clockwise.
+struct LoopPolyline {
+  std::vector<glm::dvec2> uv;
+  std::vector<glm::dvec3> xyz;
+  bool outer = true;
+};
+
+/// A leaf of the surface subdivision: an axis-aligned rectangle of the parameter plane with the two
+/// terms of §5's error: `bilinear` = ε_bilin (control points, or surface points in Approximate mode,
+/// against the bilinear approximation S~) and `twist` = |P00 - Pm0 - P0n + Pmn|. The paper's
+/// ε_conservative = bilinear + twist / 4 bounds the cell's own two triangles; a triangle with other
+/// vertices inside the cell (trim points, T-junction points) is within 2 * bilinear + twist / 4 of
+/// the surface over it (polynomial patches; see surface_cells.h for rational ones).
+struct Cell {
+  Interval u, v;
+  double bilinear = 0.0;
+  double twist = 0.0;
+  [[nodiscard]] double error() const { return bilinear + 0.25 * twist; }
+};
+
+/// Triangles of one face. Vertices carry (u, v), the surface point and the unit surface normal
+/// (oriented like Su x Sv, flipped when the face is reversed). Triangles are counter-clockwise seen
+/// from the normal side. `trim_vertex[i]` is true for vertices that lie on a trim polyline.
+struct FaceMesh {
+  std::vector<glm::dvec2> uv;
+  std::vector<glm::dvec3> position;
+  std::vector<glm::dvec3> normal;
+  std::vector<bool> trim_vertex;
+  std::vector<glm::ivec3> triangles;
+};
+
+}  // namespace nurbs::tess
