@@ -8,6 +8,7 @@
 
 uniform sampler2D u_pairs;  // RGBA32F records (xa, ya, xb, yb) of the surviving pairs, row-major
 uniform int u_pair_count;
+uniform int u_pair_offset;  // first pair of this chunk (a level too large for one target runs in chunks)
 uniform sampler2D u_lo_a;   // the finer level of A (or A's leaves when it is there already)
 uniform sampler2D u_hi_a;
 uniform sampler2D u_lo_b;
@@ -22,7 +23,7 @@ const float kInf = 1.0 / 0.0;
 void main() {
   ivec2 g = ivec2(gl_FragCoord.xy);
   int k = g.y * u_out_width + g.x;
-  int pair = k >> 4, ca = k & 3, cb = (k >> 2) & 3;
+  int pair = (k >> 4) + u_pair_offset, ca = k & 3, cb = (k >> 2) & 3;
   o_minmax = vec4(kInf, kInf, 0.0, 0.0);
   o_pair = vec4(-1.0);
   if (pair >= u_pair_count || (u_descend.x == 0 && ca != 0) || (u_descend.y == 0 && cb != 0)) return;

@@ -87,7 +87,7 @@ CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const gl
 }  // namespace
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
-                    const std::vector<char>* faces_a, const std::vector<char>* faces_b) {
+                    const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits) {
   const glm::dvec3 origin = a.centre;
   const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin, faces_a), hb = build(gpu, b, motion_b, origin, faces_b);
   Clearance r;
@@ -118,34 +118,74 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   pairs.upload(start);
   gpgpu::Program& prog = gpu.program("aabb_pairs_minmax.frag");
   const int max_size = gpu.info().max_texture_size;
-  while ((la > 0 || lb > 0) && count > 0) {
-    const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;
-    la -= da;
-    lb -= db;
-    const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, std::min(max_size, 4096));
-    gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
-    gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
+  // A level whose child pairs do not fit one target runs in chunks of pairs: every chunk's least
+  // upper bound first, then each chunk pruned by the least of them and compacted, the kept records
+  // joined on the CPU (a rare case: fine tolerances on models of hundreds of faces).
+  const int side = std::min(max_size, 4096);
+  const long long chunk_pairs = std::min(limits.chunk_pairs, static_cast<long long>(side) * side / 16);
+  auto pair_pass = [&](long long offset, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
     prog.set("u_pair_count", int(count));
-    prog.set("u_descend", da, db);
+    prog.set("u_pair_offset", int(offset));
     prog.set("u_out_width", out.width);
     const gpgpu::Input in[] = {{"u_pairs", &pairs},
                                {"u_lo_a", &ha.lo[size_t(la)]},
                                {"u_hi_a", &ha.hi[size_t(la)]},
                                {"u_lo_b", &hb.lo[size_t(lb)]},
                                {"u_hi_b", &hb.hi[size_t(lb)]}};
-    gpgpu::Texture* targets[] = {minmax.get(), records.get()};
+    gpgpu::Texture* targets[] = {minmax, records};
     gpu.run("aabb_pairs_minmax", prog, in, targets);
-    const double upper = gpgpu::reduce_min(gpu, *minmax.get(), 1);
+    return gpgpu::reduce_min(gpu, *minmax, 1);
+  };
+  auto prune = [&](double upper, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
     // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
     gpgpu::PooledTexture keep = gpu.acquire(out.width, out.height, gpgpu::Format::R8);
     gpgpu::Program& thr = gpu.program("threshold_le.frag");
     thr.set("u_cut", std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f);
-    const gpgpu::Input tin[] = {{"u_values", minmax.get()}};
+    const gpgpu::Input tin[] = {{"u_values", minmax}};
     gpgpu::Texture* tout[] = {keep.get()};
     gpu.run("threshold_le", thr, tin, tout);
-    gpgpu::Compacted c = gpgpu::compact(gpu, *keep.get(), *records.get());
-    count = c.count;
-    pairs = std::move(c.records);
+    return gpgpu::compact(gpu, *keep.get(), *records);
+  };
+  while ((la > 0 || lb > 0) && count > 0) {
+    const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;
+    la -= da;
+    lb -= db;
+    prog.set("u_descend", da, db);
+    if (count <= chunk_pairs) {
+      const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, side);
+      gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
+      gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
+      const double upper = pair_pass(0, out, minmax.get(), records.get());
+      gpgpu::Compacted c = prune(upper, out, minmax.get(), records.get());
+      count = c.count;
+      pairs = std::move(c.records);
+    } else {
+      const gpgpu::Layout2D out = gpgpu::layout_pow2(chunk_pairs * 16, side);  // one chunk's children
+      gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
+      gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
+      double upper = kInf;
+      for (long long off = 0; off < count; off += chunk_pairs)
+        upper = std::min(upper, double(pair_pass(off, out, minmax.get(), records.get())));
+      std::vector<float> kept;
+      for (long long off = 0; off < count; off += chunk_pairs) {
+        pair_pass(off, out, minmax.get(), records.get());
+        const gpgpu::Compacted c = prune(upper, out, minmax.get(), records.get());
+        const std::vector<float> part = c.count > 0 ? c.read_records() : std::vector<float>{};
+        kept.insert(kept.end(), part.begin(), part.end());
+      }
+      count = static_cast<long long>(kept.size() / 4);
+      if (count > 0) {
+        if (count > static_cast<long long>(side) * side)
+          throw std::length_error(
+              fmt::format("faithful search: {} box pairs survive hierarchy level {}, more than a {}^2 texture holds "
+                          "(far-apart objects prune little); use --search coarse-to-fine or a coarser --tol",
+                          count, r.pairs_per_level.size() + 1, side));
+        const gpgpu::Layout2D l = gpgpu::layout_pow2(count, side);
+        kept.resize(size_t(l.width) * size_t(l.height) * 4, 0.0f);
+        pairs = gpgpu::Texture(l.width, l.height, gpgpu::Format::RGBA32F);
+        pairs.upload(kept);
+      }
+    }
     r.pairs_per_level.push_back(count);
   }
   // Leaf pairs: two triangles per cell on each side, in double.

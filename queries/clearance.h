@@ -47,13 +47,19 @@ struct Clearance {
   double refine_seconds = 0.0;  ///< time of the CPU refinement
 };
 
+/// Texture budget of the faithful descent: a level of more surviving pairs than `chunk_pairs` (or
+/// than a 4096^2 target holds children of) runs in chunks (tests shrink it to exercise that path).
+struct ClearanceLimits {
+  long long chunk_pairs = 4096LL * 4096 / 16;
+};
+
 /// The clearance between model `a` and model `b` moved by `motion_b` (rigid). Each model must fit
 /// one atlas (prepare_model makes one for grids up to the GPU's texture size).
 /// `faces_a` / `faces_b` (optional, one flag per face): only these faces take part, e.g. the faces
 /// of the pairs kept by the §5.4 voxel stage (voxel_stage.h); the others get empty leaf boxes.
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,
                     const glm::dmat4& motion_b = glm::dmat4(1.0), const std::vector<char>* faces_a = nullptr,
-                    const std::vector<char>* faces_b = nullptr);
+                    const std::vector<char>* faces_b = nullptr, const ClearanceLimits& limits = {});
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
