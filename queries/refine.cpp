@@ -12,6 +12,7 @@
 
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
+#include "nurbs/surface_project.h"
 #include "nurbs/trim_classify.h"
 #include "queries/clearance.h"
 #include "queries/point_distance.h"
@@ -53,34 +54,6 @@ double box_box(const Cell& a, const Cell& b) {
   return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
 }
 
-/// Local closest point of surface s to p from (u, v): projected Newton on |S(u, v) - p|^2 (a
-/// gradient step where the Hessian is not positive definite), clamped to the domain, each step
-/// halved until it lowers the distance. Every value it returns is a true surface point, so it can
-/// only improve an upper bound.
-glm::dvec2 project(const nurbs::Surface& s, const glm::dvec3& p, glm::dvec2 uv, int iterations) {
-  const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
-  const glm::dvec2 lo(du.min, dv.min), hi(du.max, dv.max);
-  double f = glm::length(nurbs::surface_point(s, uv.x, uv.y) - p);
-  for (int it = 0; it < iterations; ++it) {
-    const nurbs::SurfaceDerivatives d = nurbs::surface_derivatives(s, uv.x, uv.y);
-    const glm::dvec3 r = d.s - p;
-    const double gu = glm::dot(r, d.su), gv = glm::dot(r, d.sv);
-    const double huu = glm::dot(d.su, d.su) + glm::dot(r, d.suu), hvv = glm::dot(d.sv, d.sv) + glm::dot(r, d.svv);
-    const double huv = glm::dot(d.su, d.sv) + glm::dot(r, d.suv), det = huu * hvv - huv * huv;
-    glm::dvec2 step = det > 0 && huu > 0
-                          ? glm::dvec2((hvv * gu - huv * gv) / det, (huu * gv - huv * gu) / det)
-                          : glm::dvec2(gu, gv) / std::max(glm::dot(d.su, d.su) + glm::dot(d.sv, d.sv), 1e-300);
-    bool moved = false;
-    for (int half = 0; half < 20 && !moved; ++half, step *= 0.5) {
-      const glm::dvec2 next = glm::clamp(uv - step, lo, hi);
-      const double fn = glm::length(nurbs::surface_point(s, next.x, next.y) - p);
-      if (fn < f) uv = next, f = fn, moved = true;
-    }
-    if (!moved) break;
-  }
-  return uv;
-}
-
 /// How loose a cell's bounds are: K_e inside the trim, the box diagonal on a trim edge.
 double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi - c.lo); }
 
@@ -94,7 +67,7 @@ class Cells {
   /// point on the way there from the material start uv, by bisection.
   glm::dvec2 polish(int face, const glm::dvec3& q, glm::dvec2 uv, int iterations) {
     const glm::dvec2 to =
-        project(m_.faces[size_t(face)].surface, glm::dvec3(inverse_ * glm::dvec4(q, 1.0)), uv, iterations);
+        nurbs::project_point(m_.faces[size_t(face)].surface, glm::dvec3(inverse_ * glm::dvec4(q, 1.0)), uv, iterations);
     if (at(face, to).material) return to;
     glm::dvec2 in = uv, out = to;
     for (int k = 0; k < 16; ++k) {
