@@ -1,0 +1,196 @@
+#include "nurbs/tessellation/surface_cells.h"
+
+#include <algorithm>
+#include <chrono>
+#include <glm/geometric.hpp>
+
+#include "nurbs/restrict.h"
+#include "nurbs/surface_eval.h"
+
+namespace nurbs::tess {
+
+namespace {
+
+/// Split fractions closer than this to a node side are moved to it: a worst point near a side (the
+/// first Greville abscissa of a long multi-span net is ~1/(3 count)) would otherwise cut slivers.
+constexpr double kMinSplitFraction = 0.125;
+
+/// A kd-tree / quadtree node: the surface restricted (clamped) to the node's rectangle.
+struct Node {
+  Surface net;
+  Interval u, v;
+  int depth = 0;
+};
+
+/// §5 error terms of one node and the worst point (k, l).
+struct Measure {
+  double bilinear = 0.0;
+  double twist = 0.0;
+  int k = 0, l = 0;
+  std::vector<double> gu, gv;  ///< normalised Greville abscissae
+};
+
+/// Greville abscissae g_i = (U[i+1] + ... + U[i+p]) / p of a clamped knot vector, mapped to [0, 1]
+/// over the domain [U[p], U[count]]. Linear precision: Σ N_i(u) g_i = u.
+std::vector<double> normalised_greville(const std::vector<double>& knots, int degree, int count) {
+  const double a = knots[size_t(degree)], b = knots[size_t(count)];
+  std::vector<double> g(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    double sum = 0.0;
+    for (int k = 1; k <= degree; ++k) sum += knots[size_t(i + k)];
+    g[size_t(i)] = std::clamp((sum / degree - a) / (b - a), 0.0, 1.0);
+  }
+  g.front() = 0.0;  // clamped ends: exact, so the corners of S~ are the corner points
+  g.back() = 1.0;
+  return g;
+}
+
+double lerp(double a, double b, double t) { return a + t * (b - a); }
+
+/// ε_bilin, twist and the worst point of §5 for one node; `approximate` measures the surface points
+/// S(g_i, g_j) instead of the control points P_ij.
+Measure measure(const Node& node, bool approximate) {
+  const Surface& s = node.net;
+  const int m = s.count_u - 1, n = s.count_v - 1;
+  Measure r;
+  r.gu = normalised_greville(s.knots_u, s.degree_u, s.count_u);
+  r.gv = normalised_greville(s.knots_v, s.degree_v, s.count_v);
+  const glm::dvec3 p00 = s.point(0, 0), pm0 = s.point(m, 0), p0n = s.point(0, n), pmn = s.point(m, n);
+  r.twist = glm::length(p00 - pm0 - p0n + pmn);
+  double worst = -1.0;
+  for (int j = 0; j <= n; ++j) {
+    const double b = r.gv[size_t(j)];
+    for (int i = 0; i <= m; ++i) {
+      const double a = r.gu[size_t(i)];
+      const glm::dvec3 bilin = (1 - b) * ((1 - a) * p00 + a * pm0) + b * ((1 - a) * p0n + a * pmn);
+      const glm::dvec3 q = approximate
+                               ? surface_point(s, lerp(node.u.min, node.u.max, a), lerp(node.v.min, node.v.max, b))
+                               : s.point(i, j);
+      const double d = glm::length(q - bilin);
+      if (d > worst) {
+        worst = d;
+        r.k = i;
+        r.l = j;
+      }
+    }
+  }
+  r.bilinear = std::max(worst, 0.0);
+  return r;
+}
+
+double point_segment_distance(glm::dvec3 x, glm::dvec3 a, glm::dvec3 b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return glm::length(x - (a + t * ab));
+}
+
+/// Split fraction in (0, 1) kept off the sides, or -1 when the worst point lies on a side.
+double split_fraction(double g) {
+  if (g <= 0.0 || g >= 1.0) return -1.0;
+  return std::clamp(g, kMinSplitFraction, 1.0 - kMinSplitFraction);
+}
+
+class Subdivider {
+ public:
+  Subdivider(const CellOptions& opt, CellStats& stats) : opt_(opt), stats_(stats) {}
+
+  void run(Node node, std::vector<Cell>& out) {
+    ++stats_.nodes;
+    const Measure me = measure(node, opt_.error == SurfaceError::Approximate);
+    const double extra = opt_.error == SurfaceError::Conservative ? stats_.rational_extra : 0.0;
+    const double err = opt_.bilinear_factor * me.bilinear + me.twist * (0.25 + extra);
+    const bool capped = node.depth >= opt_.max_depth || stats_.nodes >= opt_.max_nodes;
+    if (err <= opt_.eps_surface || capped || !split(node, me, out)) {
+      if (err > opt_.eps_surface) ++stats_.unconverged;
+      out.push_back({node.u, node.v, me.bilinear, me.twist});
+      ++stats_.leaves;
+      stats_.max_depth = std::max(stats_.max_depth, node.depth);
+    }
+  }
+
+ private:
+  /// Splits `node` into children (recursing into them); false when it cannot be split.
+  bool split(const Node& node, const Measure& me, std::vector<Cell>& out) {
+    const Interval u = node.u, v = node.v;
+    if (opt_.subdivision == Subdivision::Quadtree) {
+      const double um = 0.5 * (u.min + u.max), vm = 0.5 * (v.min + v.max);
+      if (!(u.min < um && um < u.max && v.min < vm && vm < v.max)) return false;
+      for (const Interval cv : {Interval{v.min, vm}, Interval{vm, v.max}})
+        for (const Interval cu : {Interval{u.min, um}, Interval{um, u.max}}) child(node, cu, cv, out);
+      return true;
+    }
+    double fu = split_fraction(me.gu[size_t(me.k)]), fv = split_fraction(me.gv[size_t(me.l)]);
+    bool along_u;  // true: cut the u interval (the splitting line is an iso-u curve)
+    // A twist-dominated node is halved: cutting at the worst point (possibly near a side) would
+    // shrink the twist term only by that fraction per level.
+    const bool twisty = 0.25 * me.twist >= opt_.bilinear_factor * me.bilinear;
+    if (!twisty && fu > 0.0 && fv > 0.0) {
+      // Fig. 3: the cut whose chord passes nearer the worst point leaves two flatter halves.
+      const Surface& s = node.net;
+      const double tu = lerp(u.min, u.max, fu), tv = lerp(v.min, v.max, fv);
+      const glm::dvec3 x =
+          surface_point(s, lerp(u.min, u.max, me.gu[size_t(me.k)]), lerp(v.min, v.max, me.gv[size_t(me.l)]));
+      const double du = point_segment_distance(x, surface_point(s, tu, v.min), surface_point(s, tu, v.max));
+      const double dv = point_segment_distance(x, surface_point(s, u.min, tv), surface_point(s, u.max, tv));
+      along_u = du <= dv;
+    } else if (!twisty && (fu > 0.0 || fv > 0.0)) {
+      along_u = fu > 0.0;
+    } else {
+      // Twist-dominated, or the worst point is a corner: halve across the longer side in space.
+      const Surface& s = node.net;
+      const int m = s.count_u - 1, n = s.count_v - 1;
+      const double lu = glm::length(s.point(m, 0) - s.point(0, 0)) + glm::length(s.point(m, n) - s.point(0, n));
+      const double lv = glm::length(s.point(0, n) - s.point(0, 0)) + glm::length(s.point(m, n) - s.point(m, 0));
+      along_u = lu >= lv;
+      fu = fv = 0.5;
+    }
+    if (along_u) {
+      const double t = lerp(u.min, u.max, fu);
+      if (!(u.min < t && t < u.max)) return false;
+      child(node, {u.min, t}, v, out);
+      child(node, {t, u.max}, v, out);
+    } else {
+      const double t = lerp(v.min, v.max, fv);
+      if (!(v.min < t && t < v.max)) return false;
+      child(node, u, {v.min, t}, out);
+      child(node, u, {t, v.max}, out);
+    }
+    return true;
+  }
+
+  void child(const Node& parent, Interval u, Interval v, std::vector<Cell>& out) {
+    run(Node{restrict_surface(parent.net, u, v), u, v, parent.depth + 1}, out);
+  }
+
+  const CellOptions& opt_;
+  CellStats& stats_;
+};
+
+}  // namespace
+
+double proven_cell_bound(const Cell& cell, bool rational, bool any_triangle) {
+  const double f = any_triangle ? 2.0 : 1.0;
+  return f * cell.bilinear + cell.twist * (0.25 + (rational ? 0.25 * f : 0.0));
+}
+
+std::vector<Cell> subdivide_surface(const Surface& s, const CellOptions& opt, CellStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  CellStats local;
+  CellStats& st = stats ? *stats : local;
+  st = CellStats{};
+  st.rational_extra = s.rational() ? 0.25 * opt.bilinear_factor : 0.0;
+  const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+  Interval u = opt.domain_u.value_or(du), v = opt.domain_v.value_or(dv);
+  u = {std::max(u.min, du.min), std::min(u.max, du.max)};
+  v = {std::max(v.min, dv.min), std::min(v.max, dv.max)};
+  std::vector<Cell> cells;
+  if (u.min < u.max && v.min < v.max) {
+    Subdivider sub(opt, st);
+    sub.run(Node{restrict_surface(s, u, v), u, v, 0}, cells);
+  }
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return cells;
+}
+
+}  // namespace nurbs::tess
