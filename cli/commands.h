@@ -22,5 +22,6 @@ void add_generate(CLI::App& app, const GlobalOptions& global);
 void add_evaluate(CLI::App& app, const GlobalOptions& global);
 void add_distance(CLI::App& app, const GlobalOptions& global);
 void add_clearance(CLI::App& app, const GlobalOptions& global);
+void add_tessellate(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

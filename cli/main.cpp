@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   cli::add_evaluate(app, global);
   cli::add_distance(app, global);
   cli::add_clearance(app, global);
+  cli::add_tessellate(app, global);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,202 @@
+// `nurbsgl tessellate MODEL --eps E [--relative] ...`: trimmed NURBS faces to a triangle mesh with a
+// guaranteed (or approximate) error, after Balázs, Guthe and Klein (nurbs/tessellation/). No GPU.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "nurbs/io/mesh_writer.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/tessellation/mesh_check.h"
+#include "nurbs/tessellation/mesh_topology.h"
+#include "nurbs/tessellation/tessellate.h"
+
+namespace cli {
+namespace {
+
+struct TessArgs {
+  std::string path, output;
+  double eps = 1e-3;
+  bool relative = false, eps_given = false;
+  std::string mode = "guaranteed", method = "kdtree", split = "midpoint";
+  bool no_simplify = false, check = false, json = false;
+  int check_samples = 48, threads = 0;
+  std::vector<int> faces;  ///< --face; empty = all
+};
+
+nlohmann::json stats_json(const nurbs::tess::TessellateStats& s) {
+  return {{"conversion", s.trim.seconds_conversion},
+          {"trim_approximation", s.trim.seconds_approximation},
+          {"surface_approximation", s.seconds_surface},
+          {"trimming", s.seconds_trimming},
+          {"triangulation", s.seconds_triangulation},
+          {"evaluation", s.seconds_evaluation},
+          {"total", s.seconds}};
+}
+
+void run(const TessArgs& a) {
+  const nurbs::Model model = nurbs::io::read_model(a.path);
+  const double size = checked_model_size(model, a.path);
+  // Without --eps: 1e-3 of the model size, the reference setting.
+  const double eps = a.eps_given ? (a.relative ? a.eps * size : a.eps) : 1e-3 * size;
+  if (!(eps > 0) || !std::isfinite(eps)) throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));
+  std::string out_error;
+  if (!a.output.empty()) try {
+      (void)nurbs::io::mesh_format_of(a.output);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(fmt::format("-o: {}", e.what()));
+    }
+  std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
+  if (!a.faces.empty()) {
+    std::vector<nurbs::TrimmedSurface> chosen;
+    for (int index : a.faces) {
+      if (index < 0 || index >= int(faces.size()))
+        throw BadInput(fmt::format("--face {}: the model has faces 0..{}", index, int(faces.size()) - 1));
+      chosen.push_back(faces[size_t(index)]);
+    }
+    faces = std::move(chosen);
+  }
+  nurbs::tess::TessellateOptions o;
+  o.eps = eps;
+  o.mode = a.mode == "approximate" ? nurbs::tess::TessMode::Approximate : nurbs::tess::TessMode::Guaranteed;
+  o.subdivision = a.method == "quadtree" ? nurbs::tess::Subdivision::Quadtree : nurbs::tess::Subdivision::KdTree;
+  o.split = a.split == "arbitrary" ? nurbs::tess::CurveSplit::Arbitrary : nurbs::tess::CurveSplit::Midpoint;
+  o.simplify = !a.no_simplify;
+  o.threads = a.threads;
+
+  // Progress on stderr once the work has taken a second.
+  const auto start = std::chrono::steady_clock::now();
+  double last = 0.0;
+  bool shown = false;
+  auto progress = [&](int done, int total) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (t < 1.0 || (t - last < 0.5 && done < total)) return;
+    last = t;
+    shown = true;
+    fmt::print(stderr, "{}tessellate: {}/{} faces", isatty(STDERR_FILENO) ? "\r" : "", done, total);
+    if (!isatty(STDERR_FILENO) || done == total) fmt::print(stderr, "\n");
+  };
+  const nurbs::tess::TessellateResult r = nurbs::tess::tessellate(faces, o, progress);
+  if (shown && isatty(STDERR_FILENO) && r.stats.faces > 0) fmt::print(stderr, "\n");
+  if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, r.mesh);
+  // Open edges: vertices welded within 1e-9 of the size (faces meeting exactly at their edges).
+  const nurbs::tess::EdgeCounts edges = nurbs::tess::count_edges(r.mesh, 1e-9 * size);
+
+  nurbs::tess::Deviation dev;
+  if (a.check) {
+    nurbs::tess::DeviationOptions d;
+    d.samples = a.check_samples;
+    d.boundary_tolerance = 1e-3 * eps;
+    d.threads = a.threads;
+    dev = nurbs::tess::measure_deviation(faces, r.mesh, d);
+  }
+  const bool guaranteed = o.mode == nurbs::tess::TessMode::Guaranteed;
+  const bool check_failed = a.check && guaranteed && dev.max() > eps;
+
+  if (a.json) {
+    nlohmann::json j = {{"model", a.path},
+                        {"eps", eps},
+                        {"eps_relative", eps / size},
+                        {"mode", a.mode},
+                        {"method", a.method},
+                        {"faces", r.stats.faces},
+                        {"failed_faces", r.stats.failed_faces},
+                        {"triangles", r.stats.triangles},
+                        {"vertices", r.stats.vertices},
+                        {"trim_edges", r.stats.trim_edges},
+                        {"open_edges", edges.open},
+                        {"edges", edges.edges},
+                        {"cells", r.stats.cells},
+                        {"trim",
+                         {{"curve_pieces", r.stats.trim.curve_pieces},
+                          {"edges_before_simplification", r.stats.trim.edges_before},
+                          {"edges_after_simplification", r.stats.trim.edges_after},
+                          {"crossings_fixed", r.stats.trim.crossings_fixed},
+                          {"lifted_degree_max", r.stats.trim.lifted_degree_max},
+                          {"lift_error_max", r.stats.trim.lift_error_max}}},
+                        {"seconds", stats_json(r.stats)}};
+    nlohmann::json failures = nlohmann::json::array();
+    for (const auto& f : r.failures) failures.push_back({{"face", f.face}, {"reason", f.reason}});
+    j["failures"] = failures;
+    if (a.check)
+      j["check"] = {{"max_deviation", dev.max()},
+                    {"surface_to_mesh", dev.surface_to_mesh},
+                    {"mesh_to_surface", dev.mesh_to_surface},
+                    {"worst_face", dev.worst_face},
+                    {"surface_samples", dev.surface_samples},
+                    {"mesh_samples", dev.mesh_samples},
+                    {"seconds", dev.seconds},
+                    {"within_eps", dev.max() <= eps}};
+    if (!a.output.empty()) j["output"] = a.output;
+    fmt::print("{}\n", j.dump(2));
+  } else {
+    fmt::print("model        {} ({} faces, size {:.6g})\n", a.path, r.stats.faces, size);
+    fmt::print("eps          {:.6g} ({:.3g} of the size), {} error, {}\n", eps, eps / size, a.mode, a.method);
+    fmt::print("triangles    {}  vertices {}  trim edges {}  open edges {}\n", r.stats.triangles, r.stats.vertices,
+               r.stats.trim_edges, edges.open);
+    fmt::print(
+        "seconds      {:.3f} (CPU: conversion {:.3f}, trim loops {:.3f}, surface {:.3f}, trimming {:.3f}, "
+        "triangulation {:.3f}, evaluation {:.3f})\n",
+        r.stats.seconds, r.stats.trim.seconds_conversion, r.stats.trim.seconds_approximation, r.stats.seconds_surface,
+        r.stats.seconds_trimming, r.stats.seconds_triangulation, r.stats.seconds_evaluation);
+    if (a.check)
+      fmt::print("deviation    {:.6g} (surface to mesh {:.6g}, mesh to surface {:.6g}; {} + {} samples, {:.2f} s){}\n",
+                 dev.max(), dev.surface_to_mesh, dev.mesh_to_surface, dev.surface_samples, dev.mesh_samples,
+                 dev.seconds,
+                 dev.max() <= eps ? ""
+                 : guaranteed     ? "  ABOVE eps"
+                                  : "  (above eps: approximate mode)");
+    if (!a.output.empty()) fmt::print("written      {}\n", a.output);
+    for (const auto& f : r.failures) fmt::print("failed       face {}: {}\n", f.face, f.reason);
+  }
+  for (const auto& f : r.failures)
+    fmt::print(stderr, "nurbsgl: tessellate: {}: face {}: {}\n", a.path, f.face, f.reason);
+  if (!r.failures.empty())
+    throw CommandFailed(fmt::format("{} of {} faces could not be tessellated", r.failures.size(), r.stats.faces));
+  if (check_failed) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", dev.max(), eps));
+}
+
+}  // namespace
+
+void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
+  auto* cmd = app.add_subcommand(
+      "tessellate", "Triangulate a model's trimmed faces within a geometric error (Balazs, Guthe, Klein 2004)");
+  auto a = std::make_shared<TessArgs>();
+  cmd->add_option("MODEL", a->path, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option_function<double>(
+         "--eps", [a](double v) { a->eps = v, a->eps_given = true; },
+         "Maximum distance between the faces and the mesh, absolute (model units) unless --relative; default "
+         "1e-3 of the model size")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--relative", a->relative, "--eps is a fraction of the model size");
+  cmd->add_option("--mode", a->mode,
+                  "guaranteed: the error is proven (trims and cells each within eps/2); approximate: the paper's "
+                  "surface-point estimate, fewer triangles, no guarantee")
+      ->check(CLI::IsMember({"guaranteed", "approximate"}))
+      ->capture_default_str();
+  cmd->add_option("--method", a->method, "kdtree: the paper's subdivision; quadtree: [Kah02], for comparison")
+      ->check(CLI::IsMember({"kdtree", "quadtree"}))
+      ->capture_default_str();
+  cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
+      ->check(CLI::IsMember({"midpoint", "arbitrary"}))
+      ->capture_default_str();
+  cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
+  cmd->add_option("-o,--output", a->output, "Write the mesh: .obj, .ply or .stl");
+  cmd->add_flag("--check", a->check,
+                "Measure the deviation (face samples to mesh, mesh samples to faces); exit 1 when above eps in "
+                "guaranteed mode");
+  cmd->add_option("--check-samples", a->check_samples, "For --check: a N x N (u, v) grid per face")
+      ->check(CLI::Range(2, 4096))
+      ->capture_default_str();
+  cmd->add_option("--face", a->faces,
+                  "Face index (repeatable); default: all faces. Face numbers in the output "
+                  "count the chosen faces");
+  cmd->add_option("--threads", a->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
+  cmd->callback([a] { run(*a); });
+}
+
+}  // namespace cli

@@ -1,0 +1,85 @@
+#include "nurbs/tessellation/loop_repair.h"
+
+#include <algorithm>
+
+#include "nurbs/surface_eval.h"
+
+namespace nurbs::tess {
+namespace {
+
+struct Edge {
+  size_t loop, index;  ///< edge from vertex index to index + 1 (mod size) of loop
+  glm::dvec2 a, b;
+};
+
+struct Hit {
+  size_t loop, index;
+  double t;  ///< parameter along the edge
+  glm::dvec2 p;
+};
+
+double orient(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+/// All proper crossings, by a sweep over u: edges sorted by min u; the active list holds the edges
+/// whose u range still reaches the current one. Each pair whose u and v ranges overlap is tested
+/// exactly once (O((n + k) log n) plus the pairs sharing a u slab).
+std::vector<Hit> find_crossings(const std::vector<LoopPolyline>& loops) {
+  std::vector<Edge> edges;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const auto& uv = loops[l].uv;
+    for (size_t i = 0; i < uv.size() && uv.size() > 1; ++i) edges.push_back({l, i, uv[i], uv[(i + 1) % uv.size()]});
+  }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& x, const Edge& y) { return std::min(x.a.x, x.b.x) < std::min(y.a.x, y.b.x); });
+  std::vector<Hit> hits;
+  std::vector<const Edge*> active;
+  for (const Edge& e : edges) {
+    const double umin = std::min(e.a.x, e.b.x);
+    std::erase_if(active, [&](const Edge* o) { return std::max(o->a.x, o->b.x) < umin; });
+    for (const Edge* o : active) {
+      if (std::max(e.a.y, e.b.y) < std::min(o->a.y, o->b.y) || std::max(o->a.y, o->b.y) < std::min(e.a.y, e.b.y))
+        continue;
+      const double d1 = orient(e.a, e.b, o->a), d2 = orient(e.a, e.b, o->b);
+      const double d3 = orient(o->a, o->b, e.a), d4 = orient(o->a, o->b, e.b);
+      if (!((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) || !((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) continue;
+      const double t = d3 / (d3 - d4), s = d1 / (d1 - d2);  // along e, along o
+      const glm::dvec2 p = e.a + t * (e.b - e.a);
+      hits.push_back({e.loop, e.index, t, p});
+      hits.push_back({o->loop, o->index, s, p});
+    }
+    active.push_back(&e);
+  }
+  return hits;
+}
+
+}  // namespace
+
+size_t count_crossings(const std::vector<LoopPolyline>& loops) { return find_crossings(loops).size() / 2; }
+
+size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface) {
+  std::vector<Hit> hits = find_crossings(loops);
+  if (hits.empty()) return 0;
+  std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
+    return x.loop != y.loop ? x.loop < y.loop : (x.index != y.index ? x.index < y.index : x.t < y.t);
+  });
+  size_t h = 0;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    LoopPolyline out;
+    out.outer = loops[l].outer;
+    for (size_t i = 0; i < loops[l].uv.size(); ++i) {
+      out.uv.push_back(loops[l].uv[i]);
+      out.xyz.push_back(loops[l].xyz[i]);
+      for (; h < hits.size() && hits[h].loop == l && hits[h].index == i; ++h) {
+        if (hits[h].p == out.uv.back()) continue;
+        out.uv.push_back(hits[h].p);
+        out.xyz.push_back(surface_point(surface, hits[h].p.x, hits[h].p.y));
+      }
+    }
+    loops[l] = std::move(out);
+  }
+  return hits.size() / 2;
+}
+
+}  // namespace nurbs::tess

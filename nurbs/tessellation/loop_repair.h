@@ -1,0 +1,24 @@
+#pragma once
+/// \file loop_repair.h
+/// §5's crossing correction (Balázs, Guthe, Klein 2004): trim loops that cross in (u, v) (modelling
+/// errors) get a vertex at each crossing, so that edges of the loops meet only at shared vertices.
+/// Found by a sweep over u (Bentley-Ottmann style: edges sorted by their smallest u, an active list
+/// pruned by largest u, a v-interval test before the exact segment test). Splitting a self-touching
+/// loop into separate loops is left to the half-edge stage (§6), which handles shared vertices.
+#include <vector>
+
+#include "nurbs/surface.h"
+#include "nurbs/tessellation/tess_types.h"
+
+namespace nurbs::tess {
+
+/// Inserts a vertex (uv at the crossing, xyz = S(uv)) into both edges at every proper crossing
+/// (interiors cross, strictly opposite orientations) between two edges of `loops`, any loop with any
+/// other or itself. Touching, collinear overlap and vertex-on-edge cases are not crossings.
+/// Returns the number of crossings found.
+size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface);
+
+/// Number of proper crossings among the edges of `loops` (the same sweep, nothing changed).
+[[nodiscard]] size_t count_crossings(const std::vector<LoopPolyline>& loops);
+
+}  // namespace nurbs::tess

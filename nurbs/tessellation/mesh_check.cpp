@@ -1,0 +1,184 @@
+#include "nurbs/tessellation/mesh_check.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <thread>
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/surface_project.h"
+#include "nurbs/tessellation/triangle_bvh.h"
+#include "nurbs/trim_classify.h"
+
+namespace nurbs::tess {
+namespace {
+
+using Tri = std::array<glm::dvec3, 3>;
+
+struct Sample {
+  glm::dvec3 p;
+  glm::dvec2 uv;
+  int face;
+};
+
+glm::dvec3 at(const Surface& s, glm::dvec2 uv) {
+  const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+  return surface_point(s, std::clamp(uv.x, du.min, du.max), std::clamp(uv.y, dv.min, dv.max));
+}
+
+/// Points of S(c(t)) for t in [t0, t1], bisected until each chord's midpoint is within `tol` of the
+/// curve (depth <= 16), appended without the first point.
+void boundary_points(const Surface& s, const std::function<glm::dvec2(double)>& c, double t0, double t1, double tol,
+                     int depth, std::vector<glm::dvec3>& out) {
+  const glm::dvec3 a = at(s, c(t0)), b = at(s, c(t1));
+  const double tm = 0.5 * (t0 + t1);
+  const glm::dvec3 m = at(s, c(tm));
+  if (depth >= 16 || (depth >= 2 && glm::length(m - 0.5 * (a + b)) <= tol)) {
+    out.push_back(b);
+    return;
+  }
+  boundary_points(s, c, t0, tm, tol, depth + 1, out);
+  boundary_points(s, c, tm, t1, tol, depth + 1, out);
+}
+
+/// The face's boundary as 3D polylines: every trim curve, or the four domain edges when untrimmed.
+std::vector<std::vector<glm::dvec3>> face_boundary(const TrimmedSurface& f, double tol) {
+  std::vector<std::vector<glm::dvec3>> lines;
+  const Surface& s = f.surface;
+  auto trace = [&](const std::function<glm::dvec2(double)>& c, double t0, double t1) {
+    std::vector<glm::dvec3> line{at(s, c(t0))};
+    boundary_points(s, c, t0, t1, tol, 0, line);
+    lines.push_back(std::move(line));
+  };
+  if (f.loops.empty()) {
+    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+    const glm::dvec2 q[4] = {{du.min, dv.min}, {du.max, dv.min}, {du.max, dv.max}, {du.min, dv.max}};
+    for (int e = 0; e < 4; ++e) trace([&](double t) { return glm::mix(q[e], q[(e + 1) % 4], t); }, 0.0, 1.0);
+    return lines;
+  }
+  for (const TrimLoop& loop : f.loops)
+    for (const Curve2& c : loop.curves) {
+      const Interval d = curve_domain(c);
+      trace([&](double t) { return curve_point(c, t); }, d.min, d.max);
+    }
+  return lines;
+}
+
+void parallel_for(long long n, int threads, const std::function<void(long long, int)>& body) {
+  std::atomic<long long> next{0};
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (long long i; (i = next.fetch_add(256)) < n;)
+        for (long long k = i; k < std::min(n, i + 256); ++k) body(k, t);
+    });
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace
+
+Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
+                            const DeviationOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  Deviation r;
+  double size = 0.0;
+  for (const auto& f : faces) {
+    size = std::max(size, control_box(f.surface).diagonal());
+  }
+  const double tol = options.boundary_tolerance > 0 ? options.boundary_tolerance : 1e-6 * size;
+  const int threads = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
+
+  // Face samples: the material points of a (u, v) grid and the boundary polylines' points.
+  std::vector<Sample> samples;
+  std::vector<TrimPolygons> trims(faces.size());
+  std::vector<Tri> boundary;
+  const int n = std::max(2, options.samples);
+  for (size_t fi = 0; fi < faces.size(); ++fi) {
+    const TrimmedSurface& f = faces[fi];
+    const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+    trims[fi] = flatten_trim(f, 1e-7 * std::max(du.width(), dv.width()));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const glm::dvec2 uv(du.min + du.width() * i / (n - 1), dv.min + dv.width() * j / (n - 1));
+        if (f.loops.empty() || is_material(trims[fi], uv))
+          samples.push_back({surface_point(f.surface, uv.x, uv.y), uv, int(fi)});
+      }
+    for (const auto& line : face_boundary(f, tol))
+      for (size_t k = 0; k + 1 < line.size(); ++k) {
+        boundary.push_back({line[k], line[k + 1], line[k + 1]});
+        samples.push_back({line[k], glm::dvec2(0.0), -1 - int(fi)});  // on the face, (u, v) unknown
+      }
+  }
+
+  // Surface to mesh.
+  std::vector<Tri> tris;
+  tris.reserve(mesh.triangles.size());
+  for (const glm::ivec3& t : mesh.triangles)
+    tris.push_back({mesh.positions[size_t(t.x)], mesh.positions[size_t(t.y)], mesh.positions[size_t(t.z)]});
+  const TriangleBvh mesh_bvh(std::move(tris));
+  std::vector<double> worst(size_t(threads), 0.0);
+  std::vector<int> worst_face(size_t(threads), -1);
+  parallel_for((long long)samples.size(), threads, [&](long long k, int t) {
+    const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
+    if (d > worst[size_t(t)]) {
+      const int f = samples[size_t(k)].face;
+      worst[size_t(t)] = d, worst_face[size_t(t)] = f >= 0 ? f : -1 - f;
+    }
+  });
+  for (int t = 0; t < threads; ++t)
+    if (worst[size_t(t)] >= r.surface_to_mesh)
+      r.surface_to_mesh = worst[size_t(t)], r.worst_face = worst_face[size_t(t)];
+  r.surface_samples = (long long)samples.size();
+
+  // Mesh to surface: vertices, edge midpoints and centroids.
+  std::vector<Sample> grid_samples;
+  std::vector<Tri> points;
+  for (const Sample& s : samples)
+    if (s.face >= 0) grid_samples.push_back(s), points.push_back({s.p, s.p, s.p});
+  const TriangleBvh sample_bvh(std::move(points)), boundary_bvh(std::move(boundary));
+  const long long nt = (long long)mesh.triangles.size();
+  std::fill(worst.begin(), worst.end(), 0.0);
+  parallel_for(nt, threads, [&](long long k, int t) {
+    const glm::ivec3 tri = mesh.triangles[size_t(k)];
+    const glm::dvec3 a = mesh.positions[size_t(tri.x)], b = mesh.positions[size_t(tri.y)],
+                     c = mesh.positions[size_t(tri.z)];
+    const glm::dvec3 q[7] = {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0};
+    for (int i = 0; i < 7; ++i) {
+      double d = boundary_bvh.closest(q[i]).distance;
+      auto newton = [&](int face, glm::dvec2 uv) {
+        const TrimmedSurface& f = faces[size_t(face)];
+        const glm::dvec2 foot = project_point(f.surface, q[i], uv, 12);
+        if (f.loops.empty() || is_material(trims[size_t(face)], foot))
+          d = std::min(d, glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]));
+      };
+      const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
+      if (near.triangle >= 0) {
+        const Sample& s = grid_samples[size_t(near.triangle)];
+        d = std::min(d, near.distance);
+        newton(s.face, s.uv);
+      }
+      if (!mesh.uv.empty() && !mesh.triangle_face.empty()) {
+        const glm::dvec2 uvs[7] = {mesh.uv[size_t(tri.x)],
+                                   mesh.uv[size_t(tri.y)],
+                                   mesh.uv[size_t(tri.z)],
+                                   0.5 * (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)]),
+                                   0.5 * (mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]),
+                                   0.5 * (mesh.uv[size_t(tri.z)] + mesh.uv[size_t(tri.x)]),
+                                   (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]) / 3.0};
+        newton(mesh.triangle_face[size_t(k)], uvs[i]);
+      }
+      worst[size_t(t)] = std::max(worst[size_t(t)], d);
+    }
+  });
+  for (double w : worst) r.mesh_to_surface = std::max(r.mesh_to_surface, w);
+  r.mesh_samples = 7 * nt;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace nurbs::tess

@@ -1,0 +1,21 @@
+#pragma once
+/// \file mesh_topology.h
+/// Edge counts of a triangle mesh whose faces were tessellated separately: vertices closer than a
+/// weld tolerance are one point, then each undirected edge is counted by its triangles. An open edge
+/// (one triangle) is a crack or the border of an open sheet; a closed solid has none.
+#include "nurbs/triangle_mesh.h"
+
+namespace nurbs::tess {
+
+struct EdgeCounts {
+  long long edges = 0;        ///< undirected edges after welding
+  long long open = 0;         ///< used by one triangle
+  long long nonmanifold = 0;  ///< used by three or more
+  long long welded_vertices = 0;
+};
+
+/// Welds vertices within `weld_tolerance` (absolute; grid hashing, so points closer than the
+/// tolerance across a cell border are welded too, by a neighbour search) and counts edges.
+[[nodiscard]] EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance);
+
+}  // namespace nurbs::tess

@@ -1,0 +1,196 @@
+#include "nurbs/tessellation/tessellate.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <mutex>
+#include <thread>
+
+#include "nurbs/surface_eval.h"
+#include "nurbs/tessellation/coherent_eval.h"
+#include "nurbs/tessellation/half_edge_trim.h"
+#include "nurbs/tessellation/surface_cells.h"
+#include "nurbs/tessellation/triangulate.h"
+
+namespace nurbs::tess {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// One face's mesh and figures, merged in face order afterwards.
+struct FaceOut {
+  FaceMesh mesh;
+  TessellateStats stats;
+  std::string failure;
+};
+
+FaceOut tessellate_face(const TrimmedSurface& face, const TessellateOptions& o) {
+  FaceOut out;
+  const bool guaranteed = o.mode == TessMode::Guaranteed;
+  // §4-§5 trim loops.
+  TrimApproxOptions to;
+  to.eps = guaranteed ? 0.5 * o.eps : o.eps;
+  to.gamma = o.gamma;
+  to.split = o.split;
+  to.simplify = o.simplify;
+  const std::vector<LoopPolyline> loops = approximate_trim_loops(face, to, &out.stats.trim);
+  for (const LoopPolyline& l : loops) out.stats.trim_edges += (long long)l.uv.size();
+
+  // §5 cells over the bounding box of the loops (clipped to the domain by subdivide_surface).
+  auto t = Clock::now();
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for (const LoopPolyline& l : loops)
+    for (const glm::dvec2& p : l.uv) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
+  lo = glm::max(lo, glm::dvec2(du.min, dv.min));
+  hi = glm::min(hi, glm::dvec2(du.max, dv.max));
+  if (!(lo.x < hi.x && lo.y < hi.y)) {
+    out.failure = "its trim loops enclose no area inside the surface's parameter domain";
+    return out;
+  }
+  CellOptions co;
+  co.eps_surface = guaranteed ? 0.5 * o.eps : o.eps;
+  co.error = guaranteed ? SurfaceError::Conservative : SurfaceError::Approximate;
+  co.subdivision = o.subdivision;
+  co.domain_u = Interval{lo.x, hi.x};
+  co.domain_v = Interval{lo.y, hi.y};
+  co.bilinear_factor = guaranteed ? 2.0 : 1.0;
+  CellStats cs;
+  const std::vector<Cell> cells = subdivide_surface(face.surface, co, &cs);
+  out.stats.cells = cs.leaves;
+  out.stats.cell_nodes = cs.nodes;
+  out.stats.unconverged_cells = cs.unconverged;
+  out.stats.seconds_surface = since(t);
+
+  // §6 trimming, §7 triangulation.
+  t = Clock::now();
+  const TrimmedPolygons polys = trim_cells(cells, loops);
+  out.stats.seconds_trimming = since(t);
+  t = Clock::now();
+  TriangulationStats ts;
+  std::vector<glm::ivec3> tris = triangulate_polygons(polys, &ts);
+  out.stats.degenerate_triangles = ts.degenerate_triangles;
+  out.stats.seconds_triangulation = since(t);
+  if (tris.empty()) {
+    out.failure = "trimming left no material polygon";
+    return out;
+  }
+
+  // §8 evaluation of the vertices the triangles use, in the order of the polygons' vertices.
+  t = Clock::now();
+  std::vector<int> remap(polys.vertices.size(), -1);
+  FaceMesh& m = out.mesh;
+  for (glm::ivec3& tri : tris)
+    for (int c = 0; c < 3; ++c) {
+      int& r = remap[size_t(tri[c])];
+      if (r < 0) {
+        r = int(m.uv.size());
+        m.uv.push_back(polys.vertices[size_t(tri[c])]);
+        m.trim_vertex.push_back(polys.on_trim[size_t(tri[c])]);
+      }
+      tri[c] = r;
+    }
+  evaluate_coherent(face.surface, m.uv, m.position, m.normal);
+  // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface)
+  // cover nothing; they are dropped and counted.
+  const size_t before = tris.size();
+  std::erase_if(tris, [&](const glm::ivec3& t) {
+    const glm::dvec3 a = m.position[size_t(t.x)], b = m.position[size_t(t.y)], c = m.position[size_t(t.z)];
+    const double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    return glm::length(glm::cross(b - a, c - a)) <= 1e-12 * scale * scale;
+  });
+  out.stats.collapsed_triangles = (long long)(before - tris.size());
+  if (face.reversed) {
+    for (glm::ivec3& tri : tris) std::swap(tri.y, tri.z);
+    for (glm::dvec3& n : m.normal) n = -n;
+  }
+  m.triangles = std::move(tris);
+  out.stats.seconds_evaluation = since(t);
+  out.stats.triangles = (long long)m.triangles.size();
+  out.stats.vertices = (long long)m.uv.size();
+  return out;
+}
+
+void add(TrimApproxStats& a, const TrimApproxStats& b) {
+  a.faces += b.faces;
+  a.curve_pieces += b.curve_pieces;
+  a.composed_pieces += b.composed_pieces;
+  a.lifted_degree_max = std::max(a.lifted_degree_max, b.lifted_degree_max);
+  a.reduced_degree_max = std::max(a.reduced_degree_max, b.reduced_degree_max);
+  a.lift_error_max = std::max(a.lift_error_max, b.lift_error_max);
+  a.edges_before += b.edges_before;
+  a.edges_after += b.edges_after;
+  a.crossings_fixed += b.crossings_fixed;
+  a.seconds_conversion += b.seconds_conversion;
+  a.seconds_approximation += b.seconds_approximation;
+}
+
+}  // namespace
+
+TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const TessellateOptions& options,
+                            const std::function<void(int, int)>& progress) {
+  const auto start = Clock::now();
+  std::vector<FaceOut> outs(faces.size());
+  std::atomic<size_t> next{0};
+  std::atomic<int> done{0};
+  std::mutex report;
+  const int threads = std::max(1, options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
+  auto work = [&] {
+    for (size_t f; (f = next.fetch_add(1)) < faces.size();) {
+      try {
+        outs[f] = tessellate_face(faces[f], options);
+      } catch (const std::exception& e) {
+        outs[f] = FaceOut{};
+        outs[f].failure = e.what();
+      }
+      const int d = ++done;
+      if (progress) {
+        const std::lock_guard lock(report);
+        progress(d, int(faces.size()));
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min<int>(threads, int(faces.size())); ++t) pool.emplace_back(work);
+  work();
+  for (auto& th : pool) th.join();
+
+  TessellateResult r;
+  TriangleMesh& mesh = r.mesh;
+  TessellateStats& s = r.stats;
+  s.faces = int(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    FaceOut& o = outs[f];
+    if (!o.failure.empty()) r.failures.push_back({int(f), o.failure});
+    add(s.trim, o.stats.trim);
+    s.cells += o.stats.cells;
+    s.cell_nodes += o.stats.cell_nodes;
+    s.unconverged_cells += o.stats.unconverged_cells;
+    s.trim_edges += o.stats.trim_edges;
+    s.degenerate_triangles += o.stats.degenerate_triangles;
+    s.collapsed_triangles += o.stats.collapsed_triangles;
+    s.seconds_surface += o.stats.seconds_surface;
+    s.seconds_trimming += o.stats.seconds_trimming;
+    s.seconds_triangulation += o.stats.seconds_triangulation;
+    s.seconds_evaluation += o.stats.seconds_evaluation;
+    const int base = int(mesh.positions.size());
+    const FaceMesh& m = o.mesh;
+    mesh.positions.insert(mesh.positions.end(), m.position.begin(), m.position.end());
+    mesh.normals.insert(mesh.normals.end(), m.normal.begin(), m.normal.end());
+    mesh.uv.insert(mesh.uv.end(), m.uv.begin(), m.uv.end());
+    mesh.vertex_face.insert(mesh.vertex_face.end(), m.uv.size(), int(f));
+    for (const glm::ivec3& t : m.triangles) mesh.triangles.push_back(t + glm::ivec3(base));
+    mesh.triangle_face.insert(mesh.triangle_face.end(), m.triangles.size(), int(f));
+  }
+  s.failed_faces = int(r.failures.size());
+  s.triangles = (long long)mesh.triangles.size();
+  s.vertices = (long long)mesh.positions.size();
+  s.seconds = since(start);
+  return r;
+}
+
+}  // namespace nurbs::tess

@@ -1,0 +1,68 @@
+#pragma once
+/// \file tessellate.h
+/// The whole pipeline of Balázs, Guthe and Klein (WSCG 2004) §3 for a model: per face, trim curves to
+/// 3D Bézier curves (§4), trim loops to polylines (§5), the surface to kd-tree or quadtree cells (§5),
+/// the cells cut by the loops in a half-edge graph (§6), the polygons triangulated (§7), the vertices
+/// evaluated coherently (§8). Faces run in parallel; the output does not depend on the thread count.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "nurbs/tessellation/tess_types.h"
+#include "nurbs/tessellation/trim_polyline.h"
+#include "nurbs/triangle_mesh.h"
+#include "nurbs/trimmed_surface.h"
+
+namespace nurbs::tess {
+
+/// Guaranteed: the trim loops within eps/2 (§5, γ of it for the curves), the cells' proven bound for
+/// any triangle inside them (2 ε_bilin + twist/4, surface_cells.h) within eps/2, so that trimmed and
+/// T-junction triangles keep the bound too. Approximate: the paper's approximate error, eps for the
+/// loops and eps for the surface (fewer triangles, no guarantee).
+enum class TessMode { Guaranteed, Approximate };
+
+struct TessellateOptions {
+  double eps = 1e-3;  ///< absolute, model units
+  TessMode mode = TessMode::Guaranteed;
+  Subdivision subdivision = Subdivision::KdTree;
+  CurveSplit split = CurveSplit::Midpoint;
+  double gamma = 0.75;   ///< §5: share of the loop budget for the curves, the rest for simplification
+  bool simplify = true;  ///< §5 loop simplification
+  int threads = 0;       ///< 0 = all hardware threads
+};
+
+/// Figures of the paper's Tables 2-4 for one run (seconds are summed over faces, i.e. CPU time of
+/// the stages; `seconds` is the wall time).
+struct TessellateStats {
+  int faces = 0, failed_faces = 0;
+  TrimApproxStats trim;       ///< §4-§5 loops (conversion and approximation seconds inside)
+  long long cells = 0;        ///< §5 leaves
+  long long cell_nodes = 0;   ///< §5 nodes visited
+  int unconverged_cells = 0;  ///< leaves cut by the depth limit above their budget
+  long long trim_edges = 0;   ///< loop polyline edges after simplification
+  long long triangles = 0, vertices = 0;
+  long long degenerate_triangles = 0;  ///< zero-area triangles in (u, v) the triangulation could not avoid
+  long long collapsed_triangles = 0;   ///< zero-area in space (at poles), dropped
+  double seconds_surface = 0.0, seconds_trimming = 0.0, seconds_triangulation = 0.0, seconds_evaluation = 0.0;
+  double seconds = 0.0;
+};
+
+struct FaceFailure {
+  int face = -1;       ///< index in the input
+  std::string reason;  ///< what went wrong, for the user
+};
+
+struct TessellateResult {
+  TriangleMesh mesh;  ///< positions, normals, uv, vertex_face, triangles, triangle_face
+  TessellateStats stats;
+  std::vector<FaceFailure> failures;  ///< faces that produced no triangles, with the reason
+};
+
+/// Tessellates `faces` (world coordinates, e.g. world_faces(model)). Each face's triangles are
+/// counter-clockwise seen from its outside (Su x Sv, flipped for reversed faces). A face that throws
+/// or yields no triangles is reported in `failures`; the others still come out. `progress` (optional)
+/// is called with (faces done, total) from worker threads, serialised.
+[[nodiscard]] TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const TessellateOptions& options,
+                                          const std::function<void(int, int)>& progress = {});
+
+}  // namespace nurbs::tess

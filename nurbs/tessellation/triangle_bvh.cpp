@@ -1,0 +1,110 @@
+#include "nurbs/tessellation/triangle_bvh.h"
+
+#include <algorithm>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <limits>
+
+namespace nurbs::tess {
+namespace {
+
+glm::dvec3 closest_on_segment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  if (!(len2 > 0.0)) return a;
+  return a + std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) * ab;
+}
+
+double box_distance(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+  return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0)));
+}
+
+}  // namespace
+
+glm::dvec3 closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                     const glm::dvec3& c) {
+  // Inside the triangle's prism: the projection onto its plane; otherwise (or when the triangle is
+  // degenerate) the closest point of its three edges.
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double n2 = glm::dot(n, n);
+  const double scale = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a), glm::dot(c - b, c - b)});
+  if (n2 > 1e-24 * scale * scale) {
+    const glm::dvec3 q = p - (glm::dot(p - a, n) / n2) * n;
+    const double wa = glm::dot(glm::cross(c - b, q - b), n), wb = glm::dot(glm::cross(a - c, q - c), n),
+                 wc = glm::dot(glm::cross(b - a, q - a), n);
+    if (wa >= 0 && wb >= 0 && wc >= 0) return q;
+  }
+  glm::dvec3 best = closest_on_segment(p, a, b);
+  for (const glm::dvec3& e : {closest_on_segment(p, b, c), closest_on_segment(p, c, a)})
+    if (glm::dot(e - p, e - p) < glm::dot(best - p, best - p)) best = e;
+  return best;
+}
+
+TriangleBvh::TriangleBvh(std::vector<std::array<glm::dvec3, 3>> triangles) : tris_(std::move(triangles)) {
+  order_.resize(tris_.size());
+  for (size_t i = 0; i < order_.size(); ++i) order_[i] = int(i);
+  nodes_.reserve(2 * tris_.size() / 4 + 2);
+  if (!tris_.empty()) build(0, int(tris_.size()));
+}
+
+int TriangleBvh::build(int first, int count) {
+  Node node{glm::dvec3(std::numeric_limits<double>::infinity()),
+            glm::dvec3(-std::numeric_limits<double>::infinity()),
+            first,
+            count,
+            -1,
+            -1};
+  for (int k = first; k < first + count; ++k)
+    for (const glm::dvec3& v : tris_[size_t(order_[size_t(k)])])
+      node.lo = glm::min(node.lo, v), node.hi = glm::max(node.hi, v);
+  const int index = int(nodes_.size());
+  nodes_.push_back(node);
+  if (count <= 4) return index;
+  const glm::dvec3 extent = node.hi - node.lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const int mid = first + count / 2;
+  auto centroid = [&](int t) {
+    const auto& tri = tris_[size_t(t)];
+    return tri[0][axis] + tri[1][axis] + tri[2][axis];
+  };
+  std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + first + count,
+                   [&](int x, int y) { return centroid(x) < centroid(y); });
+  const int left = build(first, mid - first);
+  const int right = build(mid, first + count - mid);
+  nodes_[size_t(index)].count = 0;
+  nodes_[size_t(index)].left = left;
+  nodes_[size_t(index)].right = right;
+  return index;
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const glm::dvec3& p, double max_distance) const {
+  Hit hit{std::numeric_limits<double>::infinity(), p, -1};
+  if (nodes_.empty()) return hit;
+  double best = max_distance;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[size_t(stack[--top])];
+    if (box_distance(p, n.lo, n.hi) >= best) continue;
+    if (n.count > 0) {
+      for (int k = n.first; k < n.first + n.count; ++k) {
+        const int t = order_[size_t(k)];
+        const auto& tri = tris_[size_t(t)];
+        const glm::dvec3 q = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
+        const double d = glm::length(q - p);
+        if (d < best) best = d, hit = {d, q, t};
+      }
+      continue;
+    }
+    // Nearer child last, so it is searched first.
+    const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
+    const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
+    stack[top++] = left_first ? n.right : n.left;
+    stack[top++] = left_first ? n.left : n.right;
+  }
+  if (hit.triangle < 0) hit.distance = std::numeric_limits<double>::infinity();
+  return hit;
+}
+
+}  // namespace nurbs::tess

@@ -1,0 +1,43 @@
+#pragma once
+/// \file triangle_bvh.h
+/// Closest point on a set of triangles (or segments: triangles with a repeated corner), with a
+/// bounding volume hierarchy of axis-aligned boxes split at the median centroid. The deviation check
+/// of the tessellation (mesh_check.h) asks it millions of times.
+#include <array>
+#include <glm/vec3.hpp>
+#include <vector>
+
+namespace nurbs::tess {
+
+/// Closest point of triangle (a, b, c) to p, in double. Degenerate triangles (segments, points) work:
+/// the closest point of their edges is taken.
+[[nodiscard]] glm::dvec3 closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                                   const glm::dvec3& c);
+
+class TriangleBvh {
+ public:
+  /// Triangles as corner triples; an empty set answers +inf.
+  explicit TriangleBvh(std::vector<std::array<glm::dvec3, 3>> triangles);
+  struct Hit {
+    double distance;
+    glm::dvec3 point;
+    int triangle;  ///< index in the input, -1 when empty
+  };
+  /// The closest point of all triangles to p (exact up to rounding), searching only boxes closer
+  /// than `max_distance`.
+  [[nodiscard]] Hit closest(const glm::dvec3& p, double max_distance = 1e300) const;
+  [[nodiscard]] size_t size() const { return tris_.size(); }
+
+ private:
+  struct Node {
+    glm::dvec3 lo, hi;
+    int first, count;  ///< leaf: triangles [first, first + count) of order_; inner: count = 0
+    int left, right;
+  };
+  int build(int first, int count);
+  std::vector<std::array<glm::dvec3, 3>> tris_;
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace nurbs::tess

@@ -1,0 +1,225 @@
+#include "nurbs/tessellation/trim_polyline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "nurbs/surface_eval.h"
+#include "nurbs/tessellation/loop_repair.h"
+
+namespace nurbs::tess {
+namespace {
+
+/// de Casteljau split of a homogeneous Bézier curve at local parameter s in (0, 1).
+std::pair<HomogeneousCurve, HomogeneousCurve> split_bezier(const HomogeneousCurve& b, double s) {
+  const size_t n = b.points.size();
+  const double t0 = b.knots.front(), t1 = b.knots.back(), tm = t0 + s * (t1 - t0);
+  HomogeneousCurve left{b.degree, {}, std::vector<glm::dvec4>(n)}, right = left;
+  std::vector<glm::dvec4> w = b.points;
+  for (size_t k = 0; k < n; ++k) {
+    left.points[k] = w[0];
+    right.points[n - 1 - k] = w[n - 1 - k];
+    for (size_t j = 0; j + 1 < n - k; ++j) w[j] = (1.0 - s) * w[j] + s * w[j + 1];
+  }
+  left.knots.assign(n, t0), left.knots.insert(left.knots.end(), n, tm);
+  right.knots.assign(n, tm), right.knots.insert(right.knots.end(), n, t1);
+  return {std::move(left), std::move(right)};
+}
+
+double seg_dist(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+  const glm::dvec3 d = b - a;
+  const double l2 = glm::dot(d, d);
+  const double lam = l2 > 0.0 ? std::clamp(glm::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
+  return glm::length(p - a - lam * d);
+}
+
+double seg_dist(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+  return seg_dist(glm::dvec3(p, 0.0), glm::dvec3(a, 0.0), glm::dvec3(b, 0.0));
+}
+
+void subdivide(const Surface& surface, const TrimCurve3& piece, const HomogeneousCurve& bez, double tol, double floor,
+               CurveSplit split, int depth, std::vector<glm::dvec2>& uv, std::vector<glm::dvec3>& xyz) {
+  int far = 0;
+  const double e = line_error_bound(bez, &far);
+  // `floor` (1e-13 of the coordinates) is where ε_line is rounding noise: eps below it cannot be met.
+  if (e <= tol || e <= floor || depth >= 48) {
+    const glm::dvec2 p = piece_uv(surface, piece.uv, bez.knots.front());
+    uv.push_back(p);
+    xyz.push_back(surface_point(surface, p.x, p.y));
+    return;
+  }
+  const double s = split == CurveSplit::Midpoint ? 0.5 : double(far) / bez.degree;
+  const auto [l, r] = split_bezier(bez, s);
+  subdivide(surface, piece, l, tol, floor, split, depth + 1, uv, xyz);
+  subdivide(surface, piece, r, tol, floor, split, depth + 1, uv, xyz);
+}
+
+}  // namespace
+
+double line_error_bound(const HomogeneousCurve& bezier, int* farthest) {
+  const int n = bezier.degree;
+  std::vector<glm::dvec3> p;
+  bool polynomial = true;
+  for (const auto& q : bezier.points) {
+    // The hull argument needs positive weights. Lifted weights can be <= 0 where the 2D piece's control
+    // polygon leaves its patch (negative Bernstein factors), though the weight function is positive;
+    // subdivision then makes them positive (control points converge to curve points).
+    if (!(q.w > 0.0)) {
+      if (farthest) *farthest = std::max(1, n / 2);
+      return HUGE_VAL;
+    }
+    p.emplace_back(glm::dvec3(q) / q.w);
+    polynomial = polynomial && q.w == bezier.points.front().w;
+  }
+  const glm::dvec3 d = p.back() - p.front();
+  const double l2 = glm::dot(d, d);
+  double best = 0.0;
+  if (farthest) *farthest = std::max(1, n / 2);
+  for (int i = 1; i < n; ++i) {
+    const glm::dvec3 v = p[size_t(i)] - p.front();
+    const double lam = l2 > 0.0 ? std::clamp(glm::dot(v, d) / l2, 0.0, 1.0) : 0.0;
+    const double e = glm::length(v - lam * d);
+    if (e > best) {
+      best = e;
+      if (farthest) *farthest = i;
+    }
+  }
+  return (polynomial ? 1.0 - std::ldexp(1.0, 1 - n) : 1.0) * best;
+}
+
+void approximate_piece(const Surface& surface, const TrimCurve3& piece, double tol, CurveSplit split,
+                       std::vector<glm::dvec2>& uv, std::vector<glm::dvec3>& xyz) {
+  double mag = 0.0;
+  for (const auto& q : piece.xyz.points)  // weights <= 0 (see line_error_bound) carry no size information
+    if (q.w > 0.0) mag = std::max(mag, glm::length(glm::dvec3(q) / q.w));
+  subdivide(surface, piece, piece.xyz, tol, 1e-13 * mag, split, 0, uv, xyz);
+}
+
+size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
+  const size_t m = loop.uv.size();
+  if (m < 4 || !(tol > 0.0)) return 0;
+  auto at = [&](size_t k) { return k % m; };
+  size_t f = 0;
+  double fd = 0.0;
+  for (size_t k = 1; k < m; ++k) {
+    const double d = glm::length(loop.xyz[k] - loop.xyz[0]);
+    if (d > fd) fd = d, f = k;
+  }
+  if (f == 0) f = m / 2;
+  std::vector<bool> keep(m, false);
+  keep[0] = keep[f] = true;
+  std::vector<std::pair<size_t, size_t>> stack{{0, f}, {f, m}};
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    double worst = 0.0;
+    size_t wk = a;
+    for (size_t k = a + 1; k < b; ++k) {
+      const double d3 = seg_dist(loop.xyz[k], loop.xyz[at(a)], loop.xyz[at(b)]) / tol;
+      const double duv = seg_dist(loop.uv[k], loop.uv[at(a)], loop.uv[at(b)]);
+      const double r = std::max(d3, tol_uv > 0.0 ? duv / tol_uv : (duv > 0.0 ? HUGE_VAL : 0.0));
+      if (r > worst) worst = r, wk = k;
+    }
+    if (worst <= 1.0) continue;
+    keep[wk] = true;
+    stack.push_back({a, wk});
+    stack.push_back({wk, b});
+  }
+  if (std::count(keep.begin(), keep.end(), true) < 3) return 0;  // would collapse the loop's area
+  LoopPolyline out;
+  out.outer = loop.outer;
+  for (size_t k = 0; k < m; ++k)
+    if (keep[k]) out.uv.push_back(loop.uv[k]), out.xyz.push_back(loop.xyz[k]);
+  const size_t removed = m - out.uv.size();
+  loop = std::move(out);
+  return removed;
+}
+
+std::vector<TrimLoop> loops_to_approximate(const TrimmedSurface& face) {
+  std::vector<TrimLoop> loops = face.loops;
+  if (std::none_of(loops.begin(), loops.end(), [](const TrimLoop& l) { return l.outer; }))
+    loops.push_back(domain_loop(face.surface));
+  return loops;
+}
+
+std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, const TrimApproxOptions& opt,
+                                                 TrimApproxStats* stats) {
+  if (!(opt.eps > 0.0) || !(opt.gamma > 0.0 && opt.gamma <= 1.0))
+    throw std::invalid_argument("approximate_trim_loops: eps must be > 0 and gamma in (0, 1]");
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  const Surface& s = face.surface;
+  const auto patches = extract_bezier_patches(s);
+  const std::vector<TrimLoop> loops = loops_to_approximate(face);
+  LiftOptions lift;
+  lift.max_degree = opt.max_degree;
+  lift.method = opt.lift;
+  std::vector<std::vector<TrimCurve3>> pieces(loops.size());
+  TrimApproxStats st;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    for (const Curve2& c : loops[l].curves) {
+      for (TrimCurve3& p : convert_trim_curve(s, patches, c, lift)) {
+        st.lifted_degree_max = std::max(st.lifted_degree_max, p.lifted_degree);
+        st.reduced_degree_max = std::max(st.reduced_degree_max, p.xyz.degree);
+        st.lift_error_max = std::max(st.lift_error_max, p.error);
+        st.composed_pieces += p.composed ? 1 : 0;
+        pieces[l].push_back(std::move(p));
+      }
+    }
+    st.curve_pieces += pieces[l].size();
+  }
+  const auto t1 = clock::now();
+  std::vector<LoopPolyline> out;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    LoopPolyline pl;
+    pl.outer = loops[l].outer;
+    std::vector<glm::dvec2> uv;
+    std::vector<glm::dvec3> xyz;
+    for (const TrimCurve3& p : pieces[l]) approximate_piece(s, p, opt.gamma * opt.eps, opt.split, uv, xyz);
+    for (size_t k = 0; k < uv.size(); ++k) {  // drop exact repeats (joints of pieces and curves)
+      if (!pl.uv.empty() && uv[k] == pl.uv.back()) continue;
+      pl.uv.push_back(uv[k]), pl.xyz.push_back(xyz[k]);
+    }
+    while (pl.uv.size() > 1 && pl.uv.back() == pl.uv.front()) pl.uv.pop_back(), pl.xyz.pop_back();
+    st.edges_before += pl.uv.size();
+    out.push_back(std::move(pl));
+  }
+  const double simplify_tol = (1.0 - opt.gamma) * opt.eps;
+  if (opt.simplify && simplify_tol > 0.0) {
+    // uv safeguard: the 3D tolerance over the largest 3D / uv stretch seen on the loops' edges.
+    double stretch = 0.0;
+    for (const auto& pl : out)
+      for (size_t k = 0; k < pl.uv.size(); ++k) {
+        const size_t k1 = (k + 1) % pl.uv.size();
+        const double duv = glm::length(pl.uv[k1] - pl.uv[k]);
+        if (duv > 0.0) stretch = std::max(stretch, glm::length(pl.xyz[k1] - pl.xyz[k]) / duv);
+      }
+    const double tol_uv = stretch > 0.0 ? simplify_tol / stretch : 0.0;
+    for (auto& pl : out) simplify_loop(pl, simplify_tol, tol_uv);
+  }
+  if (opt.repair) st.crossings_fixed = repair_crossings(out, s);
+  for (const auto& pl : out) st.edges_after += pl.uv.size();
+  const auto t2 = clock::now();
+  st.seconds_conversion = std::chrono::duration<double>(t1 - t0).count();
+  st.seconds_approximation = std::chrono::duration<double>(t2 - t1).count();
+  if (stats) {
+    stats->faces += 1;
+    stats->curve_pieces += st.curve_pieces;
+    stats->composed_pieces += st.composed_pieces;
+    stats->lifted_degree_max = std::max(stats->lifted_degree_max, st.lifted_degree_max);
+    stats->reduced_degree_max = std::max(stats->reduced_degree_max, st.reduced_degree_max);
+    stats->lift_error_max = std::max(stats->lift_error_max, st.lift_error_max);
+    stats->edges_before += st.edges_before;
+    stats->edges_after += st.edges_after;
+    stats->crossings_fixed += st.crossings_fixed;
+    stats->seconds_conversion += st.seconds_conversion;
+    stats->seconds_approximation += st.seconds_approximation;
+  }
+  return out;
+}
+
+}  // namespace nurbs::tess

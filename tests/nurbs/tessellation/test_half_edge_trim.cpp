@@ -1,0 +1,133 @@
+// Tests of §6 (half_edge_trim.h) and, through it, §7 (triangulate.h) of Balázs, Guthe, Klein 2004:
+// table cases with known answers. Oracle: test_half_edge_trim_oracle.h.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "test_half_edge_trim_oracle.h"
+
+using namespace half_edge_trim_test;
+
+TEST_CASE("half-edge trim: no trims, outer loop = R's boundary, kd tiling with T-junctions") {
+  std::mt19937_64 rng(7);
+  std::vector<Cell> cells;
+  kd_split(cell(0.5, 2.0, -1.0, 0.25), 6, rng, cells);
+  const auto boundary = loop({{0.5, -1.0}, {2.0, -1.0}, {2.0, 0.25}, {0.5, 0.25}}, true);
+  auto r = run_and_check(cells, {boundary}, 1.5 * 1.25);
+  CHECK(r.polys.polygons.size() == cells.size());  // one polygon per cell
+  auto r2 = run_and_check(cells, {}, 1.5 * 1.25);  // no loop at all: R is the outer loop
+  CHECK(r2.polys.polygons.size() == cells.size());
+  CHECK(r2.tstats.nonconvex_polygons == 0);
+  CHECK(r2.tstats.degenerate_triangles == 0);
+}
+
+TEST_CASE("half-edge trim: square hole strictly inside one cell gets the two paper bridges") {
+  const auto cells = grid(0, 1, 0, 1, 4, 4);
+  const auto hole = loop({{0.3, 0.3}, {0.3, 0.45}, {0.45, 0.45}, {0.45, 0.3}}, false);
+  auto r = run_and_check(cells, {hole}, 1.0 - 0.15 * 0.15);
+  CHECK(r.polys.stats.paper_bridges == 2);
+  CHECK(r.polys.stats.fallback_bridges == 0);
+  CHECK(r.polys.polygons.size() == 17);  // the holed cell is cut in two
+}
+
+TEST_CASE("half-edge trim: circle hole across many cells, tiny hole, two holes in one cell") {
+  const auto cells = grid(0, 1, 0, 1, 8, 8);
+  const auto c = circle({0.5, 0.5}, 0.3, 200, false);
+  run_and_check(cells, {c}, 1.0 + nurbs::signed_area(c.uv));
+  // 1e-6 of R: still two bridges, still exact area.
+  const auto tiny = circle({0.06, 0.07}, 1e-6, 8, false);
+  auto r = run_and_check(cells, {c, tiny}, 1.0 + nurbs::signed_area(c.uv) + nurbs::signed_area(tiny.uv));
+  CHECK(r.polys.stats.paper_bridges == 2);
+  // Two holes in one cell: the second is bridged by the fallback after the first traversal.
+  const auto h1 = circle({0.03, 0.9}, 0.01, 12, false), h2 = circle({0.09, 0.96}, 0.01, 12, false);
+  auto r2 = run_and_check(cells, {h1, h2}, 1.0 + nurbs::signed_area(h1.uv) + nurbs::signed_area(h2.uv));
+  CHECK(r2.polys.stats.paper_bridges == 4);  // the second hole's bridges avoid the first's
+  // Nested in one cell: hole, island in the hole, hole in the island. The innermost hole cannot see
+  // the cell corners (the island is in the way): it is bridged to the island by the fallback.
+  const auto outer_hole = circle({0.06, 0.06}, 0.05, 16, false), island = circle({0.06, 0.06}, 0.03, 16, true),
+             inner_hole = circle({0.06, 0.06}, 0.01, 16, false);
+  // (The island is an outer loop, so R's boundary must be given as one too.)
+  const std::vector<LoopPolyline> nested{loop({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, true), outer_hole, island, inner_hole};
+  auto r3 = run_and_check(cells, nested, loops_area(nested));
+  CHECK(r3.polys.stats.paper_bridges == 2);
+  CHECK(r3.polys.stats.fallback_bridges == 2);
+  CHECK(r3.polys.stats.traversal_rounds == 2);
+}
+
+TEST_CASE("half-edge trim: large case (64 x 64 cells, 20000-point outer circle, 100 holes)") {
+  const auto cells = grid(0, 1, 0, 1, 64, 64);
+  std::vector<LoopPolyline> loops{circle({0.5, 0.5}, 0.49, 20000, true)};
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) loops.push_back(circle({0.23 + 0.06 * i, 0.23 + 0.06 * j}, 0.02, 40, false));
+  auto r = run_and_check(cells, loops, loops_area(loops));
+  MESSAGE("large case: " << r.polys.polygons.size() << " polygons, " << r.tris.size() << " triangles, "
+                         << r.polys.stats.graph_vertices << " graph vertices, " << r.seconds << " s");
+  CHECK(r.polys.stats.fallback_bridges == 0);
+}
+
+TEST_CASE("half-edge trim: outer loop along one edge of R, vertices on cell corners, collinear edges") {
+  const auto cells = grid(0, 1, 0, 1, 4, 4);
+  const auto touching = loop({{0, 0}, {1, 0}, {1, 0.6}, {0.5, 0.8}, {0, 0.6}}, true);
+  run_and_check(cells, {touching}, loops_area({touching}));
+  // Diamond through cell corners (its edges pass through the corners (0.75, 0.25) etc.).
+  const auto diamond = loop({{0.5, 0}, {1, 0.5}, {0.5, 1}, {0, 0.5}}, true);
+  run_and_check(cells, {diamond}, 0.5);
+  // L-shape along cell lines with a hole whose edges are cell edges.
+  const auto ell = loop({{0, 0}, {0.75, 0}, {0.75, 0.5}, {0.5, 0.5}, {0.5, 1}, {0, 1}}, true);
+  const auto square = loop({{0.25, 0.25}, {0.25, 0.5}, {0.5, 0.5}, {0.5, 0.25}}, false);
+  run_and_check(cells, {ell, square}, loops_area({ell, square}));
+  // A hole sharing a corner with the outer loop (touching at one vertex).
+  const auto outer = loop({{0.1, 0.1}, {0.9, 0.1}, {0.9, 0.9}, {0.1, 0.9}}, true);
+  const auto corner_hole = loop({{0.1, 0.1}, {0.2, 0.3}, {0.3, 0.2}}, false);
+  run_and_check(cells, {outer, corner_hole}, loops_area({outer, corner_hole}));
+  // A hole touching a cell edge at one vertex (pinch in the traversal, then fallback bridges).
+  const auto edge_hole = loop({{0.25, 0.375}, {0.4, 0.45}, {0.45, 0.3}}, false);
+  auto r = run_and_check(cells, {edge_hole}, 1.0 + loops_area({edge_hole}));
+  CHECK(r.polys.stats.paper_bridges == 0);
+  CHECK(r.polys.stats.fallback_bridges == 2);
+  // Vertices 1e-14 off cell lines and corners (below the 1e-12 snapping tolerance): snapped.
+  const double d = 1e-14;
+  const auto near = loop({{0.5 + d, 0.25 - d}, {0.75 - d, 0.5}, {0.5, 0.75 + d}, {0.25, 0.5 - d}}, true);
+  auto r2 = run_and_check(cells, {near}, 0.125);   // the snapped diamond: 1e-14 changes the area by ~1e-14
+  CHECK(r2.polys.stats.snapped_coordinates == 5);  // the five coordinates written with d
+}
+
+TEST_CASE("half-edge trim: R = bounding box of the outer loop (the paper's domain restriction, §5)") {
+  // The loop touches R's boundary at four single vertices; kd tiling with T-junctions.
+  const auto c = circle({0.3, -0.2}, 0.7, 96, true);
+  std::vector<Cell> cells;
+  std::mt19937_64 rng(5);
+  kd_split(cell(0.3 - 0.7, 0.3 + 0.7, -0.2 - 0.7, -0.2 + 0.7), 7, rng, cells);
+  auto r = run_and_check(cells, {c}, nurbs::signed_area(c.uv));
+  CHECK(r.polys.stats.clipped_loops == 0);
+}
+
+TEST_CASE("half-edge trim: loops slightly outside R are clipped") {
+  const auto cells = grid(0, 1, 0, 1, 3, 5);
+  const auto out = loop({{-1e-3, -1e-3}, {0.5, -1e-3}, {0.5, 0.5}, {-1e-3, 0.5}}, true);
+  auto r = run_and_check(cells, {out}, 0.25);  // [0, 0.5]^2 after clipping
+  CHECK(r.polys.stats.clipped_loops == 1);
+  // Loops leaving and re-entering R: a diamond |u - .5| + |v - .5| <= .7 (R minus four corner
+  // triangles with legs .3: 1 - 4 * .045) and a plus sign with arms .4 wide (2 * .4 - .16).
+  const auto diamond = loop({{0.5, -0.2}, {1.2, 0.5}, {0.5, 1.2}, {-0.2, 0.5}}, true);
+  run_and_check(cells, {diamond}, 1.0 - 4 * 0.045);
+  const auto plus = loop({{0.3, -0.5},
+                          {0.7, -0.5},
+                          {0.7, 0.3},
+                          {1.5, 0.3},
+                          {1.5, 0.7},
+                          {0.7, 0.7},
+                          {0.7, 1.5},
+                          {0.3, 1.5},
+                          {0.3, 0.7},
+                          {-0.5, 0.7},
+                          {-0.5, 0.3},
+                          {0.3, 0.3}},
+                         true);
+  run_and_check(cells, {plus}, 2 * 0.4 - 0.16);
+  // Outside by 1e-14 (< the 1e-12 snapping tolerance): snapped onto R's boundary, area of R.
+  const auto almost = loop({{-1e-14, -1e-14}, {1 + 1e-14, -1e-14}, {1 + 1e-14, 1}, {-1e-14, 1}}, true);
+  auto r2 = run_and_check(cells, {almost}, 1.0);
+  CHECK(r2.polys.stats.snapped_coordinates > 0);
+}

@@ -1,0 +1,131 @@
+// The tools around the tessellation: closest points on triangles (the BVH against brute force), the
+// measured deviation of a mesh from faces (it must see a moved vertex and a missing triangle), edge
+// counts after welding, and the mesh writers' file layouts.
+#include <doctest/doctest.h>
+
+#include <glm/geometric.hpp>
+#include <random>
+#include <sstream>
+
+#include "nurbs/io/mesh_writer.h"
+#include "nurbs/tessellation/mesh_check.h"
+#include "nurbs/tessellation/mesh_topology.h"
+#include "nurbs/tessellation/triangle_bvh.h"
+
+namespace {
+
+/// The unit square z = 0 as a bilinear face, u = x, v = y.
+nurbs::TrimmedSurface unit_square() {
+  nurbs::TrimmedSurface f;
+  f.surface.degree_u = f.surface.degree_v = 1;
+  f.surface.count_u = f.surface.count_v = 2;
+  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
+  f.surface.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  return f;
+}
+
+/// The square as two triangles, counter-clockwise seen from +z.
+nurbs::TriangleMesh square_mesh() {
+  nurbs::TriangleMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("mesh check: the BVH's closest point equals a brute-force search, degenerate triangles included") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> x(-1.0, 1.0);
+  std::vector<std::array<glm::dvec3, 3>> tris;
+  for (int k = 0; k < 400; ++k) {
+    const glm::dvec3 a(x(rng), x(rng), x(rng));
+    const glm::dvec3 b = k % 7 == 0 ? a : a + 0.2 * glm::dvec3(x(rng), x(rng), x(rng));  // some points
+    const glm::dvec3 c = k % 5 == 0 ? b : a + 0.2 * glm::dvec3(x(rng), x(rng), x(rng));  // some segments
+    tris.push_back({a, b, c});
+  }
+  const nurbs::tess::TriangleBvh bvh(tris);
+  for (int q = 0; q < 300; ++q) {
+    const glm::dvec3 p(1.5 * x(rng), 1.5 * x(rng), 1.5 * x(rng));
+    double best = 1e300;
+    for (const auto& t : tris)
+      best = std::min(best, glm::length(nurbs::tess::closest_point_on_triangle(p, t[0], t[1], t[2]) - p));
+    const auto hit = bvh.closest(p);
+    CHECK(hit.distance == doctest::Approx(best).epsilon(1e-14));
+    CHECK(glm::length(hit.point - p) == doctest::Approx(hit.distance).epsilon(1e-14));
+  }
+  // A point above a triangle's interior projects onto its plane; beside it, onto an edge.
+  const glm::dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  CHECK(glm::length(nurbs::tess::closest_point_on_triangle({0.2, 0.2, 3}, a, b, c) - glm::dvec3(0.2, 0.2, 0)) < 1e-15);
+  CHECK(glm::length(nurbs::tess::closest_point_on_triangle({0.5, -1, 0}, a, b, c) - glm::dvec3(0.5, 0, 0)) < 1e-15);
+}
+
+TEST_CASE("mesh check: deviation of an exact mesh is 0; a moved vertex and a missing triangle show") {
+  const std::vector<nurbs::TrimmedSurface> faces{unit_square()};
+  nurbs::TriangleMesh m = square_mesh();
+  const nurbs::tess::Deviation exact = nurbs::tess::measure_deviation(faces, m, {16, 0.0, 1});
+  CHECK(exact.max() < 1e-12);  // the mesh lies in the face: rounding only
+  CHECK(exact.surface_samples >= 16 * 16);
+
+  // Vertex 2 lifted by 0.01: the vertex itself is 0.01 from the face (mesh to surface), and the face
+  // point under it is at most 0.01 from the tilted triangles (surface to mesh, less by the tilt).
+  m.positions[2].z = 0.01;
+  const nurbs::tess::Deviation moved = nurbs::tess::measure_deviation(faces, m, {16, 0.0, 1});
+  CHECK(moved.mesh_to_surface == doctest::Approx(0.01).epsilon(1e-9));
+  CHECK(moved.surface_to_mesh > 0.009);
+  CHECK(moved.surface_to_mesh <= 0.01);
+
+  // Without the second triangle, the corner (0, 1) is sqrt(1/2) from the remaining one.
+  nurbs::TriangleMesh half = square_mesh();
+  half.triangles.pop_back();
+  const nurbs::tess::Deviation missing = nurbs::tess::measure_deviation(faces, half, {16, 0.0, 1});
+  CHECK(missing.surface_to_mesh == doctest::Approx(std::sqrt(0.5)).epsilon(1e-9));
+  CHECK(missing.mesh_to_surface < 1e-12);
+  CHECK(missing.worst_face == 0);
+}
+
+TEST_CASE("mesh check: open edges after welding") {
+  nurbs::TriangleMesh square = square_mesh();
+  auto e = nurbs::tess::count_edges(square, 1e-9);
+  CHECK(e.edges == 5);
+  CHECK(e.open == 4);
+  // A tetrahedron is closed; its four faces as separate triangles (12 vertices) weld into it.
+  nurbs::TriangleMesh tet;
+  const glm::dvec3 p[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  for (const auto& t : f) {
+    const int base = int(tet.positions.size());
+    for (int c = 0; c < 3; ++c) tet.positions.push_back(p[t[c]] + glm::dvec3(1e-12 * c));  // below the weld
+    tet.triangles.push_back({base, base + 1, base + 2});
+  }
+  e = nurbs::tess::count_edges(tet, 1e-9);
+  CHECK(e.welded_vertices == 4);
+  CHECK(e.edges == 6);
+  CHECK(e.open == 0);
+  tet.triangles.pop_back();
+  CHECK(nurbs::tess::count_edges(tet, 1e-9).open == 3);
+  // A weld tolerance below the offsets keeps the faces apart: every edge is open.
+  CHECK(nurbs::tess::count_edges(tet, 1e-13).open == 9);
+}
+
+TEST_CASE("mesh check: mesh writers (OBJ, PLY, STL layouts, format from the extension)") {
+  nurbs::TriangleMesh m = square_mesh();
+  m.normals.assign(4, glm::dvec3(0, 0, 1));
+  m.triangle_face = {0, 0};
+  std::ostringstream stl, ply, obj;
+  nurbs::io::write_mesh(stl, m, nurbs::io::MeshFormat::Stl);
+  CHECK(stl.str().size() == 84 + 50 * 2);  // header, count, 50 bytes per facet
+  nurbs::io::write_mesh(ply, m, nurbs::io::MeshFormat::Ply);
+  const std::string header = ply.str().substr(0, ply.str().find("end_header\n") + 11);
+  CHECK(header.find("element vertex 4\n") != std::string::npos);
+  CHECK(header.find("element face 2\n") != std::string::npos);
+  CHECK(header.find("property float nx\n") != std::string::npos);
+  // Vertices: 4 x 6 floats; faces: 2 x (1 + 3 x 4 + face_id 4) bytes.
+  CHECK(ply.str().size() == header.size() + 4 * 6 * 4 + 2 * (1 + 12 + 4));
+  nurbs::io::write_mesh(obj, m, nurbs::io::MeshFormat::Obj);
+  CHECK(obj.str().find("f 1//1 2//2 3//3\n") != std::string::npos);
+  CHECK(obj.str().find("g face_0\n") != std::string::npos);
+  CHECK(nurbs::io::mesh_format_of("a/B.PLY") == nurbs::io::MeshFormat::Ply);
+  CHECK_THROWS_WITH_AS((void)nurbs::io::mesh_format_of("x.txt"),
+                       "x.txt: unknown mesh format '.txt' (use .obj, .ply or .stl)", std::invalid_argument);
+}

@@ -1,0 +1,141 @@
+// The whole pipeline (tessellate.h) on exact shapes, trimmed planes and the shared models: the
+// measured deviation (mesh_check.h, independent of the pipeline) stays within eps in guaranteed mode,
+// counts fall as eps grows, the kd-tree needs fewer triangles than the quadtree, no triangle is flipped
+// or collapsed, and the output does not depend on the thread count.
+#include <doctest/doctest.h>
+
+#include <glm/geometric.hpp>
+
+#include "models/exact_shapes.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/tessellation/mesh_check.h"
+#include "nurbs/tessellation/tessellate.h"
+#include "tests/shared_models.h"
+
+namespace {
+
+using nurbs::tess::TessellateOptions;
+
+nurbs::TrimmedSurface face_of(nurbs::Surface s) {
+  nurbs::TrimmedSurface f;
+  f.surface = std::move(s);
+  return f;
+}
+
+/// Every triangle has positive area in space and faces the way of the surface normal at its centroid.
+void check_orientation(const std::vector<nurbs::TrimmedSurface>& faces, const nurbs::TriangleMesh& m) {
+  int flipped = 0, collapsed = 0;
+  for (size_t k = 0; k < m.triangles.size(); ++k) {
+    const glm::ivec3 t = m.triangles[k];
+    const glm::dvec3 a = m.positions[size_t(t.x)], b = m.positions[size_t(t.y)], c = m.positions[size_t(t.z)];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    if (!(glm::length(n) > 0)) ++collapsed;
+    const glm::dvec2 uv = (m.uv[size_t(t.x)] + m.uv[size_t(t.y)] + m.uv[size_t(t.z)]) / 3.0;
+    const auto& f = faces[size_t(m.triangle_face[k])];
+    glm::dvec3 normal = nurbs::surface_normal(f.surface, uv.x, uv.y);
+    if (f.reversed) normal = -normal;
+    if (glm::dot(n, normal) <= 0 && glm::length(normal) > 0) ++flipped;
+  }
+  CHECK(flipped == 0);
+  CHECK(collapsed == 0);
+}
+
+}  // namespace
+
+TEST_CASE("tessellate: exact shapes within eps (guaranteed), fewer triangles as eps grows, kd-tree below quadtree") {
+  struct Shape {
+    const char* name;
+    nurbs::Surface s;
+    double size;  // a length of the shape for eps
+  };
+  const Shape shapes[] = {{"sphere", models::rational_sphere(10.0), 20.0},
+                          {"torus", models::rational_torus(10.0, 3.0), 26.0},
+                          {"cylinder", models::rational_cylinder(5.0, 20.0), 20.0}};
+  for (const Shape& shape : shapes) {
+    const std::vector<nurbs::TrimmedSurface> faces{face_of(shape.s)};
+    long long previous = -1;
+    for (double rel : {1e-2, 3e-3}) {
+      TessellateOptions o;
+      o.eps = rel * shape.size;
+      const auto r = nurbs::tess::tessellate(faces, o);
+      const std::string name = shape.name;
+      CAPTURE(name);
+      CAPTURE(rel);
+      REQUIRE(r.failures.empty());
+      const auto d = nurbs::tess::measure_deviation(faces, r.mesh, {32, 0.0, 0});
+      CHECK(d.max() <= o.eps);  // the guarantee, measured independently
+      check_orientation(faces, r.mesh);
+      CHECK(r.stats.triangles > previous);  // a finer eps needs more triangles
+      previous = r.stats.triangles;
+      o.subdivision = nurbs::tess::Subdivision::Quadtree;
+      const auto q = nurbs::tess::tessellate(faces, o);
+      CHECK(q.stats.triangles > r.stats.triangles);
+      CHECK(nurbs::tess::measure_deviation(faces, q.mesh, {32, 0.0, 0}).max() <= o.eps);
+      MESSAGE(shape.name << " eps " << o.eps << ": kd-tree " << r.stats.triangles << " triangles, quadtree "
+                         << q.stats.triangles << ", deviation " << d.max());
+    }
+  }
+}
+
+TEST_CASE("tessellate: trimmed planes (a hole inside one cell, a loop on the domain boundary, reversed)") {
+  // A bilinear plane [0, 10]^2 is one cell: the circular hole lies inside it (§6's extra half-edges).
+  nurbs::TrimmedSurface plane;
+  plane.surface.degree_u = plane.surface.degree_v = 1;
+  plane.surface.count_u = plane.surface.count_v = 2;
+  plane.surface.knots_u = plane.surface.knots_v = {0, 0, 10, 10};
+  plane.surface.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}};
+  nurbs::TrimmedSurface holed = plane;
+  holed.loops.push_back({{models::rational_circle_2d({4.0, 6.0}, 2.0, false)}, false});
+  TessellateOptions o;
+  o.eps = 1e-3;
+  for (bool reversed : {false, true}) {
+    holed.reversed = reversed;
+    const std::vector<nurbs::TrimmedSurface> faces{holed};
+    const auto r = nurbs::tess::tessellate(faces, o);
+    REQUIRE(r.failures.empty());
+    double area = 0.0;
+    for (const glm::ivec3& t : r.mesh.triangles) {
+      const glm::dvec3 n = glm::cross(r.mesh.positions[size_t(t.y)] - r.mesh.positions[size_t(t.x)],
+                                      r.mesh.positions[size_t(t.z)] - r.mesh.positions[size_t(t.x)]);
+      area += 0.5 * n.z;
+    }
+    // 100 - pi 2^2, the inscribed polygon of the hole within eps of the circle: area within 2 pi r eps.
+    CHECK(std::abs(std::abs(area) - (100.0 - M_PI * 4.0)) <= 2 * M_PI * 2.0 * o.eps);
+    CHECK((area > 0) == !reversed);  // counter-clockwise seen from Su x Sv, flipped when reversed
+    CHECK(nurbs::tess::measure_deviation(faces, r.mesh, {64, 0.0, 0}).max() <= o.eps);
+  }
+}
+
+TEST_CASE("tessellate: the output does not depend on the thread count") {
+  const std::vector<nurbs::TrimmedSurface> faces{face_of(models::rational_sphere(3.0)),
+                                                 face_of(models::rational_torus(8.0, 2.0)),
+                                                 face_of(models::rational_cylinder(2.0, 5.0))};
+  TessellateOptions o;
+  o.eps = 0.02;
+  o.threads = 1;
+  const auto one = nurbs::tess::tessellate(faces, o);
+  o.threads = 3;
+  const auto three = nurbs::tess::tessellate(faces, o);
+  CHECK(one.mesh.triangles == three.mesh.triangles);
+  CHECK(one.mesh.positions == three.mesh.positions);
+  CHECK(one.mesh.triangle_face.back() == 2);
+}
+
+TEST_CASE("tessellate: every shared IGES model within eps = 2e-3 of its size" * test::needs_shared_models()) {
+  for (const auto& path : test::shared_iges_files()) {
+    const nurbs::Model model = nurbs::io::read_model(path);
+    const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
+    TessellateOptions o;
+    o.eps = 2e-3 * nurbs::model_size(model);
+    const auto r = nurbs::tess::tessellate(faces, o);
+    CAPTURE(path.filename().string());
+    for (const auto& f : r.failures) MESSAGE("face " << f.face << ": " << f.reason);
+    CHECK(r.failures.empty());
+    const auto d = nurbs::tess::measure_deviation(faces, r.mesh, {12, 1e-3 * o.eps, 0});
+    CHECK(d.max() <= o.eps);
+    MESSAGE(path.filename().string() << ": " << faces.size() << " faces, " << r.stats.triangles << " triangles in "
+                                     << r.stats.seconds << " s, deviation " << d.max() / o.eps << " eps");
+  }
+}

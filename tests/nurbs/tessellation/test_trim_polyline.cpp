@@ -1,0 +1,297 @@
+// §5 "Trimming Loops" of Balázs, Guthe, Klein 2004: ε_line, subdivision, simplification and the
+// crossing correction (trim_polyline.h, loop_repair.h), checked against dense samples of S(c(t)).
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <random>
+#include <string>
+
+#include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
+#include "models/random_surfaces.h"
+#include "nurbs/curve_eval.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/tessellation/loop_repair.h"
+#include "nurbs/tessellation/trim_polyline.h"
+#include "shared_models.h"
+
+using namespace nurbs;
+using namespace nurbs::tess;
+
+namespace {
+
+double seg_dist(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+  const glm::dvec3 d = b - a;
+  const double l2 = glm::dot(d, d);
+  const double t = l2 > 0 ? std::clamp(glm::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
+  return glm::length(p - a - t * d);
+}
+
+double to_polyline(glm::dvec3 p, const LoopPolyline& l) {
+  double d = HUGE_VAL;
+  for (size_t k = 0; k < l.xyz.size(); ++k) d = std::min(d, seg_dist(p, l.xyz[k], l.xyz[(k + 1) % l.xyz.size()]));
+  return d;
+}
+
+/// Dense samples of S(c(t)) along one trim loop (clamped uv) and the largest gap between neighbours.
+struct Dense {
+  std::vector<glm::dvec3> pts;
+  double gap = 0.0;
+};
+Dense dense_loop(const Surface& s, const TrimLoop& loop, int per_curve) {
+  Dense d;
+  for (const auto& c : loop.curves) {
+    const Interval r = curve_domain(c);
+    for (int k = 0; k <= per_curve; ++k) {
+      const glm::dvec2 uv = piece_uv(s, c, r.min + r.width() * k / per_curve);
+      const glm::dvec3 p = surface_point(s, uv.x, uv.y);
+      if (k > 0) d.gap = std::max(d.gap, glm::length(p - d.pts.back()));
+      d.pts.push_back(p);
+    }
+  }
+  return d;
+}
+
+/// Two-sided Hausdorff distance (sampled) between each loop's curves and its polyline: returns the
+/// excess over eps, allowing half a sampling gap in the polyline -> curve direction.
+double hausdorff_excess(const TrimmedSurface& face, const std::vector<LoopPolyline>& out, double eps, int per_curve) {
+  const std::vector<TrimLoop> loops = loops_to_approximate(face);
+  REQUIRE(loops.size() == out.size());
+  double excess = -HUGE_VAL;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const Dense d = dense_loop(face.surface, loops[l], per_curve);
+    for (const auto& p : d.pts) excess = std::max(excess, to_polyline(p, out[l]) - eps);
+    const auto& x = out[l].xyz;
+    for (size_t k = 0; k < x.size(); ++k)
+      for (double a : {0.0, 0.25, 0.5, 0.75}) {
+        const glm::dvec3 q = x[k] + a * (x[(k + 1) % x.size()] - x[k]);
+        double m = HUGE_VAL;
+        for (const auto& p : d.pts) m = std::min(m, glm::length(p - q));
+        excess = std::max(excess, m - eps - 0.5 * d.gap);
+      }
+  }
+  return excess;
+}
+
+double net_size(const Surface& s) {
+  glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+  for (const auto& p : s.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return glm::length(hi - lo);
+}
+
+/// A planar degree-3 surface S(u, v) = (100 u, 100 v, 0) with 10 x 10 spans (control points at the
+/// Greville abscissae: linear precision).
+Surface flat_bicubic() {
+  Surface s;
+  s.degree_u = s.degree_v = 3;
+  s.count_u = s.count_v = 13;
+  s.knots_u = s.knots_v = models::clamped_uniform_knots(3, 13);
+  for (int j = 0; j < 13; ++j)
+    for (int i = 0; i < 13; ++i) {
+      auto g = [&](int k) { return 100.0 * (s.knots_u[k + 1] + s.knots_u[k + 2] + s.knots_u[k + 3]) / 3.0; };
+      s.points.push_back({g(i), g(j), 0.0});
+    }
+  return s;
+}
+
+TrimLoop polygon(const std::vector<glm::dvec2>& p, bool outer) {
+  TrimLoop l{{}, outer};
+  for (size_t k = 0; k < p.size(); ++k) l.curves.push_back(models::trim_line(p[k], p[(k + 1) % p.size()]));
+  return l;
+}
+
+}  // namespace
+
+TEST_CASE("trim: ε_line bounds the two-sided distance of random Bézier curves to their chords") {
+  std::mt19937_64 rng(42);
+  auto rnd = [&] { return double(rng() >> 11) * 0x1p-53; };
+  int rational_cases = 0;
+  for (int c = 0; c < 400; ++c) {
+    const int n = 1 + int(rng() % 9);
+    const bool rational = c % 2 == 1;
+    HomogeneousCurve b{n, {}, {}};
+    b.knots.assign(size_t(n + 1), 0.0), b.knots.insert(b.knots.end(), size_t(n + 1), 1.0);
+    for (int i = 0; i <= n; ++i) {
+      const double w = rational ? 0.2 + 4.8 * rnd() : 1.0;
+      b.points.push_back({w * (2 * rnd() - 1), w * (2 * rnd() - 1), w * (2 * rnd() - 1), w});
+    }
+    rational_cases += rational;
+    const double bound = line_error_bound(b);
+    std::vector<glm::dvec3> pts;
+    double gap = 0.0;
+    for (int k = 0; k <= 4000; ++k) {
+      pts.push_back(bezier_point3(b, k / 4000.0));
+      if (k) gap = std::max(gap, glm::length(pts[size_t(k)] - pts[size_t(k - 1)]));
+    }
+    const glm::dvec3 a = pts.front(), e = pts.back();
+    double to_chord = 0.0, from_chord = 0.0;
+    for (const auto& p : pts) to_chord = std::max(to_chord, seg_dist(p, a, e));
+    for (int k = 0; k <= 200; ++k) {
+      const glm::dvec3 q = a + (k / 200.0) * (e - a);
+      double m = HUGE_VAL;
+      for (const auto& p : pts) m = std::min(m, glm::length(p - q));
+      from_chord = std::max(from_chord, m);
+    }
+    CHECK(to_chord <= bound + 1e-12);                // 1e-12: rounding of coordinates of size <= 5
+    CHECK(from_chord <= bound + 0.5 * gap + 1e-12);  // half a sampling gap: nearest dense sample
+  }
+  CHECK(rational_cases == 200);
+  // Tight for a symmetric polynomial quadratic: the curve reaches half of P1's distance at t = 1/2.
+  HomogeneousCurve q{2, {0, 0, 0, 1, 1, 1}, {{0, 0, 0, 1}, {1, 2, 0, 1}, {2, 0, 0, 1}}};
+  CHECK(line_error_bound(q) == doctest::Approx(1.0).epsilon(1e-15));  // exact value 2 * (1 - 2^-1)
+}
+
+TEST_CASE("trim: random faces, midpoint and arbitrary split, with and without simplification, meet eps") {
+  size_t edges[2][2] = {{0, 0}, {0, 0}};
+  for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+    const TrimmedSurface face = models::random_trimmed_surface(seed);
+    const double eps = 2e-3 * net_size(face.surface);  // a typical rendering tolerance, relative to size
+    for (int split = 0; split < 2; ++split)
+      for (int simplify = 0; simplify < 2; ++simplify) {
+        TrimApproxOptions opt;
+        opt.eps = eps;
+        opt.split = split ? CurveSplit::Arbitrary : CurveSplit::Midpoint;
+        opt.simplify = simplify;
+        TrimApproxStats st;
+        const auto out = approximate_trim_loops(face, opt, &st);
+        CHECK(st.crossings_fixed == 0);  // generated loops never cross
+        edges[split][simplify] += st.edges_after;
+        // 1e-9 eps: rounding of the bound's arithmetic; the sampling allowance is inside.
+        CHECK(hausdorff_excess(face, out, eps * (1 + 1e-9), 300) <= 0.0);
+        for (const auto& l : out)
+          for (size_t k = 0; k < l.uv.size(); ++k) CHECK(l.xyz[k] == surface_point(face.surface, l.uv[k].x, l.uv[k].y));
+      }
+  }
+  MESSAGE("edges: midpoint ", edges[0][0], " -> ", edges[0][1], " simplified; arbitrary ", edges[1][0], " -> ",
+          edges[1][1]);
+  CHECK(edges[0][1] < edges[0][0]);
+  CHECK(edges[1][1] < edges[1][0]);
+}
+
+TEST_CASE("trim: the paper's trimmed wavy surface, eps = 0.05 mm, both split rules") {
+  const TrimmedSurface face = models::trimmed_wavy_surface_100x105();
+  for (CurveSplit split : {CurveSplit::Midpoint, CurveSplit::Arbitrary}) {
+    TrimApproxOptions opt;
+    opt.eps = 0.05;  // mm, a quarter of the paper's 0.2 mm
+    opt.split = split;
+    TrimApproxStats st;
+    const auto out = approximate_trim_loops(face, opt, &st);
+    MESSAGE(std::string(split == CurveSplit::Midpoint ? "midpoint" : "arbitrary"), ": pieces ", st.curve_pieces,
+            ", edges ", st.edges_before, " -> ", st.edges_after, ", lifted degree max ", st.lifted_degree_max,
+            " reduced to ", st.reduced_degree_max);
+    CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 400) <= 0.0);  // rounding, as above
+  }
+}
+
+TEST_CASE("trim: simplification removes the collinear vertices of the knot-line cuts") {
+  TrimmedSurface face;
+  face.surface = flat_bicubic();
+  face.loops.push_back(polygon({{0.05, 0.05}, {0.95, 0.12}, {0.4, 0.93}}, true));
+  TrimApproxOptions opt;
+  opt.eps = 0.01;
+  TrimApproxStats st;
+  const auto out = approximate_trim_loops(face, opt, &st);
+  CHECK(st.curve_pieces > 30);        // every edge is cut at ~10 u and v lines
+  CHECK(st.reduced_degree_max == 1);  // linear precision: each lifted piece reduces to a line
+  CHECK(st.edges_before == st.curve_pieces);
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].uv.size() == 3);  // the triangle's corners only
+  CHECK(st.edges_after == 3);
+  CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 100) <= 0.0);  // rounding, as above
+}
+
+TEST_CASE("trim: crossing loops get a vertex at each crossing") {
+  TrimmedSurface face;
+  face.surface = flat_bicubic();
+  face.loops.push_back(polygon({{0.1, 0.1}, {0.6, 0.1}, {0.6, 0.6}, {0.1, 0.6}}, true));
+  face.loops.push_back(polygon({{0.4, 0.4}, {0.9, 0.4}, {0.9, 0.9}, {0.4, 0.9}}, true));
+  TrimApproxOptions opt;
+  opt.eps = 0.01;
+  opt.repair = false;
+  const auto raw = approximate_trim_loops(face, opt);
+  CHECK(count_crossings(raw) == 2);
+  opt.repair = true;
+  TrimApproxStats st;
+  const auto out = approximate_trim_loops(face, opt, &st);
+  CHECK(st.crossings_fixed == 2);
+  CHECK(count_crossings(out) == 0);
+  CHECK(out[0].uv.size() == 6);  // 4 corners + 2 crossings
+  bool found = false;
+  for (size_t k = 0; k < out[0].uv.size(); ++k) {
+    found = found || glm::length(out[0].uv[k] - glm::dvec2(0.6, 0.4)) < 1e-15;  // exact crossing, rounding
+    CHECK(out[0].xyz[k] == surface_point(face.surface, out[0].uv[k].x, out[0].uv[k].y));
+  }
+  CHECK(found);
+}
+
+TEST_CASE("trim: a face without loops gives its domain rectangle, counter-clockwise") {
+  const TrimmedSurface face{models::random_surface(9, 3, 2, true), {}, 0, "", false};
+  TrimApproxOptions opt;
+  opt.eps = 1e-3 * net_size(face.surface);
+  const auto out = approximate_trim_loops(face, opt);
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].outer);
+  double area = 0.0;
+  for (size_t k = 0; k < out[0].uv.size(); ++k) {
+    const glm::dvec2 a = out[0].uv[k], b = out[0].uv[(k + 1) % out[0].uv.size()];
+    area += 0.5 * (a.x * b.y - a.y * b.x);
+  }
+  const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
+  CHECK(area == doctest::Approx(du.width() * dv.width()).epsilon(1e-12));  // vertices on the boundary: exact
+  CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 300) <= 0.0);    // rounding, as above
+}
+
+TEST_CASE("trim: a face with holes only gets the domain rectangle as its outer loop") {
+  TrimmedSurface face;
+  face.surface = flat_bicubic();
+  face.loops.push_back({{models::rational_circle_2d({0.4, 0.6}, 0.2, false)}, false});
+  TrimApproxOptions opt;
+  opt.eps = 0.01;
+  const auto out = approximate_trim_loops(face, opt);
+  REQUIRE(out.size() == 2);
+  CHECK(!out[0].outer);
+  CHECK(out[1].outer);
+  CHECK(out[1].uv.size() == 4);  // the plane's boundary lines reduce to degree 1: corners only
+  CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 400) <= 0.0);  // rounding, as above
+}
+
+TEST_CASE("trim: every face of the shared IGES models meets eps" * test::needs_shared_models()) {
+  for (const auto& file : test::shared_iges_files()) {
+    const Model model = io::read_model(file);
+    const auto faces = world_faces(model);
+    const double eps = 1e-3 * model_box(model).diagonal();  // 0.1 % of the model: the paper's 0.2 mm on a car
+    TrimApproxOptions opt;
+    opt.eps = eps;
+    TrimApproxStats st;
+    double worst = 0.0;
+    size_t inconsistent = 0, remaining = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto& face : faces) {
+      std::vector<LoopPolyline> out;
+      REQUIRE_NOTHROW(out = approximate_trim_loops(face, opt, &st));
+      // Sampled check, curve -> polyline: 6 points per trim curve (the full two-sided check runs above).
+      const std::vector<TrimLoop> loops = loops_to_approximate(face);
+      for (size_t l = 0; l < loops.size(); ++l) {
+        const Dense d = dense_loop(face.surface, loops[l], 5);
+        for (const auto& p : d.pts) worst = std::max(worst, to_polyline(p, out[l]) / eps);
+        for (size_t k = 0; k < out[l].uv.size(); k += 7)  // xyz = S(uv) exactly, on every 7th vertex
+          inconsistent += out[l].xyz[k] != surface_point(face.surface, out[l].uv[k].x, out[l].uv[k].y);
+      }
+      remaining += count_crossings(out);
+    }
+    CHECK(inconsistent == 0);
+    CHECK(remaining == 0);  // the crossing correction leaves none
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    MESSAGE(file.filename().string(), ": ", faces.size(), " faces, pieces ", st.curve_pieces, " (composed ",
+            st.composed_pieces, "), lifted degree max ", st.lifted_degree_max, " -> ", st.reduced_degree_max,
+            ", lift error ", st.lift_error_max, ", edges ", st.edges_before, " -> ", st.edges_after, ", crossings ",
+            st.crossings_fixed, ", conversion ", st.seconds_conversion, " s, approximation ", st.seconds_approximation,
+            " s, total with checks ", secs, " s, worst distance / eps ", worst);
+    CHECK(worst <= 1.0 + 1e-9);                                      // eps, rounding
+    CHECK(st.lift_error_max <= 1e-9 * model_box(model).diagonal());  // exactness bar of §4, relative to size
+  }
+}
