@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <mutex>
@@ -28,16 +29,43 @@ struct FaceOut {
   std::string failure;
 };
 
-FaceOut tessellate_face(const TrimmedSurface& face, const TessellateOptions& o) {
-  FaceOut out;
-  const bool guaranteed = o.mode == TessMode::Guaranteed;
-  // §4-§5 trim loops.
+TrimApproxOptions trim_options(const TessellateOptions& o) {
   TrimApproxOptions to;
-  to.eps = guaranteed ? 0.5 * o.eps : o.eps;
+  to.eps = o.mode == TessMode::Guaranteed ? 0.5 * o.eps : o.eps;
   to.gamma = o.gamma;
   to.split = o.split;
   to.simplify = o.simplify;
-  const std::vector<LoopPolyline> loops = approximate_trim_loops(face, to, &out.stats.trim);
+  return to;
+}
+
+/// Positions of the boundary vertices on the loops' 3D polylines: a loop vertex keeps its xyz (the
+/// same double values the neighbouring face holds after share_boundary_vertices), a point the
+/// trimming inserted where a cell edge crosses a loop segment goes onto that segment's 3D chord, so
+/// both faces' boundaries are the same polyline in space.
+void boundary_positions(const std::vector<LoopPolyline>& loops, const FaceMesh& m, std::vector<glm::dvec3>& position) {
+  for (size_t v = 0; v < m.uv.size(); ++v) {
+    if (!m.trim_vertex[v]) continue;
+    double best = 1e300;
+    glm::dvec3 at = position[v];
+    for (const LoopPolyline& l : loops)
+      for (size_t i = 0; i < l.uv.size(); ++i) {
+        const size_t j = (i + 1) % l.uv.size();
+        const glm::dvec2 a = l.uv[i], ab = l.uv[j] - a;
+        const double len2 = glm::dot(ab, ab);
+        const double t = len2 > 0 ? std::clamp(glm::dot(m.uv[v] - a, ab) / len2, 0.0, 1.0) : 0.0;
+        const double d = glm::length(a + t * ab - m.uv[v]);
+        if (d >= best) continue;
+        best = d;
+        at = t == 0.0 ? l.xyz[i] : t == 1.0 ? l.xyz[j] : glm::mix(l.xyz[i], l.xyz[j], t);
+      }
+    position[v] = at;
+  }
+}
+
+FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyline>& loops,
+                        const TessellateOptions& o) {
+  FaceOut out;
+  const bool guaranteed = o.mode == TessMode::Guaranteed;
   for (const LoopPolyline& l : loops) out.stats.trim_edges += (long long)l.uv.size();
 
   // §5 cells over the bounding box of the loops (clipped to the domain by subdivide_surface).
@@ -95,6 +123,7 @@ FaceOut tessellate_face(const TrimmedSurface& face, const TessellateOptions& o) 
       tri[c] = r;
     }
   evaluate_coherent(face.surface, m.uv, m.position, m.normal);
+  if (o.watertight) boundary_positions(loops, m, m.position);
   // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface)
   // cover nothing; they are dropped and counted.
   const size_t before = tris.size();
@@ -135,29 +164,42 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
                             const std::function<void(int, int)>& progress) {
   const auto start = Clock::now();
   std::vector<FaceOut> outs(faces.size());
-  std::atomic<size_t> next{0};
+  std::vector<std::vector<LoopPolyline>> loops(faces.size());
+  std::vector<TrimApproxStats> trim_stats(faces.size());
+  const TrimApproxOptions to = trim_options(options);
+  const int threads = std::max(1, options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
+  // Runs body(f) for every face on the worker threads; a face that throws records its failure.
+  auto for_faces = [&](const std::function<void(size_t)>& body) {
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+      for (size_t f; (f = next.fetch_add(1)) < faces.size();) {
+        if (!outs[f].failure.empty()) continue;
+        try {
+          body(f);
+        } catch (const std::exception& e) {
+          outs[f] = FaceOut{};
+          outs[f].failure = e.what();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::min<int>(threads, int(faces.size())); ++t) pool.emplace_back(work);
+    work();
+    for (auto& th : pool) th.join();
+  };
+  // §4-§5: every face's loops first (the watertight step matches them across faces), then the rest.
+  for_faces([&](size_t f) { loops[f] = approximate_trim_loops(faces[f], to, &trim_stats[f]); });
   std::atomic<int> done{0};
   std::mutex report;
-  const int threads = std::max(1, options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
-  auto work = [&] {
-    for (size_t f; (f = next.fetch_add(1)) < faces.size();) {
-      try {
-        outs[f] = tessellate_face(faces[f], options);
-      } catch (const std::exception& e) {
-        outs[f] = FaceOut{};
-        outs[f].failure = e.what();
-      }
-      const int d = ++done;
-      if (progress) {
-        const std::lock_guard lock(report);
-        progress(d, int(faces.size()));
-      }
+  for_faces([&](size_t f) {
+    outs[f] = tessellate_face(faces[f], loops[f], options);
+    outs[f].stats.trim = trim_stats[f];
+    const int d = ++done;
+    if (progress) {
+      const std::lock_guard lock(report);
+      progress(d, int(faces.size()));
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min<int>(threads, int(faces.size())); ++t) pool.emplace_back(work);
-  work();
-  for (auto& th : pool) th.join();
+  });
 
   TessellateResult r;
   TriangleMesh& mesh = r.mesh;

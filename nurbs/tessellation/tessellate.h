@@ -29,6 +29,10 @@ struct TessellateOptions {
   double gamma = 0.75;   ///< §5: share of the loop budget for the curves, the rest for simplification
   bool simplify = true;  ///< §5 loop simplification
   int threads = 0;       ///< 0 = all hardware threads
+  /// Beyond the paper: faces sharing an edge in space get the same boundary vertices (the loops are
+  /// matched across faces, the trimming's crossing points put on the loops' 3D chords and T-junctions
+  /// split), so the mesh has no cracks and a closed model no open edges (watertight.h).
+  bool watertight = false;
 };
 
 /// Figures of the paper's Tables 2-4 for one run (seconds are summed over faces, i.e. CPU time of
