@@ -22,7 +22,7 @@ struct TessArgs {
   double eps = 1e-3;
   bool relative = false, eps_given = false;
   std::string mode = "guaranteed", method = "kdtree", split = "midpoint";
-  bool no_simplify = false, check = false, json = false;
+  bool no_simplify = false, check = false, json = false, watertight = false;
   int check_samples = 48, threads = 0;
   std::vector<int> faces;  ///< --face; empty = all
 };
@@ -66,6 +66,7 @@ void run(const TessArgs& a) {
   o.split = a.split == "arbitrary" ? nurbs::tess::CurveSplit::Arbitrary : nurbs::tess::CurveSplit::Midpoint;
   o.simplify = !a.no_simplify;
   o.threads = a.threads;
+  o.watertight = a.watertight;
 
   // Progress on stderr once the work has taken a second.
   const auto start = std::chrono::steady_clock::now();
@@ -110,6 +111,10 @@ void run(const TessArgs& a) {
                         {"open_edges", edges.open},
                         {"edges", edges.edges},
                         {"cells", r.stats.cells},
+                        {"watertight",
+                         {{"enabled", a.watertight},
+                          {"shared_vertices", r.stats.shared_vertices},
+                          {"t_junction_splits", r.stats.t_junction_splits}}},
                         {"trim",
                          {{"curve_pieces", r.stats.trim.curve_pieces},
                           {"edges_before_simplification", r.stats.trim.edges_before},
@@ -183,6 +188,8 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
       ->check(CLI::IsMember({"midpoint", "arbitrary"}))
       ->capture_default_str();
+  cmd->add_flag("--watertight", a->watertight,
+                "Faces sharing an edge get the same boundary vertices (no cracks; a closed model has no open edges)");
   cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
   cmd->add_option("-o,--output", a->output, "Write the mesh: .obj, .ply or .stl");
   cmd->add_flag("--check", a->check,

@@ -10,11 +10,13 @@
 #include <mutex>
 #include <thread>
 
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/coherent_eval.h"
 #include "nurbs/tessellation/half_edge_trim.h"
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/triangulate.h"
+#include "nurbs/tessellation/watertight.h"
 
 namespace nurbs::tess {
 namespace {
@@ -189,6 +191,8 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   };
   // §4-§5: every face's loops first (the watertight step matches them across faces), then the rest.
   for_faces([&](size_t f) { loops[f] = approximate_trim_loops(faces[f], to, &trim_stats[f]); });
+  WatertightStats ws;
+  if (options.watertight) share_boundary_vertices(faces, loops, to.eps, &ws);
   std::atomic<int> done{0};
   std::mutex report;
   for_faces([&](size_t f) {
@@ -227,6 +231,13 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
     mesh.vertex_face.insert(mesh.vertex_face.end(), m.uv.size(), int(f));
     for (const glm::ivec3& t : m.triangles) mesh.triangles.push_back(t + glm::ivec3(base));
     mesh.triangle_face.insert(mesh.triangle_face.end(), m.triangles.size(), int(f));
+  }
+  if (options.watertight) {
+    double size = 0.0;
+    for (const TrimmedSurface& f : faces) size = std::max(size, control_box(f.surface).diagonal());
+    close_t_junctions(mesh, 1e-9 * size, &ws);
+    s.shared_vertices = ws.inserted + ws.merged;
+    s.t_junction_splits = ws.splits;
   }
   s.failed_faces = int(r.failures.size());
   s.triangles = (long long)mesh.triangles.size();

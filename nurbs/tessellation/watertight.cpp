@@ -1,0 +1,419 @@
+#include "nurbs/tessellation/watertight.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <iterator>
+#include <numeric>
+#include <stdexcept>
+#include <tuple>
+#include <unordered_map>
+
+#include "nurbs/surface_eval.h"
+#include "nurbs/surface_project.h"
+
+namespace nurbs::tess {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Segment = std::array<glm::dvec3, 2>;
+
+/// Segments in 3D, median-split tree of boxes; near() visits every segment within r of a point
+/// (TriangleBvh only answers the single closest one, which here is the query point's own edge).
+class SegmentTree {
+ public:
+  explicit SegmentTree(std::vector<Segment> segments) : segs_(std::move(segments)), order_(segs_.size()) {
+    std::iota(order_.begin(), order_.end(), 0);
+    if (!segs_.empty()) build(0, int(segs_.size()));
+  }
+  /// Calls visit(segment index, distance, foot parameter t in [0, 1]) for each segment within r of p.
+  template <class Visit>
+  void near(const glm::dvec3& p, double r, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    int stack[128], top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[size_t(stack[--top])];
+      if (glm::length(glm::max(glm::max(n.lo - p, p - n.hi), glm::dvec3(0.0))) > r) continue;
+      if (n.left >= 0) {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+        continue;
+      }
+      for (int k = n.first; k < n.first + n.count; ++k) {
+        const Segment& s = segs_[size_t(order_[size_t(k)])];
+        const glm::dvec3 ab = s[1] - s[0];
+        const double len2 = glm::dot(ab, ab);
+        const double t = len2 > 0 ? std::clamp(glm::dot(p - s[0], ab) / len2, 0.0, 1.0) : 0.0;
+        const double d = glm::length(s[0] + t * ab - p);
+        if (d <= r) visit(order_[size_t(k)], d, t);
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    glm::dvec3 lo, hi;
+    int first, count, left = -1, right = -1;
+  };
+  int build(int first, int count) {
+    Node node{glm::dvec3(1e300), glm::dvec3(-1e300), first, count};
+    for (int k = first; k < first + count; ++k)
+      for (const glm::dvec3& v : segs_[size_t(order_[size_t(k)])])
+        node.lo = glm::min(node.lo, v), node.hi = glm::max(node.hi, v);
+    const int index = int(nodes_.size());
+    nodes_.push_back(node);
+    if (count <= 4) return index;
+    const glm::dvec3 e = node.hi - node.lo;
+    const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+    const int mid = first + count / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + first + count, [&](int x, int y) {
+      return segs_[size_t(x)][0][axis] + segs_[size_t(x)][1][axis] <
+             segs_[size_t(y)][0][axis] + segs_[size_t(y)][1][axis];
+    });
+    const int left = build(first, mid - first), right = build(mid, first + count - mid);
+    nodes_[size_t(index)].left = left;
+    nodes_[size_t(index)].right = right;
+    return index;
+  }
+  std::vector<Segment> segs_;
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+};
+
+/// Union-find whose root is the smallest member (ids are numbered by face, loop, index).
+struct Groups {
+  std::vector<int> parent;
+  explicit Groups(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+struct Insertion {
+  int loop, segment;
+  double t;
+  int source;  ///< global id of the vertex inserted
+  glm::dvec2 uv;
+  double s;  ///< parameter of uv's projection on the uv chord
+};
+
+/// uv of the point p on face surface s near the chord ua-ub at 3D foot parameter t (watertight.h).
+glm::dvec2 insertion_uv(const Surface& surface, const glm::dvec3& p, glm::dvec2 ua, glm::dvec2 ub, double t,
+                        double* s) {
+  const glm::dvec2 chord = ub - ua, start = ua + t * chord;
+  const double len2 = glm::dot(chord, chord);
+  *s = t;
+  if (!(len2 > 0)) return start;
+  const glm::dvec2 q = project_point(surface, p, start, 4);
+  const double along = glm::dot(q - ua, chord) / len2;
+  const double across = std::abs(chord.x * (q.y - ua.y) - chord.y * (q.x - ua.x)) / len2;  // / chord length^2
+  if (!(along > 0.0 && along < 1.0 && across <= 0.25)) return start;  // Newton left the chord: keep the lerp
+  *s = along;
+  return q;
+}
+
+/// Weld: each vertex -> the first vertex within `tol` (grid of cell `tol`, 27 neighbour cells).
+std::vector<int> weld(const std::vector<glm::dvec3>& positions, double tol) {
+  struct KeyHash {
+    size_t operator()(const std::array<long long, 3>& k) const {
+      return size_t(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
+    }
+  };
+  const double h = tol > 0 ? tol : 1e-300;
+  std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> grid;
+  std::vector<int> id(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const glm::dvec3& p = positions[i];
+    const std::array<long long, 3> c{(long long)std::floor(p.x / h), (long long)std::floor(p.y / h),
+                                     (long long)std::floor(p.z / h)};
+    int found = -1;
+    for (int k = 0; k < 27 && found < 0; ++k) {
+      const auto it = grid.find({c[0] + k % 3 - 1, c[1] + k / 3 % 3 - 1, c[2] + k / 9 - 1});
+      if (it != grid.end())
+        for (int w : it->second)
+          if (glm::length(positions[size_t(w)] - p) <= tol) {
+            found = w;
+            break;
+          }
+    }
+    if (found < 0) grid[c].push_back(found = int(i));
+    id[i] = found;
+  }
+  return id;
+}
+
+/// A vertex of another part of the mesh lying inside an open edge.
+struct Split {
+  int edge;  ///< 0..2 within its triangle
+  double t;
+  int point;  ///< welded vertex id
+};
+
+}  // namespace
+
+int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
+                            double tolerance, WatertightStats* stats) {
+  if (faces.size() != loops.size()) throw std::invalid_argument("share_boundary_vertices: one loop list per face");
+  const auto start = Clock::now();
+  // Global vertex ids in (face, loop, index) order, and the segments longer than the tolerance.
+  std::vector<std::vector<int>> base(loops.size());
+  std::vector<std::array<int, 3>> ref;  // global id -> (face, loop, index)
+  std::vector<Segment> segments;
+  std::vector<int> segment_vertex;  // segment -> global id of its first vertex
+  for (size_t f = 0; f < loops.size(); ++f)
+    for (size_t l = 0; l < loops[f].size(); ++l) {
+      base[f].push_back(int(ref.size()));
+      const auto& xyz = loops[f][l].xyz;
+      for (size_t i = 0; i < xyz.size(); ++i) {
+        const glm::dvec3 a = xyz[i], b = xyz[(i + 1) % xyz.size()];
+        if (glm::length(b - a) > tolerance) segments.push_back({a, b}), segment_vertex.push_back(int(ref.size()));
+        ref.push_back({int(f), int(l), int(i)});
+      }
+    }
+  const SegmentTree tree(segments);
+  auto next_id = [&](int id) {  // the vertex after `id` in its loop
+    const auto [f, l, i] = ref[size_t(id)];
+    return base[size_t(f)][size_t(l)] + (i + 1) % int(loops[size_t(f)][size_t(l)].xyz.size());
+  };
+  auto xyz_of = [&](int id) -> glm::dvec3& {
+    const auto [f, l, i] = ref[size_t(id)];
+    return loops[size_t(f)][size_t(l)].xyz[size_t(i)];
+  };
+
+  std::vector<glm::dvec2> period;  // domain size: a seam joins points this far apart in uv
+  for (const TrimmedSurface& face : faces)
+    period.emplace_back(surface_domain_u(face.surface).max - surface_domain_u(face.surface).min,
+                        surface_domain_v(face.surface).max - surface_domain_v(face.surface).min);
+  // Matches against the loops as given: the nearest segment of every other face.
+  Groups groups(ref.size());
+  std::vector<std::vector<Insertion>> insertions(loops.size());
+  struct Best {
+    int face, segment;
+    double d, t;
+  };
+  std::vector<Best> best;
+  for (int v = 0; v < int(ref.size()); ++v) {
+    const glm::dvec3 p = xyz_of(v);
+    const auto [f, lf, vf] = ref[size_t(v)];
+    const glm::dvec2 uv = loops[size_t(f)][size_t(lf)].uv[size_t(vf)];
+    best.clear();
+    tree.near(p, tolerance, [&](int s, double d, double t) {
+      const auto [g, l, i] = ref[size_t(segment_vertex[size_t(s)])];
+      if (g == f) {  // the same face: only across its seam, never its own neighbouring edges
+        const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
+        const glm::dvec2 foot = glm::mix(loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()], t);
+        if (!(std::abs(foot.x - uv.x) > 0.5 * period[size_t(f)].x ||
+              std::abs(foot.y - uv.y) > 0.5 * period[size_t(f)].y))
+          return;
+      }
+      auto it = std::find_if(best.begin(), best.end(), [&](const Best& b) { return b.face == g; });
+      if (it == best.end())
+        best.push_back({g, s, d, t});
+      else if (d < it->d)
+        *it = {g, s, d, t};
+    });
+    for (const Best& b : best) {
+      const int a = segment_vertex[size_t(b.segment)], c = next_id(a);
+      const double da = glm::length(p - xyz_of(a)), dc = glm::length(p - xyz_of(c));
+      if (std::min(da, dc) <= tolerance) {
+        groups.unite(v, da <= dc ? a : c);
+        continue;
+      }
+      const auto [g, l, i] = ref[size_t(a)];
+      const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
+      Insertion ins{l, i, b.t, v, {}, 0.0};
+      ins.uv = insertion_uv(faces[size_t(g)].surface, p, loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()],
+                            b.t, &ins.s);
+      insertions[size_t(g)].push_back(ins);
+    }
+  }
+
+  // Merged groups take the xyz of their first member.
+  int merged = 0, inserted = 0;
+  std::vector<bool> touched(loops.size(), false);
+  for (int v = 0; v < int(ref.size()); ++v) {
+    const int r = groups.find(v);
+    if (r == v) continue;
+    ++merged;
+    xyz_of(v) = xyz_of(r);
+    touched[size_t(ref[size_t(v)][0])] = true;
+    touched[size_t(ref[size_t(r)][0])] = true;
+  }
+
+  // Insertions, per loop, sorted along each segment by t (points read from a copy: loops change).
+  std::vector<glm::dvec3> point(ref.size());
+  for (int v = 0; v < int(ref.size()); ++v) point[size_t(v)] = xyz_of(v);
+  for (size_t g = 0; g < loops.size(); ++g) {
+    auto& list = insertions[g];
+    if (list.empty()) continue;
+    std::sort(list.begin(), list.end(), [](const Insertion& x, const Insertion& y) {
+      return std::tie(x.loop, x.segment, x.t, x.source) < std::tie(y.loop, y.segment, y.t, y.source);
+    });
+    for (size_t l = 0; l < loops[g].size(); ++l) {
+      LoopPolyline& loop = loops[g][l];
+      const int n = int(loop.uv.size());
+      LoopPolyline out;
+      out.outer = loop.outer;
+      auto it =
+          std::lower_bound(list.begin(), list.end(), int(l), [](const Insertion& x, int k) { return x.loop < k; });
+      for (int i = 0; i < n; ++i) {
+        out.uv.push_back(loop.uv[size_t(i)]);
+        out.xyz.push_back(loop.xyz[size_t(i)]);
+        const int a = groups.find(base[g][l] + i), c = groups.find(base[g][l] + (i + 1) % n);
+        auto end = it;
+        while (end != list.end() && end->loop == int(l) && end->segment == i) ++end;
+        // Newton's uv must keep the order of t along the chord, else all of them take the lerp.
+        bool monotone = true;
+        for (auto k = it; k != end; ++k) monotone = monotone && (k == it || std::prev(k)->s < k->s);
+        std::vector<int> roots;
+        for (; it != end; ++it) {
+          const int r = groups.find(it->source);
+          if (r == a || r == c || std::find(roots.begin(), roots.end(), r) != roots.end()) continue;
+          roots.push_back(r);
+          const glm::dvec2 ua = loop.uv[size_t(i)], ub = loop.uv[size_t((i + 1) % n)];
+          out.uv.push_back(monotone ? it->uv : ua + it->t * (ub - ua));
+          out.xyz.push_back(point[size_t(r)]);
+          ++inserted;
+          touched[g] = true;
+        }
+      }
+      loop = std::move(out);
+    }
+  }
+  if (stats) {
+    stats->inserted += inserted;
+    stats->merged += merged;
+    stats->faces_touched += int(std::count(touched.begin(), touched.end(), true));
+    stats->seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  return inserted + merged;
+}
+
+int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats) {
+  const auto start = Clock::now();
+  std::vector<int> id = weld(mesh.positions, weld_tolerance);
+  // Triangles with two corners welded together cover nothing, and their two remaining edges are
+  // the same edge: counted twice, it would look closed and hide a junction on it. Removed.
+  size_t kept = 0;
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const glm::ivec3 t = mesh.triangles[k];
+    const int a = id[size_t(t.x)], b = id[size_t(t.y)], c = id[size_t(t.z)];
+    if (a == b || b == c || c == a) continue;
+    mesh.triangles[kept] = t;
+    if (!mesh.triangle_face.empty()) mesh.triangle_face[kept] = mesh.triangle_face[k];
+    ++kept;
+  }
+  const int collapsed = int(mesh.triangles.size() - kept);
+  mesh.triangles.resize(kept);
+  if (!mesh.triangle_face.empty()) mesh.triangle_face.resize(kept);
+  int splits = 0;
+  // New vertices are copies of welded points, so one pass finds every junction; the second pass
+  // only confirms (and catches a point that lay on an edge's two sides, split in the first pass).
+  for (int pass = 0; pass < 2; ++pass) {
+    std::unordered_map<uint64_t, int> uses;
+    auto key = [&](int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); };
+    for (const glm::ivec3& t : mesh.triangles)
+      for (int e = 0; e < 3; ++e)
+        if (id[size_t(t[e])] != id[size_t(t[(e + 1) % 3])]) ++uses[key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
+    std::vector<Segment> open;
+    std::vector<std::array<int, 2>> open_ref;  // (triangle, edge)
+    std::vector<int> points;                   // welded ids on open edges
+    for (int k = 0; k < int(mesh.triangles.size()); ++k)
+      for (int e = 0; e < 3; ++e) {
+        const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
+        if (a == b || uses[key(a, b)] != 1) continue;
+        open.push_back({mesh.positions[size_t(a)], mesh.positions[size_t(b)]});
+        open_ref.push_back({k, e});
+        points.push_back(a), points.push_back(b);
+      }
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+    const SegmentTree tree(open);
+    std::unordered_map<int, std::vector<Split>> found;  // triangle -> its splits
+    for (int w : points) {
+      const glm::dvec3 p = mesh.positions[size_t(w)];
+      tree.near(p, weld_tolerance, [&](int s, double, double t) {
+        const auto [k, e] = open_ref[size_t(s)];
+        const glm::ivec3 tri = mesh.triangles[size_t(k)];
+        if (w == id[size_t(tri[0])] || w == id[size_t(tri[1])] || w == id[size_t(tri[2])]) return;
+        if (glm::length(p - open[size_t(s)][0]) <= weld_tolerance ||
+            glm::length(p - open[size_t(s)][1]) <= weld_tolerance)
+          return;
+        found[k].push_back({e, t, w});
+      });
+    }
+    if (found.empty()) break;
+    std::vector<int> order;  // deterministic: triangles in index order
+    for (const auto& [k, list] : found) order.push_back(k);
+    std::sort(order.begin(), order.end());
+    for (int k : order) {
+      std::vector<Split>& list = found[k];
+      std::sort(list.begin(), list.end(), [](const Split& x, const Split& y) {
+        return std::tie(x.edge, x.t, x.point) < std::tie(y.edge, y.t, y.point);
+      });
+      const glm::ivec3 original = mesh.triangles[size_t(k)];
+      std::vector<glm::ivec3> pieces{original};
+      for (size_t first = 0; first < list.size();) {
+        size_t last = first;
+        while (last < list.size() && list[last].edge == list[first].edge) ++last;
+        const int a = original[list[first].edge], b = original[(list[first].edge + 1) % 3];
+        // The piece that still holds the directed edge a -> b; fan it from its third corner.
+        size_t j = 0;
+        int le = 0;
+        for (; j < pieces.size(); ++j) {
+          for (le = 0; le < 3 && !(pieces[j][le] == a && pieces[j][(le + 1) % 3] == b); ++le) {
+          }
+          if (le < 3) break;
+        }
+        if (j == pieces.size()) {  // cannot happen: fans keep the triangle's other directed edges
+          first = last;
+          continue;
+        }
+        const int c = pieces[j][(le + 2) % 3];
+        std::vector<int> chain{a};
+        for (size_t m = first; m < last; ++m) {
+          const double t = list[m].t;
+          const int v = int(mesh.positions.size());
+          mesh.positions.push_back(mesh.positions[size_t(list[m].point)]);
+          if (!mesh.uv.empty()) mesh.uv.push_back(glm::mix(mesh.uv[size_t(a)], mesh.uv[size_t(b)], t));
+          if (!mesh.normals.empty()) {
+            const glm::dvec3 n = glm::mix(mesh.normals[size_t(a)], mesh.normals[size_t(b)], t);
+            mesh.normals.push_back(glm::length(n) > 0 ? glm::normalize(n) : mesh.normals[size_t(a)]);
+          }
+          if (!mesh.vertex_face.empty()) mesh.vertex_face.push_back(mesh.vertex_face[size_t(a)]);
+          if (!mesh.colors.empty()) mesh.colors.push_back(glm::mix(mesh.colors[size_t(a)], mesh.colors[size_t(b)], t));
+          id.push_back(list[m].point);
+          chain.push_back(v);
+        }
+        chain.push_back(b);
+        pieces[j] = glm::ivec3(chain[0], chain[1], c);
+        for (size_t m = 1; m + 1 < chain.size(); ++m) pieces.emplace_back(chain[m], chain[m + 1], c);
+        splits += int(last - first);
+        first = last;
+      }
+      mesh.triangles[size_t(k)] = pieces[0];
+      for (size_t j = 1; j < pieces.size(); ++j) {
+        mesh.triangles.push_back(pieces[j]);
+        if (!mesh.triangle_face.empty()) mesh.triangle_face.push_back(mesh.triangle_face[size_t(k)]);
+      }
+    }
+  }
+  if (stats) {
+    stats->splits += splits;
+    stats->collapsed += collapsed;
+    stats->seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  return splits;
+}
+
+}  // namespace nurbs::tess

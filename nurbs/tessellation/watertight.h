@@ -1,0 +1,69 @@
+#pragma once
+/// \file watertight.h
+/// Beyond the paper (issue 9): a watertight mesh across faces. Balázs, Guthe and Klein (WSCG 2004)
+/// approximate each face's trim loops on their own (§5), so the two faces of a B-rep edge get
+/// different polyline vertices along it and the merged mesh has cracks (up to eps) and open edges.
+/// Two steps close them:
+///   1. share_boundary_vertices, between §5 and §6: every loop vertex of a face lying on a loop
+///      segment of another face is inserted into that segment (same xyz bit for bit), or made
+///      identical to the other loop's vertex it coincides with; both sides of an edge then carry
+///      the same 3D vertices.
+///   2. close_t_junctions, after §8 and the merge of the faces: vertices that the §6 trimming adds
+///      on one side only (a cell line crossing a trim segment) still leave T-junctions; a boundary
+///      triangle is split at every other-side vertex lying on its open edge.
+#include <vector>
+
+#include "nurbs/tessellation/tess_types.h"
+#include "nurbs/triangle_mesh.h"
+#include "nurbs/trimmed_surface.h"
+
+namespace nurbs::tess {
+
+/// Figures of the two steps (each function adds to them, so one object can collect both).
+struct WatertightStats {
+  int inserted = 0;       ///< loop vertices inserted into another face's loop segment
+  int merged = 0;         ///< loop vertices made identical to a vertex of another face's loop
+  int faces_touched = 0;  ///< faces whose loops changed
+  int splits = 0;         ///< triangles split by close_t_junctions (one more triangle each)
+  int collapsed = 0;      ///< triangles removed by close_t_junctions (two corners welded together)
+  double seconds = 0.0;   ///< wall time of the calls
+};
+
+/// Shares trim-loop vertices between faces. `loops[f]` are the closed polylines of face `faces[f]`
+/// (world coordinates, xyz = S(uv) per vertex, as approximate_trim_loops returns them); changed in
+/// place. `tolerance`: absolute 3D distance (the driver passes eps, the loop budget).
+///
+/// For each loop vertex p of face f and each face g, the nearest segment a-b of g's loops within
+/// `tolerance` is taken. Segments shorter than `tolerance` in 3D (degenerate edges at poles) are
+/// skipped. Within the same face (g = f) only a segment whose foot is more than half the domain
+/// away in u or v counts: that is the other side of a periodic face's seam (same 3D line, the
+/// other end of the domain), never the vertex's own or neighbouring edges.
+/// If p is within `tolerance` of a or b, the two vertices are merged: every vertex of such a group
+/// takes the xyz of its member with the lowest (face, loop, index), so all sides hold the same
+/// doubles (uv stays). Otherwise p is inserted into a-b, sorted by the foot parameter t of p on the
+/// 3D segment, with xyz = p exactly (p's group's xyz when p was merged too) and uv from 4 Newton
+/// steps of project_point started at lerp(uv_a, uv_b, t). Newton's uv is kept only when it stays
+/// in the band of the uv chord (projection parameter in (0, 1), distance <= chord length / 4) and
+/// the points inserted into one segment keep the order of t along the chord; otherwise the whole
+/// segment's insertions take the lerp. Either way the new chain is a graph over the chord, so the
+/// loop stays simple unless another part of it comes closer to the chord than that band.
+/// S(uv) may differ from xyz by up to `tolerance`: the driver uses xyz for the mesh vertex.
+/// Several insertions of one merged group into one segment count once.
+/// Returns the number of inserted plus merged vertices. Throws std::invalid_argument when
+/// loops.size() != faces.size().
+int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
+                            double tolerance, WatertightStats* stats = nullptr);
+
+/// Closes T-junctions of a merged mesh. Vertices within `weld_tolerance` are one point (grid
+/// hashing); an edge used by one triangle is open. Triangles with two corners welded together are
+/// removed first (they cover nothing, and their two other edges, being one edge counted twice,
+/// would look closed and hide a junction on it). Each vertex that lies on an open edge a-b
+/// (distance to the segment <= weld_tolerance, farther than weld_tolerance from a and b) splits
+/// that edge's triangle (a, b, c) into a fan (a, p1, c), (p1, p2, c), ..., (pk, b, c) with the
+/// points sorted along a-b; a triangle with points on several edges is split edge after edge.
+/// Each split point becomes a new vertex of the triangle's face: position copied bit for bit from
+/// the point, uv, normal and color interpolated along a-b. Orientation, face ids and all existing
+/// positions are kept. Returns the number of triangles added (one per split point).
+int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats = nullptr);
+
+}  // namespace nurbs::tess
