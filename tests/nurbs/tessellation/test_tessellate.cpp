@@ -11,6 +11,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/mesh_check.h"
+#include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/tessellate.h"
 #include "tests/shared_models.h"
 
@@ -128,18 +129,30 @@ TEST_CASE("tessellate: the output does not depend on the thread count") {
   CHECK(one.mesh.triangle_face.back() == 2);
 }
 
-TEST_CASE("tessellate: every shared IGES model within eps = 2e-3 of its size" * test::needs_shared_models()) {
+TEST_CASE("tessellate: every shared IGES model within eps = 5e-3 of its size" * test::needs_shared_models()) {
   for (const auto& path : test::shared_iges_files()) {
     const nurbs::Model model = nurbs::io::read_model(path);
     const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
     TessellateOptions o;
-    o.eps = 2e-3 * nurbs::model_size(model);
+    o.eps = 5e-3 * nurbs::model_size(model);
     const auto r = nurbs::tess::tessellate(faces, o);
     CAPTURE(path.filename().string());
     for (const auto& f : r.failures) MESSAGE("face " << f.face << ": " << f.reason);
     CHECK(r.failures.empty());
     const auto d = nurbs::tess::measure_deviation(faces, r.mesh, {12, 1e-3 * o.eps, 0});
     CHECK(d.max() <= o.eps);
+    // The kd-tree needs no more cells than the quadtree on any model (it once cut a face of the
+    // 45-faces model into 1e-16 slivers along a side that held the error: 19105 cells against 232).
+    long long kd = 0, quad = 0;
+    for (const auto& f : faces) {
+      nurbs::tess::CellOptions co;
+      co.eps_surface = 0.5e-3 * nurbs::model_size(model);  // eps = 1e-3 x size, where it happened
+      co.bilinear_factor = 2.0;
+      kd += (long long)nurbs::tess::subdivide_surface(f.surface, co).size();
+      co.subdivision = nurbs::tess::Subdivision::Quadtree;
+      quad += (long long)nurbs::tess::subdivide_surface(f.surface, co).size();
+    }
+    CHECK(kd <= quad);
     MESSAGE(path.filename().string() << ": " << faces.size() << " faces, " << r.stats.triangles << " triangles in "
                                      << r.stats.seconds << " s, deviation " << d.max() / o.eps << " eps");
   }
