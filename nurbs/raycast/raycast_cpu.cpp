@@ -1,0 +1,106 @@
+#include "nurbs/raycast/raycast_cpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+
+namespace nurbs::ray {
+
+Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options) {
+  Scene scene;
+  scene.options = options;
+  scene.faces = std::move(faces);
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (const auto& f : scene.faces) {
+    const Box b = control_box(f.surface);
+    lo = glm::min(lo, b.min);
+    hi = glm::max(hi, b.max);
+  }
+  scene.size = scene.faces.empty() ? 0.0 : glm::length(hi - lo);
+  BicubicOptions bo;
+  bo.tolerance = options.tolerance * scene.size;
+  std::vector<BicubicPatch> all;
+  for (size_t f = 0; f < scene.faces.size(); ++f) {
+    const TrimmedSurface& face = scene.faces[f];
+    const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
+    const double diag = std::hypot(du.max - du.min, dv.max - dv.min);
+    scene.trims.push_back(face.loops.empty() ? TrimPolygons{} : flatten_trim(face, options.trim_flatten * diag));
+    if (options.trim == SceneOptions::Trim::Cubics)
+      scene.cubics.push_back(face.loops.empty() ? TrimCubics{} : trim_cubics(face, options.trim_flatten * diag));
+    BicubicStats st;
+    auto p = bicubic_patches(face, static_cast<int>(f), bo, &st);
+    scene.face_stats.push_back(st);
+    all.insert(all.end(), p.begin(), p.end());
+  }
+  std::vector<glm::dvec3> bmin(all.size()), bmax(all.size());
+  const glm::dvec3 pad(2.0 * bo.tolerance);  // the exact surface lies within the tolerance of its patch
+  for (size_t i = 0; i < all.size(); ++i) {
+    bmin[i] = all[i].box_min - pad;
+    bmax[i] = all[i].box_max + pad;
+  }
+  scene.bvh = build_bvh(bmin, bmax);
+  scene.patches.reserve(all.size());
+  for (int k : scene.bvh.order) scene.patches.push_back(all[k]);
+  return scene;
+}
+
+void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, int last, Hit& best) {
+  const RayPlanes planes = ray_planes(ray);
+  for (int k = first; k <= last; ++k) {
+    const BicubicPatch& patch = scene.patches[k];
+    std::array<PatchHit, 4> hits;
+    const int n = intersect_patch(patch, ray, scene.options.patch, t_min, hits);
+    for (int h = 0; h < n; ++h) {
+      const glm::dvec2 uv(patch.range_u.min + hits[h].st.x * (patch.range_u.max - patch.range_u.min),
+                          patch.range_v.min + hits[h].st.y * (patch.range_v.max - patch.range_v.min));
+      const TrimmedSurface& face = scene.faces[patch.face];
+      const ExactHit e = refine_on_surface(face.surface, ray, planes, uv, scene.options.exact_iterations,
+                                           scene.options.exact_residual * scene.size);
+      if (!e.ok || !(e.t > t_min) || (best.face >= 0 && e.t >= best.t)) continue;
+      if (!face.loops.empty()) {
+        const bool material = scene.options.trim == SceneOptions::Trim::Cubics
+                                  ? inside_trim(scene.cubics[patch.face], e.uv)
+                                  : is_material(scene.trims[patch.face], e.uv);
+        if (!material) continue;
+      }
+      best = {e.t, patch.face, e.uv, e.point, hits[h].t};
+    }
+  }
+}
+
+Hit cast_ray(const Scene& scene, const Ray& ray, double t_min, Traversal traversal, TraversalStats* stats) {
+  Hit best;
+  const double inf = std::numeric_limits<double>::infinity();
+  auto visit = [&](int first, int last) {
+    test_patches(scene, ray, t_min, first, last, best);
+    // Boxes are padded by the tolerance; a farther box may still hold an exact hit a hair nearer.
+    return best.face >= 0 ? best.t + 4.0 * scene.options.tolerance * scene.size : inf;
+  };
+  switch (traversal) {
+    case Traversal::Stackless:
+      traverse_stackless(scene.bvh, ray, t_min, inf, visit, stats);
+      break;
+    case Traversal::Stack:
+      traverse_stack(scene.bvh, ray, t_min, inf, visit, stats);
+      break;
+    case Traversal::BruteForce:
+      if (stats) stats->patch_tests += static_cast<long>(scene.patches.size());
+      if (!scene.patches.empty()) test_patches(scene, ray, t_min, 0, static_cast<int>(scene.patches.size()) - 1, best);
+      break;
+  }
+  return best;
+}
+
+std::vector<Hit> cast_rays(const Scene& scene, const std::vector<Ray>& rays, double t_min, Traversal traversal,
+                           TraversalStats* stats) {
+  std::vector<Hit> out;
+  out.reserve(rays.size());
+  for (const auto& r : rays) out.push_back(cast_ray(scene, r, t_min, traversal, stats));
+  return out;
+}
+
+}  // namespace nurbs::ray

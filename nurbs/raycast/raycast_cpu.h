@@ -1,0 +1,71 @@
+#pragma once
+/// \file raycast_cpu.h
+/// The double-precision CPU ray caster of Lemasson et al. (§3.1-3.3, the trim test on the exact
+/// flattened loops): the GPU path's twin and test oracle. Faces -> bicubic patches (§3.1) -> Morton
+/// BVH (§3.2) -> per candidate patch the two-plane Newton (§3.3), then the final Newton step on the
+/// exact NURBS face and the point-in-trim test: the winding number on the face's flattened trim
+/// loops (trim_classify.h, the oracle) or the paper's §3.4 test on cubic trims (trim_test.h).
+#include <vector>
+
+#include "nurbs/raycast/bicubic_patches.h"
+#include "nurbs/raycast/morton_bvh.h"
+#include "nurbs/raycast/ray_patch.h"
+#include "nurbs/raycast/trim_test.h"
+#include "nurbs/trim_classify.h"
+
+namespace nurbs::ray {
+
+struct SceneOptions {
+  /// Bicubic tolerance relative to the model size (box diagonal of the patches' control points):
+  /// hits on the bicubics then land within ~1e-5 size of the exact hit before the final step.
+  double tolerance = 1e-5;
+  double trim_flatten = 1e-7;  ///< trim flattening for the final test, relative to each face's domain diagonal
+  /// The exact step is accepted when |R| <= this x size; from a bicubic hit within 1e-5 size two
+  /// quadratic steps reach round-off, so 1e-10 rejects only hits that do not exist on the exact face.
+  double exact_residual = 1e-10;
+  int exact_iterations = 6;
+  /// Point-in-trim test of a hit: flattened loops + winding number, or §3.4 on cubic Bézier trims
+  /// (those approximated within trim_flatten x domain diagonal as well).
+  enum class Trim { Polygons, Cubics } trim = Trim::Polygons;
+  RayPatchOptions patch;
+};
+
+struct Scene {
+  std::vector<TrimmedSurface> faces;
+  std::vector<TrimPolygons> trims;    ///< per face; empty loops = untrimmed
+  std::vector<TrimCubics> cubics;     ///< per face, filled when options.trim == Cubics
+  std::vector<BicubicPatch> patches;  ///< in BVH leaf order (patches[k] is leaf k)
+  std::vector<BicubicStats> face_stats;
+  Bvh bvh;
+  double size = 0.0;  ///< diagonal of the box of every control point of every patch
+  SceneOptions options;
+};
+
+/// Builds the patches of every face (tolerance x size, size from the faces' control boxes) and the
+/// BVH over their boxes (each inflated by twice the tolerance so the exact surface is inside).
+[[nodiscard]] Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options = {});
+
+/// Nearest valid hit; t = -1 and face = -1 for a miss.
+struct Hit {
+  double t = -1.0;  ///< distance along the unit direction
+  int face = -1;
+  glm::dvec2 uv{0.0};  ///< on the face's surface
+  glm::dvec3 point{0.0};
+  double t_bicubic = -1.0;  ///< t of the bicubic hit before the exact step (what a float GPU pass would report)
+};
+
+enum class Traversal { Stackless, Stack, BruteForce };
+
+/// Casts one ray (unit direction) for hits with t > t_min through the BVH (or all patches).
+[[nodiscard]] Hit cast_ray(const Scene& scene, const Ray& ray, double t_min, Traversal traversal = Traversal::Stackless,
+                           TraversalStats* stats = nullptr);
+
+/// Tests the patches [first, last] (leaf order) and improves `best` (used by every traversal and
+/// by DACRT): bicubic Newton, exact step, domain and trim test.
+void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, int last, Hit& best);
+
+/// Casts many rays.
+[[nodiscard]] std::vector<Hit> cast_rays(const Scene& scene, const std::vector<Ray>& rays, double t_min,
+                                         Traversal traversal = Traversal::Stackless, TraversalStats* stats = nullptr);
+
+}  // namespace nurbs::ray
