@@ -141,6 +141,23 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   for (const Sample& s : samples)
     if (s.face >= 0) grid_samples.push_back(s), points.push_back({s.p, s.p, s.p});
   const TriangleBvh sample_bvh(std::move(points)), boundary_bvh(std::move(boundary));
+  // Per face: its grid samples (to seed Newton on every face near a mesh sample, not only on the
+  // face of the nearest sample, which near an edge is often the wrong one) and its box.
+  std::vector<TriangleBvh> face_samples;
+  std::vector<std::vector<const Sample*>> face_sample_of(faces.size());
+  std::vector<std::array<glm::dvec3, 2>> face_box(faces.size(), {glm::dvec3(1e300), glm::dvec3(-1e300)});
+  {
+    std::vector<std::vector<Tri>> pts(faces.size());
+    for (const Sample& s : grid_samples) {
+      pts[size_t(s.face)].push_back({s.p, s.p, s.p});
+      face_sample_of[size_t(s.face)].push_back(&s);
+    }
+    for (size_t f = 0; f < faces.size(); ++f) {
+      for (const glm::dvec3& p : faces[f].surface.points)
+        face_box[f][0] = glm::min(face_box[f][0], p), face_box[f][1] = glm::max(face_box[f][1], p);
+      face_samples.emplace_back(std::move(pts[f]));
+    }
+  }
   const long long nt = (long long)mesh.triangles.size();
   std::fill(worst.begin(), worst.end(), 0.0);
   parallel_for(nt, threads, [&](long long k, int t) {
@@ -161,6 +178,13 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
         const Sample& s = grid_samples[size_t(near.triangle)];
         d = std::min(d, near.distance);
         newton(s.face, s.uv);
+      }
+      // Every other face whose control box (it holds the face) is nearer than the best so far.
+      for (size_t f = 0; f < faces.size() && d > 0.0; ++f) {
+        const glm::dvec3 gap = glm::max(glm::max(face_box[f][0] - q[i], q[i] - face_box[f][1]), glm::dvec3(0.0));
+        if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
+        const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
+        if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
       }
       if (!mesh.uv.empty() && !mesh.triangle_face.empty()) {
         const glm::dvec2 uvs[7] = {mesh.uv[size_t(tri.x)],
