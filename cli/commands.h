@@ -23,5 +23,6 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global);
 void add_distance(CLI::App& app, const GlobalOptions& global);
 void add_clearance(CLI::App& app, const GlobalOptions& global);
 void add_tessellate(CLI::App& app, const GlobalOptions& global);
+void add_deviation(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   cli::add_distance(app, global);
   cli::add_clearance(app, global);
   cli::add_tessellate(app, global);
+  cli::add_deviation(app, global);
 
   try {
     app.parse(argc, argv);

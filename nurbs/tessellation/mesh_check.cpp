@@ -169,9 +169,21 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
       double d = boundary_bvh.closest(q[i]).distance;
       auto newton = [&](int face, glm::dvec2 uv) {
         const TrimmedSurface& f = faces[size_t(face)];
-        const glm::dvec2 foot = project_point(f.surface, q[i], uv, 12);
-        if (f.loops.empty() || is_material(trims[size_t(face)], foot))
-          d = std::min(d, glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]));
+        auto attempt = [&](glm::dvec2 seed) {
+          const glm::dvec2 foot = project_point(f.surface, q[i], seed, 12);
+          const double e = glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]);
+          if (e < d && (f.loops.empty() || is_material(trims[size_t(face)], foot))) d = e;
+          return e;
+        };
+        // A seed on the far side of a periodic face's seam walks into the domain edge: the seed
+        // mirrored in u (and in v) starts on the near side.
+        const double before = d;
+        attempt(uv);
+        if (!(d < 0.25 * before)) {  // Newton did not get much nearer than the seed's bound
+          const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+          attempt({du.min + du.max - uv.x, uv.y});
+          attempt({uv.x, dv.min + dv.max - uv.y});
+        }
       };
       const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
       if (near.triangle >= 0) {
