@@ -1,6 +1,7 @@
 #include "nurbs/tessellation/mesh_topology.h"
 
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
 #include <map>
 #include <tuple>
@@ -12,7 +13,9 @@ namespace {
 
 struct KeyHash {
   size_t operator()(const std::tuple<long long, long long, long long>& k) const {
-    return size_t(std::get<0>(k) * 73856093LL ^ std::get<1>(k) * 19349663LL ^ std::get<2>(k) * 83492791LL);
+    // Unsigned: the products wrap (cell indices reach 1e13 for a fine weld on a large model).
+    return size_t(uint64_t(std::get<0>(k)) * 73856093u ^ uint64_t(std::get<1>(k)) * 19349663u ^
+                  uint64_t(std::get<2>(k)) * 83492791u);
   }
 };
 
