@@ -1,56 +1,49 @@
 #include "nurbs/tessellation/mesh_topology.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
 #include <map>
-#include <tuple>
 #include <unordered_map>
 #include <vector>
 
 namespace nurbs::tess {
-namespace {
 
-struct KeyHash {
-  size_t operator()(const std::tuple<long long, long long, long long>& k) const {
+std::vector<int> weld_vertices(const std::vector<glm::dvec3>& positions, double tol) {
+  struct KeyHash {
     // Unsigned: the products wrap (cell indices reach 1e13 for a fine weld on a large model).
-    return size_t(uint64_t(std::get<0>(k)) * 73856093u ^ uint64_t(std::get<1>(k)) * 19349663u ^
-                  uint64_t(std::get<2>(k)) * 83492791u);
+    size_t operator()(const std::array<long long, 3>& k) const {
+      return size_t(uint64_t(k[0]) * 73856093u ^ uint64_t(k[1]) * 19349663u ^ uint64_t(k[2]) * 83492791u);
+    }
+  };
+  const double h = tol > 0 ? tol : 1e-300;
+  std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> grid;
+  std::vector<int> id(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const glm::dvec3& p = positions[i];
+    const std::array<long long, 3> c{(long long)std::floor(p.x / h), (long long)std::floor(p.y / h),
+                                     (long long)std::floor(p.z / h)};
+    int found = -1;
+    for (int k = 0; k < 27 && found < 0; ++k) {
+      const auto it = grid.find({c[0] + k % 3 - 1, c[1] + k / 3 % 3 - 1, c[2] + k / 9 - 1});
+      if (it != grid.end())
+        for (int w : it->second)
+          if (glm::length(positions[size_t(w)] - p) <= tol) {
+            found = w;
+            break;
+          }
+    }
+    if (found < 0) grid[c].push_back(found = int(i));
+    id[i] = found;
   }
-};
-
-}  // namespace
+  return id;
+}
 
 EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance) {
   EdgeCounts r;
-  const double h = weld_tolerance > 0 ? weld_tolerance : 1e-300;
-  std::unordered_map<std::tuple<long long, long long, long long>, std::vector<int>, KeyHash> grid;
-  std::vector<int> id(mesh.positions.size(), -1);
-  std::vector<glm::dvec3> welded;
-  for (size_t i = 0; i < mesh.positions.size(); ++i) {
-    const glm::dvec3& p = mesh.positions[i];
-    const long long x = (long long)std::floor(p.x / h), y = (long long)std::floor(p.y / h),
-                    z = (long long)std::floor(p.z / h);
-    int found = -1;
-    for (long long dx = -1; dx <= 1 && found < 0; ++dx)
-      for (long long dy = -1; dy <= 1 && found < 0; ++dy)
-        for (long long dz = -1; dz <= 1 && found < 0; ++dz) {
-          const auto it = grid.find({x + dx, y + dy, z + dz});
-          if (it == grid.end()) continue;
-          for (int w : it->second)
-            if (glm::length(welded[size_t(w)] - p) <= weld_tolerance) {
-              found = w;
-              break;
-            }
-        }
-    if (found < 0) {
-      found = int(welded.size());
-      welded.push_back(p);
-      grid[{x, y, z}].push_back(found);
-    }
-    id[i] = found;
-  }
-  r.welded_vertices = (long long)welded.size();
+  const std::vector<int> id = weld_vertices(mesh.positions, weld_tolerance);
+  for (size_t i = 0; i < id.size(); ++i) r.welded_vertices += id[i] == int(i) ? 1 : 0;
   std::map<std::pair<int, int>, int> uses;
   for (const glm::ivec3& t : mesh.triangles) {
     const int v[3] = {id[size_t(t.x)], id[size_t(t.y)], id[size_t(t.z)]};

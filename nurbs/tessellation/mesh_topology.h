@@ -3,6 +3,8 @@
 /// Edge counts of a triangle mesh whose faces were tessellated separately: vertices closer than a
 /// weld tolerance are one point, then each undirected edge is counted by its triangles. An open edge
 /// (one triangle) is a crack or the border of an open sheet; a closed solid has none.
+#include <vector>
+
 #include "nurbs/triangle_mesh.h"
 
 namespace nurbs::tess {
@@ -13,6 +15,11 @@ struct EdgeCounts {
   long long nonmanifold = 0;  ///< used by three or more
   long long welded_vertices = 0;
 };
+
+/// Weld: for each vertex, the index of the first earlier vertex within `tol` of it (itself when there
+/// is none). Grid hashing with cells of `tol` and the 27 neighbour cells, so pairs across a cell
+/// border are found too.
+[[nodiscard]] std::vector<int> weld_vertices(const std::vector<glm::dvec3>& positions, double tol);
 
 /// Welds vertices within `weld_tolerance` (absolute; grid hashing, so points closer than the
 /// tolerance across a cell border are welded too, by a neighbour search) and counts edges.

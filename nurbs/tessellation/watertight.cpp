@@ -15,6 +15,7 @@
 
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
+#include "nurbs/tessellation/mesh_topology.h"
 
 namespace nurbs::tess {
 namespace {
@@ -120,36 +121,6 @@ glm::dvec2 insertion_uv(const Surface& surface, const glm::dvec3& p, glm::dvec2 
   if (!(along > 0.0 && along < 1.0 && across <= 0.25)) return start;  // Newton left the chord: keep the lerp
   *s = along;
   return q;
-}
-
-/// Weld: each vertex -> the first vertex within `tol` (grid of cell `tol`, 27 neighbour cells).
-std::vector<int> weld(const std::vector<glm::dvec3>& positions, double tol) {
-  struct KeyHash {
-    size_t operator()(const std::array<long long, 3>& k) const {
-      return size_t(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
-    }
-  };
-  const double h = tol > 0 ? tol : 1e-300;
-  std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> grid;
-  std::vector<int> id(positions.size());
-  for (size_t i = 0; i < positions.size(); ++i) {
-    const glm::dvec3& p = positions[i];
-    const std::array<long long, 3> c{(long long)std::floor(p.x / h), (long long)std::floor(p.y / h),
-                                     (long long)std::floor(p.z / h)};
-    int found = -1;
-    for (int k = 0; k < 27 && found < 0; ++k) {
-      const auto it = grid.find({c[0] + k % 3 - 1, c[1] + k / 3 % 3 - 1, c[2] + k / 9 - 1});
-      if (it != grid.end())
-        for (int w : it->second)
-          if (glm::length(positions[size_t(w)] - p) <= tol) {
-            found = w;
-            break;
-          }
-    }
-    if (found < 0) grid[c].push_back(found = int(i));
-    id[i] = found;
-  }
-  return id;
 }
 
 /// A vertex of another part of the mesh lying inside an open edge.
@@ -301,7 +272,7 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
 
 int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats) {
   const auto start = Clock::now();
-  std::vector<int> id = weld(mesh.positions, weld_tolerance);
+  std::vector<int> id = weld_vertices(mesh.positions, weld_tolerance);
   // Triangles with two corners welded together cover nothing, and their two remaining edges are
   // the same edge: counted twice, it would look closed and hide a junction on it. Removed.
   size_t kept = 0;
