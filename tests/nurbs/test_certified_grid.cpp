@@ -13,6 +13,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/certified_grid.h"
 #include "nurbs/model_ops.h"
+#include "test_suites.h"
 #include "tests/nurbs/grid_check.h"
 
 namespace {
@@ -29,7 +30,8 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-TEST_CASE("certified grids bound the deviation on random C0, high-degree and strongly rational surfaces") {
+TEST_CASE("certified grids bound the deviation on random C0, high-degree and strongly rational surfaces" *
+          test::sweep()) {
   constexpr int kSurfaces = 363;        // 11 x 11 degree pairs x 3 weight families
   constexpr int kCellsPerSurface = 60;  // cells checked densely (all when fewer), the worst one always
   std::vector<double> ratios, samples_ratio;

@@ -16,6 +16,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
+#include "test_suites.h"
 
 namespace {
 
@@ -37,7 +38,7 @@ struct Stats {
 
 }  // namespace
 
-TEST_CASE("Filip K bounds the deviation from the grid triangles on 1000 random surfaces") {
+TEST_CASE("Filip K bounds the deviation from the grid triangles on 1000 random surfaces" * test::sweep()) {
   constexpr int kSamples = 6;  // samples per cell edge: (6n+1) x (6m+1) dense points per surface
   Stats poly, rat, m_ratio;
   int surfaces = 0, non_c1 = 0, cells_checked = 0, cells_infinite = 0;
@@ -161,7 +162,7 @@ TEST_CASE("Filip K on closed forms and the paper pair") {
   CHECK(nurbs::filip_bound(models::rational_sphere(1.0)).c1());
 }
 
-TEST_CASE("Euclidean K_e bounds the distance to the grid triangles on the same 1000 random surfaces") {
+TEST_CASE("Euclidean K_e bounds the distance to the grid triangles on the same 1000 random surfaces" * test::sweep()) {
   using nurbs::KNorm;
   constexpr int kSamples = 8;  // samples per cell edge: 9 x 9 points per cell
   const double sqrt3 = std::sqrt(3.0);

@@ -13,6 +13,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "queries/clearance.h"
+#include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 
 namespace {
@@ -58,7 +59,7 @@ double brute_force(const queries::PreparedModel& a, const queries::PreparedModel
 
 }  // namespace
 
-TEST_CASE("clearance: hierarchy descent equals the exhaustive twin on random surface pairs") {
+TEST_CASE("clearance: hierarchy descent equals the exhaustive twin on random surface pairs" * test::sweep()) {
   gpgpu::Gpu& gpu = test::gpu();
   int cases = 0;
   size_t max_levels = 0;
@@ -115,7 +116,8 @@ TEST_CASE("clearance: two exact spheres, and a rigid motion of the second") {
   }
 }
 
-TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, against the faithful path") {
+TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, against the faithful path" *
+          test::sweep()) {
   gpgpu::Gpu& gpu = test::gpu();
   nurbs::TrimmedSurface s1, s2;
   s1.surface = models::rational_sphere(1.0);

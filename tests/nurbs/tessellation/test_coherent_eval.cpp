@@ -14,6 +14,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/coherent_eval.h"
+#include "test_suites.h"
 
 using nurbs::Interval;
 using nurbs::Surface;
@@ -134,7 +135,7 @@ TEST_CASE("coherent evaluation: normals at poles are finite and point outwards")
   CHECK(glm::dot(n[0], n[1]) > 0.99);                // continuous with the normal 1e-3 inside
 }
 
-TEST_CASE("coherent evaluation benchmark (printout only)") {
+TEST_CASE("coherent evaluation benchmark (printout only)" * test::sweep()) {
   struct Case {
     const char* name;
     Surface s;

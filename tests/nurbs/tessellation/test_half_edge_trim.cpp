@@ -6,6 +6,7 @@
 #include <random>
 
 #include "test_half_edge_trim_oracle.h"
+#include "test_suites.h"
 
 using namespace half_edge_trim_test;
 
@@ -55,7 +56,7 @@ TEST_CASE("half-edge trim: circle hole across many cells, tiny hole, two holes i
   CHECK(r3.polys.stats.traversal_rounds == 2);
 }
 
-TEST_CASE("half-edge trim: large case (64 x 64 cells, 20000-point outer circle, 100 holes)") {
+TEST_CASE("half-edge trim: large case (64 x 64 cells, 20000-point outer circle, 100 holes)" * test::sweep()) {
   const auto cells = grid(0, 1, 0, 1, 64, 64);
   std::vector<LoopPolyline> loops{circle({0.5, 0.5}, 0.49, 20000, true)};
   for (int i = 0; i < 10; ++i)

@@ -15,6 +15,7 @@
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/surface_cells.h"
+#include "test_suites.h"
 
 using nurbs::Interval;
 using nurbs::Surface;
@@ -232,7 +233,7 @@ TEST_CASE("surface cells: a cylinder splits only across its curved direction in 
   }
 }
 
-TEST_CASE("surface cells: proven bound holds on random polynomial and rational patches") {
+TEST_CASE("surface cells: proven bound holds on random polynomial and rational patches" * test::sweep()) {
   models::Random rng(2024);
   double worst_poly = 0, worst_rat = 0;
   for (std::uint64_t seed = 0; seed < 300; ++seed) {
@@ -336,7 +337,7 @@ TEST_CASE("surface cells: leaves tile the rectangle exactly") {
   }
 }
 
-TEST_CASE("surface cells: counts fall as eps grows, conservative >= approximate") {
+TEST_CASE("surface cells: counts fall as eps grows, conservative >= approximate" * test::sweep()) {
   long total_cons = 0, total_approx = 0;
   for (std::uint64_t seed = 0; seed < 40; ++seed) {
     const Surface s = models::random_surface(seed, 3, 3, seed % 4 == 3);
@@ -386,7 +387,7 @@ TEST_CASE("surface cells: max depth stops the subdivision and is reported") {
   CHECK(std::abs(area - 1.0) < 1e-12);  // still a tiling of the unit domain (roundoff of the sum)
 }
 
-TEST_CASE("surface cells: kd-tree vs quadtree figures (Table 3 style)") {
+TEST_CASE("surface cells: kd-tree vs quadtree figures (Table 3 style)" * test::sweep()) {
   struct Shape {
     const char* name;
     Surface s;

@@ -13,6 +13,7 @@
 #include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/tessellate.h"
+#include "test_suites.h"
 #include "tests/shared_models.h"
 
 namespace {
@@ -46,7 +47,8 @@ void check_orientation(const std::vector<nurbs::TrimmedSurface>& faces, const nu
 }  // namespace
 
 TEST_CASE(
-    "tessellate: exact shapes within eps (guaranteed), fewer triangles as eps grows, kd-tree below quadtree in all") {
+    "tessellate: exact shapes within eps (guaranteed), fewer triangles as eps grows, kd-tree below quadtree in all" *
+    test::sweep()) {
   struct Shape {
     const char* name;
     nurbs::Surface s;

@@ -14,6 +14,7 @@
 #include "nurbs/trim_classify.h"
 #include "queries/point_distance.h"
 #include "queries/refine.h"
+#include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 
 namespace {
@@ -37,7 +38,7 @@ std::vector<std::pair<queries::FaceCell, queries::FaceCell>> all_pairs(const que
 
 }  // namespace
 
-TEST_CASE("refine: point distance on random surfaces, proven interval against Newton references") {
+TEST_CASE("refine: point distance on random surfaces, proven interval against Newton references" * test::sweep()) {
   int cases = 0;
   double worst = 0.0;
   for (uint64_t seed = 0; seed < 12; ++seed) {
