@@ -7,12 +7,13 @@
 #include "models/random_surfaces.h"
 #include "nurbs/raycast/bicubic_patches.h"
 #include "nurbs/surface_eval.h"
+#include "test_suites.h"
 #include "tests/nurbs/raycast/patch_error.h"
 
 using namespace nurbs;
 using namespace nurbs::ray;
 
-TEST_CASE("bicubic: error <= tolerance on random surfaces (denser check than the construction's)") {
+TEST_CASE("bicubic: error <= tolerance on random surfaces (denser check than the construction's)" * test::sweep()) {
   for (std::uint64_t seed = 1; seed <= 24; ++seed) {
     const int du = 1 + static_cast<int>(seed % 5), dv = 1 + static_cast<int>((seed / 5) % 5);
     TrimmedSurface face;
