@@ -1,9 +1,7 @@
 // `nurbsgl tessellate MODEL --eps E [--relative] ...`: trimmed NURBS faces to a triangle mesh with a
 // guaranteed (or approximate) error, after Balázs, Guthe and Klein (nurbs/tessellation/). No GPU.
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -68,20 +66,11 @@ void run(const TessArgs& a) {
   o.threads = a.threads;
   o.watertight = a.watertight;
 
-  // Progress on stderr once the work has taken a second.
-  const auto start = std::chrono::steady_clock::now();
-  double last = 0.0;
-  bool shown = false;
-  auto progress = [&](int done, int total) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (t < 1.0 || (t - last < 0.5 && done < total)) return;
-    last = t;
-    shown = true;
-    fmt::print(stderr, "{}tessellate: {}/{} faces", isatty(STDERR_FILENO) ? "\r" : "", done, total);
-    if (!isatty(STDERR_FILENO) || done == total) fmt::print(stderr, "\n");
-  };
-  const nurbs::tess::TessellateResult r = nurbs::tess::tessellate(faces, o, progress);
-  if (shown && isatty(STDERR_FILENO) && r.stats.faces > 0) fmt::print(stderr, "\n");
+  nurbs::tess::TessellateResult r;
+  {
+    Progress progress("tessellate", "faces");  // on stderr once the work has taken a second
+    r = nurbs::tess::tessellate(faces, o, [&](int done, int total) { progress.update(done, total); });
+  }
   if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, r.mesh);
   // Open edges: vertices welded within 1e-9 of the size (faces meeting exactly at their edges).
   const nurbs::tess::EdgeCounts edges = nurbs::tess::count_edges(r.mesh, 1e-9 * size);

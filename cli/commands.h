@@ -24,5 +24,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global);
 void add_clearance(CLI::App& app, const GlobalOptions& global);
 void add_tessellate(CLI::App& app, const GlobalOptions& global);
 void add_deviation(CLI::App& app, const GlobalOptions& global);
+void add_raycast(CLI::App& app, const GlobalOptions& global);
+void add_thickness(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace cli

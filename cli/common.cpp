@@ -1,6 +1,7 @@
 #include "cli/common.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +23,23 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
   gpu->profiler().set_enabled(options.profile);
   gpu->profiler().set_sync(options.profile);
   return gpu;
+}
+
+Progress::Progress(std::string what, std::string unit)
+    : what_(std::move(what)), unit_(std::move(unit)), start_(std::chrono::steady_clock::now()) {}
+
+void Progress::update(long long done, long long total) {
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (t < 1.0 || (t - last_ < 0.5 && done < total)) return;
+  last_ = t;
+  shown_ = true;
+  const bool tty = isatty(STDERR_FILENO);
+  fmt::print(stderr, "{}{}: {}/{} {}", tty ? "\r" : "", what_, done, total, unit_);
+  if (!tty) fmt::print(stderr, "\n");
+}
+
+Progress::~Progress() {
+  if (shown_ && isatty(STDERR_FILENO)) fmt::print(stderr, "\n");
 }
 
 void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options) {

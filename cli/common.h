@@ -1,6 +1,7 @@
 #pragma once
 /// \file common.h
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
+#include <chrono>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -38,6 +39,21 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options);
 
 /// Prints the profiler's per-pass table on stderr when --profile was given.
 void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options);
+
+/// Progress on stderr once a piece of work has run for a second: "what: done/total unit", redrawn
+/// in place on a terminal, one line per half second otherwise.
+class Progress {
+ public:
+  Progress(std::string what, std::string unit);
+  void update(long long done, long long total);
+  ~Progress();  ///< ends the line when one was drawn on a terminal
+
+ private:
+  std::string what_, unit_;
+  std::chrono::steady_clock::time_point start_;
+  double last_ = 0.0;
+  bool shown_ = false;
+};
 
 /// nurbs::model_size of the model read from `path`, refused as bad input (BadInput naming the
 /// file) when no tolerance can refer to it (nurbs::validate_model_size).

@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   cli::add_clearance(app, global);
   cli::add_tessellate(app, global);
   cli::add_deviation(app, global);
+  cli::add_raycast(app, global);
+  cli::add_thickness(app, global);
 
   try {
     app.parse(argc, argv);

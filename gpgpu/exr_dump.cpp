@@ -13,30 +13,46 @@ namespace gpgpu {
 
 void write_exr(const std::filesystem::path& path, const Texture& texture) {
   const int w = texture.width(), h = texture.height();
-  Imf::Header header(w, h);
-  header.lineOrder() = Imf::INCREASING_Y;
-  Imf::FrameBuffer fb;
-  std::vector<float> f;
-  std::vector<uint32_t> u;
-  static const char* names[4] = {"R", "G", "B", "A"};
+  if (!is_integer(texture.format())) {
+    static const char* names[4] = {"R", "G", "B", "A"};
+    ExrImage img{w, h, {}, texture.read()};
+    img.channels.assign(names, names + channels(texture.format()));
+    return write_exr(path, img);
+  }
   try {
-    if (is_integer(texture.format())) {
-      u = texture.read_u32();
-      header.channels().insert("R", Imf::Channel(Imf::UINT));
-      fb.insert("R", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(u.data()), sizeof(uint32_t),
-                                sizeof(uint32_t) * size_t(w)));
-    } else {
-      f = texture.read();
-      const int n = channels(texture.format());
-      for (int c = 0; c < n; ++c) {
-        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-        fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(f.data() + c), sizeof(float) * n,
-                                       sizeof(float) * n * size_t(w)));
-      }
-    }
+    Imf::Header header(w, h);
+    header.lineOrder() = Imf::INCREASING_Y;
+    std::vector<uint32_t> u = texture.read_u32();
+    header.channels().insert("R", Imf::Channel(Imf::UINT));
+    Imf::FrameBuffer fb;
+    fb.insert("R",
+              Imf::Slice(Imf::UINT, reinterpret_cast<char*>(u.data()), sizeof(uint32_t), sizeof(uint32_t) * size_t(w)));
     Imf::OutputFile file(path.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(h);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), e.what()));
+  }
+}
+
+void write_exr(const std::filesystem::path& path, const ExrImage& image) {
+  const size_t n = image.channels.size(), w = size_t(image.width);
+  if (n == 0 || image.values.size() != w * size_t(image.height) * n)
+    throw std::invalid_argument(fmt::format("write_exr {}: {} values for {} x {} x {} channels", path.string(),
+                                            image.values.size(), image.width, image.height, n));
+  try {
+    Imf::Header header(image.width, image.height);
+    header.lineOrder() = Imf::INCREASING_Y;
+    Imf::FrameBuffer fb;
+    auto* base = const_cast<float*>(image.values.data());  // Imf::Slice takes char*; writing only reads it
+    for (size_t c = 0; c < n; ++c) {
+      header.channels().insert(image.channels[c], Imf::Channel(Imf::FLOAT));
+      fb.insert(image.channels[c],
+                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c), sizeof(float) * n, sizeof(float) * n * w));
+    }
+    Imf::OutputFile file(path.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(image.height);
   } catch (const std::exception& e) {
     throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), e.what()));
   }

@@ -4,6 +4,7 @@
 /// R, G, B, A (as many as the format has); R32UI becomes a UINT channel R; R8 a FLOAT channel R in
 /// 0..1. EXR row y holds texel row y (no flip), so pixel (x, y) in a viewer is texel (x, y).
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "gpgpu/texture.h"
@@ -21,5 +22,9 @@ struct ExrImage {
   std::vector<float> values;
 };
 ExrImage read_exr(const std::filesystem::path& path);
+
+/// Writes an image of FLOAT channels (row y = image row y). Throws std::invalid_argument when the
+/// values do not fill width x height x channels, std::runtime_error on I/O failure.
+void write_exr(const std::filesystem::path& path, const ExrImage& image);
 
 }  // namespace gpgpu

@@ -1,0 +1,232 @@
+// `nurbsgl thickness MODEL [--samples N | --spacing S] [--min-wall T] [-o OUT.ply] [--csv F] [--exr DIR]`:
+// wall thickness by ray casting (Lemasson et al.): from samples on every face a ray along the inward
+// normal, the thickness is the distance to the nearest valid hit (nurbs/raycast/thickness.h).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/ray_engine.h"
+#include "gpgpu/exr_dump.h"
+#include "nurbs/io/mesh_writer.h"
+#include "nurbs/io/read_model.h"
+#include "nurbs/raycast/thickness.h"
+
+namespace cli {
+namespace {
+
+struct ThicknessArgs {
+  std::string model, output, csv, exr;
+  long long samples = 20000;
+  double spacing = 0.0, min_wall = 0.0;
+  bool samples_given = false, spacing_given = false, min_wall_given = false, json = false;
+  RayEngineArgs engine;
+};
+
+/// Thickness per sample of every face (grid order), -1 where no ray or no hit.
+using Thickness = std::vector<std::vector<double>>;
+
+/// Blue (thin) to red (thick) through cyan, green and yellow; grey for samples without a hit.
+glm::dvec3 colour(double t, double lo, double hi) {
+  if (t < 0) return glm::dvec3(0.5);
+  const double x = hi > lo ? std::clamp((t - lo) / (hi - lo), 0.0, 1.0) : 0.0;
+  return glm::clamp(glm::dvec3(std::min(4 * x - 1.5, -4 * x + 4.5), std::min(4 * x - 0.5, -4 * x + 3.5),
+                               std::min(4 * x + 0.5, -4 * x + 2.5)),
+                    0.0, 1.0);
+}
+
+/// The sample grids as one mesh: a vertex per material sample, two triangles per grid cell whose
+/// four samples are material, oriented with the outward normal (= -inward).
+nurbs::TriangleMesh thickness_mesh(const nurbs::ray::ThicknessSamples& s, const Thickness& th, double lo, double hi) {
+  nurbs::TriangleMesh m;
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    const auto& g = s.faces[f];
+    std::vector<int> id(g.uv.size(), -1);
+    for (size_t k = 0; k < g.uv.size(); ++k) {
+      if (!g.material[k]) continue;
+      id[k] = static_cast<int>(m.positions.size());
+      m.positions.push_back(g.point[k]);
+      m.normals.push_back(-g.inward[k]);
+      m.uv.push_back(g.uv[k]);
+      m.vertex_face.push_back(g.face);
+      m.colors.push_back(colour(th[f][k], lo, hi));
+    }
+    const bool flip = s.inward_sign[size_t(g.face)] > 0;  // Su x Sv points inward: reverse the grid's order
+    for (int j = 0; j + 1 < g.nv; ++j)
+      for (int i = 0; i + 1 < g.nu; ++i) {
+        const int a = id[size_t(j * g.nu + i)], b = id[size_t(j * g.nu + i + 1)], c = id[size_t((j + 1) * g.nu + i)],
+                  d = id[size_t((j + 1) * g.nu + i + 1)];
+        if (a < 0 || b < 0 || c < 0 || d < 0) continue;
+        m.triangles.push_back(flip ? glm::ivec3(a, d, b) : glm::ivec3(a, b, d));
+        m.triangles.push_back(flip ? glm::ivec3(a, c, d) : glm::ivec3(a, d, c));
+        m.triangle_face.insert(m.triangle_face.end(), 2, g.face);
+      }
+  }
+  return m;
+}
+
+void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
+               const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays) {
+  std::ofstream out(path);
+  if (!out) throw BadInput(fmt::format("--csv: cannot write {}", path));
+  out << "face,u,v,x,y,z,thickness,hit_face\n";
+  for (size_t r = 0; r < rays.rays.size(); ++r) {
+    const auto [f, k] = rays.source[r];
+    const auto& g = s.faces[size_t(f)];
+    out << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", g.face, g.uv[size_t(k)].x,
+                       g.uv[size_t(k)].y, g.point[size_t(k)].x, g.point[size_t(k)].y, g.point[size_t(k)].z,
+                       th[size_t(f)][size_t(k)], hits[r].face);
+  }
+  if (!out) throw std::runtime_error(fmt::format("--csv: writing {} failed", path));
+}
+
+void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& s, const Thickness& th) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw BadInput(fmt::format("--exr: cannot create {}: {}", dir, ec.message()));
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    const auto& g = s.faces[f];
+    gpgpu::ExrImage img{g.nu, g.nv, {"R"}, {}};
+    img.values.assign(th[f].begin(), th[f].end());
+    gpgpu::write_exr(std::filesystem::path(dir) / fmt::format("face_{:04d}_thickness.exr", g.face), img);
+  }
+}
+
+void run(const ThicknessArgs& a) {
+  if (a.samples_given && a.spacing_given) throw BadInput("--samples and --spacing: give one of them");
+  const auto start = std::chrono::steady_clock::now();
+  const nurbs::Model model = nurbs::io::read_model(a.model);
+  const double size = checked_model_size(model, a.model);
+  if (!a.output.empty()) try {
+      if (nurbs::io::mesh_format_of(a.output) != nurbs::io::MeshFormat::Ply)
+        throw BadInput(fmt::format("-o {}: the coloured thickness mesh is written as .ply", a.output));
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(fmt::format("-o: {}", e.what()));
+    }
+  RayEngine engine(model, a.engine);
+  const nurbs::ray::Scene& scene = engine.scene();
+  nurbs::ray::ThicknessOptions o;
+  o.spacing = a.spacing_given ? a.spacing : nurbs::ray::spacing_for_samples(scene, a.samples);
+  const nurbs::ray::CastFn cast = [&](const std::vector<nurbs::ray::Ray>& rays, double t_min) {
+    return engine.cast(rays, t_min, "thickness: orientation");
+  };
+  const nurbs::ray::ThicknessSamples samples = nurbs::ray::thickness_samples(scene, o, cast);
+  const nurbs::ray::ThicknessRays rays = nurbs::ray::thickness_rays(samples);
+  const double orient_seconds = engine.cast_seconds();
+  const std::vector<nurbs::ray::Hit> hits = engine.cast(rays.rays, o.start_offset * scene.size, "thickness");
+  const double cast_seconds = engine.cast_seconds() - orient_seconds;
+
+  Thickness th(samples.faces.size());
+  for (size_t f = 0; f < samples.faces.size(); ++f) th[f].assign(samples.faces[f].uv.size(), -1.0);
+  long long hit_count = 0, below = 0;
+  double lo = 0, hi = 0, sum = 0;
+  size_t thinnest = 0;
+  std::vector<double> values;
+  for (size_t r = 0; r < hits.size(); ++r) {
+    if (hits[r].face < 0) continue;
+    const auto [f, k] = rays.source[r];
+    th[size_t(f)][size_t(k)] = hits[r].t;
+    if (hit_count == 0 || hits[r].t < lo) lo = hits[r].t, thinnest = r;
+    hi = hit_count == 0 ? hits[r].t : std::max(hi, hits[r].t);
+    sum += hits[r].t;
+    ++hit_count;
+    below += a.min_wall_given && hits[r].t < a.min_wall ? 1 : 0;
+    values.push_back(hits[r].t);
+  }
+  std::sort(values.begin(), values.end());
+  const double median = values.empty() ? -1.0 : values[values.size() / 2];
+  if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, thickness_mesh(samples, th, lo, hi));
+  if (!a.csv.empty()) write_csv(a.csv, samples, th, hits, rays);
+  if (!a.exr.empty()) write_exr_maps(a.exr, samples, th);
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double residual = scene.options.exact_residual * scene.size;
+  const long long n = static_cast<long long>(rays.rays.size());
+  const nlohmann::json f = engine.figures();
+
+  if (a.json) {
+    nlohmann::json j = {
+        {"model", a.model},
+        {"model_size", size},
+        {"spacing", o.spacing},
+        {"rays", n},
+        {"hits", hit_count},
+        {"misses", n - hit_count},
+        {"hit_residual", residual},
+        {"thickness",
+         {{"min", hit_count ? lo : -1.0},
+          {"max", hit_count ? hi : -1.0},
+          {"mean", hit_count ? sum / double(hit_count) : -1.0},
+          {"median", median}}},
+        {"orientation",
+         {{"faces_flipped_from_file", samples.orientation_flips}, {"faces_unsure", samples.orientation_unsure}}},
+        {"seconds", {{"orientation", orient_seconds}, {"cast", cast_seconds}, {"total", total}}},
+        {"thickness_rays_per_second", cast_seconds > 0 ? double(n) / cast_seconds : 0.0}};
+    if (a.min_wall_given) j["min_wall"] = a.min_wall, j["below_min_wall"] = below;
+    if (hit_count) {
+      const auto [tf, tk] = rays.source[thinnest];
+      const auto& g = samples.faces[size_t(tf)];
+      j["thinnest"] = {{"face", g.face},
+                       {"uv", {g.uv[size_t(tk)].x, g.uv[size_t(tk)].y}},
+                       {"point", {g.point[size_t(tk)].x, g.point[size_t(tk)].y, g.point[size_t(tk)].z}},
+                       {"thickness", lo},
+                       {"hit_face", hits[thinnest].face}};
+    }
+    j.update(f);
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  fmt::print("model      {} ({} faces, {} bicubic patches, size {:.6g})\n", a.model, scene.faces.size(),
+             scene.patches.size(), size);
+  fmt::print("samples    {} rays at spacing {:.4g}; {} hits, {} misses\n", n, o.spacing, hit_count, n - hit_count);
+  if (hit_count) {
+    const auto [tf, tk] = rays.source[thinnest];
+    const auto& g = samples.faces[size_t(tf)];
+    fmt::print("thickness  min {:.6g} (face {} at ({:.4g}, {:.4g}, {:.4g})), median {:.6g}, mean {:.6g}, max {:.6g}\n",
+               lo, g.face, g.point[size_t(tk)].x, g.point[size_t(tk)].y, g.point[size_t(tk)].z, median,
+               sum / double(hit_count), hi);
+  }
+  if (a.min_wall_given) fmt::print("below      {} samples thinner than {:.6g}\n", below, a.min_wall);
+  fmt::print("orientation {} faces flipped from the file's flags by ray parity, {} unsure\n", samples.orientation_flips,
+             samples.orientation_unsure);
+  fmt::print("time       {:.3f} s (build {:.3f}, orientation {:.3f}, rays {:.3f} = {:.0f} rays/s, {}, {} threads)\n",
+             total, f["seconds_build"].get<double>(), orient_seconds, cast_seconds,
+             cast_seconds > 0 ? double(n) / cast_seconds : 0.0, a.engine.method, f["threads"].get<int>());
+  fmt::print("tests      {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
+             f["tests_per_ray"]["patch"].get<double>());
+}
+
+}  // namespace
+
+void add_thickness(CLI::App& app, const GlobalOptions& /*global*/) {
+  auto a = std::make_shared<ThicknessArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "thickness",
+      "Wall thickness by ray casting (Lemasson et al.): from samples on every face, the distance to the nearest "
+      "hit along the inward normal (faces oriented by ray parity)");
+  cmd->add_option("MODEL", a->model, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option_function<long long>(
+         "--samples", [a](long long v) { a->samples = v, a->samples_given = true; },
+         "About this many samples over the model's area (default 20000)")
+      ->check(CLI::Range(1LL, 100'000'000LL));
+  cmd->add_option_function<double>(
+         "--spacing", [a](double v) { a->spacing = v, a->spacing_given = true; },
+         "Sample spacing on the faces, in model units (instead of --samples)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option_function<double>(
+         "--min-wall", [a](double v) { a->min_wall = v, a->min_wall_given = true; },
+         "Count the samples thinner than T (model units)")
+      ->check(CLI::PositiveNumber);
+  add_ray_engine_options(cmd, a->engine);
+  cmd->add_option("-o,--output", a->output,
+                  "Write the samples as a PLY mesh coloured by thickness (blue thin, red thick)");
+  cmd->add_option("--csv", a->csv, "Write face, u, v, x, y, z, thickness, hit_face per sample");
+  cmd->add_option("--exr", a->exr, "Write each face's thickness grid as DIR/face_NNNN_thickness.exr (-1: none)");
+  cmd->add_flag("--json", a->json, "One JSON object: rays, hits, thickness min/max/mean/median, figures");
+  cmd->callback([a] { run(*a); });
+}
+
+}  // namespace cli

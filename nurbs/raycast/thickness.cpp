@@ -1,0 +1,231 @@
+#include "nurbs/raycast/thickness.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <thread>
+
+#include "nurbs/surface_eval.h"
+
+namespace nurbs::ray {
+namespace {
+
+constexpr int kProbe = 9;  ///< points per direction of the grid that measures a face
+
+struct FaceExtent {
+  double length_u = 0.0, length_v = 0.0;  ///< longest polyline along u (along v) through the probe grid
+  double area = 0.0;                      ///< area of the probe cells whose centre is material
+};
+
+/// The face's sampled rectangle: the box of its outer trim loops within the domain (the domain
+/// when it has none), so a small face trimmed from a large plane is not sampled where it is not.
+struct UvBox {
+  glm::dvec2 lo{0.0}, hi{0.0};
+};
+UvBox material_box(const Scene& scene, int face) {
+  const TrimmedSurface& f = scene.faces[face];
+  const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+  UvBox domain{{du.min, dv.min}, {du.max, dv.max}}, box{glm::dvec2(1e300), glm::dvec2(-1e300)};
+  const TrimPolygons& t = scene.trims[face];
+  for (size_t l = 0; l < t.loops.size(); ++l)
+    if (t.outer[l])
+      for (const glm::dvec2& p : t.loops[l]) {
+        box.lo = glm::min(box.lo, p);
+        box.hi = glm::max(box.hi, p);
+      }
+  if (!(box.lo.x <= box.hi.x)) return domain;
+  box.lo = glm::max(box.lo, domain.lo);
+  box.hi = glm::min(box.hi, domain.hi);
+  return box.lo.x < box.hi.x && box.lo.y < box.hi.y ? box : domain;
+}
+
+glm::dvec2 grid_uv(const UvBox& b, int i, int j, int nu, int nv, double offset) {
+  return {b.lo.x + (i + offset) / nu * (b.hi.x - b.lo.x), b.lo.y + (j + offset) / nv * (b.hi.y - b.lo.y)};
+}
+
+bool material(const Scene& scene, int face, glm::dvec2 uv) {
+  return scene.faces[face].loops.empty() || is_material(scene.trims[face], uv);
+}
+
+FaceExtent measure_face(const Scene& scene, int face) {
+  const TrimmedSurface& f = scene.faces[face];
+  const UvBox box = material_box(scene, face);
+  const int n = kProbe - 1;
+  std::vector<glm::dvec3> p(kProbe * kProbe);
+  for (int j = 0; j < kProbe; ++j)
+    for (int i = 0; i < kProbe; ++i) {
+      const glm::dvec2 uv = grid_uv(box, i, j, n, n, 0.0);
+      p[j * kProbe + i] = surface_derivatives(f.surface, uv.x, uv.y).s;
+    }
+  FaceExtent e;
+  for (int j = 0; j < kProbe; ++j) {
+    double lu = 0.0, lv = 0.0;
+    for (int i = 0; i + 1 < kProbe; ++i) {
+      lu += glm::length(p[j * kProbe + i + 1] - p[j * kProbe + i]);
+      lv += glm::length(p[(i + 1) * kProbe + j] - p[i * kProbe + j]);
+    }
+    e.length_u = std::max(e.length_u, lu);
+    e.length_v = std::max(e.length_v, lv);
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (!material(scene, face, grid_uv(box, i, j, n, n, 0.5))) continue;
+      const glm::dvec3 &a = p[j * kProbe + i], &b = p[j * kProbe + i + 1], &c = p[(j + 1) * kProbe + i],
+                       &d = p[(j + 1) * kProbe + i + 1];
+      e.area += 0.5 * (glm::length(glm::cross(b - a, d - a)) + glm::length(glm::cross(d - a, c - a)));
+    }
+  return e;
+}
+
+/// Ray parity (header): per face +1 when Su x Sv points into the material.
+void orient_faces(const Scene& scene, const ThicknessOptions& options, const CastFn& cast, ThicknessSamples& out) {
+  const int nf = static_cast<int>(scene.faces.size());
+  struct Probe {
+    int face;
+    Ray ray;
+    int crossings = 0;
+    bool live = true;
+  };
+  std::vector<Probe> probes;
+  for (int f = 0; f < nf; ++f) {
+    const TrimmedSurface& face = scene.faces[f];
+    const UvBox box = material_box(scene, f);
+    int found = 0;
+    // Material centres of a 5 x 5 grid, taken in a spread order (middle first).
+    static constexpr int kOrder[25] = {12, 6,  18, 8,  16, 0, 24, 4, 20, 7,  17, 11, 13,
+                                       2,  22, 10, 14, 1,  3, 5,  9, 15, 19, 21, 23};
+    for (int k : kOrder) {
+      if (found >= options.parity_points) break;
+      const glm::dvec2 uv = grid_uv(box, k % 5, k / 5, 5, 5, 0.5);
+      if (!material(scene, f, uv)) continue;
+      const SurfaceDerivatives d = surface_derivatives(face.surface, uv.x, uv.y);
+      const glm::dvec3 n = glm::cross(d.su, d.sv);
+      if (!(glm::length(n) > 0.0) || !(glm::length(d.su) > 0.0) || !(glm::length(d.sv) > 0.0)) continue;
+      // A small tilt keeps the ray off the symmetry planes where it would graze edges of the model.
+      const glm::dvec3 dir =
+          glm::normalize(glm::normalize(n) + 0.0131 * glm::normalize(d.su) + 0.0071 * glm::normalize(d.sv));
+      probes.push_back({f, Ray{d.s, dir}});
+      ++found;
+    }
+  }
+  const double t_min = options.start_offset * scene.size;
+  for (int round = 0; round < 64; ++round) {
+    std::vector<Ray> rays;
+    std::vector<int> index;
+    for (size_t k = 0; k < probes.size(); ++k)
+      if (probes[k].live) {
+        rays.push_back(probes[k].ray);
+        index.push_back(static_cast<int>(k));
+      }
+    if (rays.empty()) break;
+    const std::vector<Hit> hits = cast(rays, t_min);
+    for (size_t r = 0; r < rays.size(); ++r) {
+      Probe& p = probes[index[r]];
+      if (hits[r].face < 0) {
+        p.live = false;
+      } else {
+        ++p.crossings;
+        p.ray.origin = hits[r].point;
+      }
+    }
+  }
+  std::vector<int> odd(nf, 0), even(nf, 0);
+  for (const Probe& p : probes) (p.crossings % 2 == 1 ? odd : even)[p.face] += 1;
+  out.inward_sign.assign(nf, -1);
+  for (int f = 0; f < nf; ++f) {
+    out.inward_sign[f] = odd[f] > even[f] ? +1 : -1;
+    if (odd[f] + even[f] == 0 || (odd[f] > 0 && even[f] > 0)) ++out.orientation_unsure;
+    const int file_sign = scene.faces[f].reversed ? +1 : -1;  // the file's outward is -inward
+    if (odd[f] + even[f] > 0 && file_sign != out.inward_sign[f]) ++out.orientation_flips;
+  }
+}
+
+}  // namespace
+
+long long ThicknessSamples::count() const {
+  long long n = 0;
+  for (const auto& f : faces) n += std::count(f.material.begin(), f.material.end(), true);
+  return n;
+}
+
+double spacing_for_samples(const Scene& scene, long long samples) {
+  double area = 0.0;
+  for (int f = 0; f < static_cast<int>(scene.faces.size()); ++f) area += measure_face(scene, f).area;
+  if (!(area > 0.0) || samples <= 0) return scene.size;
+  return std::sqrt(area / static_cast<double>(samples));
+}
+
+ThicknessSamples thickness_samples(const Scene& scene, const ThicknessOptions& options, const CastFn& cast) {
+  ThicknessSamples out;
+  orient_faces(scene, options, cast, out);
+  for (int f = 0; f < static_cast<int>(scene.faces.size()); ++f) {
+    const TrimmedSurface& face = scene.faces[f];
+    const FaceExtent e = measure_face(scene, f);
+    const UvBox box = material_box(scene, f);
+    FaceSamples s;
+    s.face = f;
+    s.nu = std::clamp(static_cast<int>(std::ceil(e.length_u / options.spacing)), 1, options.max_grid);
+    s.nv = std::clamp(static_cast<int>(std::ceil(e.length_v / options.spacing)), 1, options.max_grid);
+    const size_t n = static_cast<size_t>(s.nu) * static_cast<size_t>(s.nv);
+    s.uv.resize(n);
+    s.point.resize(n);
+    s.inward.resize(n);
+    s.material.assign(n, false);
+    for (int j = 0; j < s.nv; ++j)
+      for (int i = 0; i < s.nu; ++i) {
+        const size_t k = static_cast<size_t>(j) * s.nu + i;
+        s.uv[k] = grid_uv(box, i, j, s.nu, s.nv, 0.5);
+        if (!material(scene, f, s.uv[k])) continue;
+        const glm::dvec3 normal = surface_normal(face.surface, s.uv[k].x, s.uv[k].y);
+        if (!(glm::length(normal) > 0.5)) continue;  // degenerate point: no normal, no ray
+        s.point[k] = surface_derivatives(face.surface, s.uv[k].x, s.uv[k].y).s;
+        s.inward[k] = double(out.inward_sign[f]) * normal;
+        s.material[k] = true;
+      }
+    out.faces.push_back(std::move(s));
+  }
+  return out;
+}
+
+ThicknessRays thickness_rays(const ThicknessSamples& samples) {
+  ThicknessRays out;
+  for (size_t f = 0; f < samples.faces.size(); ++f) {
+    const FaceSamples& s = samples.faces[f];
+    for (size_t k = 0; k < s.uv.size(); ++k) {
+      if (!s.material[k]) continue;
+      out.rays.push_back(Ray{s.point[k], s.inward[k]});
+      out.source.emplace_back(static_cast<int>(f), static_cast<int>(k));
+    }
+  }
+  return out;
+}
+
+std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min, Traversal traversal,
+                                    int threads, TraversalStats* stats) {
+  std::vector<Hit> out(rays.size());
+  const int n = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
+  constexpr size_t kBlock = 256;
+  std::atomic<size_t> next{0};
+  std::vector<TraversalStats> per(static_cast<size_t>(n));
+  auto work = [&](int id) {
+    for (;;) {
+      const size_t first = next.fetch_add(kBlock);
+      if (first >= rays.size()) return;
+      const size_t last = std::min(rays.size(), first + kBlock);
+      for (size_t i = first; i < last; ++i) out[i] = cast_ray(scene, rays[i], t_min, traversal, &per[id]);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (auto& t : pool) t.join();
+  if (stats)
+    for (const auto& s : per) {
+      stats->box_tests += s.box_tests;
+      stats->patch_tests += s.patch_tests;
+    }
+  return out;
+}
+
+}  // namespace nurbs::ray
