@@ -6,6 +6,9 @@
 //      --witness FILE: how far given closest points (nurbsgl's) lie from OCCT's A and B faces.
 //  points MODEL --points FILE [--repeat N]: GeomAPI_ProjectPointOnSurf, one projector per face
 //      initialised once on the face's surface and its UV bounds (trims ignored), min over faces.
+//  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
+//      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
+//      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast` (issue 10).
 // Reads the models with nurbs-free OCCT code only (IGESControl_Reader), so it is an independent peer.
 #include <fmt/format.h>
 
@@ -15,6 +18,10 @@
 #include <BRep_Tool.hxx>
 #include <CLI/CLI.hpp>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <IntCurvesFace_ShapeIntersector.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopExp.hxx>
+#include <gp_Lin.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -224,10 +231,63 @@ int points(const std::string& model, const std::string& file, int repeat) {
   return 0;
 }
 
+int rays(const std::string& model, const std::string& file, int repeat) {
+  std::vector<gp_Lin> input;
+  std::ifstream f(file);
+  if (!f) throw std::runtime_error("--rays " + file + ": cannot open the file");
+  int n = 0;
+  for (std::string line; std::getline(f, line);) {
+    ++n;
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const auto v = numbers(line, 6, fmt::format("{}: line {}", file, n));
+    input.emplace_back(gp_Pnt(v[0], v[1], v[2]), gp_Dir(v[3], v[4], v[5]));
+  }
+  double read_s = 0;
+  const TopoDS_Shape shape = read_iges(model, read_s);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  const auto t0 = Clock::now();
+  IntCurvesFace_ShapeIntersector intersector;
+  intersector.Load(shape, Precision::Confusion());
+  const double init_s = seconds_since(t0);
+  std::vector<double> times;
+  nlohmann::json t = nlohmann::json::array(), face = nlohmann::json::array();
+  for (int k = 0; k < repeat; ++k) {
+    t = nlohmann::json::array();
+    face = nlohmann::json::array();
+    const auto t1 = Clock::now();
+    for (const gp_Lin& ray : input) {
+      intersector.PerformNearest(ray, 0.0, RealLast());
+      if (intersector.IsDone() && intersector.NbPnt() > 0) {
+        t.push_back(intersector.WParameter(1));
+        face.push_back(faces.FindIndex(intersector.Face(1)) - 1);
+      } else {
+        t.push_back(-1.0);
+        face.push_back(-1);
+      }
+    }
+    times.push_back(seconds_since(t1));
+  }
+  const double sec = median(times);
+  const nlohmann::json out{{"occt", OCC_VERSION_COMPLETE},
+                           {"read_seconds", read_s},
+                           {"init_seconds", init_s},
+                           {"rays", input.size()},
+                           {"faces", faces.Extent()},
+                           {"seconds", sec},
+                           {"rays_per_second", sec > 0 ? double(input.size()) / sec : 0.0},
+                           {"repeat", repeat},
+                           {"t", t},
+                           {"face", face}};
+  fmt::print("{}\n", out.dump(1));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"OpenCASCADE peer of nurbsgl distance and clearance (JSON on stdout)"};
+  CLI::App app{"OpenCASCADE peer of nurbsgl distance, clearance and ray casting (JSON on stdout)"};
   app.require_subcommand(1);
   std::string a, b, move, rotate, motion, witness, model, file;
   int repeat = 5;
@@ -244,9 +304,14 @@ int main(int argc, char** argv) {
   p->add_option("MODEL", model, "IGES model")->required();
   p->add_option("--points", file, "x y z per line")->required();
   p->add_option("--repeat", repeat, "Runs over all points; the median is reported")->check(CLI::PositiveNumber);
+  auto* r = app.add_subcommand("rays", "IntCurvesFace_ShapeIntersector: nearest hit of every ray");
+  r->add_option("MODEL", model, "IGES model")->required();
+  r->add_option("--rays", file, "ox oy oz dx dy dz per line")->required();
+  r->add_option("--repeat", repeat, "Runs over all rays; the median is reported")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the reader's chatter
   try {
+    if (r->parsed()) return rays(model, file, repeat);
     return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat);
   } catch (const std::exception& e) {
     fmt::print(stderr, "peer_occt_distance: {}\n", e.what());
