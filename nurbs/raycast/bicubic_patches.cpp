@@ -87,6 +87,27 @@ double piece_error(const Surface& piece, const BicubicPatch& patch, int n) {
   return worst;
 }
 
+/// Do the unit normals at the cell's corners, centre and edge midpoints all lie within the angle
+/// acos(min_cos) of the centre's? (Degenerate points, e.g. poles, have no normal and are skipped.)
+bool normals_within(const Surface& piece, const std::array<double, 4>& cell, double min_cos) {
+  const double um = 0.5 * (cell[0] + cell[1]), vm = 0.5 * (cell[2] + cell[3]);
+  auto normal = [&](double u, double v) {
+    const SurfaceDerivatives d = surface_derivatives(piece, u, v);
+    const glm::dvec3 n = glm::cross(d.su, d.sv);
+    const double l = glm::length(n);
+    return l > 0.0 ? n / l : glm::dvec3(0.0);
+  };
+  const glm::dvec3 c = normal(um, vm);
+  if (c == glm::dvec3(0.0)) return true;
+  const double us[3] = {cell[0], um, cell[1]}, vs[3] = {cell[2], vm, cell[3]};
+  for (double v : vs)
+    for (double u : us) {
+      const glm::dvec3 n = normal(u, v);
+      if (n != glm::dvec3(0.0) && glm::dot(n, c) < min_cos) return false;
+    }
+  return true;
+}
+
 /// Liang-Barsky: does segment ab meet the rectangle?
 bool segment_meets_rect(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
   double t0 = 0.0, t1 = 1.0;
@@ -142,26 +163,37 @@ std::vector<BicubicPatch> bicubic_patches(const TrimmedSurface& face, int face_i
   const double flat = options.trim_flatten * diag;
   const TrimPolygons trim = trimmed ? flatten_trim(face, flat) : TrimPolygons{};
   BicubicStats st;
-  std::map<std::array<double, 4>, double> cache;  // cell -> sampled error (-1 = culled)
-  auto cell_error = [&](size_t i, size_t j) {
+  struct CellCheck {
+    double error = -1.0;  ///< sampled error, -1 = culled
+    bool flat = true;     ///< normals within max_turn_degrees of each other
+  };
+  std::map<std::array<double, 4>, CellCheck> cache;
+  const double min_cos = std::cos(options.max_turn_degrees * 3.14159265358979323846 / 180.0);
+  auto cell_check = [&](size_t i, size_t j) {
     const std::array<double, 4> key{ub[i], ub[i + 1], vb[j], vb[j + 1]};
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
-    double e = -1.0;
+    CellCheck c;
     if (cell_kept(trim, trimmed, {key[0], key[2]}, {key[1], key[3]}, 2.0 * flat)) {
       const Surface& piece = pieces.at(0.5 * (key[0] + key[1]), 0.5 * (key[2] + key[3]));
-      e = piece_error(piece, hermite_patch(piece, key[0], key[1], key[2], key[3]), options.samples);
+      const BicubicPatch patch = hermite_patch(piece, key[0], key[1], key[2], key[3]);
+      c.error = piece_error(piece, patch, options.samples);
+      // Small cells stay as they are: around a pole the normals turn in every cell that touches it.
+      if (options.max_turn_degrees > 0.0 && glm::length(patch.box_max - patch.box_min) > 100.0 * options.tolerance)
+        c.flat = normals_within(piece, key, min_cos);
     }
-    cache.emplace(key, e);
-    return e;
+    cache.emplace(key, c);
+    return c;
   };
+  auto cell_error = [&](size_t i, size_t j) { return cell_check(i, j).error; };
   const double limit = options.margin * options.tolerance;
   for (st.rounds = 0;; ++st.rounds) {
     std::vector<char> split_u(ub.size() - 1, 0), split_v(vb.size() - 1, 0);
     bool any = false;
     for (size_t j = 0; j + 1 < vb.size(); ++j)
       for (size_t i = 0; i + 1 < ub.size(); ++i) {
-        if (cell_error(i, j) <= limit) continue;
+        const CellCheck c = cell_check(i, j);
+        if (c.error <= limit && c.flat) continue;
         // Split across the direction of larger curvature h^2 |Suu| vs k^2 |Svv| (both when close).
         const double uc = 0.5 * (ub[i] + ub[i + 1]), vc = 0.5 * (vb[j] + vb[j + 1]);
         const SurfaceDerivatives d = surface_derivatives(pieces.at(uc, vc), uc, vc);

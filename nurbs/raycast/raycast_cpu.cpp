@@ -23,6 +23,7 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   scene.size = scene.faces.empty() ? 0.0 : glm::length(hi - lo);
   BicubicOptions bo;
   bo.tolerance = options.tolerance * scene.size;
+  bo.max_turn_degrees = options.max_turn_degrees;
   std::vector<BicubicPatch> all;
   for (size_t f = 0; f < scene.faces.size(); ++f) {
     const TrimmedSurface& face = scene.faces[f];
