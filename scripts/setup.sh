@@ -18,6 +18,7 @@ packages=(
   doctest-dev                                # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev # command line, JSON output, formatting
   libeigen3-dev                              # SVD of the trim-curve lifting (tessellation §4)
+  libimgui-dev libstb-dev                    # viewer panels (GLFW + OpenGL 3 backends); PNG screenshots
 )
 missing=()
 for p in "${packages[@]}"; do
