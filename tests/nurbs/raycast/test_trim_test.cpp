@@ -84,3 +84,35 @@ TEST_CASE("trim test (§3.4) agrees with is_material on random faces away from t
   CHECK(disagree == 0);
   MESSAGE("trim test: " << compared << " points compared, " << disagree << " disagreements");
 }
+
+TEST_CASE("trim test (§3.4): dead angles at a convex and a concave corner") {
+  // An L-shaped outer loop of lines, counter-clockwise; (0.5, 0.5) is its one concave corner.
+  TrimmedSurface face;
+  face.surface.degree_u = face.surface.degree_v = 1;
+  face.surface.count_u = face.surface.count_v = 2;
+  face.surface.knots_u = face.surface.knots_v = {0, 0, 1, 1};
+  face.surface.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  const glm::dvec2 corners[6] = {{0.1, 0.1}, {0.9, 0.1}, {0.9, 0.5}, {0.5, 0.5}, {0.5, 0.9}, {0.1, 0.9}};
+  TrimLoop loop;
+  for (int i = 0; i < 6; ++i) {
+    Curve2 line;
+    line.degree = 1;
+    line.knots = {0, 0, 1, 1};
+    line.points = {corners[i], corners[(i + 1) % 6]};
+    loop.curves.push_back(line);
+  }
+  face.loops.push_back(loop);
+  const TrimCubics tc = trim_cubics(face, 1e-9);
+  // Convex corner (0.9, 0.1): the dead angle is the quadrant u > 0.9, v < 0.1, outside the material
+  // (the nearest point of both edges is the corner): never material, also on the bisector.
+  for (double d : {1e-6, 1e-3, 0.05})
+    for (double skew : {0.0, 0.3 * d, -0.3 * d}) CHECK_FALSE(inside_trim(tc, {0.9 + d + skew, 0.1 - d + skew}));
+  // Concave corner (0.5, 0.5): the dead angle u < 0.5, v < 0.5 lies in the material: always material.
+  for (double d : {1e-6, 1e-3, 0.05})
+    for (double skew : {0.0, 0.3 * d, -0.3 * d}) CHECK(inside_trim(tc, {0.5 - d + skew, 0.5 - d - skew}));
+  // Just across each corner's edges the ordinary side test decides.
+  CHECK(inside_trim(tc, {0.89, 0.11}));
+  CHECK_FALSE(inside_trim(tc, {0.51, 0.51}));
+  CHECK_FALSE(inside_trim(tc, {0.7, 0.7}));
+  CHECK(inside_trim(tc, {0.3, 0.3}));
+}
