@@ -152,8 +152,9 @@ void run(const GlobalOptions& global, const Options& o) {
   const queries::VoxelGrid va = voxel ? queries::voxelize(a, {o.voxels}) : queries::VoxelGrid{};
   const queries::VoxelGrid vb = voxel ? queries::voxelize(b, {o.voxels}) : queries::VoxelGrid{};
   nlohmann::json stage;
+  queries::ClearanceCache cache;  // A's hierarchy, built once for every motion (destroyed before gpu)
   auto query = [&](const glm::dmat4& motion) {
-    if (!voxel) return queries::clearance(*gpu, a, b, motion);
+    if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, {}, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);
     stage = {{"method", "voxels"},

@@ -86,10 +86,26 @@ CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const gl
 
 }  // namespace
 
+struct ClearanceCache::Impl {
+  const PreparedModel* a = nullptr;
+  Hierarchy ha;
+};
+ClearanceCache::ClearanceCache() : impl(std::make_unique<Impl>()) {}
+ClearanceCache::~ClearanceCache() = default;
+
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
-                    const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits) {
+                    const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,
+                    ClearanceCache* cache) {
   const glm::dvec3 origin = a.centre;
-  const Hierarchy ha = build(gpu, a, glm::dmat4(1.0), origin, faces_a), hb = build(gpu, b, motion_b, origin, faces_b);
+  Hierarchy own_a;
+  const bool cached = cache && !faces_a;
+  if (cached && cache->impl->a != &a) {
+    cache->impl->ha = build(gpu, a, glm::dmat4(1.0), origin, nullptr);
+    cache->impl->a = &a;
+  }
+  if (!cached) own_a = build(gpu, a, glm::dmat4(1.0), origin, faces_a);
+  const Hierarchy& ha = cached ? cache->impl->ha : own_a;
+  const Hierarchy hb = build(gpu, b, motion_b, origin, faces_b);
   Clearance r;
   // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
   // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them

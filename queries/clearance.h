@@ -22,6 +22,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -53,13 +54,28 @@ struct ClearanceLimits {
   long long chunk_pairs = 4096LL * 4096 / 16;
 };
 
+/// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the
+/// same cache to every clearance() call; it is built on the first and reused while `a` is the same
+/// model and no face filter `faces_a` is given (a filter builds a fresh hierarchy, uncached). It
+/// holds GL textures: destroy it before the GPU's context.
+class ClearanceCache {
+ public:
+  ClearanceCache();
+  ~ClearanceCache();
+  ClearanceCache(const ClearanceCache&) = delete;
+  ClearanceCache& operator=(const ClearanceCache&) = delete;
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
 /// The clearance between model `a` and model `b` moved by `motion_b` (rigid). Each model must fit
 /// one atlas (prepare_model makes one for grids up to the GPU's texture size).
 /// `faces_a` / `faces_b` (optional, one flag per face): only these faces take part, e.g. the faces
 /// of the pairs kept by the §5.4 voxel stage (voxel_stage.h); the others get empty leaf boxes.
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,
                     const glm::dmat4& motion_b = glm::dmat4(1.0), const std::vector<char>* faces_a = nullptr,
-                    const std::vector<char>* faces_b = nullptr, const ClearanceLimits& limits = {});
+                    const std::vector<char>* faces_b = nullptr, const ClearanceLimits& limits = {},
+                    ClearanceCache* cache = nullptr);
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,

@@ -100,12 +100,17 @@ TEST_CASE("clearance: two exact spheres, and a rigid motion of the second") {
   s2.surface = models::rational_sphere(2.0);
   const auto a = queries::prepare_model(gpu, {s1}, 1e-3);
   const auto b = queries::prepare_model(gpu, {s2}, 1e-3);
+  queries::ClearanceCache cache;  // A's hierarchy across the motions: the same answers as without
   for (double gap : {0.05, 0.7, 3.0}) {
     const glm::dvec3 dir = glm::normalize(glm::dvec3(1, 2, -0.5));
     // Rotate the second sphere about an axis through its centre (no change), then move it.
     const glm::dmat4 motion =
         glm::translate(glm::dmat4(1.0), (3.0 + gap) * dir) * glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0.3, 1, 0.2));
     const queries::Clearance c = queries::clearance(gpu, a, b, motion);
+    const queries::Clearance cc = queries::clearance(gpu, a, b, motion, nullptr, nullptr, {}, &cache);
+    CHECK(cc.distance == c.distance);
+    CHECK(cc.point_a == c.point_a);
+    CHECK(cc.pairs_per_level == c.pairs_per_level);
     CAPTURE(gap);
     REQUIRE(c.found);
     CHECK(std::abs(c.distance - gap) < c.bound);
