@@ -18,11 +18,11 @@ struct RaycastArgs {
   bool json = false;
 };
 
-void run(const RaycastArgs& a) {
+void run(const GlobalOptions& global, const RaycastArgs& a) {
   const nurbs::Model model = nurbs::io::read_model(a.model);
   (void)checked_model_size(model, a.model);
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays);
-  RayEngine engine(model, a.engine);
+  RayEngine engine(model, a.engine, global);
   const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
   long long hit_count = 0;
   for (const auto& h : hits) hit_count += h.face >= 0 ? 1 : 0;
@@ -51,9 +51,9 @@ void run(const RaycastArgs& a) {
   fmt::print("model     {} ({} faces, {} bicubic patches)\n", a.model, engine.scene().faces.size(),
              engine.scene().patches.size());
   fmt::print("rays      {}  hits {}  misses {}\n", rays.size(), hit_count, (long long)rays.size() - hit_count);
-  fmt::print("time      build {:.3f} s, cast {:.3f} s ({:.0f} rays/s, {}, {} threads)\n",
+  fmt::print("time      build {:.3f} s, cast {:.3f} s ({:.0f} rays/s, {} on the {})\n",
              f["seconds_build"].get<double>(), engine.cast_seconds(), f["rays_per_second"].get<double>(),
-             a.engine.method, f["threads"].get<int>());
+             a.engine.method, a.engine.device);
   fmt::print("tests     {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
   const size_t shown = std::min<size_t>(hits.size(), 20);
@@ -70,7 +70,7 @@ void run(const RaycastArgs& a) {
 
 }  // namespace
 
-void add_raycast(CLI::App& app, const GlobalOptions& /*global*/) {
+void add_raycast(CLI::App& app, const GlobalOptions& global) {
   auto args = std::make_shared<RaycastArgs>();
   CLI::App* cmd = app.add_subcommand(
       "raycast",
@@ -81,7 +81,7 @@ void add_raycast(CLI::App& app, const GlobalOptions& /*global*/) {
       ->required();
   add_ray_engine_options(cmd, args->engine);
   cmd->add_flag("--json", args->json, "JSON: rays, seconds, t, face, uv (input order), and the figures");
-  cmd->callback([args] { run(*args); });
+  cmd->callback([&global, args] { run(global, *args); });
 }
 
 }  // namespace cli

@@ -96,7 +96,7 @@ void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& 
   }
 }
 
-void run(const ThicknessArgs& a) {
+void run(const GlobalOptions& global, const ThicknessArgs& a) {
   if (a.samples_given && a.spacing_given) throw BadInput("--samples and --spacing: give one of them");
   const auto start = std::chrono::steady_clock::now();
   const nurbs::Model model = nurbs::io::read_model(a.model);
@@ -107,8 +107,9 @@ void run(const ThicknessArgs& a) {
     } catch (const std::invalid_argument& e) {
       throw BadInput(fmt::format("-o: {}", e.what()));
     }
-  RayEngine engine(model, a.engine);
+  RayEngine engine(model, a.engine, global);
   const nurbs::ray::Scene& scene = engine.scene();
+  engine.rays_start_on_surfaces();
   nurbs::ray::ThicknessOptions o;
   o.spacing = a.spacing_given ? a.spacing : nurbs::ray::spacing_for_samples(scene, a.samples);
   const nurbs::ray::CastFn cast = [&](const std::vector<nurbs::ray::Ray>& rays, double t_min) {
@@ -192,16 +193,16 @@ void run(const ThicknessArgs& a) {
   if (a.min_wall_given) fmt::print("below      {} samples thinner than {:.6g}\n", below, a.min_wall);
   fmt::print("orientation {} faces flipped from the file's flags by ray parity, {} unsure\n", samples.orientation_flips,
              samples.orientation_unsure);
-  fmt::print("time       {:.3f} s (build {:.3f}, orientation {:.3f}, rays {:.3f} = {:.0f} rays/s, {}, {} threads)\n",
-             total, f["seconds_build"].get<double>(), orient_seconds, cast_seconds,
-             cast_seconds > 0 ? double(n) / cast_seconds : 0.0, a.engine.method, f["threads"].get<int>());
+  fmt::print("time       {:.3f} s (build {:.3f}, orientation {:.3f}, rays {:.3f} = {:.0f} rays/s, {}, {})\n", total,
+             f["seconds_build"].get<double>(), orient_seconds, cast_seconds,
+             cast_seconds > 0 ? double(n) / cast_seconds : 0.0, a.engine.method, a.engine.device);
   fmt::print("tests      {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
 }
 
 }  // namespace
 
-void add_thickness(CLI::App& app, const GlobalOptions& /*global*/) {
+void add_thickness(CLI::App& app, const GlobalOptions& global) {
   auto a = std::make_shared<ThicknessArgs>();
   CLI::App* cmd = app.add_subcommand(
       "thickness",
@@ -226,7 +227,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_option("--csv", a->csv, "Write face, u, v, x, y, z, thickness, hit_face per sample");
   cmd->add_option("--exr", a->exr, "Write each face's thickness grid as DIR/face_NNNN_thickness.exr (-1: none)");
   cmd->add_flag("--json", a->json, "One JSON object: rays, hits, thickness min/max/mean/median, figures");
-  cmd->callback([a] { run(*a); });
+  cmd->callback([&global, a] { run(global, *a); });
 }
 
 }  // namespace cli

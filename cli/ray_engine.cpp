@@ -73,6 +73,11 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
                   "ray tracing without a kept structure (§3.2)")
       ->check(CLI::IsMember({"bvh", "dacrt"}))
       ->capture_default_str();
+  cmd->add_option("--device", args.device,
+                  "cpu: the double-precision path on every core; gpu: the fragment-shader pass (Lemasson et al. "
+                  "§3.2-3.4 in float), hits finished in double on the CPU (bvh only)")
+      ->check(CLI::IsMember({"cpu", "gpu"}))
+      ->capture_default_str();
   cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--tolerance", args.tolerance,
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
@@ -81,12 +86,32 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
       ->capture_default_str();
 }
 
-RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args) : args_(args) {
+RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global)
+    : args_(args), global_(global) {
+  const bool gpu = args.device == "gpu";
+  if (gpu && args.method != "bvh") throw BadInput("--device gpu: only --method bvh runs on the GPU");
   const auto start = std::chrono::steady_clock::now();
   nurbs::ray::SceneOptions o;
   o.tolerance = args.tolerance;
+  // The GPU pass tests trims on the §3.4 cubics; the CPU path on the exact flattened loops.
+  if (gpu) o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
   scene_ = nurbs::ray::build_scene(nurbs::world_faces(model), o);
+  if (gpu) {
+    gpu_ = start_gpu(global);
+    gpu_caster_ = std::make_unique<queries::GpuRaycaster>(*gpu_, scene_);
+  }
   build_seconds_ = seconds_since(start);
+}
+
+void RayEngine::rays_start_on_surfaces() {
+  if (!gpu_caster_) return;
+  near_guard_ = 4.0 * args_.tolerance * scene_.size;
+  gpu_caster_->set_near_guard(near_guard_);
+}
+
+RayEngine::~RayEngine() {
+  gpu_caster_.reset();  // its textures before the context
+  if (gpu_) report_profile(*gpu_, global_);
 }
 
 std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
@@ -94,13 +119,21 @@ std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>&
   std::vector<nurbs::ray::Hit> out;
   out.reserve(rays.size());
   Progress progress(what, "rays");
-  constexpr size_t kChunk = 1 << 14;
+  const size_t kChunk = gpu_caster_ ? gpu_caster_->rays_per_pass() : size_t(1) << 14;
   const int threads = std::max(1, args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency()));
   for (size_t first = 0; first < rays.size(); first += kChunk) {
     const std::vector<nurbs::ray::Ray> chunk(rays.begin() + long(first),
                                              rays.begin() + long(std::min(rays.size(), first + kChunk)));
     std::vector<nurbs::ray::Hit> hits;
-    if (args_.method == "dacrt") {
+    if (gpu_caster_) {
+      hits = gpu_caster_->cast(chunk, t_min);
+      const queries::RaycastGpuStats& g = gpu_caster_->stats();  // of this cast
+      box_tests_ += g.box_tests;
+      patch_tests_ += g.patch_tests;
+      gpu_seconds_ += g.gpu_seconds;
+      finish_seconds_ += g.cpu_seconds;
+      fallbacks_ += g.fallbacks;
+    } else if (args_.method == "dacrt") {
       // DACRT keeps no structure: each thread takes a contiguous part of the rays.
       std::vector<std::vector<nurbs::ray::Hit>> parts(static_cast<size_t>(threads));
       std::vector<nurbs::ray::DacrtStats> stats(static_cast<size_t>(threads));
@@ -138,8 +171,19 @@ nlohmann::json RayEngine::figures() const {
     for (const auto& l : t.loops) trim_bytes += l.size() * sizeof(glm::dvec2);
   for (const auto& c : scene_.cubics) trim_bytes += c.cubics.size() * sizeof(nurbs::ray::TrimCubic);
   const double per_ray = rays_ > 0 ? 1.0 / double(rays_) : 0.0;
+  nlohmann::json gpu = nullptr;
+  if (gpu_caster_) {
+    const queries::RaycastGpuStats& g = gpu_caster_->stats();
+    gpu = {{"renderer", gpu_->info().renderer},
+           {"gpu_seconds", gpu_seconds_},
+           {"cpu_seconds", finish_seconds_},
+           {"fallbacks", fallbacks_},
+           {"near_guard", near_guard_},
+           {"texture_bytes", {{"bvh", g.bytes_bvh}, {"patches", g.bytes_patches}, {"trims", g.bytes_trims}}}};
+  }
   return {{"method", args_.method},
-          {"device", "cpu"},
+          {"device", args_.device},
+          {"gpu", gpu},
           {"threads", args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency())},
           {"faces", scene_.faces.size()},
           {"patches", scene_.patches.size()},

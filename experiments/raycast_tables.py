@@ -6,7 +6,8 @@ contract) and the OCCT peer (`peer_occt_distance rays`: IntCurvesFace_ShapeInter
 in the same run on the same machine. Per model:
 
   rays      N random rays (origins on a sphere around the model, aimed at random points of its box):
-            rays per second of the BVH and DACRT methods, box and patch tests per ray (paper Fig. 7),
+            rays per second of the BVH and DACRT methods on the CPU and of the BVH on the GPU (the
+            float pass and the double finishing timed apart), box and patch tests per ray (paper Fig. 7),
             memory of the BVH, patches and trims (Fig. 11).
   peer      the first M of those rays through OCCT: rays per second, the hit/miss agreement, and
             |t - t_occt| on the rays both hit (OCCT is the independent reference).
@@ -90,7 +91,7 @@ def main():
     peer = os.path.join(a.build, "experiments", "peer_occt_distance")
     models = [m for m in MODELS if not a.models or any(s in m for s in a.models)]
     rows, acc_rows, th_rows, summary = [], [], [], []
-    hist_bicubic, hist_occt = [], []
+    hist_bicubic, hist_occt, hist_gpu = [], [], []
     for rel in models:
         path = os.path.join(a.shared, rel)
         if not os.path.exists(path):
@@ -104,12 +105,16 @@ def main():
         rays = os.path.join(out, f"{name}_rays.txt")
         make_rays(info, a.rays, 7, rays)
         ours = {}
-        for method in ("bvh", "dacrt"):
-            j = run_json([nurbsgl, "raycast", path, "--rays", rays, "--method", method, "--json"])
+        for method, device in (("bvh", "cpu"), ("dacrt", "cpu"), ("bvh", "gpu")):
+            j = run_json([nurbsgl, "raycast", path, "--rays", rays, "--method", method, "--device", device, "--json"])
             if j is None:
                 continue
-            ours[method] = j
-            rows.append({"model": name, "method": method, "device": j["device"], "rays": j["rays"],
+            key = method if device == "cpu" else "gpu"
+            ours[key] = j
+            gpu = j.get("gpu") or {}
+            rows.append({"model": name, "method": method, "device": device, "rays": j["rays"],
+                         "gpu_pass_seconds": round(gpu.get("gpu_seconds", 0), 4),
+                         "finish_seconds": round(gpu.get("cpu_seconds", 0), 4), "fallbacks": gpu.get("fallbacks", 0),
                          "hits": j["hits"], "rays_per_second": round(j["rays_per_second"]),
                          "box_tests_per_ray": round(j["tests_per_ray"]["box"], 2),
                          "patch_tests_per_ray": round(j["tests_per_ray"]["patch"], 2),
@@ -130,6 +135,14 @@ def main():
             line = f"{name}: {j['rays']} rays, {j['hits']} hits; bvh {j['rays_per_second']:.0f} rays/s"
             if "dacrt" in ours:
                 line += f", dacrt {ours['dacrt']['rays_per_second']:.0f} rays/s"
+            if "gpu" in ours:
+                g = ours["gpu"]
+                line += (f", gpu {g['rays_per_second']:.0f} rays/s (pass {g['gpu']['gpu_seconds']:.3f} s, finishing "
+                         f"{g['gpu']['cpu_seconds']:.3f} s, {g['gpu']['fallbacks']} fallbacks)")
+                tg = [abs(a - b) for a, b in zip(g["t_bicubic"], j["t"]) if a >= 0 and b >= 0]
+                hist_gpu.extend(tg)
+                wg = sum(1 for x in tg if x <= 1e-3) / max(1, len(tg))
+                line += f"; |t_gpu_float - t| <= 1e-3: {100 * wg:.1f} %"
             line += (f"; {j['tests_per_ray']['box']:.1f} boxes + {j['tests_per_ray']['patch']:.2f} patches per ray;"
                      f" {j['patches']} patches")
             within = sum(1 for x in bic if x <= 1e-3) / max(1, len(bic))
@@ -168,6 +181,7 @@ def main():
     fig, ax = plt.subplots(figsize=(7, 4))
     bins = [10.0 ** e for e in range(-16, 1)]
     for data, label in ((hist_bicubic, "|t_bicubic - t| (bicubic hit vs exact NURBS hit)"),
+                        (hist_gpu, "|t_gpu - t| (the float GPU pass vs exact NURBS hit)"),
                         (hist_occt, "|t - t_OCCT| (ours vs OpenCASCADE)")):
         if data:
             ax.hist([max(x, 1e-16) for x in data], bins=bins, alpha=0.6, label=label)

@@ -187,13 +187,18 @@ std::vector<BicubicPatch> bicubic_patches(const TrimmedSurface& face, int face_i
   };
   auto cell_error = [&](size_t i, size_t j) { return cell_check(i, j).error; };
   const double limit = options.margin * options.tolerance;
+  // Splits for the normal turn alone take at most kTurnRounds rounds (each halves the grid lines
+  // through turning cells): on wildly wavy nets the conforming grid would otherwise multiply.
+  constexpr int kTurnRounds = 3;
+  int turn_rounds = 0;
   for (st.rounds = 0;; ++st.rounds) {
     std::vector<char> split_u(ub.size() - 1, 0), split_v(vb.size() - 1, 0);
-    bool any = false;
+    bool any = false, turn_only = false;
     for (size_t j = 0; j + 1 < vb.size(); ++j)
       for (size_t i = 0; i + 1 < ub.size(); ++i) {
         const CellCheck c = cell_check(i, j);
-        if (c.error <= limit && c.flat) continue;
+        if (c.error <= limit && (c.flat || turn_rounds >= kTurnRounds)) continue;
+        turn_only = turn_only || c.error <= limit;
         // Split across the direction of larger curvature h^2 |Suu| vs k^2 |Svv| (both when close).
         const double uc = 0.5 * (ub[i] + ub[i + 1]), vc = 0.5 * (vb[j] + vb[j + 1]);
         const SurfaceDerivatives d = surface_derivatives(pieces.at(uc, vc), uc, vc);
@@ -204,6 +209,7 @@ std::vector<BicubicPatch> bicubic_patches(const TrimmedSurface& face, int face_i
         any = true;
       }
     if (!any) break;
+    turn_rounds += turn_only ? 1 : 0;
     const size_t cells = (ub.size() - 1) * (vb.size() - 1);
     if (st.rounds >= options.max_rounds || cells > static_cast<size_t>(options.max_cells)) {
       st.converged = false;
