@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <glm/geometric.hpp>
@@ -12,15 +11,9 @@
 #include <thread>
 
 #include "nurbs/model_ops.h"
-#include "nurbs/raycast/dacrt.h"
-#include "nurbs/raycast/thickness.h"
 
 namespace cli {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& name) {
   std::vector<nurbs::ray::Ray> rays;
@@ -90,112 +83,46 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
     : args_(args), global_(global) {
   const bool gpu = args.device == "gpu";
   if (gpu && args.method != "bvh") throw BadInput("--device gpu: only --method bvh runs on the GPU");
-  const auto start = std::chrono::steady_clock::now();
-  nurbs::ray::SceneOptions o;
+  if (gpu) gpu_ = start_gpu(global);
+  queries::RayCasterOptions o;
+  o.method = args.method == "dacrt" ? queries::RayMethod::Dacrt : queries::RayMethod::Bvh;
+  o.threads = args.threads;
   o.tolerance = args.tolerance;
-  // The GPU pass tests trims on the §3.4 cubics; the CPU path on the exact flattened loops.
-  if (gpu) o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
-  scene_ = nurbs::ray::build_scene(nurbs::world_faces(model), o);
-  if (gpu) {
-    gpu_ = start_gpu(global);
-    gpu_caster_ = std::make_unique<queries::GpuRaycaster>(*gpu_, scene_);
-  }
-  build_seconds_ = seconds_since(start);
-}
-
-void RayEngine::rays_start_on_surfaces() {
-  if (!gpu_caster_) return;
-  near_guard_ = 4.0 * args_.tolerance * scene_.size;
-  gpu_caster_->set_near_guard(near_guard_);
+  caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), o, gpu_.get());
 }
 
 RayEngine::~RayEngine() {
-  gpu_caster_.reset();  // its textures before the context
+  caster_.reset();  // its textures before the context
   if (gpu_) report_profile(*gpu_, global_);
 }
 
 std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<nurbs::ray::Hit> out;
-  out.reserve(rays.size());
   Progress progress(what, "rays");
-  const size_t kChunk = gpu_caster_ ? gpu_caster_->rays_per_pass() : size_t(1) << 14;
-  const int threads = std::max(1, args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency()));
-  for (size_t first = 0; first < rays.size(); first += kChunk) {
-    const std::vector<nurbs::ray::Ray> chunk(rays.begin() + long(first),
-                                             rays.begin() + long(std::min(rays.size(), first + kChunk)));
-    std::vector<nurbs::ray::Hit> hits;
-    if (gpu_caster_) {
-      hits = gpu_caster_->cast(chunk, t_min);
-      const queries::RaycastGpuStats& g = gpu_caster_->stats();  // of this cast
-      box_tests_ += g.box_tests;
-      patch_tests_ += g.patch_tests;
-      gpu_seconds_ += g.gpu_seconds;
-      finish_seconds_ += g.cpu_seconds;
-      fallbacks_ += g.fallbacks;
-    } else if (args_.method == "dacrt") {
-      // DACRT keeps no structure: each thread takes a contiguous part of the rays.
-      std::vector<std::vector<nurbs::ray::Hit>> parts(static_cast<size_t>(threads));
-      std::vector<nurbs::ray::DacrtStats> stats(static_cast<size_t>(threads));
-      std::vector<std::thread> pool;
-      const size_t per = (chunk.size() + size_t(threads) - 1) / size_t(threads);
-      for (int t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] {
-          const size_t a = std::min(chunk.size(), size_t(t) * per), b = std::min(chunk.size(), a + per);
-          const std::vector<nurbs::ray::Ray> part(chunk.begin() + long(a), chunk.begin() + long(b));
-          parts[size_t(t)] = nurbs::ray::cast_rays_dacrt(scene_, part, t_min, {}, &stats[size_t(t)]);
-        });
-      for (auto& t : pool) t.join();
-      for (int t = 0; t < threads; ++t) {
-        hits.insert(hits.end(), parts[size_t(t)].begin(), parts[size_t(t)].end());
-        box_tests_ += stats[size_t(t)].box_tests;
-        patch_tests_ += stats[size_t(t)].patch_tests;
-      }
-    } else {
-      nurbs::ray::TraversalStats stats;
-      hits = nurbs::ray::cast_rays_parallel(scene_, chunk, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);
-      box_tests_ += stats.box_tests;
-      patch_tests_ += stats.patch_tests;
-    }
-    out.insert(out.end(), hits.begin(), hits.end());
-    progress.update(static_cast<long long>(out.size()), static_cast<long long>(rays.size()));
-  }
-  rays_ += static_cast<long long>(rays.size());
-  cast_seconds_ += seconds_since(start);
-  return out;
+  return caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
 }
 
 nlohmann::json RayEngine::figures() const {
-  size_t trim_bytes = 0;
-  for (const auto& t : scene_.trims)
-    for (const auto& l : t.loops) trim_bytes += l.size() * sizeof(glm::dvec2);
-  for (const auto& c : scene_.cubics) trim_bytes += c.cubics.size() * sizeof(nurbs::ray::TrimCubic);
-  const double per_ray = rays_ > 0 ? 1.0 / double(rays_) : 0.0;
+  const queries::RayCasterFigures& f = caster_->figures();
+  const double per_ray = f.rays > 0 ? 1.0 / double(f.rays) : 0.0;
   nlohmann::json gpu = nullptr;
-  if (gpu_caster_) {
-    const queries::RaycastGpuStats& g = gpu_caster_->stats();
+  if (gpu_)
     gpu = {{"renderer", gpu_->info().renderer},
-           {"gpu_seconds", gpu_seconds_},
-           {"cpu_seconds", finish_seconds_},
-           {"fallbacks", fallbacks_},
-           {"near_guard", near_guard_},
-           {"texture_bytes", {{"bvh", g.bytes_bvh}, {"patches", g.bytes_patches}, {"trims", g.bytes_trims}}}};
-  }
+           {"gpu_seconds", f.gpu_seconds},
+           {"cpu_seconds", f.finish_seconds},
+           {"fallbacks", f.fallbacks},
+           {"near_guard", f.near_guard}};
   return {{"method", args_.method},
           {"device", args_.device},
           {"gpu", gpu},
           {"threads", args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency())},
-          {"faces", scene_.faces.size()},
-          {"patches", scene_.patches.size()},
-          {"bicubic_tolerance", args_.tolerance * scene_.size},
-          {"seconds_build", build_seconds_},
-          {"seconds_cast", cast_seconds_},
-          {"rays_per_second", cast_seconds_ > 0 ? double(rays_) / cast_seconds_ : 0.0},
-          {"tests_per_ray", {{"box", double(box_tests_) * per_ray}, {"patch", double(patch_tests_) * per_ray}}},
-          {"memory_bytes",
-           {{"bvh", args_.method == "bvh" ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0},
-            {"patches", scene_.patches.size() * sizeof(nurbs::ray::BicubicPatch)},
-            {"trims", trim_bytes}}}};
+          {"faces", scene().faces.size()},
+          {"patches", scene().patches.size()},
+          {"bicubic_tolerance", args_.tolerance * scene().size},
+          {"seconds_build", f.build_seconds},
+          {"seconds_cast", f.cast_seconds},
+          {"rays_per_second", f.cast_seconds > 0 ? double(f.rays) / f.cast_seconds : 0.0},
+          {"tests_per_ray", {{"box", double(f.box_tests) * per_ray}, {"patch", double(f.patch_tests) * per_ray}}},
+          {"memory_bytes", {{"bvh", f.bytes_bvh}, {"patches", f.bytes_patches}, {"trims", f.bytes_trims}}}};
 }
 
 }  // namespace cli
