@@ -27,47 +27,7 @@ struct ThicknessArgs {
   RayEngineArgs engine;
 };
 
-/// Thickness per sample of every face (grid order), -1 where no ray or no hit.
-using Thickness = std::vector<std::vector<double>>;
-
-/// Blue (thin) to red (thick) through cyan, green and yellow; grey for samples without a hit.
-glm::dvec3 colour(double t, double lo, double hi) {
-  if (t < 0) return glm::dvec3(0.5);
-  const double x = hi > lo ? std::clamp((t - lo) / (hi - lo), 0.0, 1.0) : 0.0;
-  return glm::clamp(glm::dvec3(std::min(4 * x - 1.5, -4 * x + 4.5), std::min(4 * x - 0.5, -4 * x + 3.5),
-                               std::min(4 * x + 0.5, -4 * x + 2.5)),
-                    0.0, 1.0);
-}
-
-/// The sample grids as one mesh: a vertex per material sample, two triangles per grid cell whose
-/// four samples are material, oriented with the outward normal (= -inward).
-nurbs::TriangleMesh thickness_mesh(const nurbs::ray::ThicknessSamples& s, const Thickness& th, double lo, double hi) {
-  nurbs::TriangleMesh m;
-  for (size_t f = 0; f < s.faces.size(); ++f) {
-    const auto& g = s.faces[f];
-    std::vector<int> id(g.uv.size(), -1);
-    for (size_t k = 0; k < g.uv.size(); ++k) {
-      if (!g.material[k]) continue;
-      id[k] = static_cast<int>(m.positions.size());
-      m.positions.push_back(g.point[k]);
-      m.normals.push_back(-g.inward[k]);
-      m.uv.push_back(g.uv[k]);
-      m.vertex_face.push_back(g.face);
-      m.colors.push_back(colour(th[f][k], lo, hi));
-    }
-    const bool flip = s.inward_sign[size_t(g.face)] > 0;  // Su x Sv points inward: reverse the grid's order
-    for (int j = 0; j + 1 < g.nv; ++j)
-      for (int i = 0; i + 1 < g.nu; ++i) {
-        const int a = id[size_t(j * g.nu + i)], b = id[size_t(j * g.nu + i + 1)], c = id[size_t((j + 1) * g.nu + i)],
-                  d = id[size_t((j + 1) * g.nu + i + 1)];
-        if (a < 0 || b < 0 || c < 0 || d < 0) continue;
-        m.triangles.push_back(flip ? glm::ivec3(a, d, b) : glm::ivec3(a, b, d));
-        m.triangles.push_back(flip ? glm::ivec3(a, c, d) : glm::ivec3(a, d, c));
-        m.triangle_face.insert(m.triangle_face.end(), 2, g.face);
-      }
-  }
-  return m;
-}
+using Thickness = nurbs::ray::SampleThickness;
 
 void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
                const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays) {
@@ -140,7 +100,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   }
   std::sort(values.begin(), values.end());
   const double median = values.empty() ? -1.0 : values[values.size() / 2];
-  if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, thickness_mesh(samples, th, lo, hi));
+  if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, nurbs::ray::thickness_mesh(samples, th, lo, hi));
   if (!a.csv.empty()) write_csv(a.csv, samples, th, hits, rays);
   if (!a.exr.empty()) write_exr_maps(a.exr, samples, th);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -201,6 +201,45 @@ ThicknessRays thickness_rays(const ThicknessSamples& samples) {
   return out;
 }
 
+glm::dvec3 thickness_colour(double t, double lo, double hi) {
+  if (t < 0) return glm::dvec3(0.5);
+  const double x = hi > lo ? std::clamp((t - lo) / (hi - lo), 0.0, 1.0) : 0.0;
+  return glm::clamp(glm::dvec3(std::min(4 * x - 1.5, -4 * x + 4.5), std::min(4 * x - 0.5, -4 * x + 3.5),
+                               std::min(4 * x + 0.5, -4 * x + 2.5)),
+                    0.0, 1.0);
+}
+
+TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickness& thickness, double lo, double hi,
+                            std::vector<double>* vertex_thickness) {
+  TriangleMesh m;
+  if (vertex_thickness) vertex_thickness->clear();
+  for (size_t f = 0; f < samples.faces.size(); ++f) {
+    const FaceSamples& g = samples.faces[f];
+    std::vector<int> id(g.uv.size(), -1);
+    for (size_t k = 0; k < g.uv.size(); ++k) {
+      if (!g.material[k]) continue;
+      id[k] = static_cast<int>(m.positions.size());
+      m.positions.push_back(g.point[k]);
+      m.normals.push_back(-g.inward[k]);
+      m.uv.push_back(g.uv[k]);
+      m.vertex_face.push_back(g.face);
+      m.colors.push_back(thickness_colour(thickness[f][k], lo, hi));
+      if (vertex_thickness) vertex_thickness->push_back(thickness[f][k]);
+    }
+    const bool flip = samples.inward_sign[size_t(g.face)] > 0;  // Su x Sv points inward: reverse the grid's order
+    for (int j = 0; j + 1 < g.nv; ++j)
+      for (int i = 0; i + 1 < g.nu; ++i) {
+        const size_t k = static_cast<size_t>(j) * static_cast<size_t>(g.nu) + static_cast<size_t>(i);
+        const int a = id[k], b = id[k + 1], c = id[k + size_t(g.nu)], d = id[k + size_t(g.nu) + 1];
+        if (a < 0 || b < 0 || c < 0 || d < 0) continue;
+        m.triangles.push_back(flip ? glm::ivec3(a, d, b) : glm::ivec3(a, b, d));
+        m.triangles.push_back(flip ? glm::ivec3(a, c, d) : glm::ivec3(a, d, c));
+        m.triangle_face.insert(m.triangle_face.end(), 2, g.face);
+      }
+  }
+  return m;
+}
+
 std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min, Traversal traversal,
                                     int threads, TraversalStats* stats) {
   std::vector<Hit> out(rays.size());

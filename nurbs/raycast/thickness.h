@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "nurbs/raycast/raycast_cpu.h"
+#include "nurbs/triangle_mesh.h"
 
 namespace nurbs::ray {
 
@@ -69,6 +70,19 @@ struct ThicknessRays {
   std::vector<std::pair<int, int>> source;  ///< (index in ThicknessSamples::faces, grid index)
 };
 [[nodiscard]] ThicknessRays thickness_rays(const ThicknessSamples& samples);
+
+/// Thickness per sample of every face (ThicknessSamples::faces order, grid order), -1 where there
+/// is no ray or no hit.
+using SampleThickness = std::vector<std::vector<double>>;
+
+/// Blue (thin, t <= lo) to red (thick, t >= hi) through cyan, green and yellow; grey for t < 0.
+[[nodiscard]] glm::dvec3 thickness_colour(double t, double lo, double hi);
+
+/// The sample grids as one mesh: a vertex per material sample (normal = -inward, (u, v), face,
+/// colour by thickness_colour), two triangles per grid cell whose four samples are material,
+/// counter-clockwise seen from outside. `vertex_thickness` (optional) gets each vertex's thickness.
+[[nodiscard]] TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickness& thickness, double lo,
+                                          double hi, std::vector<double>* vertex_thickness = nullptr);
 
 /// Every ray's hits, parallel over `threads` (0: all hardware threads), deterministic.
 [[nodiscard]] std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min,

@@ -116,3 +116,31 @@ TEST_CASE("thickness: the vase's wall is 2 mm" * test::needs_shared_models()) {
   long long near_two = std::count_if(t.begin(), t.end(), [](double x) { return std::abs(x - 2.0) < 0.02; });
   CHECK(double(near_two) > 0.9 * double(t.size()));
 }
+
+TEST_CASE("thickness: the coloured mesh of the samples faces outward, one vertex per sample") {
+  // Outer sphere only: inward = towards the centre, every ray crosses the ball (thickness 2 R).
+  const Scene scene = build_scene({face_of(models::rational_sphere(10.0))});
+  const Result r = thickness_of(scene, 1.5);
+  SampleThickness th(r.samples.faces.size());
+  for (size_t f = 0; f < th.size(); ++f) th[f].assign(r.samples.faces[f].uv.size(), -1.0);
+  for (size_t k = 0; k < r.hits.size(); ++k)
+    th[size_t(r.rays.source[k].first)][size_t(r.rays.source[k].second)] = r.hits[k].t;
+  std::vector<double> per_vertex;
+  const TriangleMesh m = thickness_mesh(r.samples, th, 0.0, 40.0, &per_vertex);
+  CHECK(static_cast<long long>(m.positions.size()) == r.samples.count());
+  REQUIRE(m.triangles.size() > 500);
+  int inward = 0;
+  for (const glm::ivec3& t : m.triangles) {
+    const glm::dvec3 n = glm::cross(m.positions[size_t(t.y)] - m.positions[size_t(t.x)],
+                                    m.positions[size_t(t.z)] - m.positions[size_t(t.x)]);
+    inward += glm::dot(n, m.positions[size_t(t.x)]) < 0.0;  // outward = away from the centre
+  }
+  CHECK(inward == 0);
+  for (size_t v = 0; v < per_vertex.size(); ++v) {
+    CHECK(per_vertex[v] == doctest::Approx(20.0).epsilon(1e-9));
+    CHECK(glm::length(m.colors[v] - thickness_colour(20.0, 0.0, 40.0)) < 1e-9);  // mid-scale: green
+  }
+  CHECK(thickness_colour(20.0, 0.0, 40.0) == glm::dvec3(0.5, 1.0, 0.5));
+  CHECK(thickness_colour(0.0, 0.0, 40.0) == glm::dvec3(0.0, 0.0, 0.5));  // thin: dark blue
+  CHECK(thickness_colour(-1.0, 0.0, 40.0) == glm::dvec3(0.5));           // no hit: grey
+}
