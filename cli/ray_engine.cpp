@@ -72,6 +72,13 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
   cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--dacrt-patches", args.dacrt_patches,
+                  "dacrt: test every ray against every patch once a patch set is this small (Figs. 8-9)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  cmd->add_option("--dacrt-rays", args.dacrt_rays, "dacrt: ... or once a ray set is this small")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
   cmd->add_option("--tolerance", args.tolerance,
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
                   "exact face)")
@@ -88,6 +95,8 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
   o.method = args.method == "dacrt" ? queries::RayMethod::Dacrt : queries::RayMethod::Bvh;
   o.threads = args.threads;
   o.tolerance = args.tolerance;
+  o.dacrt.patch_leaf = args.dacrt_patches;
+  o.dacrt.ray_leaf = args.dacrt_rays;
   caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), o, gpu_.get());
 }
 
@@ -111,7 +120,10 @@ nlohmann::json RayEngine::figures() const {
            {"cpu_seconds", f.finish_seconds},
            {"fallbacks", f.fallbacks},
            {"near_guard", f.near_guard}};
+  nlohmann::json dacrt = nullptr;
+  if (args_.method == "dacrt") dacrt = {{"patch_leaf", args_.dacrt_patches}, {"ray_leaf", args_.dacrt_rays}};
   return {{"method", args_.method},
+          {"dacrt", dacrt},
           {"device", args_.device},
           {"gpu", gpu},
           {"threads", args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency())},

@@ -22,10 +22,11 @@ namespace cli {
 [[nodiscard]] std::vector<nurbs::ray::Ray> read_rays(const std::string& path);
 
 struct RayEngineArgs {
-  std::string method = "bvh";  ///< bvh: Morton BVH, stackless traversal; dacrt: divide and conquer
-  std::string device = "cpu";  ///< cpu: the double-precision path; gpu: the fragment-shader pass (bvh only)
-  int threads = 0;             ///< 0 = every hardware thread
-  double tolerance = 1e-5;     ///< bicubic tolerance relative to the model size
+  std::string method = "bvh";             ///< bvh: Morton BVH, stackless traversal; dacrt: divide and conquer
+  std::string device = "cpu";             ///< cpu: the double-precision path; gpu: the fragment-shader pass (bvh only)
+  int threads = 0;                        ///< 0 = every hardware thread
+  double tolerance = 1e-5;                ///< bicubic tolerance relative to the model size
+  int dacrt_patches = 8, dacrt_rays = 8;  ///< DACRT's brute-force thresholds
 };
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args);
 

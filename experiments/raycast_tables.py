@@ -15,8 +15,11 @@ in the same run on the same machine. Per model:
             the hit moved onto the exact NURBS face in double) and |t - t_occt|; the fraction of
             samples within 1e-3 mm (the issue's goal: 99 %; the paper reached 55 %).
   thickness `nurbsgl thickness --samples S`: rays per second, min / median thickness.
+  dacrt     Figs. 8-9: DACRT's rays per second and tests per ray over its two brute-force thresholds
+            (patch set, ray set) on the first model.
 
-Writes rays.csv, accuracy.csv, thickness.csv, accuracy.png (histograms) and summary.txt (also on
+Writes rays.csv, accuracy.csv, thickness.csv, dacrt.csv, accuracy.png (histograms), dacrt.png and
+summary.txt (also on
 stdout). Benchmarks, not tests: nothing fails on a slow figure; a command that fails is reported.
 """
 import argparse
@@ -171,7 +174,41 @@ def main():
             summary.append(f"    thickness: {th['rays']} samples, {th['hits']} hits, "
                            f"{th['thickness_rays_per_second']:.0f} rays/s, min {th['thickness']['min']:.4g}, "
                            f"median {th['thickness']['median']:.4g}")
-    for fname, data in (("rays.csv", rows), ("accuracy.csv", acc_rows), ("thickness.csv", th_rows)):
+    dacrt_rows = []
+    if models and os.path.exists(os.path.join(a.shared, models[0])):
+        name = os.path.splitext(os.path.basename(models[0]))[0]
+        rays = os.path.join(out, f"{name}_rays.txt")
+        print(f"{name}: DACRT thresholds", file=sys.stderr)
+        for pl in (2, 8, 32, 128):
+            for rl in (2, 8, 32, 128):
+                j = run_json([nurbsgl, "raycast", os.path.join(a.shared, models[0]), "--rays", rays, "--method", "dacrt",
+                              "--dacrt-patches", str(pl), "--dacrt-rays", str(rl), "--json"])
+                if j is not None:
+                    dacrt_rows.append({"model": name, "patch_leaf": pl, "ray_leaf": rl,
+                                       "rays_per_second": round(j["rays_per_second"]),
+                                       "box_tests_per_ray": round(j["tests_per_ray"]["box"], 2),
+                                       "patch_tests_per_ray": round(j["tests_per_ray"]["patch"], 2)})
+        if dacrt_rows:
+            best = max(dacrt_rows, key=lambda r: r["rays_per_second"])
+            summary.append(f"DACRT thresholds on {name}: best patch leaf {best['patch_leaf']}, ray leaf "
+                           f"{best['ray_leaf']}: {best['rays_per_second']} rays/s")
+            fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+            for rl in (2, 8, 32, 128):
+                pts = [r for r in dacrt_rows if r["ray_leaf"] == rl]
+                axes[0].plot([r["patch_leaf"] for r in pts], [r["rays_per_second"] for r in pts], "o-",
+                             label=f"ray leaf {rl}")
+                axes[1].plot([r["patch_leaf"] for r in pts], [r["patch_tests_per_ray"] for r in pts], "o-",
+                             label=f"ray leaf {rl}")
+            for ax, yl in ((axes[0], "rays per second"), (axes[1], "patch tests per ray")):
+                ax.set_xscale("log", base=2)
+                ax.set_xlabel("patch leaf threshold")
+                ax.set_ylabel(yl)
+                ax.legend(fontsize=8)
+            fig.suptitle(f"DACRT thresholds, {name} (Lemasson et al. Figs. 8-9)")
+            fig.tight_layout()
+            fig.savefig(os.path.join(out, "dacrt.png"), dpi=120)
+    for fname, data in (("rays.csv", rows), ("accuracy.csv", acc_rows), ("thickness.csv", th_rows),
+                        ("dacrt.csv", dacrt_rows)):
         if data:
             keys = list(dict.fromkeys(k for r in data for k in r))
             with open(os.path.join(out, fname), "w", newline="") as f:

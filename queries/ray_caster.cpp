@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "nurbs/raycast/dacrt.h"
 #include "nurbs/raycast/thickness.h"
 #include "queries/raycast_gpu.h"
 
@@ -18,7 +17,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 /// DACRT keeps no structure: each thread takes a contiguous part of the rays.
 std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, const std::vector<nurbs::ray::Ray>& rays,
-                                            double t_min, int threads, RayCasterFigures& f) {
+                                            double t_min, int threads, const nurbs::ray::DacrtOptions& options,
+                                            RayCasterFigures& f) {
   std::vector<std::vector<nurbs::ray::Hit>> parts(static_cast<size_t>(threads));
   std::vector<nurbs::ray::DacrtStats> stats(static_cast<size_t>(threads));
   std::vector<std::thread> pool;
@@ -27,7 +27,7 @@ std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, cons
     pool.emplace_back([&, t] {
       const size_t a = std::min(rays.size(), size_t(t) * per), b = std::min(rays.size(), a + per);
       const std::vector<nurbs::ray::Ray> part(rays.begin() + long(a), rays.begin() + long(b));
-      parts[size_t(t)] = nurbs::ray::cast_rays_dacrt(scene, part, t_min, {}, &stats[size_t(t)]);
+      parts[size_t(t)] = nurbs::ray::cast_rays_dacrt(scene, part, t_min, options, &stats[size_t(t)]);
     });
   for (auto& t : pool) t.join();
   std::vector<nurbs::ray::Hit> hits;
@@ -90,7 +90,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
       f.fallbacks += g.fallbacks;
       f.bytes_bvh = g.bytes_bvh, f.bytes_patches = g.bytes_patches, f.bytes_trims = g.bytes_trims;
     } else if (options_.method == RayMethod::Dacrt) {
-      hits = dacrt_parallel(scene_, chunk, t_min, threads, f);
+      hits = dacrt_parallel(scene_, chunk, t_min, threads, options_.dacrt, f);
     } else {
       nurbs::ray::TraversalStats stats;
       hits = nurbs::ray::cast_rays_parallel(scene_, chunk, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gpgpu/gpu.h"
+#include "nurbs/raycast/dacrt.h"
 #include "nurbs/raycast/raycast_cpu.h"
 
 namespace queries {
@@ -20,8 +21,9 @@ enum class RayMethod { Bvh, Dacrt };
 
 struct RayCasterOptions {
   RayMethod method = RayMethod::Bvh;
-  int threads = 0;          ///< CPU threads, 0 = every hardware thread
-  double tolerance = 1e-5;  ///< bicubic tolerance relative to the model size
+  int threads = 0;                 ///< CPU threads, 0 = every hardware thread
+  double tolerance = 1e-5;         ///< bicubic tolerance relative to the model size
+  nurbs::ray::DacrtOptions dacrt;  ///< DACRT's two brute-force thresholds (patches, rays)
 };
 
 /// Totals over every cast so far.
