@@ -20,6 +20,7 @@
 #include "cli/validators.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/rigid_motion.h"
 #include "queries/clearance.h"
 #include "queries/voxel_stage.h"
 
@@ -37,27 +38,19 @@ struct Options {
 
 /// `count` finite numbers separated by commas or spaces; `what` names the option in errors.
 std::vector<double> numbers(const std::string& text, size_t count, const std::string& what) {
-  std::string spaced = text;
-  for (char& c : spaced)
-    if (c == ',') c = ' ';
-  std::istringstream in(spaced);
-  std::vector<double> v;
-  double x;
-  while (in >> x) v.push_back(x);
-  std::string rest;
-  if (v.size() != count || !in.eof() || std::any_of(v.begin(), v.end(), [](double y) { return !std::isfinite(y); }))
+  std::vector<double> v(count);
+  if (!nurbs::parse_numbers(text, int(count), v.data()))
     throw BadInput(fmt::format("{}: '{}' is not {} finite numbers", what, text, count));
   return v;
 }
 
-/// Rotation by deg degrees about `axis` through the origin, then the move t; `what` names the source.
+/// nurbs::rigid_motion; `what` names the source in errors.
 glm::dmat4 rigid_motion(const glm::dvec3& t, const glm::dvec3& axis, double deg, const std::string& what) {
-  glm::dmat4 m(1.0);
-  if (deg != 0.0) {
-    if (glm::length(axis) == 0) throw BadInput(fmt::format("{}: the rotation axis is zero", what));
-    m = glm::rotate(m, deg * M_PI / 180.0, glm::normalize(axis));
+  try {
+    return nurbs::rigid_motion(t, axis, deg);
+  } catch (const std::invalid_argument& e) {
+    throw BadInput(fmt::format("{}: {}", what, e.what()));
   }
-  return glm::translate(glm::dmat4(1.0), t) * m;
 }
 
 /// The motions of B: one from --rotate-b / --move-b, or one per line of --motion FILE.

@@ -12,6 +12,22 @@
 
 namespace nurbs::io {
 
+FaceSummary summarize_face(const TrimmedSurface& f) {
+  FaceSummary fs;
+  fs.face_id = f.face_id;
+  fs.name = f.name;
+  fs.degree_u = f.surface.degree_u;
+  fs.degree_v = f.surface.degree_v;
+  fs.count_u = f.surface.count_u;
+  fs.count_v = f.surface.count_v;
+  fs.rational = f.surface.rational();
+  for (const TrimLoop& l : f.loops) {
+    (l.outer ? fs.outer_loops : fs.inner_loops) += 1;
+    fs.trim_curves += static_cast<int>(l.curves.size());
+  }
+  return fs;
+}
+
 ModelSummary summarize(const Model& model) {
   ModelSummary s;
   s.source = model.source;
@@ -22,19 +38,8 @@ ModelSummary summarize(const Model& model) {
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = model.bodies[b];
     for (const TrimmedSurface& f : body.faces) {
-      FaceSummary fs;
+      FaceSummary fs = summarize_face(f);
       fs.body = static_cast<int>(b);
-      fs.face_id = f.face_id;
-      fs.name = f.name;
-      fs.degree_u = f.surface.degree_u;
-      fs.degree_v = f.surface.degree_v;
-      fs.count_u = f.surface.count_u;
-      fs.count_v = f.surface.count_v;
-      fs.rational = f.surface.rational();
-      for (const TrimLoop& l : f.loops) {
-        (l.outer ? fs.outer_loops : fs.inner_loops) += 1;
-        fs.trim_curves += static_cast<int>(l.curves.size());
-      }
       for (const glm::dvec3& p : f.surface.points) {
         const glm::dvec3 q(body.transform * glm::dvec4(p, 1.0));
         lo = glm::min(lo, q);

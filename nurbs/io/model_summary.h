@@ -51,6 +51,9 @@ struct ModelSummary {
 /// Collects the summary of `model`.
 ModelSummary summarize(const Model& model);
 
+/// One face's line of the summary (degrees, control points, loops); body left 0.
+FaceSummary summarize_face(const TrimmedSurface& face);
+
 /// Human-readable text, one fact per line; with `per_face` a line per face follows.
 std::string to_text(const ModelSummary& s, bool per_face = false);
 

@@ -1,0 +1,20 @@
+#pragma once
+/// \file rigid_motion.h
+/// The rigid motion of a second model as `nurbsgl clearance` and the viewer take it: a rotation by
+/// DEG degrees about an axis through the origin, then a move; and the number lists it is written
+/// in ("1,2,3" or "1 2 3").
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <string>
+
+namespace nurbs {
+
+/// Rotation by `deg` degrees about `axis` (through the origin), then the move `move`. A zero axis
+/// is only allowed with deg = 0 (std::invalid_argument otherwise).
+[[nodiscard]] glm::dmat4 rigid_motion(const glm::dvec3& move, const glm::dvec3& axis, double deg);
+
+/// Exactly `count` finite numbers separated by commas or spaces into out[0 .. count-1]; false
+/// (out unspecified) otherwise.
+[[nodiscard]] bool parse_numbers(const std::string& text, int count, double* out);
+
+}  // namespace nurbs

@@ -1,0 +1,75 @@
+// Clearance mode: both models prepared once as `nurbsgl clearance` prepares them (coarse-to-fine
+// search, K_e <= tol x the larger model size, cli/cmd_clearance.cpp), one query per change of B's
+// placement (the paper's Fig. 16 interaction: B's hierarchy refitted under the motion, A's kept in
+// a ClearanceCache as the CLI's --motion keeps it).
+#include <chrono>
+
+#include "viewer/app.h"
+#include "viewer/overlays.h"
+
+namespace viewer {
+
+void App::prepare_clearance() {
+  const double tolerance = options_.rel_tolerance * std::max(a_->size, b_->size);
+  const auto t0 = std::chrono::steady_clock::now();
+  prep_a_ = std::make_unique<queries::PreparedModel>(
+      queries::prepare_model(*gpu_, a_->faces, tolerance, 1LL << 22, queries::Search::CoarseToFine));
+  prep_b_ = std::make_unique<queries::PreparedModel>(
+      queries::prepare_model(*gpu_, b_->faces, tolerance, 1LL << 22, queries::Search::CoarseToFine));
+  cache_ = std::make_unique<queries::ClearanceCache>();  // A's hierarchy, reused by every query
+  gpu_->finish();
+  prepare_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void App::query_clearance() {
+  clearance_dirty_ = false;
+  try {
+    if (!prep_a_) prepare_clearance();
+    const auto t0 = std::chrono::steady_clock::now();
+    queries::Clearance c =
+        queries::clearance(*gpu_, *prep_a_, *prep_b_, motion_b(), nullptr, nullptr, {}, cache_.get());
+    query_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (!c.found) {
+      clearance_.reset();
+      clearance_error_ = "no pair of surface points found (every cell trimmed away?)";
+      return;
+    }
+    clearance_ = std::move(c);
+    clearance_error_.clear();
+    if (show_culled_) {  // §5.4 for this placement: which faces the voxel pairs keep
+      if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_a_));
+      if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_b_));
+      voxel_stage_ = queries::voxel_stage(*gpu_, *voxels_a_, *voxels_b_, motion_b());
+      overlay_dirty_ = true;
+    }
+  } catch (const std::exception& e) {
+    // A model the queries cannot prepare (a face beyond the sample budget): said in the panel.
+    clearance_.reset();
+    clearance_error_ = e.what();
+  }
+}
+
+void App::rebuild_overlays() {
+  overlay_dirty_ = false;
+  overlay_a_.clear();
+  overlay_b_.clear();
+  if (!prep_a_) return;
+  if (show_cells_) {
+    constexpr long long kMaxBoxes = 60000;  // per model: more lines than that are no longer readable
+    const long long na = add_cell_boxes(*prep_a_, cell_level_, kMaxBoxes, {0.3f, 0.8f, 1.0f}, overlay_a_);
+    const long long nb = add_cell_boxes(*prep_b_, cell_level_, kMaxBoxes, {1.0f, 0.6f, 0.2f}, overlay_b_);
+    cell_boxes_ = na < 0 || nb < 0 ? -1 : na + nb;
+  }
+  if (show_voxels_) {
+    if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_a_));
+    if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_b_));
+    add_voxels(*voxels_a_, {0.6f, 0.45f, 0.95f}, overlay_a_);
+    add_voxels(*voxels_b_, {0.95f, 0.45f, 0.6f}, overlay_b_);
+  }
+  if (show_culled_ && voxel_stage_) {
+    add_face_boxes(prep_a_->faces, voxel_stage_->faces_a, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_a_);
+    add_face_boxes(prep_b_->faces, voxel_stage_->faces_b, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_b_);
+  }
+}
+
+}  // namespace viewer

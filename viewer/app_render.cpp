@@ -1,0 +1,147 @@
+// Drawing the scene into the window's default framebuffer. Every piece of state a draw needs is
+// set here each frame: the GPU queries run passes into their own framebuffers between frames.
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gpgpu/gl_api.h"
+#include "viewer/app.h"
+#include "viewer/gl_extra.h"
+
+namespace viewer {
+
+namespace gl = gpgpu::gl;
+
+namespace {
+
+/// The distance segment's colour: pure magenta, used by nothing else, so that the screenshot test
+/// can find the segment by counting exact pixels (viewer/check_screenshot.cpp).
+constexpr glm::vec3 kSegmentColor{1.0f, 0.0f, 1.0f};
+
+void set_mvp(const gpgpu::Program& p, const glm::dmat4& view_projection, const glm::dmat4& model) {
+  const glm::mat4 mvp(view_projection * model);
+  p.set_mat4("u_mvp", glm::value_ptr(mvp));
+}
+
+}  // namespace
+
+void App::rebuild_selection_overlay() {
+  selection_overlay_.clear();
+  const SceneModel* m = picked_model_ == 0 ? a_.get() : picked_model_ == 1 ? b_.get() : nullptr;
+  if (m == nullptr || picked_face_ < 0 || picked_face_ >= static_cast<int>(m->faces.size())) return;
+  add_control_net(m->faces[picked_face_], {0.95f, 0.85f, 0.2f}, selection_overlay_);
+  add_trim_loops(m->faces[picked_face_], {0.1f, 0.9f, 0.95f}, selection_overlay_);
+}
+
+void App::render_scene(int width, int height) {
+  gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::Viewport(0, 0, width, height);
+  for (GLenum cap : {GL_BLEND, GL_STENCIL_TEST, GL_SCISSOR_TEST, GL_CULL_FACE}) gl::Disable(cap);
+  gl::ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glx::DepthMask(GL_TRUE);
+  const float background[4] = {0.16f, 0.17f, 0.2f, 1.0f}, depth = 1.0f;
+  gl::ClearNamedFramebufferfv(0, GL_COLOR, 0, background);
+  gl::ClearNamedFramebufferfv(0, GL_DEPTH, 0, &depth);
+  if (!a_ || width <= 0 || height <= 0) return;
+
+  gl::Enable(GL_DEPTH_TEST);
+  glx::DepthFunc(GL_LEQUAL);
+  const glm::dmat4 view = camera_.view();
+  const glm::dmat4 vp = camera_.projection(double(width) / height) * view;
+  const bool show_b = mode_ == Mode::Clearance && has_b();
+  const gpgpu::Program& mp = *mesh_program_;
+
+  struct Item {
+    MeshBuffers* buffers;
+    glm::dmat4 model;
+    glm::vec3 color;
+    int index;  // 0 = A, 1 = B
+  };
+  std::vector<Item> items;
+  if (mode_ == Mode::Thickness && thickness_.ready()) {
+    items.push_back({&thickness_.buffers, glm::dmat4(1.0), {0.7f, 0.7f, 0.7f}, 0});
+  } else {
+    items.push_back({&a_->buffers, glm::dmat4(1.0), {0.62f, 0.68f, 0.78f}, 0});
+    if (show_b) items.push_back({&b_->buffers, motion_b(), {0.78f, 0.66f, 0.52f}, 1});
+  }
+  const bool wire_only = mode_ == Mode::Tessellation && wireframe_;
+  for (const Item& it : items) {
+    set_mvp(mp, vp, it.model);
+    const glm::mat4 mv(view * it.model);
+    mp.set_mat4("u_model_view", glm::value_ptr(mv));
+    mp.set("u_picked_face", picked_model_ == it.index ? float(picked_face_) : -1.0f);
+    const bool thick = mode_ == Mode::Thickness && thickness_.ready();
+    mp.set("u_style", thick ? 1 : 0);
+    mp.set("u_range", float(thickness_.lo), float(thickness_.hi));
+    mp.set("u_threshold", thick_threshold_);
+    mp.set("u_color", it.color.x, it.color.y, it.color.z);
+    if (!wire_only) {
+      // Pushed back so that edges and trim loops drawn on the surface win the depth test.
+      gl::Enable(GL_POLYGON_OFFSET_FILL);
+      glx::PolygonOffset(1.0f, 1.0f);
+      it.buffers->draw(mp);
+      gl::Disable(GL_POLYGON_OFFSET_FILL);
+    }
+    if (mode_ == Mode::Tessellation) {  // the triangles' edges
+      mp.set("u_style", 2);
+      const glm::vec3 edge = wire_only ? glm::vec3(0.85f, 0.9f, 0.95f) : 0.4f * it.color;
+      mp.set("u_color", edge.x, edge.y, edge.z);
+      glx::PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+      it.buffers->draw(mp);
+      glx::PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+  }
+
+  const gpgpu::Program& lp = *line_program_;
+  if (show_edges_ && mode_ != Mode::Tessellation && mode_ != Mode::Thickness) {
+    set_mvp(lp, vp, glm::dmat4(1.0));
+    edges_a_.draw(lp);
+    if (show_b) {
+      set_mvp(lp, vp, motion_b());
+      edges_b_.draw(lp);
+    }
+  }
+  if (show_b) {  // the search's boxes (overlays.h), B's in its own moved frame
+    if (overlay_dirty_) rebuild_overlays();
+    set_mvp(lp, vp, glm::dmat4(1.0));
+    overlay_a_.draw(lp);
+    set_mvp(lp, vp, motion_b());
+    overlay_b_.draw(lp);
+  }
+  if (!selection_overlay_.empty() && (picked_model_ == 0 || show_b)) {
+    gl::Disable(GL_DEPTH_TEST);  // the control net lies off the surface: always in view
+    set_mvp(lp, vp, picked_model_ == 1 ? motion_b() : glm::dmat4(1.0));
+    selection_overlay_.draw(lp);
+    gl::Enable(GL_DEPTH_TEST);
+  }
+  if (mode_ == Mode::Clearance && clearance_) draw_segment(vp, width, height);
+  gl::Disable(GL_DEPTH_TEST);
+  gl::check_error("viewer scene");
+}
+
+void App::draw_segment(const glm::dmat4& view_projection, int width, int height) {
+  // A quad 3 pixels wide in normalised device coordinates, and a 7-pixel square at each end: core
+  // profile lines are one pixel wide. On top of everything (depth test off).
+  segment_.clear();
+  const glm::dvec4 ca = view_projection * glm::dvec4(clearance_->point_a, 1.0);
+  const glm::dvec4 cb = view_projection * glm::dvec4(clearance_->point_b, 1.0);
+  if (ca.w <= 0.0 || cb.w <= 0.0) return;  // an end behind the eye
+  const glm::dvec2 pa = glm::dvec2(ca) / ca.w, pb = glm::dvec2(cb) / cb.w;
+  const glm::dvec2 px(2.0 / width, 2.0 / height);  // one pixel in NDC
+  glm::dvec2 dir = (pb - pa) / px;
+  const double len = glm::length(dir);
+  dir = len > 0.0 ? dir / len : glm::dvec2(1.0, 0.0);
+  const glm::dvec2 n = glm::dvec2(-dir.y, dir.x) * 1.5 * px;
+  auto at = [](glm::dvec2 p) { return glm::dvec3(p, 0.0); };
+  segment_.triangle(at(pa - n), at(pb - n), at(pb + n), kSegmentColor);
+  segment_.triangle(at(pa - n), at(pb + n), at(pa + n), kSegmentColor);
+  for (const glm::dvec2 p : {pa, pb}) {
+    const glm::dvec2 h = 3.5 * px;
+    segment_.triangle(at(p - h), at(p + glm::dvec2(h.x, -h.y)), at(p + h), kSegmentColor);
+    segment_.triangle(at(p - h), at(p + h), at(p + glm::dvec2(-h.x, h.y)), kSegmentColor);
+  }
+  gl::Disable(GL_DEPTH_TEST);
+  const glm::mat4 identity(1.0f);
+  line_program_->set_mat4("u_mvp", glm::value_ptr(identity));
+  segment_.draw(*line_program_);
+}
+
+}  // namespace viewer

@@ -1,0 +1,74 @@
+// `nurbsgl-viewer MODEL [MODEL2]`: the desktop viewer of issue 11 (viewer/app.h). With
+// `--frames N --screenshot FILE.png` it runs a scripted motion of B for N frames, writes the last
+// frame as PNG, prints that frame's readout "clearance D +- B" (as `nurbsgl clearance`) and exits.
+// Exit codes as nurbsgl's: 0 ok, 1 a query failed, 2 bad command line or model, 3 no OpenGL.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "viewer/app.h"
+#include "viewer/placement.h"
+
+namespace {
+
+int run(int argc, char** argv) {
+  viewer::ViewerOptions o;
+  CLI::App app("nurbsgl-viewer: trimmed NURBS models, clearance, tessellation and thickness on the GPU",
+               "nurbsgl-viewer");
+  app.add_option("MODEL", o.models, "Model file(s): A, and B (default: a copy of A)")->required()->expected(1, 2);
+  app.add_option("--frames", o.frames, "Scripted run: N frames of B sliding past A to its placement, then exit")
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--screenshot", o.screenshot, "With --frames: write the last frame as PNG");
+  app.add_option("--move-b", o.move_b, "B's (final) placement: translate by DX,DY,DZ after the rotation");
+  app.add_option("--rotate-b", o.rotate_b, "Rotate B by DEG degrees about AX,AY,AZ through the origin");
+  app.add_option("--tol", o.rel_tolerance, "Clearance: K_e of the grids, relative to the larger model size")
+      ->check(CLI::Range(1e-9, 0.1))
+      ->capture_default_str();
+  app.add_option("--eps", o.eps, "Displayed tessellation's eps, relative to the model size")
+      ->check(CLI::Range(1e-6, 0.5))
+      ->capture_default_str();
+  app.add_option("--mode", o.mode, "Start mode (default: clearance with two models, else view)")
+      ->check(CLI::IsMember({"view", "clearance", "tessellation", "thickness"}));
+  app.add_option("--face", o.face, "Pick face I of A at start: its panel, control net and trim loops")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--overlay", o.overlays, "Clearance overlays shown at start: cells, voxels, culled (repeatable)")
+      ->check(CLI::IsMember({"cells", "voxels", "culled"}))
+      ->delimiter(',');
+  app.add_option("--level", o.level, "Hierarchy level of the cell boxes (2^level cells a side)")
+      ->check(CLI::Range(0, 10))
+      ->capture_default_str();
+  app.add_option("--pick", o.pick, "Scripted run: click at window pixel X,Y on the first frame (picks a face)");
+  app.add_option("--width", o.width, "Window width")->check(CLI::Range(64, 8192))->capture_default_str();
+  app.add_option("--height", o.height, "Window height")->check(CLI::Range(64, 8192))->capture_default_str();
+  try {
+    app.parse(argc, argv);
+    double v[4];
+    if (!o.move_b.empty() && !viewer::parse_numbers(o.move_b, 3, v))
+      throw CLI::ValidationError("--move-b", "'" + o.move_b + "' is not 3 finite numbers");
+    if (!o.rotate_b.empty() && (!viewer::parse_numbers(o.rotate_b, 4, v) || (v[0] == 0 && v[1] == 0 && v[2] == 0)))
+      throw CLI::ValidationError("--rotate-b", "'" + o.rotate_b + "' is not AX,AY,AZ,DEG with a non-zero axis");
+    if (!o.screenshot.empty() && o.frames == 0) throw CLI::ValidationError("--screenshot", "needs --frames N");
+    if (!o.pick.empty() && (o.frames == 0 || !viewer::parse_numbers(o.pick, 2, v)))
+      throw CLI::ValidationError("--pick", "needs --frames N and X,Y");
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : viewer::kBadInput;
+  }
+  try {
+    viewer::App viewer_app(o);
+    return viewer_app.run();
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "nurbsgl-viewer: {}\n", e.what());
+    return viewer::kFailed;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (...) {  // run() reports what it knows; this only keeps an exception from escaping main
+    return viewer::kFailed;
+  }
+}

@@ -1,0 +1,6 @@
+// Unlit: the colour is exact, so the screenshot test can count the segment's pixels.
+in vec3 v_color;
+
+out vec4 o_color;
+
+void main() { o_color = vec4(v_color, 1.0); }
