@@ -31,7 +31,11 @@ struct Prefix {
 
 std::uint32_t morton3(glm::dvec3 p) {
   auto q = [](double x) { return static_cast<std::uint32_t>(std::clamp(std::floor(x * 1024.0), 0.0, 1023.0)); };
-  return (expand_bits(q(p.x)) << 2) | (expand_bits(q(p.y)) << 1) | expand_bits(q(p.z));
+  return morton3_cells(q(p.x), q(p.y), q(p.z));
+}
+
+std::uint32_t morton3_cells(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  return (expand_bits(x) << 2) | (expand_bits(y) << 1) | expand_bits(z);
 }
 
 bool ray_box(const Ray& ray, const glm::dvec3& inv, const glm::dvec3& lo, const glm::dvec3& hi, double t_min,
@@ -51,9 +55,8 @@ bool ray_box(const Ray& ray, const glm::dvec3& inv, const glm::dvec3& lo, const 
 }
 
 Bvh build_bvh(const std::vector<glm::dvec3>& box_min, const std::vector<glm::dvec3>& box_max) {
-  Bvh bvh;
   const int n = static_cast<int>(box_min.size());
-  if (n == 0) return bvh;
+  if (n == 0) return {};
   // Morton codes of the centroids in the box of the centroids (§3.2).
   glm::dvec3 lo(box_min[0]), hi(box_min[0]);
   std::vector<glm::dvec3> c(n);
@@ -63,9 +66,18 @@ Bvh build_bvh(const std::vector<glm::dvec3>& box_min, const std::vector<glm::dve
     hi = glm::max(hi, c[i]);
   }
   const glm::dvec3 ext = glm::max(hi - lo, glm::dvec3(1e-300));
+  std::vector<std::uint32_t> codes(n);
+  for (int i = 0; i < n; ++i) codes[i] = morton3((c[i] - lo) / ext);
+  return build_bvh_codes(codes, box_min, box_max);
+}
+
+Bvh build_bvh_codes(const std::vector<std::uint32_t>& codes, const std::vector<glm::dvec3>& box_min,
+                    const std::vector<glm::dvec3>& box_max) {
+  Bvh bvh;
+  const int n = static_cast<int>(codes.size());
+  if (n == 0) return bvh;
   std::vector<std::uint64_t> keys(n);
-  for (int i = 0; i < n; ++i)
-    keys[i] = (static_cast<std::uint64_t>(morton3((c[i] - lo) / ext)) << 32) | static_cast<std::uint32_t>(i);
+  for (int i = 0; i < n; ++i) keys[i] = (static_cast<std::uint64_t>(codes[i]) << 32) | static_cast<std::uint32_t>(i);
   std::sort(keys.begin(), keys.end());
   bvh.order.resize(n);
   bvh.codes.resize(n);

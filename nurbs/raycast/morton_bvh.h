@@ -17,6 +17,8 @@ namespace nurbs::ray {
 
 /// 30-bit Morton code of a point with coordinates in [0, 1]^3 (10 bits per axis, x highest).
 [[nodiscard]] std::uint32_t morton3(glm::dvec3 unit_point);
+/// The same from the cell indices (each in [0, 1023]): their bits interleaved, x highest.
+[[nodiscard]] std::uint32_t morton3_cells(std::uint32_t x, std::uint32_t y, std::uint32_t z);
 
 /// Node layout: internal nodes 0 .. n-2 (root 0), leaf k at n - 1 + k holds the k-th patch in
 /// Morton order; one patch per leaf (the paper's leaves hold a first/last range: here first = last).
@@ -38,6 +40,11 @@ struct Bvh {
 
 /// Builds the tree over boxes (box_min[i], box_max[i]) (§3.2; Karras Fig. 4 / Alg. on §4).
 [[nodiscard]] Bvh build_bvh(const std::vector<glm::dvec3>& box_min, const std::vector<glm::dvec3>& box_max);
+/// The same from given Morton codes (codes[i] of box i): keys = code << 32 | i, sorted, then
+/// Karras' internal nodes and the bottom-up boxes. The twin of the GPU build, whose codes come
+/// from float arithmetic (queries/bvh_gpu.h).
+[[nodiscard]] Bvh build_bvh_codes(const std::vector<std::uint32_t>& codes, const std::vector<glm::dvec3>& box_min,
+                                  const std::vector<glm::dvec3>& box_max);
 
 /// Slab test of a box against a ray for t in [t_min, t_max].
 [[nodiscard]] bool ray_box(const Ray& ray, const glm::dvec3& inv_dir, const glm::dvec3& lo, const glm::dvec3& hi,
