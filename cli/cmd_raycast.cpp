@@ -54,6 +54,9 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   fmt::print("time      build {:.3f} s, cast {:.3f} s ({:.0f} rays/s, {} on the {})\n",
              f["seconds_build"].get<double>(), engine.cast_seconds(), f["rays_per_second"].get<double>(),
              a.engine.method, a.engine.device);
+  if (a.engine.bvh_build == "gpu")
+    fmt::print("bvh       built on the gpu: {} passes, {:.3f} s\n", f["gpu"]["bvh_build_gpu_passes"].get<int>(),
+               f["gpu"]["bvh_build_gpu_seconds"].get<double>());
   fmt::print("tests     {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
   const size_t shown = std::min<size_t>(hits.size(), 20);

@@ -71,6 +71,11 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
                   "§3.2-3.4 in float), hits finished in double on the CPU (bvh only)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
+  cmd->add_option("--bvh-build", args.bvh_build,
+                  "--device gpu: build the Morton BVH on the cpu, or on the gpu in fragment passes (Morton codes, "
+                  "bitonic sort, Karras' nodes: Lemasson et al. §3.2)")
+      ->check(CLI::IsMember({"cpu", "gpu"}))
+      ->capture_default_str();
   cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--dacrt-patches", args.dacrt_patches,
                   "dacrt: test every ray against every patch once a patch set is this small (Figs. 8-9)")
@@ -90,6 +95,7 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
     : args_(args), global_(global) {
   const bool gpu = args.device == "gpu";
   if (gpu && args.method != "bvh") throw BadInput("--device gpu: only --method bvh runs on the GPU");
+  if (!gpu && args.bvh_build == "gpu") throw BadInput("--bvh-build gpu needs --device gpu");
   if (gpu) gpu_ = start_gpu(global);
   queries::RayCasterOptions o;
   o.method = args.method == "dacrt" ? queries::RayMethod::Dacrt : queries::RayMethod::Bvh;
@@ -97,6 +103,7 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
   o.tolerance = args.tolerance;
   o.dacrt.patch_leaf = args.dacrt_patches;
   o.dacrt.ray_leaf = args.dacrt_rays;
+  o.bvh_build = args.bvh_build == "gpu" ? queries::BvhBuild::Gpu : queries::BvhBuild::Cpu;
   caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), o, gpu_.get());
 }
 
@@ -119,7 +126,10 @@ nlohmann::json RayEngine::figures() const {
            {"gpu_seconds", f.gpu_seconds},
            {"cpu_seconds", f.finish_seconds},
            {"fallbacks", f.fallbacks},
-           {"near_guard", f.near_guard}};
+           {"near_guard", f.near_guard},
+           {"bvh_build", args_.bvh_build},
+           {"bvh_build_gpu_seconds", f.bvh_gpu_seconds},
+           {"bvh_build_gpu_passes", f.bvh_gpu_passes}};
   nlohmann::json dacrt = nullptr;
   if (args_.method == "dacrt") dacrt = {{"patch_leaf", args_.dacrt_patches}, {"ray_leaf", args_.dacrt_rays}};
   return {{"method", args_.method},

@@ -24,6 +24,7 @@ namespace cli {
 struct RayEngineArgs {
   std::string method = "bvh";             ///< bvh: Morton BVH, stackless traversal; dacrt: divide and conquer
   std::string device = "cpu";             ///< cpu: the double-precision path; gpu: the fragment-shader pass (bvh only)
+  std::string bvh_build = "cpu";          ///< --device gpu: the BVH built on the cpu (build_scene) or the gpu
   int threads = 0;                        ///< 0 = every hardware thread
   double tolerance = 1e-5;                ///< bicubic tolerance relative to the model size
   int dacrt_patches = 8, dacrt_rays = 8;  ///< DACRT's brute-force thresholds

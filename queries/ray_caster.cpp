@@ -50,7 +50,9 @@ RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOp
   if (gpu) o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
   scene_ = nurbs::ray::build_scene(std::move(faces), o);
   if (gpu) {
-    gpu_caster_ = std::make_unique<GpuRaycaster>(*gpu, scene_);
+    gpu_caster_ = std::make_unique<GpuRaycaster>(*gpu, scene_, options.bvh_build);
+    figures_.bvh_gpu_seconds = gpu_caster_->build_stats().seconds;
+    figures_.bvh_gpu_passes = gpu_caster_->build_stats().passes;
   } else {
     figures_.bytes_bvh = options.method == RayMethod::Bvh ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0;
     figures_.bytes_patches = scene_.patches.size() * sizeof(nurbs::ray::BicubicPatch);

@@ -12,18 +12,18 @@
 #include "gpgpu/gpu.h"
 #include "nurbs/raycast/dacrt.h"
 #include "nurbs/raycast/raycast_cpu.h"
+#include "queries/raycast_gpu.h"
 
 namespace queries {
-
-class GpuRaycaster;
 
 enum class RayMethod { Bvh, Dacrt };
 
 struct RayCasterOptions {
   RayMethod method = RayMethod::Bvh;
-  int threads = 0;                 ///< CPU threads, 0 = every hardware thread
-  double tolerance = 1e-5;         ///< bicubic tolerance relative to the model size
-  nurbs::ray::DacrtOptions dacrt;  ///< DACRT's two brute-force thresholds (patches, rays)
+  int threads = 0;                     ///< CPU threads, 0 = every hardware thread
+  double tolerance = 1e-5;             ///< bicubic tolerance relative to the model size
+  nurbs::ray::DacrtOptions dacrt;      ///< DACRT's two brute-force thresholds (patches, rays)
+  BvhBuild bvh_build = BvhBuild::Cpu;  ///< GPU path: the scene's BVH, or one built on the GPU (§3.2)
 };
 
 /// Totals over every cast so far.
@@ -31,6 +31,8 @@ struct RayCasterFigures {
   double build_seconds = 0.0, cast_seconds = 0.0;
   double gpu_seconds = 0.0, finish_seconds = 0.0;  ///< GPU: the passes, and the finishing in double
   double near_guard = 0.0;                         ///< see rays_start_on_surfaces
+  double bvh_gpu_seconds = 0.0;                    ///< BvhBuild::Gpu: the build on the GPU (in build_seconds)
+  int bvh_gpu_passes = 0;
   long long rays = 0, box_tests = 0, patch_tests = 0, fallbacks = 0;
   size_t bytes_bvh = 0, bytes_patches = 0, bytes_trims = 0;  ///< GPU textures, or the CPU tables
 };

@@ -14,6 +14,7 @@
 
 #include "gpgpu/layout.h"
 #include "nurbs/trim_classify.h"
+#include "queries/bvh_gpu.h"
 
 namespace queries {
 namespace {
@@ -44,7 +45,7 @@ void push4(std::vector<float>& v, double x, double y, double z, double w) {
 
 }  // namespace
 
-GpuRaycaster::GpuRaycaster(gpgpu::Gpu& gpu, const Scene& scene) : gpu_(gpu), scene_(scene) {
+GpuRaycaster::GpuRaycaster(gpgpu::Gpu& gpu, const Scene& scene, BvhBuild build) : gpu_(gpu), scene_(scene) {
   if (scene.options.trim != nurbs::ray::SceneOptions::Trim::Cubics)
     throw std::invalid_argument("GpuRaycaster: the scene must be built with SceneOptions::Trim::Cubics (§3.4)");
   const int max_size = gpu.info().max_texture_size;
@@ -65,8 +66,36 @@ GpuRaycaster::GpuRaycaster(gpgpu::Gpu& gpu, const Scene& scene) : gpu_(gpu), sce
     }
   }
   patches_ = upload_table(std::move(patches), max_size);
+  if (build == BvhBuild::Gpu && !scene.patches.empty()) {
+    build_gpu_bvh();
+  } else {
+    upload_bvh();
+  }
+  std::vector<float> cubics, faces;
+  for (const auto& tc : scene.cubics) {
+    const int first = int(cubics.size() / 12);
+    for (const auto& c : tc.cubics) {
+      push4(cubics, c.p[0].x, c.p[0].y, c.p[1].x, c.p[1].y);
+      push4(cubics, c.p[2].x, c.p[2].y, c.p[3].x, c.p[3].y);
+      push4(cubics, first + c.next, first + c.prev, 0.0, 0.0);
+    }
+    push4(faces, first, double(tc.cubics.size()), 0.0, 0.0);
+    push4(faces, tc.domain_u.min, tc.domain_u.max, tc.domain_v.min, tc.domain_v.max);
+  }
+  constexpr int64_t kExact = int64_t(1) << 24;  // ids are stored as floats
+  if (int64_t(cubics.size() / 12) >= kExact || int64_t(scene.bvh.nodes.size()) >= kExact ||
+      int64_t(scene.patches.size()) >= kExact)
+    throw std::length_error("GpuRaycaster: 2^24 or more patches, nodes or trim cubics (ids stored as floats)");
+  cubics_ = upload_table(std::move(cubics), max_size);
+  faces_ = upload_table(std::move(faces), max_size);
+  stats_ = {.bytes_bvh = bytes_of(nodes_),
+            .bytes_patches = bytes_of(patches_),
+            .bytes_trims = bytes_of(cubics_) + bytes_of(faces_)};
+}
+
+void GpuRaycaster::upload_bvh() {
   std::vector<float> nodes;
-  const auto& tree = scene.bvh.nodes;
+  const auto& tree = scene_.bvh.nodes;
   const auto centres = [&](const nurbs::ray::BvhNode& n) {  // near_is_left's vector, in double then rounded
     const auto &l = tree[size_t(n.left)], &r = tree[size_t(n.right)];
     return (l.box_min + l.box_max) - (r.box_min + r.box_max);
@@ -91,27 +120,24 @@ GpuRaycaster::GpuRaycaster(gpgpu::Gpu& gpu, const Scene& scene) : gpu_(gpu), sce
       push4(nodes, c.x, c.y, c.z, left ? p.right : -1 - p.left);
     }
   }
-  nodes_ = upload_table(std::move(nodes), max_size);
-  std::vector<float> cubics, faces;
-  for (const auto& tc : scene.cubics) {
-    const int first = int(cubics.size() / 12);
-    for (const auto& c : tc.cubics) {
-      push4(cubics, c.p[0].x, c.p[0].y, c.p[1].x, c.p[1].y);
-      push4(cubics, c.p[2].x, c.p[2].y, c.p[3].x, c.p[3].y);
-      push4(cubics, first + c.next, first + c.prev, 0.0, 0.0);
-    }
-    push4(faces, first, double(tc.cubics.size()), 0.0, 0.0);
-    push4(faces, tc.domain_u.min, tc.domain_u.max, tc.domain_v.min, tc.domain_v.max);
+  nodes_ = upload_table(std::move(nodes), gpu_.info().max_texture_size);
+}
+
+void GpuRaycaster::build_gpu_bvh() {
+  const auto t0 = std::chrono::steady_clock::now();
+  // The leaf boxes of build_scene (patch boxes padded by twice the tolerance), as the node table
+  // holds them: relative to the centre, rounded to float.
+  const glm::dvec3 pad(2.0 * scene_.options.tolerance * scene_.size);
+  std::vector<glm::vec3> lo, hi;
+  for (const auto& p : scene_.patches) {
+    lo.emplace_back(p.box_min - pad - centre_);
+    hi.emplace_back(p.box_max + pad - centre_);
   }
-  constexpr int64_t kExact = int64_t(1) << 24;  // ids are stored as floats
-  if (int64_t(cubics.size() / 12) >= kExact || int64_t(tree.size()) >= kExact ||
-      int64_t(scene.patches.size()) >= kExact)
-    throw std::length_error("GpuRaycaster: 2^24 or more patches, nodes or trim cubics (ids stored as floats)");
-  cubics_ = upload_table(std::move(cubics), max_size);
-  faces_ = upload_table(std::move(faces), max_size);
-  stats_ = {.bytes_bvh = bytes_of(nodes_),
-            .bytes_patches = bytes_of(patches_),
-            .bytes_trims = bytes_of(cubics_) + bytes_of(faces_)};
+  GpuBvh g = build_bvh_gpu(gpu_, lo, hi);
+  patches_ = gather_leaves(gpu_, g, patches_, 4);  // 16 texels per patch
+  nodes_ = std::move(g.nodes);
+  leaf_patch_ = read_order(g);
+  build_stats_ = {g.passes + 1, seconds_since(t0)};
 }
 
 double GpuRaycaster::float_floor(const glm::dvec3& origin) const {
@@ -173,7 +199,9 @@ std::vector<RawRayHit> GpuRaycaster::pass(std::span<const Ray> rays, double t_mi
     const float* a = &h[4 * texel_of(i)];
     const float* b = &c[4 * texel_of(i)];
     const int flags = int(b[3]);
-    out[i] = {a[0], int(a[1]), a[2], a[3], int(b[0]), int(b[1]), int(b[2]), (flags & 1) != 0, (flags & 2) != 0};
+    const int leaf = int(a[1]);
+    const int patch = leaf < 0 || leaf_patch_.empty() ? leaf : leaf_patch_[size_t(leaf)];
+    out[i] = {a[0], patch, a[2], a[3], int(b[0]), int(b[1]), int(b[2]), (flags & 1) != 0, (flags & 2) != 0};
   }
   return out;
 }

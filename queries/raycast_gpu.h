@@ -47,8 +47,19 @@ struct RaycastGpuStats {
   size_t bytes_bvh = 0, bytes_patches = 0, bytes_trims = 0;  ///< texture memory (trims: cubics + face table)
 };
 
-/// One ray's answer from the pass alone: float t (along the unit direction), patch in leaf order
-/// (-1: miss), local (s, t) on the patch; the per-ray counts of the twin's TraversalStats;
+/// Where the BVH of the pass comes from: the scene's (built on the CPU by build_scene), or built
+/// again on the GPU from the patch boxes (queries/bvh_gpu.h, the paper's way; its leaf order may
+/// differ from the scene's where float rounding moves a centroid across a Morton cell).
+enum class BvhBuild { Cpu, Gpu };
+
+/// Figures of the GPU build (BvhBuild::Gpu).
+struct BvhBuildStats {
+  int passes = 0;
+  double seconds = 0;  ///< the build passes, the patch gather and the read-back of the leaf order
+};
+
+/// One ray's answer from the pass alone: float t (along the unit direction), patch (index into
+/// scene.patches; -1: miss), local (s, t) on the patch; the per-ray counts of the twin's TraversalStats;
 /// trim_tests = §3.4 tests run; doubt: see the file comment; cut: the walk did not finish (llvmpipe
 /// ends an invocation's loops after 65535 iterations in all; a walk through ~10^5 overlapping
 /// patches gets there), so the answer may miss a nearer hit. cast() casts doubt and cut rays again.
@@ -66,7 +77,7 @@ class GpuRaycaster {
  public:
   /// Uploads the scene's tables once. `scene` must be built with Trim::Cubics (else
   /// std::invalid_argument) and must outlive this object.
-  GpuRaycaster(gpgpu::Gpu& gpu, const nurbs::ray::Scene& scene);
+  GpuRaycaster(gpgpu::Gpu& gpu, const nurbs::ray::Scene& scene, BvhBuild build = BvhBuild::Cpu);
 
   /// The pass alone for rays (unit directions) with hits at t > t_min, input order kept.
   std::vector<RawRayHit> cast_raw(std::span<const nurbs::ray::Ray> rays, double t_min);
@@ -75,6 +86,7 @@ class GpuRaycaster {
   std::vector<nurbs::ray::Hit> cast(std::span<const nurbs::ray::Ray> rays, double t_min);
 
   [[nodiscard]] const RaycastGpuStats& stats() const { return stats_; }
+  [[nodiscard]] const BvhBuildStats& build_stats() const { return build_stats_; }
   /// Rays per pass (default 1024 x 1024).
   [[nodiscard]] size_t rays_per_pass() const { return rays_per_pass_; }
   void set_rays_per_pass(size_t n) { rays_per_pass_ = n < 16 ? 16 : n; }
@@ -98,6 +110,8 @@ class GpuRaycaster {
   [[nodiscard]] double radius() const { return radius_; }
 
  private:
+  void upload_bvh();     ///< the scene's tree, as its node table
+  void build_gpu_bvh();  ///< BvhBuild::Gpu
   std::vector<RawRayHit> pass(std::span<const nurbs::ray::Ray> rays, double t_min);
   /// The CPU finishing of one ray; counts a fallback.
   nurbs::ray::Hit finish(const nurbs::ray::Ray& ray, const RawRayHit& raw, double t_min, long long& fallbacks) const;
@@ -108,6 +122,8 @@ class GpuRaycaster {
   double radius_ = 0.0;
   gpgpu::Texture patches_, nodes_, cubics_, faces_;
   RaycastGpuStats stats_;
+  BvhBuildStats build_stats_;
+  std::vector<int> leaf_patch_;  ///< BvhBuild::Gpu: scene patch of the pass's leaf k (empty: the same)
   size_t rays_per_pass_ = size_t(1) << 20;
   double near_guard_ = 0.0;
   int max_steps_ = 0;

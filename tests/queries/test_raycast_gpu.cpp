@@ -275,29 +275,35 @@ TEST_CASE("raycast gpu: plane with a circular hole, rays through the hole miss")
   CHECK(cmp.same == 1000);
 }
 
-TEST_CASE("raycast gpu: hits after the CPU finishing equal the twin's") {
+TEST_CASE("raycast gpu: hits after the CPU finishing equal the twin's, with the BVH built on the CPU or the GPU") {
   const Scene scene = random_scene(11, 18);
   const auto rays = random_rays(6, 2000);
-  queries::GpuRaycaster caster(test::gpu(), scene);
-  const auto hits = caster.cast(rays, 0.0);
-  const queries::RaycastGpuStats st = caster.stats();
-  int doubts = 0;
-  for (const RawRayHit& r : caster.cast_raw(rays, 0.0)) doubts += r.doubt;
-  int found = 0, differ = 0;
-  for (size_t k = 0; k < rays.size(); ++k) {
-    const Hit h = nurbs::ray::cast_ray(scene, rays[k], 0.0);
-    found += h.face >= 0;
-    // The same root of the exact face refined from nearby starts: 1e-9 size (the bound).
-    differ += hits[k].face != h.face || (h.face >= 0 && std::abs(hits[k].t - h.t) > 1e-9 * scene.size);
+  for (const queries::BvhBuild build : {queries::BvhBuild::Cpu, queries::BvhBuild::Gpu}) {
+    CAPTURE(int(build));
+    queries::GpuRaycaster caster(test::gpu(), scene, build);
+    if (build == queries::BvhBuild::Gpu)
+      MESSAGE("BVH of " << scene.patches.size() << " patches built on the GPU: " << caster.build_stats().passes
+                        << " passes, " << caster.build_stats().seconds * 1e3 << " ms");
+    const auto hits = caster.cast(rays, 0.0);
+    const queries::RaycastGpuStats st = caster.stats();
+    int doubts = 0;
+    for (const RawRayHit& r : caster.cast_raw(rays, 0.0)) doubts += r.doubt;
+    int found = 0, differ = 0;
+    for (size_t k = 0; k < rays.size(); ++k) {
+      const Hit h = nurbs::ray::cast_ray(scene, rays[k], 0.0);
+      found += h.face >= 0;
+      // The same root of the exact face refined from nearby starts: 1e-9 size (the bound).
+      differ += hits[k].face != h.face || (h.face >= 0 && std::abs(hits[k].t - h.t) > 1e-9 * scene.size);
+    }
+    MESSAGE("finished: " << found << " hits of " << rays.size() << " rays, " << differ << " differ, " << st.fallbacks
+                         << " fallbacks (" << doubts << " doubts), gpu " << st.gpu_seconds << " s, cpu "
+                         << st.cpu_seconds << " s");
+    CHECK(found > 800);
+    CHECK(differ == 0);
+    CHECK(st.rays == 2000);
+    CHECK(st.fallbacks <= 20);  // rays whose pass answer the exact step or trim test overturns: ~1 %
+    CHECK(st.box_tests > 0);
   }
-  MESSAGE("finished: " << found << " hits of " << rays.size() << " rays, " << differ << " differ, " << st.fallbacks
-                       << " fallbacks (" << doubts << " doubts), gpu " << st.gpu_seconds << " s, cpu " << st.cpu_seconds
-                       << " s");
-  CHECK(found > 800);
-  CHECK(differ == 0);
-  CHECK(st.rays == 2000);
-  CHECK(st.fallbacks <= 20);  // rays whose pass answer the exact step or trim test overturns: ~1 %
-  CHECK(st.box_tests > 0);
 }
 
 TEST_CASE("raycast gpu: rays from surface points along the normal (thickness), with and without the guard") {
