@@ -1,0 +1,70 @@
+#pragma once
+/// \file ball_thickness.h
+/// Rolling-ball wall thickness beside the ray thickness (issue 10, beyond Lemasson et al.): at a
+/// surface sample p with unit inward normal n, the diameter of the largest ball tangent to the
+/// surface at p on the material side with no surface point inside it. A ray along n measures the
+/// chord to the opposite wall; the ball also feels walls beside the ray (a wedge, a rib meeting a
+/// plate at an angle, a fillet's neighbourhood), so 2 r <= the ray thickness at every sample.
+///
+/// Shrinking ball (Ma, Bae, Choi and Rossignac, "3D medial axis point approximation using nearest
+/// neighbors and the normal field", 2012), all samples in one batch per round:
+///   r_0 = half the ray thickness (the ball through p and the ray's hit), or `max_radius`;
+///   c = p + r n; q = the closest surface point to c (a batched point-distance query, e.g.
+///   queries::PointBatch, Krishnamurthy et al.; its bound b);
+///   if |c - q| >= r - (b + tolerance): the ball is empty up to the query's accuracy, stop;
+///   else r = |q - p|^2 / (2 n . (q - p)), the ball tangent at p through q (q lies inside the
+///   current ball, so n . (q - p) > 0 and the new r is smaller), and repeat.
+/// A round's queries are the still-shrinking samples only. Accuracy: at the stop, no surface point
+/// is nearer to c than r - 2 (b + tolerance) (the query's bound on both sides), and q is a surface
+/// point within the query's point bound, so the ball's radius is within b + point bound +
+/// tolerance of the largest empty one along n; `bound` reports twice that for the diameter (a
+/// stated allowance: the point bound of Theorem 2 is the only proven part).
+#include <functional>
+#include <glm/vec3.hpp>
+#include <vector>
+
+namespace nurbs::ray {
+
+/// The closest surface point to a query point, with its bounds (|distance - true| <= bound,
+/// |point - true closest point| <= point_bound).
+struct NearestPoint {
+  bool found = false;
+  double distance = 0.0;
+  glm::dvec3 point{0.0};
+  double bound = 0.0, point_bound = 0.0;
+  int face = -1;
+};
+
+/// Closest points of many query points at once (one batch per shrinking round).
+using NearestFn = std::function<std::vector<NearestPoint>(const std::vector<glm::dvec3>& points)>;
+
+struct BallOptions {
+  double tolerance = 0.0;   ///< model units added to the query's bound in the stopping test (> 0)
+  double max_radius = 0.0;  ///< start where a sample has no ray thickness (e.g. the model size)
+  int max_rounds = 40;
+};
+
+struct BallThickness {
+  double thickness = -1.0;  ///< 2 r; -1 where the sample had no start radius
+  double bound = 0.0;       ///< see the file comment
+  int rounds = 0;           ///< queries this sample needed
+  bool converged = false;   ///< stopped by the emptiness test (not by max_rounds or a degenerate step)
+  glm::dvec3 contact{0.0};  ///< the last closest point (the opposite wall, or p itself when nothing shrank it)
+  int contact_face = -1;
+};
+
+struct BallFigures {
+  int rounds = 0;         ///< batches
+  long long queries = 0;  ///< point queries over all rounds
+  long long unconverged = 0;
+};
+
+/// Ball thickness of every sample: points, unit inward normals and start radii (half the ray
+/// thickness; <= 0: options.max_radius, and no sample when that is <= 0 too).
+[[nodiscard]] std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
+                                                        const std::vector<glm::dvec3>& inward,
+                                                        const std::vector<double>& start_radius,
+                                                        const NearestFn& nearest, const BallOptions& options,
+                                                        BallFigures* figures = nullptr);
+
+}  // namespace nurbs::ray
