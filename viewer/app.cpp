@@ -122,73 +122,6 @@ void App::set_mode(Mode mode) {
   frame_camera();
 }
 
-void App::handle_input() {
-  ImGuiIO& io = ImGui::GetIO();
-  if (!io.WantCaptureKeyboard) {
-    if (ImGui::IsKeyPressed(GLFW_KEY_F1) || ImGui::IsKeyPressed(GLFW_KEY_H)) show_help_ = !show_help_;
-    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(static_cast<GLFWwindow*>(window_), GLFW_TRUE);
-    if (a_) {
-      if (ImGui::IsKeyPressed(GLFW_KEY_1)) set_mode(Mode::View);
-      if (ImGui::IsKeyPressed(GLFW_KEY_2)) set_mode(Mode::Clearance);
-      if (ImGui::IsKeyPressed(GLFW_KEY_3)) set_mode(Mode::Tessellation);
-      if (ImGui::IsKeyPressed(GLFW_KEY_4)) set_mode(Mode::Thickness);
-      if (ImGui::IsKeyPressed(GLFW_KEY_F)) frame_camera();
-      if (ImGui::IsKeyPressed(GLFW_KEY_E)) show_edges_ = !show_edges_;
-      if (ImGui::IsKeyPressed(GLFW_KEY_W)) wireframe_ = !wireframe_;
-      if (mode_ == Mode::Clearance) {
-        const glm::dvec3 centre = 0.5 * (b_->mesh_min + b_->mesh_max);
-        const double step = io.KeyShift ? 1.0 : 5.0;
-        if (ImGui::IsKeyPressed(GLFW_KEY_Q)) placement_.rotate_about(centre, {0, 0, 1}, step), clearance_dirty_ = true;
-        if (ImGui::IsKeyPressed(GLFW_KEY_R)) placement_.rotate_about(centre, {0, 0, 1}, -step), clearance_dirty_ = true;
-        if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) continuous_ = !continuous_;
-      }
-    }
-  }
-  if (io.WantCaptureMouse || !a_) return;
-  int ww = 0, wh = 0;
-  glfwGetWindowSize(static_cast<GLFWwindow*>(window_), &ww, &wh);
-  const bool move_b = mode_ == Mode::Clearance && (io.KeyShift || io.KeyCtrl);
-  const ImVec2 d = io.MouseDelta;
-  if (ImGui::IsMouseDragging(ImGuiMouseButton_Left, 1.0f) && (d.x != 0 || d.y != 0)) {
-    if (move_b) {  // B in the view plane, following the cursor
-      placement_.move += camera_.pixel_size(wh) * (double(d.x) * camera_.right() - double(d.y) * camera_.up());
-      clearance_dirty_ = true;
-    } else {
-      camera_.orbit(d.x, d.y);
-    }
-  }
-  if (ImGui::IsMouseDragging(ImGuiMouseButton_Right, 1.0f) && (d.x != 0 || d.y != 0)) {
-    if (move_b) {  // B turned about its centre: horizontal drag about the view's up, vertical about its right
-      const glm::dvec3 centre = 0.5 * (b_->mesh_min + b_->mesh_max);
-      placement_.rotate_about(centre, camera_.up(), 0.5 * d.x);
-      placement_.rotate_about(centre, camera_.right(), 0.5 * d.y);
-      clearance_dirty_ = true;
-    } else {
-      camera_.pan(d.x, d.y, wh);
-    }
-  }
-  if (ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 1.0f)) camera_.pan(d.x, d.y, wh);
-  if (io.MouseWheel != 0.0f) camera_.zoom(io.MouseWheel);
-  // A click (press and release without dragging) picks the face under the cursor.
-  if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && io.MouseDragMaxDistanceSqr[0] < 9.0f && !move_b)
-    pick_at(io.MousePos.x, io.MousePos.y);
-}
-
-void App::pick_at(double x, double y) {
-  int ww = 0, wh = 0;
-  glfwGetWindowSize(static_cast<GLFWwindow*>(window_), &ww, &wh);
-  const Ray ray = camera_.ray(x, y, ww, wh);
-  std::optional<Pick> pa = pick(a_->tess.mesh, glm::dmat4(1.0), ray), pb;
-  if (has_b() && mode_ == Mode::Clearance) pb = pick(b_->tess.mesh, motion_b(), ray);
-  picked_model_ = -1;
-  picked_face_ = -1;
-  if (pa && (!pb || pa->t <= pb->t))
-    picked_model_ = 0, picked_face_ = pa->face;
-  else if (pb)
-    picked_model_ = 1, picked_face_ = pb->face;
-  rebuild_selection_overlay();
-}
-
 void App::scripted_frame(int k) {
   // B slides along x past A and ends exactly at the given placement on the last frame, so that
   // frame's readout is `nurbsgl clearance A B --move-b ...` at that placement.
@@ -199,6 +132,22 @@ void App::scripted_frame(int k) {
   placement_.move = final_move_;
   if (k != n - 1) placement_.move.x += s * sweep;
   clearance_dirty_ = true;
+}
+
+void App::print_scripted_results() {
+  if (clearance_) fmt::print("clearance {:.9g} +- {:.3g}\n", clearance_->distance, clearance_->bound);
+  // B's placement as `nurbsgl clearance` options, every digit of the doubles: the CLI rerun at it
+  // builds the same motion bit for bit.
+  if (mode_ == Mode::Clearance && has_b()) fmt::print("placement {}\n", placement_.cli_arguments(17));
+  const auto summary = [](std::vector<double> ms) {  // "median M ms (min A, max B)"
+    std::sort(ms.begin(), ms.end());
+    return fmt::format("median {:.1f} ms (min {:.1f}, max {:.1f})", ms[ms.size() / 2], ms.front(), ms.back());
+  };
+  if (mode_ == Mode::Clearance && !scripted_query_ms_.empty())
+    fmt::print(stderr, "{} frames: clearance query {}, models prepared in {:.3f} s\n", scripted_query_ms_.size(),
+               summary(scripted_query_ms_), prepare_s_);
+  if (!scripted_frame_ms_.empty())
+    fmt::print(stderr, "frame time {} over frames 2-{}\n", summary(scripted_frame_ms_), scripted_frame_ms_.size() + 1);
 }
 
 int App::run() {
@@ -241,8 +190,8 @@ int App::run() {
     int window_width = 0, window_height = 0;
     glfwGetWindowSize(window, &window_width, &window_height);
     camera_.set_center_offset(double(panel_width_) / std::max(window_width, 1));
-    const bool scripted = options_.frames > 0;
-    if (scripted && a_ && mode_ == Mode::Clearance) scripted_frame(frame);
+    const bool scripted = options_.frames > 0, events = !options_.events.empty();
+    if (scripted && !events && a_ && mode_ == Mode::Clearance) scripted_frame(frame);
     if (scripted && a_ && frame == 0 && !options_.pick.empty()) {
       double xy[2] = {0.0, 0.0};
       (void)parse_numbers(options_.pick, 2, xy);  // checked in main.cpp
@@ -255,8 +204,9 @@ int App::run() {
     }
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    apply_scripted_input(frame);
     ImGui::NewFrame();
-    if (!scripted) handle_input();
+    if (!scripted || events) handle_input();
     if (mode_ == Mode::Clearance && a_ && (clearance_dirty_ || continuous_)) {
       query_clearance();
       if (scripted) scripted_query_ms_.push_back(query_ms_);
@@ -270,22 +220,16 @@ int App::run() {
     gpgpu::gl::check_error("viewer frame");
 
     const auto now = std::chrono::steady_clock::now();
-    frame_ms_[history_at_] = static_cast<float>(std::chrono::duration<double, std::milli>(now - last_frame_).count());
+    const double frame_ms = std::chrono::duration<double, std::milli>(now - last_frame_).count();
+    if (scripted && frame > 0) scripted_frame_ms_.push_back(frame_ms);  // the first frame prepares the models
+    frame_ms_[history_at_] = static_cast<float>(frame_ms);
     query_ms_history_[history_at_] = static_cast<float>(query_ms_);
     history_at_ = (history_at_ + 1) % kHistory;
     last_frame_ = now;
 
     if (scripted && frame + 1 >= options_.frames) {
       if (!options_.screenshot.empty()) write_screenshot(options_.screenshot, fw, fh);
-      if (clearance_) fmt::print("clearance {:.9g} +- {:.3g}\n", clearance_->distance, clearance_->bound);
-      if (mode_ == Mode::Clearance && !scripted_query_ms_.empty()) {
-        std::vector<double> q = scripted_query_ms_;
-        std::sort(q.begin(), q.end());
-        fmt::print(
-            stderr,
-            "{} frames: clearance query median {:.1f} ms (min {:.1f}, max {:.1f}), models prepared in {:.3f} s\n",
-            q.size(), q[q.size() / 2], q.front(), q.back(), prepare_s_);
-      }
+      print_scripted_results();
       if (!clearance_error_.empty()) {
         fmt::print(stderr, "nurbsgl-viewer: clearance: {}\n", clearance_error_);
         exit_code = std::max(exit_code, int(kFailed));

@@ -16,6 +16,7 @@
 #include "queries/voxel_stage.h"
 #include "viewer/camera.h"
 #include "viewer/draw_buffers.h"
+#include "viewer/input_script.h"
 #include "viewer/placement.h"
 #include "viewer/scene_model.h"
 #include "viewer/thickness_view.h"
@@ -34,6 +35,7 @@ struct ViewerOptions {
   std::vector<std::string> overlays;  ///< shown at start: cells, voxels, culled
   int level = 3;                      ///< hierarchy level of the cell boxes
   std::string pick;                   ///< "X,Y": a click at that window pixel on the first frame
+  std::vector<InputFrame> events;     ///< --events FILE: scripted input, one state per frame
   int width = 1280, height = 800;
 };
 
@@ -52,14 +54,17 @@ class App {
   int run();
 
  private:
-  // app.cpp: set-up, loop, input
+  // app.cpp: set-up, loop
   void start_gl();
   void load_models();
   void frame_camera();
-  void handle_input();
-  void pick_at(double x, double y);
   void set_mode(Mode mode);
   void scripted_frame(int k);
+  void print_scripted_results();
+  // app_input.cpp: live or scripted input
+  void apply_scripted_input(int frame);
+  void handle_input();
+  void pick_at(double x, double y);
   // app_clearance.cpp
   void prepare_clearance();
   void query_clearance();
@@ -84,6 +89,7 @@ class App {
   std::unique_ptr<gpgpu::Gpu> gpu_;
   void* window_ = nullptr;  // GLFWwindow*
   bool imgui_ready_ = false;
+  int scripted_key_ = -1;  ///< the key an --events frame holds down in ImGui's IO
   gpgpu::Program* mesh_program_ = nullptr;
   gpgpu::Program* line_program_ = nullptr;
 
@@ -103,7 +109,7 @@ class App {
   // Clearance (Krishnamurthy et al. §5, the paper's Fig. 16 interaction)
   Placement placement_;
   glm::dvec3 final_move_{0.0};  ///< scripted run: B's placement on the last frame
-  std::vector<double> scripted_query_ms_;
+  std::vector<double> scripted_query_ms_, scripted_frame_ms_;
   std::unique_ptr<queries::PreparedModel> prep_a_, prep_b_;
   std::unique_ptr<queries::ClearanceCache> cache_;  ///< declared after prep_a_: destroyed first
   std::optional<queries::Clearance> clearance_;

@@ -1,13 +1,17 @@
 // `nurbsgl-viewer MODEL [MODEL2]`: the desktop viewer of issue 11 (viewer/app.h). With
 // `--frames N --screenshot FILE.png` it runs a scripted motion of B for N frames, writes the last
 // frame as PNG, prints that frame's readout "clearance D +- B" (as `nurbsgl clearance`) and exits.
+// `--events FILE` replays scripted mouse and key input instead (viewer/input_script.h) and prints B's
+// final placement as `nurbsgl clearance` options.
 // Exit codes as nurbsgl's: 0 ok, 1 a query failed, 2 bad command line or model, 3 no OpenGL.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 
 #include "viewer/app.h"
+#include "viewer/input_script.h"
 #include "viewer/placement.h"
 
 namespace {
@@ -38,6 +42,10 @@ int run(int argc, char** argv) {
   app.add_option("--level", o.level, "Hierarchy level of the cell boxes (2^level cells a side)")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
+  std::string events;
+  app.add_option("--events", events,
+                 "Replay the input events of FILE, one per frame (drag, click, key, wheel, move, frame; "
+                 "viewer/input_script.h), then exit; prints B's placement as nurbsgl clearance options");
   app.add_option("--pick", o.pick, "Scripted run: click at window pixel X,Y on the first frame (picks a face)");
   app.add_option("--width", o.width, "Window width")->check(CLI::Range(64, 8192))->capture_default_str();
   app.add_option("--height", o.height, "Window height")->check(CLI::Range(64, 8192))->capture_default_str();
@@ -48,7 +56,18 @@ int run(int argc, char** argv) {
       throw CLI::ValidationError("--move-b", "'" + o.move_b + "' is not 3 finite numbers");
     if (!o.rotate_b.empty() && (!viewer::parse_numbers(o.rotate_b, 4, v) || (v[0] == 0 && v[1] == 0 && v[2] == 0)))
       throw CLI::ValidationError("--rotate-b", "'" + o.rotate_b + "' is not AX,AY,AZ,DEG with a non-zero axis");
-    if (!o.screenshot.empty() && o.frames == 0) throw CLI::ValidationError("--screenshot", "needs --frames N");
+    if (!events.empty()) {
+      try {
+        o.events = viewer::read_input_script(events);
+      } catch (const std::runtime_error& e) {
+        throw CLI::ValidationError("--events", e.what());
+      }
+      if (o.events.empty()) throw CLI::ValidationError("--events", events + ": no events");
+      // The run lasts the script and one frame more, at least --frames.
+      o.frames = std::max<int>(o.frames, static_cast<int>(o.events.size()) + 1);
+    }
+    if (!o.screenshot.empty() && o.frames == 0)
+      throw CLI::ValidationError("--screenshot", "needs --frames N or --events");
     if (!o.pick.empty() && (o.frames == 0 || !viewer::parse_numbers(o.pick, 2, v)))
       throw CLI::ValidationError("--pick", "needs --frames N and X,Y");
   } catch (const CLI::ParseError& e) {

@@ -26,10 +26,12 @@ void Placement::rotate_about(const glm::dvec3& pivot, const glm::dvec3& turn_axi
   move = fixed - glm::dvec3(Placement{glm::dvec3(0.0), axis, deg}.matrix() * glm::dvec4(pivot, 1.0));
 }
 
-std::string Placement::cli_arguments() const {
+std::string Placement::cli_arguments(int digits) const {
   std::string s;
-  if (deg != 0.0) s = fmt::format("--rotate-b {:.9g},{:.9g},{:.9g},{:.9g} ", axis.x, axis.y, axis.z, deg);
-  return s + fmt::format("--move-b {:.9g},{:.9g},{:.9g}", move.x, move.y, move.z);
+  if (deg != 0.0)
+    s = fmt::format("--rotate-b {:.{}g},{:.{}g},{:.{}g},{:.{}g} ", axis.x, digits, axis.y, digits, axis.z, digits, deg,
+                    digits);
+  return s + fmt::format("--move-b {:.{}g},{:.{}g},{:.{}g}", move.x, digits, move.y, digits, move.z, digits);
 }
 
 }  // namespace viewer

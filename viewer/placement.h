@@ -22,8 +22,9 @@ struct Placement {
   /// Turns B by `deg` degrees about `axis` through the point `pivot` of B's own frame (e.g. its
   /// centre), keeping that point where it is.
   void rotate_about(const glm::dvec3& pivot, const glm::dvec3& axis, double deg);
-  /// The CLI options giving this placement: "--rotate-b AX,AY,AZ,DEG --move-b DX,DY,DZ".
-  [[nodiscard]] std::string cli_arguments() const;
+  /// The CLI options giving this placement: "--rotate-b AX,AY,AZ,DEG --move-b DX,DY,DZ" (the
+  /// rotation left out at 0 degrees), numbers with `digits` significant digits (17: exact doubles).
+  [[nodiscard]] std::string cli_arguments(int digits = 9) const;
 };
 
 using nurbs::parse_numbers;  // "X,Y,Z" (or with spaces), exactly `count` finite numbers

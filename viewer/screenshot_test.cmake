@@ -1,11 +1,39 @@
-# cmake -DCASE=screenshot|modes|bad_model -DXVFB_RUN=... -DVIEWER=... [-DNURBSGL=... -DCHECK=... -DMODEL_A=...
+# cmake -DCASE=screenshot|events|modes|bad_model -DXVFB_RUN=... -DVIEWER=... [-DNURBSGL=... -DCHECK=... -DMODEL_A=...
 #       -DMODEL_B=... -DMOVE=DX,DY,DZ] -DOUT=DIR -P screenshot_test.cmake
 # The viewer's tests (viewer/CMakeLists.txt). Prints "SKIP: ..." (ctest reports Skipped) without xvfb-run.
+cmake_policy(VERSION 3.16)  # if() compares quoted strings as strings (CMP0054)
 if(NOT XVFB_RUN)
   message("SKIP: xvfb-run not found (apt install xvfb xauth)")
   return()
 endif()
 file(MAKE_DIRECTORY ${OUT})
+
+# The readout "clearance D +- B" in the viewer's stdout `out` must be the one of `nurbsgl clearance
+# MODEL_A MODEL_B ARGN` (B's placement), digit for digit.
+function(expect_cli_readout out)
+  execute_process(COMMAND ${NURBSGL} clearance ${MODEL_A} ${MODEL_B} ${ARGN}
+                  RESULT_VARIABLE crc OUTPUT_VARIABLE cli ERROR_VARIABLE cerr)
+  list(JOIN ARGN " " arguments)
+  message("nurbsgl clearance ${arguments}: ${cli}${cerr}")
+  if(NOT crc EQUAL 0)
+    message(FATAL_ERROR "nurbsgl clearance exited with ${crc}")
+  endif()
+  string(REGEX MATCH "clearance [^ ]+ \\+- [^ \n]+" viewer_readout "${out}")
+  string(REGEX MATCH "clearance [^ ]+ \\+- [^ \n]+" cli_readout "${cli}")
+  if(NOT viewer_readout OR NOT viewer_readout STREQUAL cli_readout)
+    message(FATAL_ERROR "viewer '${viewer_readout}' != nurbsgl '${cli_readout}' (${arguments})")
+  endif()
+endfunction()
+
+# viewer_check_screenshot on `png`: not blank, at least `min_segment` pixels of the segment's magenta.
+function(check_picture png min_segment)
+  execute_process(COMMAND ${CHECK} ${png} --min-segment ${min_segment} RESULT_VARIABLE prc OUTPUT_VARIABLE pout
+                  ERROR_VARIABLE perr)
+  message("${pout}${perr}")
+  if(NOT prc EQUAL 0)
+    message(FATAL_ERROR "the picture check of ${png} failed")
+  endif()
+endfunction()
 
 if(CASE STREQUAL "bad_model")
   # A malformed IGES file: the reader's message on stderr (and in the window), exit code 2, no crash.
@@ -45,11 +73,57 @@ if(CASE STREQUAL "modes")
     if(args MATCHES "--pick" AND NOT err MATCHES "picked A face 0")
       message(FATAL_ERROR "the click at (515, 240) picked no face of A")
     endif()
-    execute_process(COMMAND ${CHECK} ${png} --min-segment 0 RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
-    message("${pout}")
-    if(NOT prc EQUAL 0)
-      message(FATAL_ERROR "the picture check failed (${args})")
+    check_picture(${png} 0)
+  endforeach()
+  return()
+endif()
+
+if(CASE STREQUAL "events")
+  # Live input replayed (--events), B starting at --move-b MOVE. Script "move": a Shift + left drag
+  # moves B (a plain left drag orbits the camera, the wheel zooms: B stays), so its placement must
+  # be a move other than MOVE and no turn. Script "turn": a Shift + left drag, then a Shift + right
+  # drag turns B: a rotation must be printed. Both: the readout equals `nurbsgl clearance` at the
+  # printed placement digit for digit, and the picture shows the segment. A drag that does nothing
+  # leaves B at MOVE (or unturned): fail.
+  file(WRITE ${OUT}/events_move.txt "# viewer.events: input replayed one state per frame
+drag shift-left 620 330 700 290 8
+frame
+drag left 800 400 780 400 4
+wheel 1
+frame 2
+")
+  file(WRITE ${OUT}/events_turn.txt "drag shift-left 620 330 700 290 8
+drag shift-right 700 300 760 260 6
+frame
+")
+  foreach(script move turn)
+    set(png ${OUT}/events_${script}.png)
+    file(REMOVE ${png})
+    execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${MODEL_A} ${MODEL_B} --events ${OUT}/events_${script}.txt
+                            --move-b ${MOVE} --screenshot ${png} --width 960 --height 640
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    message("viewer, events_${script}.txt (exit ${rc}): ${out}${err}")
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "the viewer exited with ${rc}")
     endif()
+    string(REGEX MATCH "placement (--rotate-b ([^ \n]+) )?--move-b ([^ \n]+)" placement "${out}")
+    set(rotate "${CMAKE_MATCH_2}")
+    set(move "${CMAKE_MATCH_3}")
+    if(NOT placement OR move STREQUAL "${MOVE}")
+      message(FATAL_ERROR "B did not move: '${placement}' (start --move-b ${MOVE})")
+    endif()
+    if(script STREQUAL "move" AND rotate)
+      message(FATAL_ERROR "B turned under a Shift + left drag: '${placement}'")
+    endif()
+    if(script STREQUAL "turn" AND NOT rotate)
+      message(FATAL_ERROR "B did not turn under a Shift + right drag: '${placement}'")
+    endif()
+    if(rotate)
+      expect_cli_readout("${out}" --move-b ${move} --rotate-b ${rotate})
+    else()
+      expect_cli_readout("${out}" --move-b ${move})
+    endif()
+    check_picture(${png} 40)
   endforeach()
   return()
 endif()
@@ -67,20 +141,6 @@ message("viewer (${seconds} s, exit ${rc}): ${out}${err}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the viewer exited with ${rc}")
 endif()
-execute_process(COMMAND ${NURBSGL} clearance ${MODEL_A} ${MODEL_B} --move-b ${MOVE}
-                RESULT_VARIABLE crc OUTPUT_VARIABLE cli ERROR_VARIABLE cerr)
-message("nurbsgl clearance: ${cli}${cerr}")
-if(NOT crc EQUAL 0)
-  message(FATAL_ERROR "nurbsgl clearance exited with ${crc}")
-endif()
 # The readout of the last frame must be the CLI's at the same placement, digit for digit.
-string(REGEX MATCH "clearance [^ ]+ \\+- [^ \n]+" viewer_readout "${out}")
-string(REGEX MATCH "clearance [^ ]+ \\+- [^ \n]+" cli_readout "${cli}")
-if(NOT viewer_readout OR NOT viewer_readout STREQUAL cli_readout)
-  message(FATAL_ERROR "viewer '${viewer_readout}' != nurbsgl '${cli_readout}'")
-endif()
-execute_process(COMMAND ${CHECK} ${png} --min-segment 40 RESULT_VARIABLE prc OUTPUT_VARIABLE pout ERROR_VARIABLE perr)
-message("${pout}${perr}")
-if(NOT prc EQUAL 0)
-  message(FATAL_ERROR "the picture check failed")
-endif()
+expect_cli_readout("${out}" --move-b ${MOVE})
+check_picture(${png} 40)
