@@ -139,6 +139,16 @@ void App::print_scripted_results() {
   // B's placement as `nurbsgl clearance` options, every digit of the doubles: the CLI rerun at it
   // builds the same motion bit for bit.
   if (mode_ == Mode::Clearance && has_b()) fmt::print("placement {}\n", placement_.cli_arguments(17));
+  if (mode_ == Mode::Clearance && show_culled_ && pruning_.too_many)
+    fmt::print(stderr, "culled boxes at level {}: {} block pairs, not pruned (over 4e6)\n", cell_level_,
+               pruning_.pairs);
+  else if (mode_ == Mode::Clearance && show_culled_ && blocks_a_ && blocks_b_)
+    fmt::print(stderr,
+               "culled boxes at level {}: A {} kept, {} pruned, {} trim-culled; B {} kept, {} pruned, {} trim-culled "
+               "(U = {:.6g}, {} pairs in {:.1f} ms)\n",
+               cell_level_, pruning_.kept_a, blocks_a_->kept.size() - size_t(pruning_.kept_a),
+               blocks_a_->trimmed.size(), pruning_.kept_b, blocks_b_->kept.size() - size_t(pruning_.kept_b),
+               blocks_b_->trimmed.size(), pruning_.upper, pruning_.pairs, pruning_ms_);
   const auto summary = [](std::vector<double> ms) {  // "median M ms (min A, max B)"
     std::sort(ms.begin(), ms.end());
     return fmt::format("median {:.1f} ms (min {:.1f}, max {:.1f})", ms[ms.size() / 2], ms.front(), ms.back());
@@ -173,6 +183,7 @@ int App::run() {
     show_cells_ = std::find(ov.begin(), ov.end(), "cells") != ov.end();
     show_voxels_ = std::find(ov.begin(), ov.end(), "voxels") != ov.end();
     show_culled_ = std::find(ov.begin(), ov.end(), "culled") != ov.end();
+    show_faces_ = std::find(ov.begin(), ov.end(), "faces") != ov.end();
     cell_level_ = options_.level;
     clearance_dirty_ = true;
     if (options_.face >= 0 && options_.face < static_cast<int>(a_->faces.size())) {
@@ -211,6 +222,7 @@ int App::run() {
       query_clearance();
       if (scripted) scripted_query_ms_.push_back(query_ms_);
     }
+    if (overlay_dirty_ && mode_ == Mode::Clearance && a_) rebuild_overlays();  // the panel shows their counts
     draw_panels();
     ImGui::Render();
     int fw = 0, fh = 0;

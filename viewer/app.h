@@ -17,6 +17,7 @@
 #include "viewer/camera.h"
 #include "viewer/draw_buffers.h"
 #include "viewer/input_script.h"
+#include "viewer/overlays.h"
 #include "viewer/placement.h"
 #include "viewer/scene_model.h"
 #include "viewer/thickness_view.h"
@@ -32,7 +33,7 @@ struct ViewerOptions {
   double eps = 1e-3;                  ///< display tessellation, relative to the model size
   std::string mode;                   ///< start mode: view, clearance, tessellation, thickness (empty: by models)
   int face = -1;                      ///< a face of A picked at start (its panel and overlays)
-  std::vector<std::string> overlays;  ///< shown at start: cells, voxels, culled
+  std::vector<std::string> overlays;  ///< shown at start: cells, voxels, culled, faces
   int level = 3;                      ///< hierarchy level of the cell boxes
   std::string pick;                   ///< "X,Y": a click at that window pixel on the first frame
   std::vector<InputFrame> events;     ///< --events FILE: scripted input, one state per frame
@@ -69,6 +70,7 @@ class App {
   void prepare_clearance();
   void query_clearance();
   void rebuild_overlays();
+  void update_blocks();
   // app_render.cpp
   void render_scene(int width, int height);
   void rebuild_selection_overlay();
@@ -77,6 +79,7 @@ class App {
   void draw_panels();
   void panel_face();
   void panel_clearance();
+  void panel_culled();
   void panel_tessellation();
   void panel_thickness();
   void panel_help();
@@ -118,9 +121,14 @@ class App {
   std::string clearance_error_;
 
   // Overlays of the search (overlays.h)
-  bool show_cells_ = false, show_voxels_ = false, show_culled_ = false, overlay_dirty_ = true;
+  bool show_cells_ = false, show_voxels_ = false, show_culled_ = false, show_faces_ = false, overlay_dirty_ = true;
   int cell_level_ = 3;
   long long cell_boxes_ = 0;  ///< drawn per model A + B; -1: too many at this level
+  // Blocks of cells at blocks_level_ (both models, their own frames) and their pruning for B's placement
+  std::optional<CellBlocks> blocks_a_, blocks_b_;
+  int blocks_level_ = -1;
+  BlockPruning pruning_;
+  double pruning_ms_ = 0.0;
   std::unique_ptr<queries::VoxelGrid> voxels_a_, voxels_b_;
   std::optional<queries::VoxelStage> voxel_stage_;
   LineBatch overlay_a_, overlay_b_;

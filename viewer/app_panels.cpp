@@ -117,7 +117,9 @@ void App::panel_clearance() {
   ImGui::PushTextWrapPos(0.0f);
   ImGui::TextDisabled("same as: nurbsgl clearance A B %s", placement_.cli_arguments().c_str());
   ImGui::PopTextWrapPos();
-  if (ImGui::CollapsingHeader("overlays (search of 5.1-5.4)")) {
+  // Open at start when --overlay asked for some.
+  if (ImGui::CollapsingHeader("overlays (search of 5.1-5.4)",
+                              options_.overlays.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) {
     bool again = ImGui::Checkbox("cell AABBs", &show_cells_);
     ImGui::SameLine();
     again |= ImGui::SliderInt("level", &cell_level_, 0, 10);
@@ -127,8 +129,10 @@ void App::panel_clearance() {
       else
         ImGui::TextDisabled("%lld boxes of 2^%d x 2^%d grid cells, grown by K", cell_boxes_, cell_level_, cell_level_);
     }
+    again |= ImGui::Checkbox("culled boxes at this level", &show_culled_);
+    if (show_culled_) panel_culled();
     again |= ImGui::Checkbox("voxel grid of the first stage (40^3)", &show_voxels_);
-    if (ImGui::Checkbox("faces kept (green) / culled (red) by the voxel stage", &show_culled_)) {
+    if (ImGui::Checkbox("faces kept (green) / culled (red) by the voxel stage", &show_faces_)) {
       again = true;
       clearance_dirty_ = true;
     }
@@ -141,6 +145,24 @@ void App::panel_clearance() {
   const std::string query_label = fmt::format("query {:.1f} ms", query_ms_);
   ImGui::PlotLines("##query", query_ms_history_.data(), kHistory, history_at_, query_label.c_str(), 0.0f, frame_max,
                    ImVec2(0, 60));
+}
+
+void App::panel_culled() {
+  if (!blocks_a_ || !blocks_b_) {
+    ImGui::TextDisabled("too many boxes at this level: raise it");
+    return;
+  }
+  ImGui::TextDisabled("trim culls (grey, 5.3): %zu blocks of A, %zu of B", blocks_a_->trimmed.size(),
+                      blocks_b_->trimmed.size());
+  if (pruning_.too_many) {
+    ImGui::TextDisabled("%lld block pairs, over 4e6: not pruned here; raise the level", pruning_.pairs);
+    return;
+  }
+  ImGui::TextDisabled("pruned (red, 5.1): A %lld of %zu, B %lld of %zu blocks",
+                      static_cast<long long>(blocks_a_->kept.size()) - pruning_.kept_a, blocks_a_->kept.size(),
+                      static_cast<long long>(blocks_b_->kept.size()) - pruning_.kept_b, blocks_b_->kept.size());
+  ImGui::TextDisabled("kept (green): lower bound <= U = %.6g", pruning_.upper);
+  ImGui::TextDisabled("%lld pairs in %.1f ms (CPU, double)", pruning_.pairs, pruning_ms_);
 }
 
 void App::panel_tessellation() {

@@ -36,8 +36,10 @@ int run(int argc, char** argv) {
       ->check(CLI::IsMember({"view", "clearance", "tessellation", "thickness"}));
   app.add_option("--face", o.face, "Pick face I of A at start: its panel, control net and trim loops")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--overlay", o.overlays, "Clearance overlays shown at start: cells, voxels, culled (repeatable)")
-      ->check(CLI::IsMember({"cells", "voxels", "culled"}))
+  app.add_option("--overlay", o.overlays,
+                 "Clearance overlays shown at start: cells, voxels, culled (blocks the trim culls and those pruned "
+                 "at --level), faces (kept by the voxel stage)")
+      ->check(CLI::IsMember({"cells", "voxels", "culled", "faces"}))
       ->delimiter(',');
   app.add_option("--level", o.level, "Hierarchy level of the cell boxes (2^level cells a side)")
       ->check(CLI::Range(0, 10))

@@ -1,5 +1,5 @@
 # cmake -DCASE=screenshot|events|modes|bad_model -DXVFB_RUN=... -DVIEWER=... [-DNURBSGL=... -DCHECK=... -DMODEL_A=...
-#       -DMODEL_B=... -DMOVE=DX,DY,DZ] -DOUT=DIR -P screenshot_test.cmake
+#       -DMODEL_B=... -DMOVE=DX,DY,DZ -DTRIMMED_A=... -DTRIMMED_B=...] -DOUT=DIR -P screenshot_test.cmake
 # The viewer's tests (viewer/CMakeLists.txt). Prints "SKIP: ..." (ctest reports Skipped) without xvfb-run.
 cmake_policy(VERSION 3.16)  # if() compares quoted strings as strings (CMP0054)
 if(NOT XVFB_RUN)
@@ -25,10 +25,11 @@ function(expect_cli_readout out)
   endif()
 endfunction()
 
-# viewer_check_screenshot on `png`: not blank, at least `min_segment` pixels of the segment's magenta.
+# viewer_check_screenshot on `png`: not blank, at least `min_segment` pixels of the segment's magenta
+# (ARGN: more options of the check, e.g. --count R,G,B M).
 function(check_picture png min_segment)
-  execute_process(COMMAND ${CHECK} ${png} --min-segment ${min_segment} RESULT_VARIABLE prc OUTPUT_VARIABLE pout
-                  ERROR_VARIABLE perr)
+  execute_process(COMMAND ${CHECK} ${png} --min-segment ${min_segment} ${ARGN} RESULT_VARIABLE prc
+                  OUTPUT_VARIABLE pout ERROR_VARIABLE perr)
   message("${pout}${perr}")
   if(NOT prc EQUAL 0)
     message(FATAL_ERROR "the picture check of ${png} failed")
@@ -57,12 +58,19 @@ endif()
 
 if(CASE STREQUAL "modes")
   # Every other mode draws something and exits 0: a face picked by a click in view mode (control
-  # net, trim loops), tessellation, thickness, and clearance with every overlay.
-  foreach(args "--mode;view;--pick;515,240" "--mode;tessellation" "--mode;thickness" "--overlay;cells,voxels,culled")
+  # net, trim loops), tessellation, thickness, and clearance with every overlay; the culled boxes
+  # also on the trimmed paper surface beside the 199x33 one ("trimmed": TRIMMED_A, TRIMMED_B).
+  foreach(args "--mode;view;--pick;515,240" "--mode;tessellation" "--mode;thickness" "--overlay;cells,voxels,faces"
+          "--overlay;culled" "trimmed;--overlay;culled")
     string(REPLACE ";" "_" name "${args}")
     string(REPLACE "," "_" name "${name}")
     set(png ${OUT}/mode${name}.png)
-    execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${MODEL_A} ${MODEL_B} ${args} --frames 2 --screenshot ${png}
+    set(models ${MODEL_A} ${MODEL_B})
+    if(args MATCHES "^trimmed;")
+      list(REMOVE_AT args 0)
+      set(models ${TRIMMED_A} ${TRIMMED_B})
+    endif()
+    execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${models} ${args} --frames 2 --screenshot ${png}
                             --width 640 --height 480
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     message("${args}: exit ${rc} ${out}${err}")
@@ -73,7 +81,23 @@ if(CASE STREQUAL "modes")
     if(args MATCHES "--pick" AND NOT err MATCHES "picked A face 0")
       message(FATAL_ERROR "the click at (515, 240) picked no face of A")
     endif()
-    check_picture(${png} 0)
+    if(NOT args MATCHES "culled")
+      check_picture(${png} 0)
+      continue()
+    endif()
+    # Culled boxes (viewer/overlays.h): blocks kept (51,255,102) and pruned (255,51,51) at level 3
+    # for the placement, and on the trimmed surface the blocks the trim culls (102,102,102).
+    if(NOT err MATCHES "culled boxes at level 3: A [0-9]+ kept, [1-9][0-9]* pruned")
+      message(FATAL_ERROR "no block of A pruned at level 3 (${args})")
+    endif()
+    set(counts --count 51,255,102 20 --count 255,51,51 20)
+    if(name MATCHES "^trimmed")
+      if(NOT err MATCHES "A [0-9]+ kept, [0-9]+ pruned, [1-9][0-9]* trim-culled")
+        message(FATAL_ERROR "no block of the trimmed surface culled by its trim")
+      endif()
+      list(APPEND counts --count 102,102,102 20)
+    endif()
+    check_picture(${png} 0 ${counts})
   endforeach()
   return()
 endif()
