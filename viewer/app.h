@@ -107,7 +107,7 @@ class App {
   int picked_model_ = -1, picked_face_ = -1;
   LineBatch selection_overlay_;
   LineBatch edges_a_, edges_b_;
-  LineBatch segment_;
+  LineBatch segment_, segment_hidden_, segment_ends_;  ///< in front of the scene, behind it (dashed), its ends
 
   // Clearance (Krishnamurthy et al. §5, the paper's Fig. 16 interaction)
   Placement placement_;

@@ -1,5 +1,6 @@
 // Drawing the scene into the window's default framebuffer. Every piece of state a draw needs is
 // set here each frame: the GPU queries run passes into their own framebuffers between frames.
+#include <algorithm>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gpgpu/gl_api.h"
@@ -15,6 +16,8 @@ namespace {
 /// The distance segment's colour: pure magenta, used by nothing else, so that the screenshot test
 /// can find the segment by counting exact pixels (viewer/check_screenshot.cpp).
 constexpr glm::vec3 kSegmentColor{1.0f, 0.0f, 1.0f};
+/// The part of the segment hidden by the models: dashed, dimmer.
+constexpr glm::vec3 kHiddenSegmentColor{0.6f, 0.15f, 0.6f};
 
 void set_mvp(const gpgpu::Program& p, const glm::dmat4& view_projection, const glm::dmat4& model) {
   const glm::mat4 mvp(view_projection * model);
@@ -118,30 +121,54 @@ void App::render_scene(int width, int height) {
 }
 
 void App::draw_segment(const glm::dmat4& view_projection, int width, int height) {
-  // A quad 3 pixels wide in normalised device coordinates, and a 7-pixel square at each end: core
-  // profile lines are one pixel wide. On top of everything (depth test off).
+  // Quads 3 pixels wide in normalised device coordinates (core profile lines are one pixel wide),
+  // at the segment's own depth: the part in front of the scene pure magenta, the part behind it
+  // dashed in a dim magenta (a second draw with GL_GREATER), a 7-pixel square at each end on top.
   segment_.clear();
+  segment_hidden_.clear();
+  segment_ends_.clear();
   const glm::dvec4 ca = view_projection * glm::dvec4(clearance_->point_a, 1.0);
   const glm::dvec4 cb = view_projection * glm::dvec4(clearance_->point_b, 1.0);
   if (ca.w <= 0.0 || cb.w <= 0.0) return;  // an end behind the eye
-  const glm::dvec2 pa = glm::dvec2(ca) / ca.w, pb = glm::dvec2(cb) / cb.w;
+  // z / w is linear across the window, so quads placed in NDC interpolate the depth exactly.
+  const glm::dvec3 pa = glm::dvec3(ca) / ca.w, pb = glm::dvec3(cb) / cb.w;
   const glm::dvec2 px(2.0 / width, 2.0 / height);  // one pixel in NDC
-  glm::dvec2 dir = (pb - pa) / px;
-  const double len = glm::length(dir);
+  glm::dvec2 dir = (glm::dvec2(pb) - glm::dvec2(pa)) / px;
+  const double len = glm::length(dir);  // pixels
   dir = len > 0.0 ? dir / len : glm::dvec2(1.0, 0.0);
-  const glm::dvec2 n = glm::dvec2(-dir.y, dir.x) * 1.5 * px;
-  auto at = [](glm::dvec2 p) { return glm::dvec3(p, 0.0); };
-  segment_.triangle(at(pa - n), at(pb - n), at(pb + n), kSegmentColor);
-  segment_.triangle(at(pa - n), at(pb + n), at(pa + n), kSegmentColor);
-  for (const glm::dvec2 p : {pa, pb}) {
-    const glm::dvec2 h = 3.5 * px;
-    segment_.triangle(at(p - h), at(p + glm::dvec2(h.x, -h.y)), at(p + h), kSegmentColor);
-    segment_.triangle(at(p - h), at(p + h), at(p + glm::dvec2(-h.x, h.y)), kSegmentColor);
+  const glm::dvec3 n(glm::dvec2(-dir.y, dir.x) * 1.5 * px, 0.0);
+  const auto piece = [&](LineBatch& batch, double t0, double t1, const glm::vec3& color) {
+    const glm::dvec3 p0 = glm::mix(pa, pb, t0), p1 = glm::mix(pa, pb, t1);
+    batch.triangle(p0 - n, p1 - n, p1 + n, color);
+    batch.triangle(p0 - n, p1 + n, p0 + n, color);
+  };
+  piece(segment_, 0.0, 1.0, kSegmentColor);
+  constexpr double kDash = 6.0, kGap = 4.0;  // pixels
+  for (double s = 0.0; s < len; s += kDash + kGap)
+    piece(segment_hidden_, s / len, std::min(s + kDash, len) / len, kHiddenSegmentColor);
+  for (const glm::dvec3& p : {pa, pb}) {
+    const glm::dvec3 h(3.5 * px, 0.0), k(h.x, -h.y, 0.0);
+    segment_ends_.triangle(p - h, p + k, p + h, kSegmentColor);
+    segment_ends_.triangle(p - h, p + h, p - k, kSegmentColor);
   }
-  gl::Disable(GL_DEPTH_TEST);
   const glm::mat4 identity(1.0f);
   line_program_->set_mat4("u_mvp", glm::value_ptr(identity));
+  // Both passes compare against the scene's depth only (no writes), so each pixel of the segment
+  // falls in exactly one; pulled a few depth units forward, as the mesh is pushed back, so that
+  // the ends on the surfaces count as in front.
+  gl::Enable(GL_DEPTH_TEST);
+  glx::DepthMask(GL_FALSE);
+  gl::Enable(GL_POLYGON_OFFSET_FILL);
+  glx::PolygonOffset(0.0f, -4.0f);
+  glx::DepthFunc(GL_LEQUAL);
   segment_.draw(*line_program_);
+  glx::DepthFunc(GL_GREATER);
+  segment_hidden_.draw(*line_program_);
+  gl::Disable(GL_POLYGON_OFFSET_FILL);
+  glx::DepthFunc(GL_LEQUAL);
+  glx::DepthMask(GL_TRUE);
+  gl::Disable(GL_DEPTH_TEST);
+  segment_ends_.draw(*line_program_);
 }
 
 }  // namespace viewer
