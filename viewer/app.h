@@ -2,7 +2,8 @@
 /// \file app.h
 /// The desktop viewer of issue 11: one GLFW window whose GL context is the gpgpu::Gpu's (the
 /// queries run in it between frames), Dear ImGui panels, four modes (view, clearance,
-/// tessellation, thickness) and a scripted run that writes a screenshot.
+/// tessellation, thickness) and scripted runs (a motion of B, or input replayed from --events) that
+/// write a screenshot and print the readout and B's placement.
 #include <array>
 #include <chrono>
 #include <memory>

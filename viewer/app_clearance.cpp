@@ -79,7 +79,7 @@ void App::rebuild_overlays() {
     add_voxels(*voxels_b_, {0.95f, 0.45f, 0.6f}, overlay_b_);
   }
   if (show_culled_ && blocks) {               // §5.3 and §5.1 at this level and placement (overlays.h)
-    constexpr long long kMaxPairs = 4000000;  // about 0.1 s of box pairs in double
+    constexpr long long kMaxPairs = 4000000;  // about 40 ms of box pairs in double (347k pairs: 3.6 ms)
     const auto t0 = std::chrono::steady_clock::now();
     pruning_ = prune_blocks(*blocks_a_, *blocks_b_, motion_b(), kMaxPairs);
     pruning_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
