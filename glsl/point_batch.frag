@@ -5,7 +5,10 @@
 // node pruned when that distance exceeds the best triangle distance so far plus the float slack.
 // At the cells the two triangles of the four samples (the diagonal of queries/point_distance.cpp).
 // Output per point: (best triangle distance, cell x, cell y, cells tested); (+inf, -1, -1, n) when
-// no cell is material. Every triangle lies in its cell's box, so the pruning never drops a closer
+// no cell is material; the fourth channel is -1 - cells tested when the walk was cut short:
+// llvmpipe ends an invocation's loops after 65535 iterations in all, which a point equidistant
+// from a large part of the model (the centre of a sphere: every cell within the best distance)
+// reaches; the answer is then not the nearest, and the CPU searches that point again. Every triangle lies in its cell's box, so the pruning never drops a closer
 // triangle; the CPU twin is queries/point_batch.cpp descend().
 #include "point_batch_triangle.frag"
 
@@ -20,6 +23,7 @@ uniform int u_top;         // the 1x1 level
 uniform ivec2 u_size;      // size of level 0 (powers of two: level l is max(1, u_size >> l))
 uniform float u_slack;     // relative float slack (times |q| + u_radius)
 uniform float u_radius;    // half the diagonal of the model's box
+uniform int u_two;         // 2: the end-of-walk probe loop runs twice unless the loop budget is spent
 out vec4 o_result;
 
 const float kInf = 1.0 / 0.0;
@@ -60,6 +64,9 @@ void main() {
   }
   vec3 q = texelFetch(u_points, g, 0).xyz;
   float slack = u_slack * (length(q) + u_radius);
+  // Pruned: beyond best + slack, and always an empty box (+inf; while best is +inf too, inf > inf
+  // is false and an empty cell's "triangles" would join samples of two slots).
+  const float kMaxFloat = 3.402823e38;
   float best = kInf;
   ivec2 cell = ivec2(-1);
   int tested = 0;
@@ -81,7 +88,7 @@ void main() {
     }
     if (level == 1) {  // the children are cells: their triangles
       for (int k = 0; k < 4; ++k) {
-        if (dv[k] > best + slack) continue;
+        if (!(dv[k] <= min(best + slack, kMaxFloat))) continue;
         ivec2 c = base + ivec2(k & 1, k >> 1);
         vec3 a = texelFetch(u_samples, c, 0).xyz - u_origin;
         vec3 b = texelFetch(u_samples, c + ivec2(1, 0), 0).xyz - u_origin;
@@ -103,7 +110,7 @@ void main() {
       cswap(dv, order, 0, 2);
       cswap(dv, order, 1, 3);
       cswap(dv, order, 1, 2);
-      float reach = best + slack;
+      float reach = min(best + slack, kMaxFloat);
       if (dv[0] <= reach) {
         uint n = uint(dv[1] <= reach) + uint(dv[2] <= reach) + uint(dv[3] <= reach);  // sorted: a prefix
         set_pend(pend, busy, level - 1, n | uint(order[1] << 2) | uint(order[2] << 4) | uint(order[3] << 6));
@@ -126,9 +133,15 @@ void main() {
       set_pend(pend, busy, j, ((v & 3u) - 1u) | ((v >> 4) << 2));
       xy = 2 * (xy >> (j + 1 - level)) + ivec2(k & 1, k >> 1);
       level = j;
-      if (box_dist(q, xy, level) <= best + slack) break;
+      if (box_dist(q, xy, level) <= min(best + slack, kMaxFloat)) break;
       set_pend(pend, busy, j, 0u);
     }
   }
-  o_result = vec4(best, float(cell.x), float(cell.y), float(tested));
+  // A forced loop exit: the compiler may take done as true after the loop (it exits no other way),
+  // so a probe loop with a uniform count tells: it runs 0 times once the budget is spent (as in
+  // raycast.frag).
+  int probe = 0;
+  for (int i = 0; i < u_two; ++i) ++probe;
+  bool cut = !done || probe != 2;
+  o_result = vec4(best, float(cell.x), float(cell.y), cut ? -1.0 - float(tested) : float(tested));
 }

@@ -149,6 +149,7 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   prog.set("u_width", width);
   prog.set("u_slack", float(kFloatSlack));
   prog.set("u_radius", float(radius_));
+  prog.set("u_two", 2);
   for (size_t a = 0; a < atlases_.size(); ++a) {
     prog.set("u_top", atlases_[a].lo.levels() - 1);
     prog.set("u_size", atlases_[a].lo.width(), atlases_[a].lo.height());
@@ -162,7 +163,8 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
     out[a].resize(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
       const float* v = &r[4 * texel_of(i)];
-      out[a][order[i]] = {double(v[0]), int(v[1]), int(v[2]), (long long)(v[3])};
+      const bool cut = v[3] < 0.0f;
+      out[a][order[i]] = {double(v[0]), int(v[1]), int(v[2]), (long long)(cut ? -1.0f - v[3] : v[3]), cut};
     }
   }
   return out;
@@ -239,6 +241,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
       const auto part = query(points.subspan(s, std::min(points_per_pass_, points.size() - s)));
       out.insert(out.end(), part.begin(), part.end());
       total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
+      total.cut += stats_.cut;
       total.gpu_seconds += stats_.gpu_seconds, total.cpu_seconds += stats_.cpu_seconds;
     }
     stats_ = total;
@@ -250,21 +253,29 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
   const auto cells = descend_gpu(points);
   stats_.gpu_seconds = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
-  // The searches of points whose winner is trimmed read the CPU pyramids: built before the threads.
-  for (size_t f = 0; f < m_.faces.size(); ++f)
-    if (!m_.faces[f].loops.empty()) {
-      for (Atlas& at : atlases_) build_cpu_pyramid(at);
-      break;
-    }
+  // The searches of points whose winner is trimmed, and the points whose walk was cut, read the
+  // CPU pyramids: built before the threads.
+  bool any_cut = false;
+  for (const auto& per_atlas : cells)
+    for (const BatchCell& c : per_atlas) any_cut |= c.cut;
+  bool trimmed = false;
+  for (size_t f = 0; f < m_.faces.size(); ++f) trimmed |= !m_.faces[f].loops.empty();
+  if (any_cut || trimmed)
+    for (Atlas& at : atlases_) build_cpu_pyramid(at);
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
   const size_t threads = std::clamp<size_t>(points.size() / 128, 1, std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<long long> fallbacks(threads, 0), tested(threads, 0);
+  std::vector<long long> fallbacks(threads, 0), tested(threads, 0), cut(threads, 0);
   auto work = [&](size_t t) {
     std::vector<BatchCell> best(atlases_.size());
     for (size_t i = t * points.size() / threads; i < (t + 1) * points.size() / threads; ++i) {
-      for (size_t a = 0; a < atlases_.size(); ++a) best[a] = cells[a][i];
+      bool was_cut = false;
+      for (size_t a = 0; a < atlases_.size(); ++a) {
+        best[a] = cells[a][i];
+        if (best[a].cut) best[a] = descend_cpu(a, points[i]), was_cut = true;  // the twin's walk
+      }
+      cut[t] += was_cut;
       out[i] = finish(points[i], best, fallbacks[t]);
       tested[t] += out[i].candidates;
     }
@@ -273,7 +284,8 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
   work(0);
   for (std::thread& th : pool) th.join();
-  for (size_t t = 0; t < threads; ++t) stats_.fallbacks += fallbacks[t], stats_.cells_tested += tested[t];
+  for (size_t t = 0; t < threads; ++t)
+    stats_.fallbacks += fallbacks[t], stats_.cells_tested += tested[t], stats_.cut += cut[t];
   stats_.cpu_seconds = seconds_since(t1);
   return out;
 }

@@ -47,6 +47,7 @@ struct PointBatchStats {
   long long points = 0;
   long long cells_tested = 0;  ///< triangle pairs evaluated by the descent (summed over points)
   long long fallbacks = 0;     ///< points searched again on the CPU (winner in a trimmed region)
+  long long cut = 0;           ///< points whose GPU walk was cut short, descended again by the CPU twin
   double gpu_seconds = 0.0;    ///< upload, descent passes and read-back
   double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
 };
@@ -57,6 +58,7 @@ struct BatchCell {
   double distance = 0.0;
   int x = -1, y = -1;
   long long tested = 0;
+  bool cut = false;  ///< the GPU walk was cut short (see glsl/point_batch.frag): not the nearest cell
 };
 
 class PointBatch {

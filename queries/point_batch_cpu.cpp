@@ -110,7 +110,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
     }
     if (n.level == 1) {  // the children are cells: their two triangles
       for (int k = 0; k < 4; ++k) {
-        if (d[k] > best.distance + eps) continue;
+        if (d[k] == kInf || d[k] > best.distance + eps) continue;  // empty cells too (point_batch.frag)
         const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
         const glm::dvec3 s00 = sample(cx, cy), s10 = sample(cx + 1, cy), s01 = sample(cx, cy + 1),
                          s11 = sample(cx + 1, cy + 1);
@@ -128,7 +128,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
     for (const auto& [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}})
       if (ds[j] < ds[i]) std::swap(ds[i], ds[j]), std::swap(order[i], order[j]);
     for (int i = 3; i >= 0; --i)
-      if (d[order[i]] <= best.distance + eps)
+      if (d[order[i]] < kInf && d[order[i]] <= best.distance + eps)
         stack.push_back({n.level - 1, 2 * n.x + (order[i] & 1), 2 * n.y + (order[i] >> 1), d[order[i]]});
   }
   return best;

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "../gpgpu/gl_fixture.h"
+#include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/io/read_model.h"
@@ -325,4 +326,28 @@ TEST_CASE("point batch: every face of the shared IGES models takes part" * test:
   }
   MESSAGE(faces << " faces of " << files.size() << " shared files, " << points_run << " points, " << fallbacks
                 << " CPU fallbacks, " << edge_closer << " closer than the faithful path on a trim edge");
+}
+
+TEST_CASE("point batch: a point equidistant from a whole sphere (its centre) still gets the nearest point") {
+  // Every cell of the sphere lies within the best distance of the centre, so the walk visits them
+  // all; on llvmpipe it is cut short (65535 loop iterations per invocation) and must be searched
+  // again by the CPU twin, not answered from where the walk stopped. A smaller eccentric sphere
+  // inside makes the nearest point unique: 1 from the centre.
+  nurbs::TrimmedSurface outer, inner;
+  outer.surface = models::rational_sphere(10.0);
+  inner.surface = models::rational_sphere(3.0, glm::dvec3(2.0, 0.0, 0.0));
+  gpgpu::Gpu& gpu = test::gpu();
+  const queries::PreparedModel m = queries::prepare_model(gpu, {outer, inner}, 1e-5 * 20.0 * std::sqrt(3.0));
+  queries::PointBatch batch(gpu, m);
+  const std::vector<glm::dvec3> points = {glm::dvec3(0.0), glm::dvec3(1e-3, 0.0, 0.0), glm::dvec3(4.0, 0.0, 0.0)};
+  const auto r = batch.query(points);
+  const double want[] = {1.0, 1.001, 1.0};
+  for (size_t i = 0; i < points.size(); ++i) {
+    CAPTURE(i);
+    CHECK(r[i].face == 1);
+    CHECK(std::abs(r[i].distance - want[i]) <= r[i].bound);
+    const queries::PointDistance twin = batch.query_cpu(points[i]);
+    CHECK(std::abs(r[i].distance - twin.distance) <= 1e-9);
+  }
+  MESSAGE("sphere centre: " << batch.stats().cut << " of 3 walks cut short on the GPU, searched again on the CPU");
 }
