@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/ray_engine.h"
+#include "cli/thickness_ball.h"
 #include "gpgpu/exr_dump.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/read_model.h"
@@ -25,26 +27,32 @@ struct ThicknessArgs {
   double spacing = 0.0, min_wall = 0.0;
   bool samples_given = false, spacing_given = false, min_wall_given = false, json = false;
   RayEngineArgs engine;
+  BallArgs ball;
+  std::string colour = "ray";
 };
 
 using Thickness = nurbs::ray::SampleThickness;
 
 void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
-               const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays) {
+               const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays,
+               const BallResult* ball) {
   std::ofstream out(path);
   if (!out) throw BadInput(fmt::format("--csv: cannot write {}", path));
-  out << "face,u,v,x,y,z,thickness,hit_face\n";
+  out << "face,u,v,x,y,z,thickness,hit_face" << (ball ? ",ball_thickness,ball_bound" : "") << "\n";
   for (size_t r = 0; r < rays.rays.size(); ++r) {
     const auto [f, k] = rays.source[r];
     const auto& g = s.faces[size_t(f)];
-    out << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", g.face, g.uv[size_t(k)].x,
+    out << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", g.face, g.uv[size_t(k)].x,
                        g.uv[size_t(k)].y, g.point[size_t(k)].x, g.point[size_t(k)].y, g.point[size_t(k)].z,
                        th[size_t(f)][size_t(k)], hits[r].face);
+    if (ball) out << fmt::format(",{:.17g},{:.3g}", ball->samples[r].thickness, ball->samples[r].bound);
+    out << "\n";
   }
   if (!out) throw std::runtime_error(fmt::format("--csv: writing {} failed", path));
 }
 
-void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& s, const Thickness& th) {
+void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
+                    const char* what) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw BadInput(fmt::format("--exr: cannot create {}: {}", dir, ec.message()));
@@ -52,12 +60,13 @@ void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& 
     const auto& g = s.faces[f];
     gpgpu::ExrImage img{g.nu, g.nv, {"R"}, {}};
     img.values.assign(th[f].begin(), th[f].end());
-    gpgpu::write_exr(std::filesystem::path(dir) / fmt::format("face_{:04d}_thickness.exr", g.face), img);
+    gpgpu::write_exr(std::filesystem::path(dir) / fmt::format("face_{:04d}_{}.exr", g.face, what), img);
   }
 }
 
 void run(const GlobalOptions& global, const ThicknessArgs& a) {
   if (a.samples_given && a.spacing_given) throw BadInput("--samples and --spacing: give one of them");
+  if (a.colour == "ball" && !a.ball.enabled) throw BadInput("--colour ball needs --ball");
   const auto start = std::chrono::steady_clock::now();
   const nurbs::Model model = nurbs::io::read_model(a.model);
   const double size = checked_model_size(model, a.model);
@@ -100,9 +109,23 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   }
   std::sort(values.begin(), values.end());
   const double median = values.empty() ? -1.0 : values[values.size() / 2];
-  if (!a.output.empty()) nurbs::io::write_mesh_file(a.output, nurbs::ray::thickness_mesh(samples, th, lo, hi));
-  if (!a.csv.empty()) write_csv(a.csv, samples, th, hits, rays);
-  if (!a.exr.empty()) write_exr_maps(a.exr, samples, th);
+  std::optional<BallResult> ball;
+  Thickness ball_th;
+  if (a.ball.enabled) {
+    ball = ball_thickness(model, rays, hits, size, a.ball, global, engine.gpu());
+    ball_th = Thickness(samples.faces.size());
+    for (size_t f = 0; f < samples.faces.size(); ++f) ball_th[f].assign(samples.faces[f].uv.size(), -1.0);
+    for (size_t r = 0; r < rays.rays.size(); ++r)
+      ball_th[size_t(rays.source[r].first)][size_t(rays.source[r].second)] = ball->samples[r].thickness;
+  }
+  const bool by_ball = a.colour == "ball";
+  if (!a.output.empty())
+    nurbs::io::write_mesh_file(a.output, nurbs::ray::thickness_mesh(samples, by_ball ? ball_th : th, lo, hi));
+  if (!a.csv.empty()) write_csv(a.csv, samples, th, hits, rays, ball ? &*ball : nullptr);
+  if (!a.exr.empty()) {
+    write_exr_maps(a.exr, samples, th, "thickness");
+    if (ball) write_exr_maps(a.exr, samples, ball_th, "ball");
+  }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double residual = scene.options.exact_residual * scene.size;
   const long long n = static_cast<long long>(rays.rays.size());
@@ -127,6 +150,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
         {"seconds", {{"orientation", orient_seconds}, {"cast", cast_seconds}, {"total", total}}},
         {"thickness_rays_per_second", cast_seconds > 0 ? double(n) / cast_seconds : 0.0}};
     if (a.min_wall_given) j["min_wall"] = a.min_wall, j["below_min_wall"] = below;
+    if (ball) j["ball"] = ball_json(*ball, hits, a.min_wall_given ? a.min_wall : 0.0);
     if (hit_count) {
       const auto [tf, tk] = rays.source[thinnest];
       const auto& g = samples.faces[size_t(tf)];
@@ -151,6 +175,18 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
                sum / double(hit_count), hi);
   }
   if (a.min_wall_given) fmt::print("below      {} samples thinner than {:.6g}\n", below, a.min_wall);
+  if (ball) {
+    const nlohmann::json b = ball_json(*ball, hits, a.min_wall_given ? a.min_wall : 0.0);
+    fmt::print(
+        "ball       min {:.6g}, median {:.6g}, mean {:.6g}, max {:.6g} (+- {:.2g}); thinner than the ray at {} "
+        "samples; {} rounds, {} point queries, {} unconverged; {:.3f} s (+ {:.3f} s preparing the point query)\n",
+        b["thickness"]["min"].get<double>(), b["thickness"]["median"].get<double>(),
+        b["thickness"]["mean"].get<double>(), b["thickness"]["max"].get<double>(), b["bound"].get<double>(),
+        b["thinner_than_ray"].get<long long>(), b["rounds"].get<int>(), b["queries"].get<long long>(),
+        b["unconverged"].get<long long>(), ball->seconds, ball->prepare_seconds);
+    if (a.min_wall_given)
+      fmt::print("ball below {} samples thinner than {:.6g}\n", b["below_min_wall"].get<long long>(), a.min_wall);
+  }
   fmt::print("orientation {} faces flipped from the file's flags by ray parity, {} unsure\n", samples.orientation_flips,
              samples.orientation_unsure);
   fmt::print("time       {:.3f} s (build {:.3f}, orientation {:.3f}, rays {:.3f} = {:.0f} rays/s, {}, {})\n", total,
@@ -182,6 +218,16 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
          "Count the samples thinner than T (model units)")
       ->check(CLI::PositiveNumber);
   add_ray_engine_options(cmd, a->engine);
+  cmd->add_flag("--ball", a->ball.enabled,
+                "Also the rolling-ball thickness: the largest empty ball tangent at each sample (shrinking ball over "
+                "the GPU batched point query; never above the ray's)");
+  cmd->add_option("--ball-tolerance", a->ball.tolerance,
+                  "--ball: the point query's grid bound K_e, relative to the model size")
+      ->check(CLI::Range(1e-7, 1e-2))
+      ->capture_default_str();
+  cmd->add_option("--colour", a->colour, "-o: colour the mesh by the ray or the ball thickness (--ball)")
+      ->check(CLI::IsMember({"ray", "ball"}))
+      ->capture_default_str();
   cmd->add_option("-o,--output", a->output,
                   "Write the samples as a PLY mesh coloured by thickness (blue thin, red thick)");
   cmd->add_option("--csv", a->csv, "Write face, u, v, x, y, z, thickness, hit_face per sample");

@@ -44,6 +44,8 @@ class RayEngine {
   /// Figures: build and cast seconds, rays, tests per ray (the paper's Fig. 7), memory (Fig. 11).
   [[nodiscard]] nlohmann::json figures() const;
   [[nodiscard]] double cast_seconds() const { return caster_->figures().cast_seconds; }
+  /// The GPU context of --device gpu, else null.
+  [[nodiscard]] gpgpu::Gpu* gpu() const { return gpu_.get(); }
 
  private:
   RayEngineArgs args_;

@@ -13,6 +13,7 @@ std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
   if (!(options.tolerance > 0.0)) throw std::invalid_argument("ball_thickness: the tolerance must be > 0");
   std::vector<BallThickness> out(points.size());
   std::vector<double> radius(points.size(), 0.0);
+  std::vector<double> shrink_error(points.size(), 0.0);  ///< first-order error of r from the last shrinking q
   std::vector<size_t> active;
   for (size_t i = 0; i < points.size(); ++i) {
     radius[i] = start_radius[i] > 0.0 ? start_radius[i] : options.max_radius;
@@ -34,7 +35,7 @@ std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
       ++b.rounds;
       b.contact = q[k].point;
       b.contact_face = q[k].face;
-      b.bound = 2.0 * (q[k].bound + q[k].point_bound + options.tolerance);
+      b.bound = 2.0 * (2.0 * q[k].bound + options.tolerance + shrink_error[i]);
       const double r = radius[i];
       if (!q[k].found || q[k].distance >= r - (q[k].bound + options.tolerance)) {
         b.converged = q[k].found;
@@ -45,6 +46,9 @@ std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
       const double r_new = along > 0.0 ? glm::dot(e, e) / (2.0 * along) : -1.0;
       if (!(r_new > 0.0) || !(r_new < r)) continue;  // degenerate (q at p within round-off): keep r
       radius[i] = r_new;
+      // dr / dq = (q - c_new) / (n . (q - p)), |q - c_new| = r_new: a surface point within the
+      // query's bound of q moves r by up to that over n . (q - p) = |q - p|^2 / (2 r_new).
+      shrink_error[i] = q[k].bound * 2.0 * r_new * r_new / glm::dot(e, e);
       next.push_back(i);
     }
     active.swap(next);

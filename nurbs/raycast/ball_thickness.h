@@ -14,11 +14,15 @@
 ///   if |c - q| >= r - (b + tolerance): the ball is empty up to the query's accuracy, stop;
 ///   else r = |q - p|^2 / (2 n . (q - p)), the ball tangent at p through q (q lies inside the
 ///   current ball, so n . (q - p) > 0 and the new r is smaller), and repeat.
-/// A round's queries are the still-shrinking samples only. Accuracy: at the stop, no surface point
-/// is nearer to c than r - 2 (b + tolerance) (the query's bound on both sides), and q is a surface
-/// point within the query's point bound, so the ball's radius is within b + point bound +
-/// tolerance of the largest empty one along n; `bound` reports twice that for the diameter (a
-/// stated allowance: the point bound of Theorem 2 is the only proven part).
+/// A round's queries are the still-shrinking samples only.
+///
+/// Bound (first order, per sample, on the diameter): 2 (2 b + tolerance + e). At the stop no
+/// surface point is nearer to c than r - 2 b - tolerance (the query's bound on both sides); e is
+/// what the last shrinking q moves r by: q is a grid triangle point, the surface within b of it,
+/// and r = rho(q) = |q - p|^2 / (2 n . (q - p)) has |grad rho| = 2 r^2 / |q - p|^2 (1/2 for a wall
+/// straight across, large where q comes close to p), so e = b 2 r^2 / |q - p|^2. A ball never
+/// shrunk (the ray's hit, an exact face point, bounds it) has e = 0. A stated allowance, not a
+/// proof: the shell between r - 2 b - tolerance and r near p is not searched.
 #include <functional>
 #include <glm/vec3.hpp>
 #include <vector>
@@ -46,7 +50,7 @@ struct BallOptions {
 
 struct BallThickness {
   double thickness = -1.0;  ///< 2 r; -1 where the sample had no start radius
-  double bound = 0.0;       ///< see the file comment
+  double bound = 0.0;       ///< on the thickness, see the file comment
   int rounds = 0;           ///< queries this sample needed
   bool converged = false;   ///< stopped by the emptiness test (not by max_rounds or a degenerate step)
   glm::dvec3 contact{0.0};  ///< the last closest point (the opposite wall, or p itself when nothing shrank it)

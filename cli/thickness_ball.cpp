@@ -1,0 +1,92 @@
+#include "cli/thickness_ball.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "nurbs/model_ops.h"
+#include "queries/point_batch.h"
+#include "queries/prepared_model.h"
+
+namespace cli {
+namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::ThicknessRays& rays,
+                          const std::vector<nurbs::ray::Hit>& hits, double size, const BallArgs& args,
+                          const GlobalOptions& global, gpgpu::Gpu* gpu) {
+  BallResult out;
+  std::unique_ptr<gpgpu::Gpu> own;
+  if (!gpu) {
+    own = start_gpu(global);
+    gpu = own.get();
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  out.tolerance = args.tolerance * size;
+  const queries::PreparedModel prepared = queries::prepare_model(*gpu, nurbs::world_faces(model), out.tolerance);
+  queries::PointBatch batch(*gpu, prepared);
+  gpu->finish();
+  out.prepare_seconds = since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<glm::dvec3> points, inward;
+  std::vector<double> start;
+  for (size_t r = 0; r < rays.rays.size(); ++r) {
+    points.push_back(rays.rays[r].origin);
+    inward.push_back(rays.rays[r].direction);
+    start.push_back(hits[r].face >= 0 ? 0.5 * hits[r].t : 0.0);
+  }
+  Progress progress("thickness: rolling ball", "samples");
+  const nurbs::ray::NearestFn nearest = [&](const std::vector<glm::dvec3>& centres) {
+    const std::vector<queries::PointDistance> d = batch.query(centres);
+    std::vector<nurbs::ray::NearestPoint> q;
+    q.reserve(d.size());
+    for (const auto& e : d) q.push_back({e.found, e.distance, e.point, e.bound, e.point_bound, e.face});
+    progress.update(static_cast<long long>(points.size() - centres.size()), static_cast<long long>(points.size()));
+    return q;
+  };
+  nurbs::ray::BallOptions o;
+  o.tolerance = 1e-6 * size;
+  o.max_radius = size;
+  out.samples = nurbs::ray::ball_thickness(points, inward, start, nearest, o, &out.figures);
+  progress.update(static_cast<long long>(points.size()), static_cast<long long>(points.size()));
+  out.seconds = since(t1);
+  return out;
+}
+
+nlohmann::json ball_json(const BallResult& r, const std::vector<nurbs::ray::Hit>& hits, double min_wall) {
+  std::vector<double> v;
+  long long thinner = 0, below = 0;
+  double sum = 0.0, worst_bound = 0.0;
+  for (size_t i = 0; i < r.samples.size(); ++i) {
+    const auto& b = r.samples[i];
+    if (b.thickness < 0) continue;
+    v.push_back(b.thickness);
+    sum += b.thickness;
+    worst_bound = std::max(worst_bound, b.bound);
+    thinner += hits[i].face >= 0 && b.thickness < hits[i].t - b.bound;
+    below += min_wall > 0 && b.thickness < min_wall;
+  }
+  std::sort(v.begin(), v.end());
+  const bool any = !v.empty();
+  nlohmann::json j = {{"samples", v.size()},
+                      {"thickness",
+                       {{"min", any ? v.front() : -1.0},
+                        {"median", any ? v[v.size() / 2] : -1.0},
+                        {"mean", any ? sum / double(v.size()) : -1.0},
+                        {"max", any ? v.back() : -1.0}}},
+                      {"bound", worst_bound},
+                      {"thinner_than_ray", thinner},
+                      {"rounds", r.figures.rounds},
+                      {"queries", r.figures.queries},
+                      {"unconverged", r.figures.unconverged},
+                      {"query_tolerance", r.tolerance},
+                      {"seconds", {{"prepare", r.prepare_seconds}, {"shrink", r.seconds}}}};
+  if (min_wall > 0) j["below_min_wall"] = below;
+  return j;
+}
+
+}  // namespace cli
