@@ -4,7 +4,7 @@
 #include <chrono>
 
 #include "nurbs/model_ops.h"
-#include "queries/point_batch.h"
+#include "queries/ball_nearest.h"
 #include "queries/prepared_model.h"
 
 namespace cli {
@@ -40,13 +40,10 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
     start.push_back(hits[r].face >= 0 ? 0.5 * hits[r].t : 0.0);
   }
   Progress progress("thickness: rolling ball", "samples");
-  const nurbs::ray::NearestFn nearest = [&](const std::vector<glm::dvec3>& centres) {
-    const std::vector<queries::PointDistance> d = batch.query(centres);
-    std::vector<nurbs::ray::NearestPoint> q;
-    q.reserve(d.size());
-    for (const auto& e : d) q.push_back({e.found, e.distance, e.point, e.bound, e.point_bound, e.face});
+  const nurbs::ray::NearestFn query = queries::ball_nearest(batch);
+  const nurbs::ray::NearestFn nearest = [&](const std::vector<glm::dvec3>& centres, const std::vector<double>& within) {
     progress.update(static_cast<long long>(points.size() - centres.size()), static_cast<long long>(points.size()));
-    return q;
+    return query(centres, within);
   };
   nurbs::ray::BallOptions o;
   o.tolerance = 1e-6 * size;

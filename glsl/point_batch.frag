@@ -12,7 +12,8 @@
 // triangle; the CPU twin is queries/point_batch.cpp descend().
 #include "point_batch_triangle.frag"
 
-uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, 16 per 4 x 4 tile, tiles row-major
+uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, 16 per 4 x 4 tile, tiles row-major;
+                             // w > 0: only a cell nearer than w is wanted (the descent's first best)
 uniform sampler2D u_lo;      // RGBA32F box pyramid, all levels (empty box: lo = +inf, hi = -inf)
 uniform sampler2D u_hi;
 uniform sampler2D u_samples;  // RGBA32F atlas of samples (model coordinates)
@@ -62,12 +63,13 @@ void main() {
     o_result = vec4(kInf, -1.0, -1.0, 0.0);
     return;
   }
-  vec3 q = texelFetch(u_points, g, 0).xyz;
+  vec4 point = texelFetch(u_points, g, 0);
+  vec3 q = point.xyz;
   float slack = u_slack * (length(q) + u_radius);
   // Pruned: beyond best + slack, and always an empty box (+inf; while best is +inf too, inf > inf
   // is false and an empty cell's "triangles" would join samples of two slots).
   const float kMaxFloat = 3.402823e38;
-  float best = kInf;
+  float best = point.w > 0.0 ? point.w : kInf;
   ivec2 cell = ivec2(-1);
   int tested = 0;
   int level = u_top;

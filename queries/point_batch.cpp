@@ -118,7 +118,8 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(
 
 double PointBatch::slack(const glm::dvec3& p) const { return kFloatSlack * (glm::length(p - m_.centre) + radius_); }
 
-std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm::dvec3> points) {
+std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm::dvec3> points,
+                                                            std::span<const double> within) {
   std::vector<std::vector<BatchCell>> out(atlases_.size());
   if (points.empty()) return out;
   // Neighbouring fragments run in lockstep (SIMD lanes, warps), each as long as its slowest point:
@@ -138,6 +139,7 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   for (size_t i = 0; i < points.size(); ++i) {
     const glm::vec3 d(points[order[i]] - m_.centre);
     std::copy_n(&d.x, 3, q.begin() + ptrdiff_t(4 * texel_of(i)));
+    if (!within.empty()) q[4 * texel_of(i) + 3] = float(std::max(within[order[i]], 0.0));
   }
   gpgpu::PooledTexture pts = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
   pts->upload(q);
@@ -232,13 +234,16 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   return r;
 }
 
-std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points) {
+std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points, std::span<const double> within) {
+  if (!within.empty() && within.size() != points.size())
+    throw std::invalid_argument("PointBatch::query: one `within` per point, or none");
   if (points.size() > points_per_pass_) {  // pass by pass, figures summed
     PointBatchStats total;
     std::vector<PointDistance> out;
     out.reserve(points.size());
     for (size_t s = 0; s < points.size(); s += points_per_pass_) {
-      const auto part = query(points.subspan(s, std::min(points_per_pass_, points.size() - s)));
+      const size_t count = std::min(points_per_pass_, points.size() - s);
+      const auto part = query(points.subspan(s, count), within.empty() ? within : within.subspan(s, count));
       out.insert(out.end(), part.begin(), part.end());
       total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
       total.cut += stats_.cut;
@@ -250,7 +255,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
   stats_ = {};
   stats_.points = static_cast<long long>(points.size());
   const auto t0 = std::chrono::steady_clock::now();
-  const auto cells = descend_gpu(points);
+  const auto cells = descend_gpu(points, within);
   stats_.gpu_seconds = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   // The searches of points whose winner is trimmed, and the points whose walk was cut, read the
@@ -273,7 +278,8 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points)
       bool was_cut = false;
       for (size_t a = 0; a < atlases_.size(); ++a) {
         best[a] = cells[a][i];
-        if (best[a].cut) best[a] = descend_cpu(a, points[i]), was_cut = true;  // the twin's walk
+        if (best[a].cut)  // the twin's walk
+          best[a] = descend_cpu(a, points[i], within.empty() ? 0.0 : within[i]), was_cut = true;
       }
       cut[t] += was_cut;
       out[i] = finish(points[i], best, fallbacks[t]);

@@ -70,17 +70,23 @@ class PointBatch {
   /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
   /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent. More
   /// points than points_per_pass() go in several passes.
-  std::vector<PointDistance> query(std::span<const glm::dvec3> points);
+  ///
+  /// `within` (optional, one per point; <= 0: none): only a point nearer than within[i] is wanted.
+  /// The descent starts with that as its best distance, so it prunes every box beyond it; found
+  /// is false when no cell is nearer. Fast where many cells are nearly equidistant from the point
+  /// (the centre of a sphere, the axis of a cylinder), which the plain query must all visit.
+  std::vector<PointDistance> query(std::span<const glm::dvec3> points, std::span<const double> within = {});
   [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
   void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
 
   /// CPU twin in double: the same pyramid built on the CPU from the read-back samples, the same
   /// descent, the same finishing. The test oracle of query().
-  PointDistance query_cpu(const glm::dvec3& p);
+  PointDistance query_cpu(const glm::dvec3& p, double within = 0.0);
 
   /// Step 2 alone, per atlas then per point: the GPU pass and its twin (tests compare them).
-  std::vector<std::vector<BatchCell>> descend_gpu(std::span<const glm::dvec3> points);
-  BatchCell descend_cpu(size_t atlas, const glm::dvec3& p);
+  std::vector<std::vector<BatchCell>> descend_gpu(std::span<const glm::dvec3> points,
+                                                  std::span<const double> within = {});
+  BatchCell descend_cpu(size_t atlas, const glm::dvec3& p, double within = 0.0);
 
   /// Level `level` of atlas `a`'s pyramid, lo (or hi) corners, 4 floats per texel: from the GPU,
   /// and the CPU twin's (3 floats per texel).

@@ -76,7 +76,7 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
   }
 }
 
-BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
+BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) {
   Atlas& at = atlases_[a];
   build_cpu_pyramid(at);
   const glm::vec3 of(m_.centre);
@@ -97,7 +97,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p) {
   };
   const int top = at.lo.levels() - 1;
   std::vector<Node> stack{{top, 0, 0, box(top, 0, 0)}};
-  BatchCell best{kInf, -1, -1, 0};
+  BatchCell best{within > 0.0 ? double(float(within)) : kInf, -1, -1, 0};  // the pass's float start
   while (!stack.empty()) {
     const Node n = stack.back();
     stack.pop_back();
@@ -194,9 +194,9 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
   return best;
 }
 
-PointDistance PointBatch::query_cpu(const glm::dvec3& p) {
+PointDistance PointBatch::query_cpu(const glm::dvec3& p, double within) {
   std::vector<BatchCell> best;
-  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p));  // builds the pyramids
+  for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p, within));  // builds the pyramids
   long long fallbacks = 0;
   return finish(p, best, fallbacks);
 }

@@ -21,10 +21,15 @@ std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
   }
   BallFigures f;
   std::vector<glm::dvec3> centres;
+  std::vector<double> within;
   for (int round = 0; round < options.max_rounds && !active.empty(); ++round) {
     centres.clear();
-    for (size_t i : active) centres.push_back(points[i] + radius[i] * inward[i]);
-    const std::vector<NearestPoint> q = nearest(centres);
+    within.clear();
+    for (size_t i : active) {
+      centres.push_back(points[i] + radius[i] * inward[i]);
+      within.push_back(radius[i] - options.tolerance);
+    }
+    const std::vector<NearestPoint> q = nearest(centres, within);
     if (q.size() != centres.size()) throw std::logic_error("ball_thickness: the query answered another count");
     ++f.rounds;
     f.queries += static_cast<long long>(centres.size());
@@ -33,12 +38,16 @@ std::vector<BallThickness> ball_thickness(const std::vector<glm::dvec3>& points,
       const size_t i = active[k];
       BallThickness& b = out[i];
       ++b.rounds;
+      const double r = radius[i];
+      b.bound = 2.0 * (2.0 * q[k].bound + options.tolerance + shrink_error[i]);
+      if (!q[k].found) {  // nothing nearer than r - tolerance - the query's bound: empty
+        b.converged = true;
+        continue;
+      }
       b.contact = q[k].point;
       b.contact_face = q[k].face;
-      b.bound = 2.0 * (2.0 * q[k].bound + options.tolerance + shrink_error[i]);
-      const double r = radius[i];
-      if (!q[k].found || q[k].distance >= r - (q[k].bound + options.tolerance)) {
-        b.converged = q[k].found;
+      if (q[k].distance >= r - (q[k].bound + options.tolerance)) {
+        b.converged = true;
         continue;
       }
       const glm::dvec3 e = q[k].point - points[i];

@@ -11,7 +11,8 @@
 ///   r_0 = half the ray thickness (the ball through p and the ray's hit), or `max_radius`;
 ///   c = p + r n; q = the closest surface point to c (a batched point-distance query, e.g.
 ///   queries::PointBatch, Krishnamurthy et al.; its bound b);
-///   if |c - q| >= r - (b + tolerance): the ball is empty up to the query's accuracy, stop;
+///   if none is nearer than r - tolerance - b, or |c - q| >= r - (b + tolerance): the ball is empty
+///   up to the query's accuracy, stop;
 ///   else r = |q - p|^2 / (2 n . (q - p)), the ball tangent at p through q (q lies inside the
 ///   current ball, so n . (q - p) > 0 and the new r is smaller), and repeat.
 /// A round's queries are the still-shrinking samples only.
@@ -30,7 +31,8 @@
 namespace nurbs::ray {
 
 /// The closest surface point to a query point, with its bounds (|distance - true| <= bound,
-/// |point - true closest point| <= point_bound).
+/// |point - true closest point| <= point_bound); found = false: none nearer than the `within`
+/// asked for, up to `bound` (which is then set too).
 struct NearestPoint {
   bool found = false;
   double distance = 0.0;
@@ -39,8 +41,13 @@ struct NearestPoint {
   int face = -1;
 };
 
-/// Closest points of many query points at once (one batch per shrinking round).
-using NearestFn = std::function<std::vector<NearestPoint>(const std::vector<glm::dvec3>& points)>;
+/// Closest points of many query points at once (one batch per shrinking round). Only a point
+/// nearer than within[i] matters: the function may answer found = false when there is none (a
+/// query that prunes by it, queries::PointBatch's `within`, need not visit the many cells that lie
+/// about r from a centre on the medial axis, e.g. every cell of a sphere from its centre), or the
+/// closest point anyway.
+using NearestFn =
+    std::function<std::vector<NearestPoint>(const std::vector<glm::dvec3>& points, const std::vector<double>& within)>;
 
 struct BallOptions {
   double tolerance = 0.0;   ///< model units added to the query's bound in the stopping test (> 0)

@@ -12,16 +12,8 @@
 #include "../gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "nurbs/raycast/ball_thickness.h"
-#include "queries/point_batch.h"
+#include "queries/ball_nearest.h"
 #include "queries/prepared_model.h"
-
-namespace {
-
-nurbs::ray::NearestPoint nearest_of(const queries::PointDistance& e) {
-  return {e.found, e.distance, e.point, e.bound, e.point_bound, e.face};
-}
-
-}  // namespace
 
 TEST_CASE("ball thickness over the GPU point batch and its CPU twin: eccentric shell within the bound") {
   const glm::dvec3 m(2.0, 0.0, 0.0);  // inner sphere radius 3 at m, outer radius 10 at the origin
@@ -45,22 +37,8 @@ TEST_CASE("ball thickness over the GPU point batch and its CPU twin: eccentric s
   o.max_radius = 20.0;
   const std::vector<double> start(p.size(), 0.0);
   nurbs::ray::BallFigures fig;
-  const auto on_gpu = nurbs::ray::ball_thickness(
-      p, n, start,
-      [&](const std::vector<glm::dvec3>& c) {
-        std::vector<nurbs::ray::NearestPoint> out;
-        for (const auto& e : batch.query(c)) out.push_back(nearest_of(e));
-        return out;
-      },
-      o, &fig);
-  const auto on_cpu = nurbs::ray::ball_thickness(
-      p, n, start,
-      [&](const std::vector<glm::dvec3>& c) {
-        std::vector<nurbs::ray::NearestPoint> out;
-        for (const auto& x : c) out.push_back(nearest_of(batch.query_cpu(x)));
-        return out;
-      },
-      o);
+  const auto on_gpu = nurbs::ray::ball_thickness(p, n, start, queries::ball_nearest(batch), o, &fig);
+  const auto on_cpu = nurbs::ray::ball_thickness(p, n, start, queries::ball_nearest(batch, true), o);
   int outside = 0, twins_apart = 0, unconverged = 0;
   double worst = 0.0, worst_bound = 0.0;
   for (size_t i = 0; i < p.size(); ++i) {

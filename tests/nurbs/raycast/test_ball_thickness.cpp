@@ -23,7 +23,7 @@ glm::dvec3 on_half_plane(const glm::dvec3& c, double a) {
 /// The union of shapes' closest points, exact (bound 0).
 template <class Closest>
 nurbs::ray::NearestFn exact(Closest closest) {
-  return [closest](const std::vector<glm::dvec3>& cs) {
+  return [closest](const std::vector<glm::dvec3>& cs, const std::vector<double>&) {
     std::vector<NearestPoint> out;
     for (const glm::dvec3& c : cs) {
       const glm::dvec3 q = closest(c);
