@@ -179,11 +179,13 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     const nlohmann::json b = ball_json(*ball, hits, a.min_wall_given ? a.min_wall : 0.0);
     fmt::print(
         "ball       min {:.6g}, median {:.6g}, mean {:.6g}, max {:.6g} (+- {:.2g}); thinner than the ray at {} "
-        "samples; {} rounds, {} point queries, {} unconverged; {:.3f} s (+ {:.3f} s preparing the point query)\n",
+        "samples; {} rounds, {} point queries ({} walks cut, searched on the CPU), {} unconverged; {:.3f} s (+ {:.3f} "
+        "s "
+        "preparing the point query)\n",
         b["thickness"]["min"].get<double>(), b["thickness"]["median"].get<double>(),
         b["thickness"]["mean"].get<double>(), b["thickness"]["max"].get<double>(), b["bound"].get<double>(),
         b["thinner_than_ray"].get<long long>(), b["rounds"].get<int>(), b["queries"].get<long long>(),
-        b["unconverged"].get<long long>(), ball->seconds, ball->prepare_seconds);
+        b["walks_cut"].get<long long>(), b["unconverged"].get<long long>(), ball->seconds, ball->prepare_seconds);
     if (a.min_wall_given)
       fmt::print("ball below {} samples thinner than {:.6g}\n", b["below_min_wall"].get<long long>(), a.min_wall);
   }

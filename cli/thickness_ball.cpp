@@ -43,7 +43,11 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
   const nurbs::ray::NearestFn query = queries::ball_nearest(batch);
   const nurbs::ray::NearestFn nearest = [&](const std::vector<glm::dvec3>& centres, const std::vector<double>& within) {
     progress.update(static_cast<long long>(points.size() - centres.size()), static_cast<long long>(points.size()));
-    return query(centres, within);
+    auto answer = query(centres, within);
+    const queries::PointBatchStats& st = batch.stats();
+    out.walks_cut += st.cut, out.cells_tested += st.cells_tested;
+    out.gpu_seconds += st.gpu_seconds, out.cpu_seconds += st.cpu_seconds;
+    return answer;
   };
   nurbs::ray::BallOptions o;
   o.tolerance = 1e-6 * size;
@@ -81,7 +85,13 @@ nlohmann::json ball_json(const BallResult& r, const std::vector<nurbs::ray::Hit>
                       {"queries", r.figures.queries},
                       {"unconverged", r.figures.unconverged},
                       {"query_tolerance", r.tolerance},
-                      {"seconds", {{"prepare", r.prepare_seconds}, {"shrink", r.seconds}}}};
+                      {"walks_cut", r.walks_cut},
+                      {"cells_tested", r.cells_tested},
+                      {"seconds",
+                       {{"prepare", r.prepare_seconds},
+                        {"shrink", r.seconds},
+                        {"query_gpu", r.gpu_seconds},
+                        {"query_cpu", r.cpu_seconds}}}};
   if (min_wall > 0) j["below_min_wall"] = below;
   return j;
 }

@@ -26,6 +26,9 @@ struct BallResult {
   std::vector<nurbs::ray::BallThickness> samples;  ///< per thickness ray, in ThicknessRays order
   nurbs::ray::BallFigures figures;
   double prepare_seconds = 0.0, seconds = 0.0, tolerance = 0.0;
+  long long walks_cut = 0;                      ///< queries whose GPU walk ran out of loop budget (searched on the CPU)
+  long long cells_tested = 0;                   ///< over all rounds
+  double gpu_seconds = 0.0, cpu_seconds = 0.0;  ///< the point queries' GPU passes and CPU finishing
 };
 
 /// Starts from half of each ray's thickness (the model size where the ray missed). `gpu` may be

@@ -217,7 +217,8 @@ bool PointBatch::material(const PointDistance& r) const {
   return m_.faces[f].loops.empty() || trim_edges_[f].is_material(r.uv);
 }
 
-PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks) const {
+PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
+                                 double within) const {
   size_t win = best.size();
   long long tested = 0;
   for (size_t a = 0; a < best.size(); ++a) {
@@ -228,7 +229,7 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
   if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
     ++fallbacks;
-    r = search_material(p);
+    r = search_material(p, within);
   }
   r.candidates = tested;
   return r;
@@ -282,7 +283,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
           best[a] = descend_cpu(a, points[i], within.empty() ? 0.0 : within[i]), was_cut = true;
       }
       cut[t] += was_cut;
-      out[i] = finish(points[i], best, fallbacks[t]);
+      out[i] = finish(points[i], best, fallbacks[t], within.empty() ? 0.0 : within[i]);
       tested[t] += out[i].candidates;
     }
   };

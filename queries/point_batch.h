@@ -112,8 +112,10 @@ class PointBatch {
   };
   void build_cpu_pyramid(Atlas& at);
   /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
-  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks) const;
-  PointDistance search_material(const glm::dvec3& p) const;
+  /// `within` > 0: only a point nearer than it is wanted (query's `within`).
+  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
+                       double within = 0.0) const;
+  PointDistance search_material(const glm::dvec3& p, double within = 0.0) const;
   PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true) const;
   /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
   FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;

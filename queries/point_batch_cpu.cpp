@@ -134,7 +134,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) 
   return best;
 }
 
-PointDistance PointBatch::search_material(const glm::dvec3& p) const {
+PointDistance PointBatch::search_material(const glm::dvec3& p, double within) const {
   // Best first over every atlas's pyramid, in double; a triangle point in a trimmed region is
   // discarded and the search goes on, as the faithful path does.
   struct Node {
@@ -155,8 +155,9 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
     open.push({box(a, top, 0, 0), a, top, 0, 0});
   }
   PointDistance best;
-  best.distance = kInf;
+  best.distance = within > 0.0 ? within : kInf;  // nothing beyond `within` is wanted
   Node win{};
+  bool any = false;
   bool on_edge = false;
   while (!open.empty() && open.top().d <= best.distance + eps) {
     const Node n = open.top();
@@ -167,7 +168,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
       const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
       if (r.distance >= best.distance) continue;
       if (material(r)) {
-        best = r, win = n, on_edge = false;
+        best = r, win = n, on_edge = false, any = true;
         continue;
       }
       // The closest material point of this cell's triangles lies on the trim curve.
@@ -175,7 +176,8 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
       const FaceCell c = cell_corners(n.a, n.x, n.y, corners);
       TrimEdgeHit h{best.distance};
       if (trim_edges_[size_t(c.face)].closest(p, c.i, c.j, corners, h))
-        best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face, on_edge = true;
+        best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face, on_edge = true,
+        any = true;
       continue;
     }
     const Atlas& at = atlases_[n.a];
@@ -185,7 +187,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p) const {
         open.push({box(n.a, n.level - 1, cx, cy), n.a, n.level - 1, cx, cy});
     }
   }
-  if (!std::isfinite(best.distance)) return PointDistance{};
+  if (!any) return PointDistance{};
   if (!on_edge) return cell_result(p, win.a, win.x, win.y, true);
   best.found = true;
   best.on_trim_edge = true;
@@ -198,7 +200,7 @@ PointDistance PointBatch::query_cpu(const glm::dvec3& p, double within) {
   std::vector<BatchCell> best;
   for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p, within));  // builds the pyramids
   long long fallbacks = 0;
-  return finish(p, best, fallbacks);
+  return finish(p, best, fallbacks, within);
 }
 
 const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {
