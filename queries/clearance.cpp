@@ -26,11 +26,9 @@ struct Hierarchy {
   std::vector<gpgpu::Texture> lo, hi;
 };
 
-Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion, const glm::dvec3& origin,
-                const std::vector<char>* faces) {
-  if (m.atlases.size() != 1)
-    throw std::length_error(fmt::format("clearance: a model in {} atlases (one is supported)", m.atlases.size()));
-  const FaceAtlas& at = m.atlases[0];
+Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm::dmat4& motion,
+                const glm::dvec3& origin, const std::vector<char>* faces) {
+  const FaceAtlas& at = m.atlases[atlas];
   Hierarchy h;
   h.lo.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
   h.hi.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
@@ -40,10 +38,10 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
   const glm::vec3 o(origin);
   leaf.set("u_origin", o.x, o.y, o.z);
   // Faces left out by a first stage (voxel_stage.h) get a negative growth: their leaves are empty.
-  const gpgpu::Texture* grow = &m.grow[0];
+  const gpgpu::Texture* grow = &m.grow[atlas];
   gpgpu::Texture filtered;
   if (faces) {
-    std::vector<float> g = m.grow[0].read();
+    std::vector<float> g = m.grow[atlas].read();
     for (size_t sl = 0; sl < at.plan.slots.size(); ++sl)
       if (!(*faces)[size_t(at.plan.slots[sl].face)]) g[sl] = -1.0f;
     filtered = gpgpu::Texture(int(g.size()), 1, gpgpu::Format::R32F);
@@ -54,7 +52,7 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
                              {"u_slot_of", &at.slot_of},
                              {"u_mask", &at.mask},
                              {"u_grow", grow},
-                             {"u_crossed", &m.crossed[0]}};
+                             {"u_crossed", &m.crossed[atlas]}};
   gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
   gpu.run("aabb_leaf", leaf, in, out);
   gpgpu::Program& merge = gpu.program("aabb_merge.frag");
@@ -68,6 +66,14 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motio
     h.hi.push_back(std::move(hi));
   }
   return h;
+}
+
+/// One hierarchy per atlas of the model.
+std::vector<Hierarchy> build_all(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion,
+                                 const glm::dvec3& origin, const std::vector<char>* faces) {
+  std::vector<Hierarchy> out;
+  for (size_t k = 0; k < m.atlases.size(); ++k) out.push_back(build(gpu, m, k, motion, origin, faces));
+  return out;
 }
 
 /// Two triangles of cell c of model m, in double, mapped by `motion`, with their corners' (u, v).
@@ -88,25 +94,18 @@ CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const gl
 
 struct ClearanceCache::Impl {
   const PreparedModel* a = nullptr;
-  Hierarchy ha;
+  std::vector<Hierarchy> ha;  ///< one per atlas
 };
 ClearanceCache::ClearanceCache() : impl(std::make_unique<Impl>()) {}
 ClearanceCache::~ClearanceCache() = default;
 
-Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
-                    const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,
-                    ClearanceCache* cache) {
-  const glm::dvec3 origin = a.centre;
-  Hierarchy own_a;
-  const bool cached = cache && !faces_a;
-  if (cached && cache->impl->a != &a) {
-    cache->impl->ha = build(gpu, a, glm::dmat4(1.0), origin, nullptr);
-    cache->impl->a = &a;
-  }
-  if (!cached) own_a = build(gpu, a, glm::dmat4(1.0), origin, faces_a);
-  const Hierarchy& ha = cached ? cache->impl->ha : own_a;
-  const Hierarchy hb = build(gpu, b, motion_b, origin, faces_b);
-  Clearance r;
+namespace {
+
+/// The level-by-level descent of one atlas pair (hierarchies ha of A, hb of B): returns the
+/// surviving leaf records (xa, ya, xb, yb), 4 floats each; adds the pairs per level to `per_level`;
+/// `upper` carries the least upper bound U across atlas pairs (any pair's U bounds the distance).
+std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy& hb, const ClearanceLimits& limits,
+                           double& shared_upper, std::vector<long long>& per_level) {
   // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
   // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them
   // (the levels above prune little and cost a pair pass, a reduction and a compaction each).
@@ -134,6 +133,11 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   pairs.upload(start);
   gpgpu::Program& prog = gpu.program("aabb_pairs_minmax.frag");
   const int max_size = gpu.info().max_texture_size;
+  size_t level = 0;
+  auto record = [&](long long kept) {
+    if (per_level.size() <= level) per_level.resize(level + 1, 0);
+    per_level[level++] += kept;
+  };
   // A level whose child pairs do not fit one target runs in chunks of pairs: every chunk's least
   // upper bound first, then each chunk pruned by the least of them and compacted, the kept records
   // joined on the CPU (a rare case: fine tolerances on models of hundreds of faces).
@@ -150,7 +154,9 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
                                {"u_hi_b", &hb.hi[size_t(lb)]}};
     gpgpu::Texture* targets[] = {minmax, records};
     gpu.run("aabb_pairs_minmax", prog, in, targets);
-    return gpgpu::reduce_min(gpu, *minmax, 1);
+    const double u = gpgpu::reduce_min(gpu, *minmax, 1);
+    shared_upper = std::min(shared_upper, u);
+    return std::min(u, shared_upper);
   };
   auto prune = [&](double upper, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
     // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
@@ -195,23 +201,49 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
           throw std::length_error(
               fmt::format("faithful search: {} box pairs survive hierarchy level {}, more than a {}^2 texture holds "
                           "(far-apart objects prune little); use --search coarse-to-fine or a coarser --tol",
-                          count, r.pairs_per_level.size() + 1, side));
+                          count, level + 1, side));
         const gpgpu::Layout2D l = gpgpu::layout_pow2(count, side);
         kept.resize(size_t(l.width) * size_t(l.height) * 4, 0.0f);
         pairs = gpgpu::Texture(l.width, l.height, gpgpu::Format::RGBA32F);
         pairs.upload(kept);
       }
     }
-    r.pairs_per_level.push_back(count);
+    record(count);
   }
-  // Leaf pairs: two triangles per cell on each side, in double.
   std::vector<float> recs = count > 0 ? pairs.read() : std::vector<float>{};
-  std::vector<std::pair<FaceCell, FaceCell>> leaves;
-  for (long long k = 0; k < count; ++k) {
-    const auto ca = a.cell_at(0, int(recs[size_t(4 * k)]), int(recs[size_t(4 * k + 1)]));
-    const auto cb = b.cell_at(0, int(recs[size_t(4 * k + 2)]), int(recs[size_t(4 * k + 3)]));
-    if (ca && cb) leaves.emplace_back(*ca, *cb);
+  recs.resize(size_t(4 * count));
+  return recs;
+}
+
+}  // namespace
+
+Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                    const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,
+                    ClearanceCache* cache) {
+  const glm::dvec3 origin = a.centre;
+  std::vector<Hierarchy> own_a;
+  const bool cached = cache && !faces_a;
+  if (cached && cache->impl->a != &a) {
+    cache->impl->ha = build_all(gpu, a, glm::dmat4(1.0), origin, nullptr);
+    cache->impl->a = &a;
   }
+  if (!cached) own_a = build_all(gpu, a, glm::dmat4(1.0), origin, faces_a);
+  const std::vector<Hierarchy>& ha = cached ? cache->impl->ha : own_a;
+  const std::vector<Hierarchy> hb = build_all(gpu, b, motion_b, origin, faces_b);
+  Clearance r;
+  // Every atlas of A against every atlas of B, the least upper bound shared (§5.1-5.2 per pair).
+  std::vector<std::pair<FaceCell, FaceCell>> leaves;
+  double upper = kInf;
+  for (size_t ia = 0; ia < ha.size(); ++ia)
+    for (size_t ib = 0; ib < hb.size(); ++ib) {
+      const std::vector<float> recs = descend(gpu, ha[ia], hb[ib], limits, upper, r.pairs_per_level);
+      for (size_t k = 0; k + 3 < recs.size(); k += 4) {
+        const auto ca = a.cell_at(ia, int(recs[k]), int(recs[k + 1]));
+        const auto cb = b.cell_at(ib, int(recs[k + 2]), int(recs[k + 3]));
+        if (ca && cb) leaves.emplace_back(*ca, *cb);
+      }
+    }
+  // Leaf pairs: two triangles per cell on each side, in double.
   r.leaf_pairs = static_cast<long long>(leaves.size());
   if (a.search == Search::CoarseToFine || b.search == Search::CoarseToFine) {
     // Candidates refined in double until the answer is proven within T (refine.h).

@@ -68,8 +68,9 @@ class ClearanceCache {
   std::unique_ptr<Impl> impl;
 };
 
-/// The clearance between model `a` and model `b` moved by `motion_b` (rigid). Each model must fit
-/// one atlas (prepare_model makes one for grids up to the GPU's texture size).
+/// The clearance between model `a` and model `b` moved by `motion_b` (rigid). A model in several
+/// atlases (prepare_model) has a hierarchy per atlas; every atlas pair is searched, the least
+/// upper bound shared between them, and the leaf pairs of all go to the triangle step.
 /// `faces_a` / `faces_b` (optional, one flag per face): only these faces take part, e.g. the faces
 /// of the pairs kept by the §5.4 voxel stage (voxel_stage.h); the others get empty leaf boxes.
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,

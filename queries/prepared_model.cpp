@@ -101,7 +101,7 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
 }
 
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples, Search search) {
+                            long long max_samples, Search search, int atlas_side) {
   PreparedModel m = prepare_geometry(std::move(faces), tolerance, max_samples, search);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<nurbs::ParamGrid> params;
@@ -112,7 +112,7 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
     sizes.emplace_back(int(cg.grid.u.size()), int(cg.grid.v.size()));
     flatten.push_back(trim_flatten_tolerance(cg.grid));
   }
-  const int side = std::min(gpu.info().max_texture_size, 4096);
+  const int side = std::min(gpu.info().max_texture_size, std::max(atlas_side, 2));
   std::vector<int> unpacked;
   for (const AtlasPlan& plan : plan_atlases(sizes, side, static_cast<long long>(side) * side, unpacked)) {
     m.atlases.push_back(evaluate_atlas(gpu, plan, m.faces, params, flatten));

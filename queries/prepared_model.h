@@ -65,8 +65,10 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
                                long long max_samples = 1LL << 22, Search search = Search::Faithful);
 
 /// With Search::CoarseToFine the grids are evaluated at `coarse_tolerance(faces, tolerance)`.
+/// Faces go into atlases of at most `atlas_side`^2 texels (and the GPU's texture size), as many
+/// as they need; the tests lower it to get several atlases from small models.
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples = 1LL << 22, Search search = Search::Faithful);
+                            long long max_samples = 1LL << 22, Search search = Search::Faithful, int atlas_side = 4096);
 
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).

@@ -159,3 +159,48 @@ TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, a
     CHECK(std::abs(glm::length(c.point_a - nurbs::surface_point(fa.surface, c.uv_a.x, c.uv_a.y))) < 1e-12);
   }
 }
+
+TEST_CASE("clearance: models in several atlases give the answer of one atlas and of the exhaustive twin") {
+  // Four faces per model, prepared once into one atlas and once into atlases of side just above
+  // the largest grid (two or more atlases each): every atlas pair is searched, the least upper
+  // bound shared, the leaf pairs joined.
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<nurbs::TrimmedSurface> fa, fb;
+  for (uint64_t k = 0; k < 4; ++k) {
+    nurbs::TrimmedSurface a, b;
+    a.surface = models::random_surface(k + 40, 2, 1 + int(k % 3), k % 2 == 1);
+    b.surface = models::random_surface(k + 80, 1 + int(k % 2), 2, k % 3 == 1);
+    for (auto& p : a.surface.points) p += glm::dvec3(3.0 * double(k), 0.0, 0.0);
+    for (auto& p : b.surface.points) p += glm::dvec3(3.0 * double(k) + 1.0, 0.5, 2.5);
+    fa.push_back(a);
+    fb.push_back(b);
+  }
+  const auto one_a = queries::prepare_model(gpu, fa, 2e-2), one_b = queries::prepare_model(gpu, fb, 2e-2);
+  REQUIRE(one_a.atlases.size() == 1);
+  auto side_of = [](const queries::PreparedModel& m) {  // the largest grid's side: no two large grids share
+    int side = 0;
+    for (const auto& g : m.grids) side = std::max({side, int(g.grid.u.size()), int(g.grid.v.size())});
+    return side;
+  };
+  const auto many_a = queries::prepare_model(gpu, fa, 2e-2, 1LL << 22, queries::Search::Faithful, side_of(one_a));
+  const auto many_b = queries::prepare_model(gpu, fb, 2e-2, 1LL << 22, queries::Search::Faithful, side_of(one_b));
+  CHECK(many_a.atlases.size() >= 2);
+  CHECK(many_b.atlases.size() >= 2);
+  const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, -0.3, 0.1));
+  const queries::Clearance one = queries::clearance(gpu, one_a, one_b);
+  const queries::Clearance many = queries::clearance(gpu, many_a, many_b);
+  REQUIRE(many.found);
+  CHECK(many.distance == doctest::Approx(one.distance).epsilon(1e-12));
+  CHECK(many.distance == doctest::Approx(brute_force(one_a, one_b)).epsilon(1e-12));
+  CHECK(many.face_a == one.face_a);
+  CHECK(many.face_b == one.face_b);
+  // Moved, with A's hierarchies cached across two queries.
+  queries::ClearanceCache cache;
+  const queries::Clearance moved_one = queries::clearance(gpu, one_a, one_b, motion);
+  for (int k = 0; k < 2; ++k) {
+    const queries::Clearance moved = queries::clearance(gpu, many_a, many_b, motion, nullptr, nullptr, {}, &cache);
+    CHECK(moved.distance == doctest::Approx(moved_one.distance).epsilon(1e-12));
+  }
+  MESSAGE("atlases " << many_a.atlases.size() << " x " << many_b.atlases.size() << ": distance " << many.distance << ", leaf pairs " << many.leaf_pairs << " (one atlas "
+                     << one.leaf_pairs << ")");
+}
