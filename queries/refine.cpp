@@ -15,6 +15,7 @@
 #include "nurbs/surface_project.h"
 #include "nurbs/trim_classify.h"
 #include "queries/clearance.h"
+#include "queries/parallel.h"
 #include "queries/point_distance.h"
 
 namespace queries {
@@ -308,35 +309,65 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
   std::vector<double> low;
   while (!pairs.empty()) {
     r.most_pairs = std::max(r.most_pairs, static_cast<long long>(pairs.size()));
+    // Per pair independent work in contiguous shares over the hardware threads; each share keeps
+    // its first strict minimum, merged in share order: the sequential answer at any thread count.
+    const size_t shares = share_count(pairs.size(), 2048);
     // Upper bounds: material corner pairs, then the surfaces at the closest triangle points' (u, v).
-    for (const auto& [i, j] : pairs) {
-      const Cell &x = ca.all[i], &y = cb.all[j];
-      for (int k = 0; k < 4; ++k)
-        for (int l = 0; l < 4; ++l)
-          if ((x.material & (1u << k)) && (y.material & (1u << l)))
-            offer(x.corner[k], y.corner[l], x.uv(k), y.uv(l), i, j);
-    }
+    struct Corner {
+      double d = kInf;
+      glm::dvec3 qa{0.0}, qb{0.0};
+      glm::dvec2 uva{0.0}, uvb{0.0};
+      uint32_t i = 0, j = 0;
+    };
+    std::vector<Corner> corners(shares);
+    for_shares(pairs.size(), shares, [&](size_t t, size_t begin, size_t end) {
+      Corner& c = corners[t];
+      c.d = r.distance;  // only improvements count
+      for (size_t n = begin; n < end; ++n) {
+        const auto [i, j] = pairs[n];
+        const Cell &x = ca.all[i], &y = cb.all[j];
+        for (int k = 0; k < 4; ++k)
+          for (int l = 0; l < 4; ++l)
+            if ((x.material & (1u << k)) && (y.material & (1u << l))) {
+              const double d = glm::length(x.corner[k] - y.corner[l]);
+              if (d < c.d) c = {d, x.corner[k], y.corner[l], x.uv(k), y.uv(l), i, j};
+            }
+      }
+    });
+    for (const Corner& c : corners)
+      if (c.d < r.distance) offer(c.qa, c.qb, c.uva, c.uvb, c.i, c.j);
     // Lower bounds: box-box, and the distance of the cells' triangles less K_a + K_b.
     low.resize(pairs.size());
+    struct Nearest {
+      double d = kInf;
+      size_t pair = 0;
+      glm::dvec2 a{0.0}, b{0.0};
+    };
+    std::vector<Nearest> nearests(shares);
+    for_shares(pairs.size(), shares, [&](size_t share, size_t begin, size_t end) {
+      Nearest& near = nearests[share];
+      for (size_t n = begin; n < end; ++n) {
+        const Cell &x = ca.all[pairs[n].first], &y = cb.all[pairs[n].second];
+        low[n] = box_box(x, y);
+        if (low[n] > r.distance) continue;
+        double tri_low = kInf;
+        for (int s = 0; s < 2; ++s)
+          for (int t = 0; t < 2; ++t) {
+            glm::dvec3 ta[3], tb[3], pa, pb, wa, wb;
+            x.triangle(s, ta);
+            y.triangle(t, tb);
+            const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
+            tri_low = std::min(tri_low, d);
+            if (d < near.d) near = {d, n, x.uv_at(s, wa), y.uv_at(t, wb)};
+          }
+        low[n] = std::max(low[n], tri_low - x.k - y.k);
+      }
+    });
     double nearest = kInf;
     size_t near_pair = 0;
     glm::dvec2 near_a(0.0), near_b(0.0);
-    for (size_t n = 0; n < pairs.size(); ++n) {
-      const Cell &x = ca.all[pairs[n].first], &y = cb.all[pairs[n].second];
-      low[n] = box_box(x, y);
-      if (low[n] > r.distance) continue;
-      double tri_low = kInf;
-      for (int s = 0; s < 2; ++s)
-        for (int t = 0; t < 2; ++t) {
-          glm::dvec3 ta[3], tb[3], pa, pb, wa, wb;
-          x.triangle(s, ta);
-          y.triangle(t, tb);
-          const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
-          tri_low = std::min(tri_low, d);
-          if (d < nearest) nearest = d, near_pair = n, near_a = x.uv_at(s, wa), near_b = y.uv_at(t, wb);
-        }
-      low[n] = std::max(low[n], tri_low - x.k - y.k);
-    }
+    for (const Nearest& n : nearests)
+      if (n.d < nearest) nearest = n.d, near_pair = n.pair, near_a = n.a, near_b = n.b;
     if (std::isfinite(nearest)) {
       const auto [i, j] = pairs[near_pair];
       const Cells::Sample qa = ca.at(ca.all[i].face, near_a), qb = cb.at(cb.all[j].face, near_b);
