@@ -103,6 +103,11 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                             long long max_samples, Search search, int atlas_side) {
   PreparedModel m = prepare_geometry(std::move(faces), tolerance, max_samples, search);
+  prepare_atlases(gpu, m, atlas_side);
+  return m;
+}
+
+void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<nurbs::ParamGrid> params;
   std::vector<std::pair<int, int>> sizes;
@@ -144,7 +149,6 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
   if (!unpacked.empty())
     throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
                                         unpacked.front(), side));
-  return m;
 }
 
 }  // namespace queries

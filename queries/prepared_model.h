@@ -70,6 +70,11 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                             long long max_samples = 1LL << 22, Search search = Search::Faithful, int atlas_side = 4096);
 
+/// The GPU part of prepare_model for a model from prepare_geometry: the atlases (evaluation,
+/// trim masks, growth, crossed cells). Lets a caller prepare two models' geometry on two threads
+/// (the GL context stays on one).
+void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = 4096);
+
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).
 [[nodiscard]] double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
