@@ -16,6 +16,7 @@
 #include "gpgpu/layout.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/trim_classify.h"
+#include "queries/parallel.h"
 
 namespace queries {
 namespace {
@@ -271,11 +272,11 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
-  const size_t threads = std::clamp<size_t>(points.size() / 128, 1, std::max(1u, std::thread::hardware_concurrency()));
+  const size_t threads = share_count(points.size(), 128);
   std::vector<long long> fallbacks(threads, 0), tested(threads, 0), cut(threads, 0);
-  auto work = [&](size_t t) {
+  for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
     std::vector<BatchCell> best(atlases_.size());
-    for (size_t i = t * points.size() / threads; i < (t + 1) * points.size() / threads; ++i) {
+    for (size_t i = begin; i < end; ++i) {
       bool was_cut = false;
       for (size_t a = 0; a < atlases_.size(); ++a) {
         best[a] = cells[a][i];
@@ -286,11 +287,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
       out[i] = finish(points[i], best, fallbacks[t], within.empty() ? 0.0 : within[i]);
       tested[t] += out[i].candidates;
     }
-  };
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (std::thread& th : pool) th.join();
+  });
   for (size_t t = 0; t < threads; ++t)
     stats_.fallbacks += fallbacks[t], stats_.cells_tested += tested[t], stats_.cut += cut[t];
   stats_.cpu_seconds = seconds_since(t1);

@@ -15,6 +15,7 @@
 #include "gpgpu/layout.h"
 #include "nurbs/trim_classify.h"
 #include "queries/bvh_gpu.h"
+#include "queries/parallel.h"
 
 namespace queries {
 namespace {
@@ -249,16 +250,11 @@ std::vector<Hit> GpuRaycaster::cast(std::span<const Ray> rays, double t_min) {
   // Independent rays: one contiguous share per hardware thread (at least 128 rays each), so the
   // result does not depend on the thread count.
   std::vector<Hit> out(rays.size());
-  const size_t threads = std::clamp<size_t>(rays.size() / 128, 1, std::max(1u, std::thread::hardware_concurrency()));
+  const size_t threads = share_count(rays.size(), 128);
   std::vector<long long> fallbacks(threads, 0);
-  auto work = [&](size_t t) {
-    for (size_t i = t * rays.size() / threads; i < (t + 1) * rays.size() / threads; ++i)
-      out[i] = finish(rays[i], raw[i], t_min, fallbacks[t]);
-  };
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (std::thread& th : pool) th.join();
+  for_shares(rays.size(), threads, [&](size_t t, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) out[i] = finish(rays[i], raw[i], t_min, fallbacks[t]);
+  });
   for (long long f : fallbacks) stats_.fallbacks += f;
   stats_.cpu_seconds = seconds_since(t1);
   return out;
