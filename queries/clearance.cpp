@@ -140,11 +140,28 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   };
   // A level whose child pairs do not fit one target runs in chunks of pairs: every chunk's least
   // upper bound first, then each chunk pruned by the least of them and compacted, the kept records
-  // joined on the CPU (a rare case: fine tolerances on models of hundreds of faces).
+  // joined on the CPU (a rare case: fine tolerances on models of hundreds of faces, or two models
+  // close over a large area, such as the 213-face bearing against its copy: 17.6 M pairs survive its
+  // level 5). More survivors than one chunk stay on the host for the next level (`host`).
   const int side = std::min(max_size, 4096);
   const long long chunk_pairs = std::min(limits.chunk_pairs, static_cast<long long>(side) * side / 16);
-  auto pair_pass = [&](long long offset, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
-    prog.set("u_pair_count", int(count));
+  // Survivors of a level too many for one texture stay on the host; the next level uploads them a
+  // chunk at a time (`pairs` then holds that chunk alone, at offset 0).
+  std::vector<float> host;
+  bool on_host = false;
+  auto load_chunk = [&](long long offset) {  // -> (offset within `pairs`, pairs there)
+    if (!on_host) return std::pair<long long, long long>(offset, count);
+    const long long n = std::min(chunk_pairs, count - offset);
+    const gpgpu::Layout2D l = gpgpu::layout_pow2(n, side);
+    std::vector<float> slice(host.begin() + ptrdiff_t(4 * offset), host.begin() + ptrdiff_t(4 * (offset + n)));
+    slice.resize(size_t(l.width) * size_t(l.height) * 4, 0.0f);
+    pairs = gpgpu::Texture(l.width, l.height, gpgpu::Format::RGBA32F);
+    pairs.upload(slice);
+    return std::pair<long long, long long>(0, n);
+  };
+  auto pair_pass = [&](long long chunk, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
+    const auto [offset, in_pairs] = load_chunk(chunk);
+    prog.set("u_pair_count", int(in_pairs));
     prog.set("u_pair_offset", int(offset));
     prog.set("u_out_width", out.width);
     const gpgpu::Input in[] = {{"u_pairs", &pairs},
@@ -173,7 +190,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     la -= da;
     lb -= db;
     prog.set("u_descend", da, db);
-    if (count <= chunk_pairs) {
+    if (count <= chunk_pairs && !on_host) {
       const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, side);
       gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
       gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
@@ -196,12 +213,10 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
         kept.insert(kept.end(), part.begin(), part.end());
       }
       count = static_cast<long long>(kept.size() / 4);
-      if (count > 0) {
-        if (count > static_cast<long long>(side) * side)
-          throw std::length_error(
-              fmt::format("faithful search: {} box pairs survive hierarchy level {}, more than a {}^2 texture holds "
-                          "(far-apart objects prune little); use --search coarse-to-fine or a coarser --tol",
-                          count, level + 1, side));
+      on_host = count > chunk_pairs;
+      if (on_host) {
+        host = std::move(kept);
+      } else if (host = {}; count > 0) {
         const gpgpu::Layout2D l = gpgpu::layout_pow2(count, side);
         kept.resize(size_t(l.width) * size_t(l.height) * 4, 0.0f);
         pairs = gpgpu::Texture(l.width, l.height, gpgpu::Format::RGBA32F);
@@ -210,7 +225,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     }
     record(count);
   }
-  std::vector<float> recs = count > 0 ? pairs.read() : std::vector<float>{};
+  std::vector<float> recs = on_host ? std::move(host) : count > 0 ? pairs.read() : std::vector<float>{};
   recs.resize(size_t(4 * count));
   return recs;
 }

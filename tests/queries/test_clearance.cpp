@@ -64,6 +64,7 @@ TEST_CASE("clearance: hierarchy descent equals the exhaustive twin on random sur
   int cases = 0;
   size_t max_levels = 0;
   int chunked_levels = 0;  // levels whose input pairs needed more than one chunk of 1024
+  int host_levels = 0;     // levels whose input pairs came from the host, a chunk at a time
   // K_e <= 2e-2 on surfaces about 3 wide; the twin prunes triangle pairs by exact box distances.
   for (uint64_t seed = 0; seed < 8; ++seed) {
     nurbs::TrimmedSurface fa, fb;
@@ -80,17 +81,24 @@ TEST_CASE("clearance: hierarchy descent equals the exhaustive twin on random sur
     CHECK(std::abs(glm::length(c.point_a - c.point_b) - c.distance) < 1e-12);
     max_levels = std::max(max_levels, c.pairs_per_level.size());
     // The chunked descent (1024 pairs per chunk here) keeps the same pairs and finds the same answer;
-    // on one seed with many pairs (it costs a second descent in chunks).
+    // on one seed with many pairs (it costs a second descent in chunks). A level that keeps more than
+    // a chunk leaves its pairs on the host, uploaded a chunk at a time by the next level.
     if (seed == 3) {
       const queries::Clearance chunked = queries::clearance(gpu, a, b, glm::dmat4(1.0), nullptr, nullptr, {1024});
       CHECK(chunked.distance == c.distance);
       CHECK(chunked.pairs_per_level == c.pairs_per_level);
-      for (size_t l = 0; l + 1 < c.pairs_per_level.size(); ++l) chunked_levels += c.pairs_per_level[l] > 1024 ? 1 : 0;
+      for (size_t l = 0; l + 1 < c.pairs_per_level.size(); ++l) {
+        chunked_levels += c.pairs_per_level[l] > 1024 ? 1 : 0;
+        // Kept more than a chunk by a chunked level: the next level reads them from the host.
+        host_levels += l > 0 && c.pairs_per_level[l - 1] > 1024 && c.pairs_per_level[l] > 1024 ? 1 : 0;
+      }
     }
     ++cases;
   }
-  MESSAGE(cases << " pairs, up to " << max_levels << " levels, " << chunked_levels << " chunked levels");
+  MESSAGE(cases << " pairs, up to " << max_levels << " levels, " << chunked_levels << " chunked levels, " << host_levels
+                << " from the host");
   CHECK(chunked_levels > 0);
+  CHECK(host_levels > 0);
 }
 
 TEST_CASE("clearance: two exact spheres, and a rigid motion of the second") {
@@ -201,6 +209,6 @@ TEST_CASE("clearance: models in several atlases give the answer of one atlas and
     const queries::Clearance moved = queries::clearance(gpu, many_a, many_b, motion, nullptr, nullptr, {}, &cache);
     CHECK(moved.distance == doctest::Approx(moved_one.distance).epsilon(1e-12));
   }
-  MESSAGE("atlases " << many_a.atlases.size() << " x " << many_b.atlases.size() << ": distance " << many.distance << ", leaf pairs " << many.leaf_pairs << " (one atlas "
-                     << one.leaf_pairs << ")");
+  MESSAGE("atlases " << many_a.atlases.size() << " x " << many_b.atlases.size() << ": distance " << many.distance
+                     << ", leaf pairs " << many.leaf_pairs << " (one atlas " << one.leaf_pairs << ")");
 }
