@@ -19,7 +19,7 @@ struct TessArgs {
   std::string path, output;
   double eps = 1e-3;
   bool relative = false, eps_given = false;
-  std::string mode = "guaranteed", method = "kdtree", split = "midpoint";
+  std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
   bool no_simplify = false, check = false, json = false, watertight = false;
   int check_samples = 48, threads = 0;
   std::vector<int> faces;  ///< --face; empty = all
@@ -61,6 +61,7 @@ void run(const TessArgs& a) {
   o.eps = eps;
   o.mode = a.mode == "approximate" ? nurbs::tess::TessMode::Approximate : nurbs::tess::TessMode::Guaranteed;
   o.subdivision = a.method == "quadtree" ? nurbs::tess::Subdivision::Quadtree : nurbs::tess::Subdivision::KdTree;
+  o.cell_bound = a.cell_bound == "net" ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
   o.split = a.split == "arbitrary" ? nurbs::tess::CurveSplit::Arbitrary : nurbs::tess::CurveSplit::Midpoint;
   o.simplify = !a.no_simplify;
   o.threads = a.threads;
@@ -92,6 +93,7 @@ void run(const TessArgs& a) {
                         {"eps_relative", eps / size},
                         {"mode", a.mode},
                         {"method", a.method},
+                        {"cell_bound", a.cell_bound},
                         {"faces", r.stats.faces},
                         {"failed_faces", r.stats.failed_faces},
                         {"triangles", r.stats.triangles},
@@ -173,6 +175,12 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_option("--method", a->method, "kdtree: the paper's subdivision; quadtree: [Kah02], for comparison")
       ->check(CLI::IsMember({"kdtree", "quadtree"}))
+      ->capture_default_str();
+  cmd->add_option("--cell-bound", a->cell_bound,
+                  "Guaranteed mode, the cells' proven bound: net = the paper's control-net test (2 eps_bilin + "
+                  "twist/4); filip = also Filip's second-derivative bound of each cell, the smaller kept (fewer "
+                  "triangles, still proven)")
+      ->check(CLI::IsMember({"filip", "net"}))
       ->capture_default_str();
   cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
       ->check(CLI::IsMember({"midpoint", "arbitrary"}))

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <glm/geometric.hpp>
+#include <limits>
 
+#include "nurbs/bezier_extraction.h"
+#include "nurbs/filip_bound.h"
+#include "nurbs/knot_vector.h"
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
 
@@ -48,6 +52,32 @@ std::vector<double> normalised_greville(const std::vector<double>& knots, int de
 }
 
 double lerp(double a, double b, double t) { return a + t * (b - a); }
+
+/// True when some knot strictly inside the clamped domain has multiplicity >= degree (S only C0
+/// or worse across it).
+bool has_c0_knot(const std::vector<double>& knots, int degree, int count) {
+  const double a = knots[size_t(degree)], b = knots[size_t(count)];
+  for (size_t k = size_t(degree) + 1; k < size_t(count); ++k)
+    if (knots[k] > a && knots[k] < b && knots[k] != knots[k - 1] && knot_multiplicity(knots, knots[k]) >= degree)
+      return true;
+  return false;
+}
+
+/// Filip's bound K_e of a node for any triangle with vertices on the surface inside it (header
+/// comment): the second-derivative bounds of its Bézier pieces, maximised, at the node's widths.
+double filip_node_bound(const Node& node) {
+  const Surface& s = node.net;
+  if (has_c0_knot(s.knots_u, s.degree_u, s.count_u) || has_c0_knot(s.knots_v, s.degree_v, s.count_v))
+    return std::numeric_limits<double>::infinity();
+  SecondDerivativeBounds m;
+  for (const BezierPatch& piece : extract_bezier_patches(s)) {
+    const SecondDerivativeBounds b = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
+    m.m1_norm = std::max(m.m1_norm, b.m1_norm);
+    m.m2_norm = std::max(m.m2_norm, b.m2_norm);
+    m.m3_norm = std::max(m.m3_norm, b.m3_norm);
+  }
+  return filip_k(m, node.u.width(), node.v.width(), KNorm::Euclidean);
+}
 
 /// ε_bilin, twist and the worst point of §5 for one node; `approximate` measures the surface points
 /// S(g_i, g_j) instead of the control points P_ij.
@@ -101,11 +131,16 @@ class Subdivider {
     ++stats_.nodes;
     const Measure me = measure(node, opt_.error == SurfaceError::Approximate);
     const double extra = opt_.error == SurfaceError::Conservative ? stats_.rational_extra : 0.0;
-    const double err = opt_.bilinear_factor * me.bilinear + me.twist * (0.25 + extra);
+    double err = opt_.bilinear_factor * me.bilinear + me.twist * (0.25 + extra);
+    double filip = std::numeric_limits<double>::infinity();
+    if (opt_.error == SurfaceError::Conservative && opt_.bound == CellBound::Filip && err > opt_.eps_surface) {
+      filip = filip_node_bound(node);
+      err = std::min(err, filip);
+    }
     const bool capped = node.depth >= opt_.max_depth || stats_.nodes >= opt_.max_nodes;
     if (err <= opt_.eps_surface || capped || !split(node, me, err, out)) {
       if (err > opt_.eps_surface) ++stats_.unconverged;
-      out.push_back({node.u, node.v, me.bilinear, me.twist});
+      out.push_back({node.u, node.v, me.bilinear, me.twist, filip});
       ++stats_.leaves;
       stats_.max_depth = std::max(stats_.max_depth, node.depth);
     }
@@ -182,7 +217,7 @@ class Subdivider {
 
 double proven_cell_bound(const Cell& cell, bool rational, bool any_triangle) {
   const double f = any_triangle ? 2.0 : 1.0;
-  return f * cell.bilinear + cell.twist * (0.25 + (rational ? 0.25 * f : 0.0));
+  return std::min(f * cell.bilinear + cell.twist * (0.25 + (rational ? 0.25 * f : 0.0)), cell.filip);
 }
 
 std::vector<Cell> subdivide_surface(const Surface& s, const CellOptions& opt, CellStats* stats) {

@@ -29,6 +29,20 @@
 /// the same of S(u, v) for some (u, v) with σ(u, v) = (a, b) (σ is onto). For any triangle inside
 /// the cell: 2 ε_bilin + 3 twist/4 (each vertex to S~(σ_k): ε + t/4; the triangle to S~ of the
 /// mean σ: t/4; back to the surface: ε + t/4). proven_cell_bound() adds that rational extra term.
+///
+/// Beyond the paper (CellBound::Filip, the default): Filip's bound from the cell's own Bézier
+/// pieces (nurbs/filip_bound.h, Euclidean norms M1..M3 of S_uu, S_uv, S_vv over the cell, rational
+/// or not), K_e = (M1 h_u² + 2 M2 h_u h_v + M3 h_v²) / 8 with h the cell's widths, holds for ANY
+/// triangle with vertices on the surface inside the cell, at equal parameters: for x in the
+/// triangle with barycentrics λ_k, S(x) - Σλ_k S(x_k) = -Σλ_k R_k with Taylor remainders
+/// |R_k| <= Q(x_k - x) / 2, Q(d) = M1 d_u² + 2 M2 |d_u d_v| + M3 d_v² <= a d_u² + b d_v²
+/// (a = M1 + M2 h_v/h_u, b = M3 + M2 h_u/h_v: 2|d_u d_v| <= (h_v/h_u) d_u² + (h_u/h_v) d_v²); in
+/// the metric diag(a, b), Σλ_k |x_k - x|² <= R² for the radius R of any ball holding the triangle,
+/// and the cell's circumscribed ball has R² = (a h_u² + b h_v²)/4: |S(x) - T(x)| <= (a h_u² +
+/// b h_v²)/8 = K_e. It needs S in C¹ across the cell (a knot of multiplicity >= degree inside it
+/// voids it: then +inf). The cell keeps the smaller of this and the control-net bound; Filip's is
+/// computed only where the control-net test fails. It is 4/3 of the true error on a parabola where
+/// the paper's any-triangle bound is 8/3 of it, so cells may be about twice as large.
 #include <optional>
 #include <vector>
 
@@ -48,6 +62,8 @@ struct CellOptions {
   /// 1: the paper's test ε_bilin + twist/4 <= eps (the cell's own two triangles). 2: the bound for
   /// any triangle with vertices inside the cell (trim and T-junction vertices, §6-7).
   double bilinear_factor = 1.0;
+  /// Conservative only: the paper's control-net test, or also Filip's bound (file comment).
+  CellBound bound = CellBound::Filip;
   /// Nodes at this depth become leaves even when too coarse (counted in CellStats::unconverged).
   /// Depth grows by one per split (binary for the kd-tree, four-way for the quadtree). kd-tree
   /// splits at the worst point can be uneven (fractions down to 1/8): a sphere at eps = 1e-3 of its
@@ -73,15 +89,17 @@ struct CellStats {
 /// The guaranteed error of a leaf. any_triangle false: the distance between the cell's two corner
 /// triangles and the surface over the cell, ε_bilin + twist/4 (+ twist/4 rational). any_triangle
 /// true: for every triangle with vertices in the cell, 2 ε_bilin + twist/4 (+ twist/2 rational).
-/// Polynomial: at equal parameters. Rational: a two-sided set distance (file comment). Only for
-/// cells from SurfaceError::Conservative.
+/// Polynomial: at equal parameters. Rational: a two-sided set distance (file comment). Either is
+/// capped by the cell's Filip bound (cell.filip, any triangle, at equal parameters) when computed.
+/// Only for cells from SurfaceError::Conservative.
 [[nodiscard]] double proven_cell_bound(const Cell& cell, bool rational, bool any_triangle);
 
 /// The leaves of the §5 subdivision of `s` over the rectangle of `opt`: they partition it exactly
 /// (the union is the rectangle, children share their split coordinate bit for bit), in depth-first
 /// order. Each carries ε_bilin and twist of its own net (Conservative) or of the surface points at
 /// the Greville parameters (Approximate). A node is a leaf when
-///   Conservative: bilinear_factor ε_bilin + twist (1/4 + rational_extra) <= eps (proven),
+///   Conservative: bilinear_factor ε_bilin + twist (1/4 + rational_extra) <= eps (proven), or
+///                 with CellBound::Filip the cell's Filip bound <= eps (proven, any triangle),
 ///   Approximate:  bilinear_factor ε_bilin + twist/4 <= eps (the paper's estimate).
 /// kd-tree split: the control (or surface) point (k, l) farthest from S~, at (g_k, g_l), across the
 /// direction whose splitting chord S(g_k, v0)..S(g_k, v1) or S(u0, g_l)..S(u1, g_l) lies nearer

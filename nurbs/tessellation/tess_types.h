@@ -10,6 +10,7 @@
 ///   §8 (u, v)      -> surface points, coherent evaluation (coherent_eval.h) -> FaceMesh
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <vector>
 
 #include "nurbs/knot_vector.h"
@@ -23,6 +24,12 @@ enum class SurfaceError {
 };
 /// How the surface domain is subdivided (§5): the paper's kd-tree, or the quadtree of [Kah02].
 enum class Subdivision { KdTree, Quadtree };
+/// The proven bound of a Conservative cell (beyond the paper: the paper's control-net test alone,
+/// or also Filip's bound from the cell's second-derivative hull, the smaller of the two kept).
+enum class CellBound {
+  ControlNet,  ///< §5: bilinear_factor ε_bilin + twist/4 (+ the rational term)
+  Filip,       ///< min(that, K_e of the cell: (M1 h_u² + 2 M2 h_u h_v + M3 h_v²) / 8, any triangle)
+};
 /// How a trim curve that is not flat enough is split (§5 "Trimming Loops").
 enum class CurveSplit { Midpoint, Arbitrary };
 
@@ -45,6 +52,9 @@ struct Cell {
   Interval u, v;
   double bilinear = 0.0;
   double twist = 0.0;
+  /// CellBound::Filip: the cell's Filip bound K_e (surface_cells.h), +inf when not computed (the
+  /// control-net test sufficed, another mode) or not valid (a C0 knot line crosses the cell).
+  double filip = std::numeric_limits<double>::infinity();
   [[nodiscard]] double error() const { return bilinear + 0.25 * twist; }
 };
 

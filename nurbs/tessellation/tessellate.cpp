@@ -86,6 +86,7 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   co.eps_surface = guaranteed ? 0.5 * o.eps : o.eps;
   co.error = guaranteed ? SurfaceError::Conservative : SurfaceError::Approximate;
   co.subdivision = o.subdivision;
+  co.bound = o.cell_bound;
   co.domain_u = Interval{lo.x, hi.x};
   co.domain_v = Interval{lo.y, hi.y};
   co.bilinear_factor = guaranteed ? 2.0 : 1.0;

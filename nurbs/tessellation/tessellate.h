@@ -25,6 +25,7 @@ struct TessellateOptions {
   double eps = 1e-3;  ///< absolute, model units
   TessMode mode = TessMode::Guaranteed;
   Subdivision subdivision = Subdivision::KdTree;
+  CellBound cell_bound = CellBound::Filip;  ///< guaranteed mode: the cells' proven bound (surface_cells.h)
   CurveSplit split = CurveSplit::Midpoint;
   double gamma = 0.75;   ///< §5: share of the loop budget for the curves, the rest for simplification
   bool simplify = true;  ///< §5 loop simplification

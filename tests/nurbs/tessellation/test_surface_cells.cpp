@@ -242,6 +242,7 @@ TEST_CASE("surface cells: proven bound holds on random polynomial and rational p
     const Surface s = models::random_surface(seed, du, dv, rational);
     const double eps = 0.1;  // coordinates in [-1, 1]^3: a coarse but non-trivial tolerance
     CellOptions o = options(eps, SurfaceError::Conservative, seed % 2 ? Subdivision::KdTree : Subdivision::Quadtree);
+    o.bound = (seed / 2) % 2 ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
     CellStats st;
     const auto cells = subdivide_surface(s, o, &st);
     REQUIRE(st.unconverged == 0);
@@ -249,6 +250,37 @@ TEST_CASE("surface cells: proven bound holds on random polynomial and rational p
     (rational ? worst_rat : worst_poly) = std::max(rational ? worst_rat : worst_poly, r);
   }
   MESSAGE("max observed error / proven bound: polynomial ", worst_poly, ", rational ", worst_rat);
+}
+
+TEST_CASE("surface cells: Filip's bound ends cells sooner than the control-net test, and holds") {
+  // A quarter of the rational sphere and a random bicubic, any-triangle budget (bilinear_factor 2 as
+  // the tessellator's guaranteed mode): the cells' Filip bound lets them grow, every leaf still
+  // meets its bound on dense samples and random triangles (check_leaves).
+  models::Random rng(77);
+  const Surface sphere = models::rational_sphere(1.0), bicubic = models::random_surface(11, 3, 3, false);
+  for (const Surface* s : {&sphere, &bicubic}) {
+    size_t leaves[2] = {0, 0};
+    int filip_leaves = 0;
+    for (int b = 0; b < 2; ++b) {
+      CellOptions o = options(s == &sphere ? 1e-3 : 1e-2, SurfaceError::Conservative, Subdivision::KdTree);
+      o.bilinear_factor = 2.0;
+      o.bound = b == 0 ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
+      if (s == &sphere) o.domain_u = Interval{0.0, 0.25};
+      CellStats st;
+      const auto cells = subdivide_surface(*s, o, &st);
+      REQUIRE(st.unconverged == 0);
+      leaves[b] = cells.size();
+      for (const Cell& c : cells) filip_leaves += b == 1 && c.filip <= o.eps_surface ? 1 : 0;
+      (void)check_leaves(*s, cells, o.eps_surface, rng);
+    }
+    CAPTURE(leaves[0]);
+    CAPTURE(leaves[1]);
+    CHECK(filip_leaves > 0);
+    CHECK(double(leaves[1]) < 0.8 * double(leaves[0]));
+    MESSAGE((s == &sphere ? "sphere quarter" : "random bicubic")
+            << ": control-net " << leaves[0] << " leaves, Filip " << leaves[1] << " (" << filip_leaves
+            << " ended by Filip's bound)");
+  }
 }
 
 TEST_CASE("surface cells: a rational bilinear patch needs the rational extra term") {
