@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
 
@@ -65,18 +66,22 @@ bool has_c0_knot(const std::vector<double>& knots, int degree, int count) {
 
 /// Filip's bound K_e of a node for any triangle with vertices on the surface inside it (header
 /// comment): the second-derivative bounds of its Bézier pieces, maximised, at the node's widths.
-double filip_node_bound(const Node& node) {
-  const Surface& s = node.net;
-  if (has_c0_knot(s.knots_u, s.degree_u, s.count_u) || has_c0_knot(s.knots_v, s.degree_v, s.count_v))
-    return std::numeric_limits<double>::infinity();
+struct NodeFilip {
+  double k = std::numeric_limits<double>::infinity();  ///< +inf: a C0 knot line crosses the node
   SecondDerivativeBounds m;
+};
+NodeFilip filip_node_bound(const Node& node) {
+  const Surface& s = node.net;
+  NodeFilip r;
+  if (has_c0_knot(s.knots_u, s.degree_u, s.count_u) || has_c0_knot(s.knots_v, s.degree_v, s.count_v)) return r;
   for (const BezierPatch& piece : extract_bezier_patches(s)) {
     const SecondDerivativeBounds b = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
-    m.m1_norm = std::max(m.m1_norm, b.m1_norm);
-    m.m2_norm = std::max(m.m2_norm, b.m2_norm);
-    m.m3_norm = std::max(m.m3_norm, b.m3_norm);
+    r.m.m1_norm = std::max(r.m.m1_norm, b.m1_norm);
+    r.m.m2_norm = std::max(r.m.m2_norm, b.m2_norm);
+    r.m.m3_norm = std::max(r.m.m3_norm, b.m3_norm);
   }
-  return filip_k(m, node.u.width(), node.v.width(), KNorm::Euclidean);
+  r.k = filip_k(r.m, node.u.width(), node.v.width(), KNorm::Euclidean);
+  return r;
 }
 
 /// ε_bilin, twist and the worst point of §5 for one node; `approximate` measures the surface points
@@ -132,15 +137,15 @@ class Subdivider {
     const Measure me = measure(node, opt_.error == SurfaceError::Approximate);
     const double extra = opt_.error == SurfaceError::Conservative ? stats_.rational_extra : 0.0;
     double err = opt_.bilinear_factor * me.bilinear + me.twist * (0.25 + extra);
-    double filip = std::numeric_limits<double>::infinity();
+    NodeFilip filip;
     if (opt_.error == SurfaceError::Conservative && opt_.bound == CellBound::Filip && err > opt_.eps_surface) {
       filip = filip_node_bound(node);
-      err = std::min(err, filip);
+      err = std::min(err, filip.k);
     }
     const bool capped = node.depth >= opt_.max_depth || stats_.nodes >= opt_.max_nodes;
-    if (err <= opt_.eps_surface || capped || !split(node, me, err, out)) {
+    if (err <= opt_.eps_surface || capped || !split(node, me, filip, err, out)) {
       if (err > opt_.eps_surface) ++stats_.unconverged;
-      out.push_back({node.u, node.v, me.bilinear, me.twist, filip});
+      out.push_back({node.u, node.v, me.bilinear, me.twist, filip.k});
       ++stats_.leaves;
       stats_.max_depth = std::max(stats_.max_depth, node.depth);
     }
@@ -148,13 +153,27 @@ class Subdivider {
 
  private:
   /// Splits `node` into children (recursing into them); false when it cannot be split.
-  bool split(const Node& node, const Measure& me, double err, std::vector<Cell>& out) {
+  bool split(const Node& node, const Measure& me, const NodeFilip& filip, double err, std::vector<Cell>& out) {
     const Interval u = node.u, v = node.v;
     if (opt_.subdivision == Subdivision::Quadtree) {
       const double um = 0.5 * (u.min + u.max), vm = 0.5 * (v.min + v.max);
       if (!(u.min < um && um < u.max && v.min < vm && vm < v.max)) return false;
       for (const Interval cv : {Interval{v.min, vm}, Interval{vm, v.max}})
         for (const Interval cu : {Interval{u.min, um}, Interval{um, u.max}}) child(node, cu, cv, err, -1, out);
+      return true;
+    }
+    // CellBound::Filip (beyond the paper): a node that its Filip bound will end is halved across the
+    // direction whose halving lowers that bound most (K is quadratic in the widths: a cut at the
+    // worst control point, right for the control-net test, leaves uneven halves here).
+    if (std::isfinite(filip.k) && opt_.filip_split) {
+      const double hu = u.width(), hv = v.width(), m1 = filip.m.m1_norm, m2 = filip.m.m2_norm, m3 = filip.m.m3_norm;
+      const double ku = m1 * hu * hu / 4 + 2 * m2 * (hu / 2) * hv + m3 * hv * hv;  // 8 K after a cut across u
+      const double kv = m1 * hu * hu + 2 * m2 * hu * (hv / 2) + m3 * hv * hv / 4;
+      const bool along_u = ku <= kv;
+      const double t = along_u ? 0.5 * (u.min + u.max) : 0.5 * (v.min + v.max);
+      if (along_u ? !(u.min < t && t < u.max) : !(v.min < t && t < v.max)) return false;
+      child(node, along_u ? Interval{u.min, t} : u, along_u ? v : Interval{v.min, t}, err, along_u ? 0 : 1, out);
+      child(node, along_u ? Interval{t, u.max} : u, along_u ? v : Interval{t, v.max}, err, along_u ? 0 : 1, out);
       return true;
     }
     double fu = split_fraction(me.gu[size_t(me.k)]), fv = split_fraction(me.gv[size_t(me.l)]);

@@ -64,6 +64,9 @@ struct CellOptions {
   double bilinear_factor = 1.0;
   /// Conservative only: the paper's control-net test, or also Filip's bound (file comment).
   CellBound bound = CellBound::Filip;
+  /// kd-tree with CellBound::Filip: a node the control-net test cannot end is halved across the
+  /// direction that lowers its Filip bound most (false: the paper's cut at the worst control point).
+  bool filip_split = true;
   /// Nodes at this depth become leaves even when too coarse (counted in CellStats::unconverged).
   /// Depth grows by one per split (binary for the kd-tree, four-way for the quadtree). kd-tree
   /// splits at the worst point can be uneven (fractions down to 1/8): a sphere at eps = 1e-3 of its

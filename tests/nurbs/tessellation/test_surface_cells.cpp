@@ -115,16 +115,24 @@ double sigma_witness(const Surface& net, double u, double v) {
 }
 
 /// An upper bound of the distance from x to the surface over the cell: the nearest of 5 x 5
-/// samples, improved by clamped Gauss-Newton steps (any surface point found bounds the distance).
+/// samples, then 5 x 5 samples over the quarter-size window around it, four times (a pattern
+/// search: Newton alone stops at once on a pole, where S_u vanishes), improved by clamped
+/// Gauss-Newton steps (any surface point found bounds the distance).
 double surface_distance(const Surface& s, const Cell& c, glm::dvec3 x) {
   glm::dvec2 best(c.u.min, c.v.min);
   double dist = 1e300;
-  for (int j = 0; j <= 4; ++j)
-    for (int i = 0; i <= 4; ++i) {
-      const glm::dvec2 q(lerp(c.u, i / 4.0), lerp(c.v, j / 4.0));
-      const double d = glm::length(nurbs::surface_point(s, q.x, q.y) - x);
-      if (d < dist) dist = d, best = q;
-    }
+  Interval wu = c.u, wv = c.v;
+  for (int round = 0; round < 5; ++round) {
+    for (int j = 0; j <= 4; ++j)
+      for (int i = 0; i <= 4; ++i) {
+        const glm::dvec2 q(lerp(wu, i / 4.0), lerp(wv, j / 4.0));
+        const double d = glm::length(nurbs::surface_point(s, q.x, q.y) - x);
+        if (d < dist) dist = d, best = q;
+      }
+    const double hu = wu.width() / 4, hv = wv.width() / 4;
+    wu = {std::max(c.u.min, best.x - hu), std::min(c.u.max, best.x + hu)};
+    wv = {std::max(c.v.min, best.y - hv), std::min(c.v.max, best.y + hv)};
+  }
   for (int it = 0; it < 12; ++it) {
     const auto d = nurbs::surface_derivatives(s, best.x, best.y);
     const glm::dvec3 r = d.s - x;
@@ -259,12 +267,13 @@ TEST_CASE("surface cells: Filip's bound ends cells sooner than the control-net t
   models::Random rng(77);
   const Surface sphere = models::rational_sphere(1.0), bicubic = models::random_surface(11, 3, 3, false);
   for (const Surface* s : {&sphere, &bicubic}) {
-    size_t leaves[2] = {0, 0};
+    size_t leaves[3] = {0, 0, 0};  // control net; Filip (cuts chosen by it); Filip with the paper's cuts
     int filip_leaves = 0;
-    for (int b = 0; b < 2; ++b) {
+    for (int b = 0; b < 3; ++b) {
       CellOptions o = options(s == &sphere ? 1e-3 : 1e-2, SurfaceError::Conservative, Subdivision::KdTree);
       o.bilinear_factor = 2.0;
       o.bound = b == 0 ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
+      o.filip_split = b == 1;
       if (s == &sphere) o.domain_u = Interval{0.0, 0.25};
       CellStats st;
       const auto cells = subdivide_surface(*s, o, &st);
@@ -275,11 +284,13 @@ TEST_CASE("surface cells: Filip's bound ends cells sooner than the control-net t
     }
     CAPTURE(leaves[0]);
     CAPTURE(leaves[1]);
+    CAPTURE(leaves[2]);
     CHECK(filip_leaves > 0);
     CHECK(double(leaves[1]) < 0.8 * double(leaves[0]));
+    CHECK(leaves[2] != leaves[1]);  // the cuts differ
     MESSAGE((s == &sphere ? "sphere quarter" : "random bicubic")
             << ": control-net " << leaves[0] << " leaves, Filip " << leaves[1] << " (" << filip_leaves
-            << " ended by Filip's bound)");
+            << " ended by Filip's bound), Filip with the paper's cuts " << leaves[2]);
   }
 }
 
