@@ -22,6 +22,7 @@ struct TessArgs {
   std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
   bool no_simplify = false, check = false, json = false, watertight = false;
   int check_samples = 48, threads = 0;
+  double loop_share = 0.5;
   std::vector<int> faces;  ///< --face; empty = all
 };
 
@@ -64,6 +65,7 @@ void run(const TessArgs& a) {
   o.cell_bound = a.cell_bound == "net" ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
   o.split = a.split == "arbitrary" ? nurbs::tess::CurveSplit::Arbitrary : nurbs::tess::CurveSplit::Midpoint;
   o.simplify = !a.no_simplify;
+  o.loop_share = a.loop_share;
   o.threads = a.threads;
   o.watertight = a.watertight;
 
@@ -94,6 +96,7 @@ void run(const TessArgs& a) {
                         {"mode", a.mode},
                         {"method", a.method},
                         {"cell_bound", a.cell_bound},
+                        {"loop_share", a.loop_share},
                         {"faces", r.stats.faces},
                         {"failed_faces", r.stats.failed_faces},
                         {"triangles", r.stats.triangles},
@@ -181,6 +184,10 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
                   "twist/4); filip = also Filip's second-derivative bound of each cell, the smaller kept (fewer "
                   "triangles, still proven)")
       ->check(CLI::IsMember({"filip", "net"}))
+      ->capture_default_str();
+  cmd->add_option("--loop-share", a->loop_share,
+                  "Guaranteed mode: the share of eps for the trim loops; the cells get the rest")
+      ->check(CLI::Range(0.05, 0.95))
       ->capture_default_str();
   cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
       ->check(CLI::IsMember({"midpoint", "arbitrary"}))

@@ -33,7 +33,7 @@ struct FaceOut {
 
 TrimApproxOptions trim_options(const TessellateOptions& o) {
   TrimApproxOptions to;
-  to.eps = o.mode == TessMode::Guaranteed ? 0.5 * o.eps : o.eps;
+  to.eps = o.mode == TessMode::Guaranteed ? o.loop_share * o.eps : o.eps;
   to.gamma = o.gamma;
   to.split = o.split;
   to.simplify = o.simplify;
@@ -83,7 +83,7 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
     return out;
   }
   CellOptions co;
-  co.eps_surface = guaranteed ? 0.5 * o.eps : o.eps;
+  co.eps_surface = guaranteed ? (1.0 - o.loop_share) * o.eps : o.eps;
   co.error = guaranteed ? SurfaceError::Conservative : SurfaceError::Approximate;
   co.subdivision = o.subdivision;
   co.bound = o.cell_bound;

@@ -15,10 +15,10 @@
 
 namespace nurbs::tess {
 
-/// Guaranteed: the trim loops within eps/2 (§5, γ of it for the curves), the cells' proven bound for
-/// any triangle inside them (2 ε_bilin + twist/4, surface_cells.h) within eps/2, so that trimmed and
-/// T-junction triangles keep the bound too. Approximate: the paper's approximate error, eps for the
-/// loops and eps for the surface (fewer triangles, no guarantee).
+/// Guaranteed: the trim loops within loop_share x eps (default 1/2; §5, γ of it for the curves), the
+/// cells' proven bound for any triangle inside them (2 ε_bilin + twist/4, or Filip's, surface_cells.h)
+/// within the rest, so that trimmed and T-junction triangles keep the bound too. Approximate: the paper's approximate
+/// error, eps for the loops and eps for the surface (fewer triangles, no guarantee).
 enum class TessMode { Guaranteed, Approximate };
 
 struct TessellateOptions {
@@ -27,7 +27,9 @@ struct TessellateOptions {
   Subdivision subdivision = Subdivision::KdTree;
   CellBound cell_bound = CellBound::Filip;  ///< guaranteed mode: the cells' proven bound (surface_cells.h)
   CurveSplit split = CurveSplit::Midpoint;
-  double gamma = 0.75;   ///< §5: share of the loop budget for the curves, the rest for simplification
+  double gamma = 0.75;  ///< §5: share of the loop budget for the curves, the rest for simplification
+  /// Guaranteed mode: share of eps for the trim loops, the rest (1 - loop_share) for the cells.
+  double loop_share = 0.5;
   bool simplify = true;  ///< §5 loop simplification
   int threads = 0;       ///< 0 = all hardware threads
   /// Beyond the paper: faces sharing an edge in space get the same boundary vertices (the loops are
