@@ -93,7 +93,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   Thickness th(samples.faces.size());
   for (size_t f = 0; f < samples.faces.size(); ++f) th[f].assign(samples.faces[f].uv.size(), -1.0);
   long long hit_count = 0, below = 0;
-  double lo = 0, hi = 0, sum = 0;
+  double lo = 0, hi = 0;
   size_t thinnest = 0;
   std::vector<double> values;
   for (size_t r = 0; r < hits.size(); ++r) {
@@ -102,13 +102,11 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     th[size_t(f)][size_t(k)] = hits[r].t;
     if (hit_count == 0 || hits[r].t < lo) lo = hits[r].t, thinnest = r;
     hi = hit_count == 0 ? hits[r].t : std::max(hi, hits[r].t);
-    sum += hits[r].t;
     ++hit_count;
     below += a.min_wall_given && hits[r].t < a.min_wall ? 1 : 0;
     values.push_back(hits[r].t);
   }
-  std::sort(values.begin(), values.end());
-  const double median = values.empty() ? -1.0 : values[values.size() / 2];
+  const nurbs::ray::ThicknessSummary summary = nurbs::ray::summarize_thickness(std::move(values));
   std::optional<BallResult> ball;
   Thickness ball_th;
   if (a.ball.enabled) {
@@ -140,11 +138,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
         {"hits", hit_count},
         {"misses", n - hit_count},
         {"hit_residual", residual},
-        {"thickness",
-         {{"min", hit_count ? lo : -1.0},
-          {"max", hit_count ? hi : -1.0},
-          {"mean", hit_count ? sum / double(hit_count) : -1.0},
-          {"median", median}}},
+        {"thickness", summary_json(summary)},
         {"orientation",
          {{"faces_flipped_from_file", samples.orientation_flips}, {"faces_unsure", samples.orientation_unsure}}},
         {"seconds", {{"orientation", orient_seconds}, {"cast", cast_seconds}, {"total", total}}},
@@ -171,8 +165,8 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     const auto [tf, tk] = rays.source[thinnest];
     const auto& g = samples.faces[size_t(tf)];
     fmt::print("thickness  min {:.6g} (face {} at ({:.4g}, {:.4g}, {:.4g})), median {:.6g}, mean {:.6g}, max {:.6g}\n",
-               lo, g.face, g.point[size_t(tk)].x, g.point[size_t(tk)].y, g.point[size_t(tk)].z, median,
-               sum / double(hit_count), hi);
+               lo, g.face, g.point[size_t(tk)].x, g.point[size_t(tk)].y, g.point[size_t(tk)].z, summary.median,
+               summary.mean, summary.max);
   }
   if (a.min_wall_given) fmt::print("below      {} samples thinner than {:.6g}\n", below, a.min_wall);
   if (ball) {

@@ -61,24 +61,17 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
 nlohmann::json ball_json(const BallResult& r, const std::vector<nurbs::ray::Hit>& hits, double min_wall) {
   std::vector<double> v;
   long long thinner = 0, below = 0;
-  double sum = 0.0, worst_bound = 0.0;
+  double worst_bound = 0.0;
   for (size_t i = 0; i < r.samples.size(); ++i) {
     const auto& b = r.samples[i];
     if (b.thickness < 0) continue;
     v.push_back(b.thickness);
-    sum += b.thickness;
     worst_bound = std::max(worst_bound, b.bound);
     thinner += hits[i].face >= 0 && b.thickness < hits[i].t - b.bound;
     below += min_wall > 0 && b.thickness < min_wall;
   }
-  std::sort(v.begin(), v.end());
-  const bool any = !v.empty();
   nlohmann::json j = {{"samples", v.size()},
-                      {"thickness",
-                       {{"min", any ? v.front() : -1.0},
-                        {"median", any ? v[v.size() / 2] : -1.0},
-                        {"mean", any ? sum / double(v.size()) : -1.0},
-                        {"max", any ? v.back() : -1.0}}},
+                      {"thickness", summary_json(nurbs::ray::summarize_thickness(std::move(v)))},
                       {"bound", worst_bound},
                       {"thinner_than_ray", thinner},
                       {"rounds", r.figures.rounds},

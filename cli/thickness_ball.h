@@ -17,6 +17,11 @@ class Gpu;
 
 namespace cli {
 
+/// The JSON of a thickness summary: {"min", "max", "mean", "median"} (-1 when there is none).
+inline nlohmann::json summary_json(const nurbs::ray::ThicknessSummary& s) {
+  return {{"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"median", s.median}};
+}
+
 struct BallArgs {
   bool enabled = false;
   double tolerance = 1e-5;  ///< the point query's grids (K_e), relative to the model size

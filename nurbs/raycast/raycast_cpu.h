@@ -71,4 +71,9 @@ void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, i
 [[nodiscard]] std::vector<Hit> cast_rays(const Scene& scene, const std::vector<Ray>& rays, double t_min,
                                          Traversal traversal = Traversal::Stackless, TraversalStats* stats = nullptr);
 
+/// Every ray's hits, parallel over `threads` (0: all hardware threads), deterministic.
+[[nodiscard]] std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min,
+                                                  Traversal traversal, int threads = 0,
+                                                  TraversalStats* stats = nullptr);
+
 }  // namespace nurbs::ray

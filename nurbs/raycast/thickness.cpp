@@ -1,10 +1,8 @@
 #include "nurbs/raycast/thickness.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <thread>
 
 #include "nurbs/surface_eval.h"
 
@@ -240,31 +238,16 @@ TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickne
   return m;
 }
 
-std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min, Traversal traversal,
-                                    int threads, TraversalStats* stats) {
-  std::vector<Hit> out(rays.size());
-  const int n = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
-  constexpr size_t kBlock = 256;
-  std::atomic<size_t> next{0};
-  std::vector<TraversalStats> per(static_cast<size_t>(n));
-  auto work = [&](int id) {
-    for (;;) {
-      const size_t first = next.fetch_add(kBlock);
-      if (first >= rays.size()) return;
-      const size_t last = std::min(rays.size(), first + kBlock);
-      for (size_t i = first; i < last; ++i) out[i] = cast_ray(scene, rays[i], t_min, traversal, &per[id]);
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& t : pool) t.join();
-  if (stats)
-    for (const auto& s : per) {
-      stats->box_tests += s.box_tests;
-      stats->patch_tests += s.patch_tests;
-    }
-  return out;
+ThicknessSummary summarize_thickness(std::vector<double> values) {
+  ThicknessSummary r;
+  if (values.empty()) return r;
+  std::sort(values.begin(), values.end());
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  r.count = static_cast<long long>(values.size());
+  r.min = values.front(), r.max = values.back(), r.median = values[values.size() / 2];
+  r.mean = sum / double(values.size());
+  return r;
 }
 
 }  // namespace nurbs::ray

@@ -84,9 +84,12 @@ using SampleThickness = std::vector<std::vector<double>>;
 [[nodiscard]] TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickness& thickness, double lo,
                                           double hi, std::vector<double>* vertex_thickness = nullptr);
 
-/// Every ray's hits, parallel over `threads` (0: all hardware threads), deterministic.
-[[nodiscard]] std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min,
-                                                  Traversal traversal, int threads = 0,
-                                                  TraversalStats* stats = nullptr);
+/// Min, median, mean and max of a set of thicknesses (-1 each when it is empty), as the CLI's ray
+/// and rolling-ball summaries report them.
+struct ThicknessSummary {
+  long long count = 0;
+  double min = -1.0, median = -1.0, mean = -1.0, max = -1.0;
+};
+[[nodiscard]] ThicknessSummary summarize_thickness(std::vector<double> values);
 
 }  // namespace nurbs::ray

@@ -144,3 +144,15 @@ TEST_CASE("thickness: the coloured mesh of the samples faces outward, one vertex
   CHECK(thickness_colour(0.0, 0.0, 40.0) == glm::dvec3(0.0, 0.0, 0.5));  // thin: dark blue
   CHECK(thickness_colour(-1.0, 0.0, 40.0) == glm::dvec3(0.5));           // no hit: grey
 }
+
+TEST_CASE("thickness: the summary the CLI reports (min, upper median, mean, max; -1 when empty)") {
+  const nurbs::ray::ThicknessSummary s = nurbs::ray::summarize_thickness({3.0, 1.0, 10.0, 2.0});
+  CHECK(s.count == 4);
+  CHECK(s.min == 1.0);
+  CHECK(s.median == 3.0);  // the upper of the two middle values, as the sorted values[n / 2]
+  CHECK(s.mean == 4.0);
+  CHECK(s.max == 10.0);
+  const nurbs::ray::ThicknessSummary e = nurbs::ray::summarize_thickness({});
+  CHECK(e.count == 0);
+  CHECK((e.min == -1.0 && e.median == -1.0 && e.mean == -1.0 && e.max == -1.0));
+}
