@@ -79,6 +79,14 @@ double line_error_bound(const HomogeneousCurve& bezier, int* farthest) {
   const double l2 = glm::dot(d, d);
   double best = 0.0;
   if (farthest) *farthest = std::max(1, n / 2);
+  if (n == 2 && !polynomial && l2 > 0.0) {  // a rational quadratic: its shoulder point (header comment)
+    const glm::dvec3 v = p[1] - p.front();
+    const double lam = glm::dot(v, d) / l2;
+    if (lam >= 0.0 && lam <= 1.0) {
+      const double w = bezier.points[1].w / std::sqrt(bezier.points[0].w * bezier.points[2].w);
+      return w / (1.0 + w) * glm::length(v - lam * d);
+    }
+  }
   for (int i = 1; i < n; ++i) {
     const glm::dvec3 v = p[size_t(i)] - p.front();
     const double lam = l2 > 0.0 ? std::clamp(glm::dot(v, d) / l2, 0.0, 1.0) : 0.0;

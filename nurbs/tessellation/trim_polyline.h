@@ -13,7 +13,13 @@
 /// continuously from 0 to 1, so every chord point is such a partner too: the bound is two-sided.
 /// For a rational curve the same argument holds on the projected control points P_i = P^w_i / w_i
 /// with the rational basis w_i B_i / sum w_j B_j (positive weights: a partition of unity), but its
-/// end functions can be arbitrarily small, so the factor is dropped (bound = max |e_i|).
+/// end functions can be arbitrarily small, so the factor is dropped (bound = max |e_i|). Beyond the
+/// paper, a rational quadratic (every circle and conic edge of a CAD model) gets its exact value:
+/// in standard form (w = w_1 / sqrt(w_0 w_2)) its farthest point from the chord's line is the
+/// shoulder point, w / (1 + w) of the way from the chord's midpoint to P_1, so the distance is
+/// w / (1 + w) h with h the distance of P_1 from the line (a circle arc: 1/2 and less, where the hull
+/// bound gave h). It is the two-sided distance to the chord segment when P_1 projects inside it (the
+/// curve, in the triangle P_0 P_1 P_2, then projects inside too, and covers the whole chord).
 /// Vertices are exact curve points: uv = c(t) from the 2D piece (clamped into the domain),
 /// xyz = S(uv); they differ from the lifted 3D curve by its lift error (checked <= LiftOptions::rel_tol
 /// times the patch size, measured <= 4e-9 mm on the shared models).

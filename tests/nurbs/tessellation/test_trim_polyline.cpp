@@ -140,6 +140,15 @@ TEST_CASE("trim: ε_line bounds the two-sided distance of random Bézier curves 
     CHECK(from_chord <= bound + 0.5 * gap + 1e-12);  // half a sampling gap: nearest dense sample
   }
   CHECK(rational_cases == 200);
+  // Rational quadratics with every weight pattern (the shoulder-point value, beyond the paper): a
+  // quarter circle of radius 1 reaches exactly 1 - cos 45 deg from its chord, and the random ones
+  // above include 22 rational quadratics checked both ways against dense samples.
+  const double c45 = std::sqrt(0.5);
+  HomogeneousCurve arc{2, {0, 0, 0, 1, 1, 1}, {{1, 0, 0, 1}, {c45, c45, 0, c45}, {0, 1, 0, 1}}};
+  CHECK(line_error_bound(arc) == doctest::Approx(1.0 - c45).epsilon(1e-12));
+  HomogeneousCurve scaled = arc;  // the same arc reparametrised projectively: point i times 3 / sqrt(6)^i
+  for (int i = 0; i < 3; ++i) scaled.points[size_t(i)] *= 3.0 * std::pow(1.0 / std::sqrt(6.0), i);
+  CHECK(line_error_bound(scaled) == doctest::Approx(1.0 - c45).epsilon(1e-12));
   // Tight for a symmetric polynomial quadratic: the curve reaches half of P1's distance at t = 1/2.
   HomogeneousCurve q{2, {0, 0, 0, 1, 1, 1}, {{0, 0, 0, 1}, {1, 2, 0, 1}, {2, 0, 0, 1}}};
   CHECK(line_error_bound(q) == doctest::Approx(1.0).epsilon(1e-15));  // exact value 2 * (1 - 2^-1)
