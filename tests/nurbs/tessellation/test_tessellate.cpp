@@ -145,15 +145,12 @@ TEST_CASE("tessellate: every shared IGES model within eps = 5e-3 of its size" * 
     const auto d = nurbs::tess::measure_deviation(faces, r.mesh, {12, 1e-3 * o.eps, 0});
     CHECK(d.max() <= o.eps);
     // The kd-tree needs no more cells than the quadtree on any model (it once cut a face of the
-    // 45-faces model into 1e-16 slivers along a side that held the error: 19105 cells against 232),
-    // with the paper's control-net test, where that happened (Filip's bound per node would make this
-    // loop over 305 faces 40 s under ASan).
+    // 45-faces model into 1e-16 slivers along a side that held the error: 19105 cells against 232).
     long long kd = 0, quad = 0;
     for (const auto& f : faces) {
       nurbs::tess::CellOptions co;
       co.eps_surface = 0.5e-3 * nurbs::model_size(model);  // eps = 1e-3 x size, where it happened
       co.bilinear_factor = 2.0;
-      co.bound = nurbs::tess::CellBound::ControlNet;
       kd += (long long)nurbs::tess::subdivide_surface(f.surface, co).size();
       co.subdivision = nurbs::tess::Subdivision::Quadtree;
       quad += (long long)nurbs::tess::subdivide_surface(f.surface, co).size();
