@@ -164,8 +164,9 @@ class Subdivider {
     }
     // CellBound::Filip (beyond the paper): a node that its Filip bound will end is halved across the
     // direction whose halving lowers that bound most (K is quadratic in the widths: a cut at the
-    // worst control point, right for the control-net test, leaves uneven halves here).
-    if (std::isfinite(filip.k) && opt_.filip_split) {
+    // worst control point, right for the control-net test, leaves uneven halves here). Polynomial
+    // nodes only (CellOptions::filip_split).
+    if (std::isfinite(filip.k) && opt_.filip_split && !node.net.rational()) {
       const double hu = u.width(), hv = v.width(), m1 = filip.m.m1_norm, m2 = filip.m.m2_norm, m3 = filip.m.m3_norm;
       const double ku = m1 * hu * hu / 4 + 2 * m2 * (hu / 2) * hv + m3 * hv * hv;  // 8 K after a cut across u
       const double kv = m1 * hu * hu + 2 * m2 * hu * (hv / 2) + m3 * hv * hv / 4;
