@@ -79,7 +79,10 @@ SurfaceDerivatives surface_derivatives(const Surface& s, double u, double v) {
 }
 
 glm::dvec3 surface_normal(const Surface& s, double u, double v) {
-  const SurfaceDerivatives d = surface_derivatives(s, u, v);
+  return surface_normal(s, surface_derivatives(s, u, v), u, v);
+}
+
+glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double u, double v) {
   // Relative threshold: a cross product this small against |Su||Sv| is roundoff, not a direction.
   const double scale = std::max({glm::length(d.su), glm::length(d.sv), 1e-300});
   const double eps = 1e-12 * scale;

@@ -34,5 +34,7 @@ struct SurfaceDerivatives {
 /// when Su = 0, +-Su x Suv when Sv = 0 (sign: + on the first half of the domain, - on the second, as
 /// Su(u, v0 + dv) ~ dv Suv). Returns (0, 0, 0) when that fails too.
 [[nodiscard]] glm::dvec3 surface_normal(const Surface& s, double u, double v);
+/// The same from derivatives already evaluated at (u, v) (surface_derivatives(s, u, v)).
+[[nodiscard]] glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double u, double v);
 
 }  // namespace nurbs

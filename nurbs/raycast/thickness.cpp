@@ -175,9 +175,10 @@ ThicknessSamples thickness_samples(const Scene& scene, const ThicknessOptions& o
         const size_t k = static_cast<size_t>(j) * s.nu + i;
         s.uv[k] = grid_uv(box, i, j, s.nu, s.nv, 0.5);
         if (!material(scene, f, s.uv[k])) continue;
-        const glm::dvec3 normal = surface_normal(face.surface, s.uv[k].x, s.uv[k].y);
+        const SurfaceDerivatives d = surface_derivatives(face.surface, s.uv[k].x, s.uv[k].y);
+        const glm::dvec3 normal = surface_normal(face.surface, d, s.uv[k].x, s.uv[k].y);
         if (!(glm::length(normal) > 0.5)) continue;  // degenerate point: no normal, no ray
-        s.point[k] = surface_derivatives(face.surface, s.uv[k].x, s.uv[k].y).s;
+        s.point[k] = d.s;
         s.inward[k] = double(out.inward_sign[f]) * normal;
         s.material[k] = true;
       }
