@@ -12,11 +12,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDerivativeBounds& b) {
-  return {std::max(a.m1, b.m1),           std::max(a.m2, b.m2),           std::max(a.m3, b.m3),
-          std::max(a.m1_norm, b.m1_norm), std::max(a.m2_norm, b.m2_norm), std::max(a.m3_norm, b.m3_norm)};
-}
-
 /// M1-M3 (or M1e-M3e) of one set of bounds.
 struct Ms {
   double m1, m2, m3;

@@ -32,12 +32,6 @@ struct MaxAbs {
   }
 };
 
-/// Field-wise max of two sets of bounds.
-SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDerivativeBounds& b) {
-  return {std::max(a.m1, b.m1),           std::max(a.m2, b.m2),           std::max(a.m3, b.m3),
-          std::max(a.m1_norm, b.m1_norm), std::max(a.m2_norm, b.m2_norm), std::max(a.m3_norm, b.m3_norm)};
-}
-
 /// Distinct knot values within the domain, ends included.
 std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
   std::vector<double> out;
@@ -200,6 +194,11 @@ bool c1_across(const Surface& left, const Surface& right, bool along_u, double a
 }
 
 }  // namespace
+
+SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDerivativeBounds& b) {
+  return {std::max(a.m1, b.m1),           std::max(a.m2, b.m2),           std::max(a.m3, b.m3),
+          std::max(a.m1_norm, b.m1_norm), std::max(a.m2_norm, b.m2_norm), std::max(a.m3_norm, b.m3_norm)};
+}
 
 SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv) {
   const int p = patch.degree_u, q = patch.degree_v;

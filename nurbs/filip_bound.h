@@ -92,6 +92,9 @@ struct SecondDerivativeBounds {
   double m3_norm = 0.0;  ///< ||S_vv||
 };
 
+/// Field-wise max of two sets of bounds (bounds of the union of their regions).
+[[nodiscard]] SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDerivativeBounds& b);
+
 /// Bounds of one Bézier patch (degree p x q, (p+1) x (q+1) points, u fastest) over the parameter
 /// rectangle of width du x dv (see the file comment for the polynomial and rational formulas).
 [[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv);

@@ -83,12 +83,13 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
       // A corner on a pole (S_u or S_v vanishes there) has any u (or v): Newton leaves it where it
       // starts, and midpoints interpolated towards it start far from their foot. It takes the mean
       // of the other corners' coordinate, as the triangle's own edges to the pole run.
+      glm::dvec2* uv = &out.uv[3 * k];
       for (int i = 0; i < 3; ++i) {
-        const SurfaceDerivatives dd = surface_derivatives(s, out.uv[3 * k + size_t(i)].x, out.uv[3 * k + size_t(i)].y);
+        const SurfaceDerivatives dd = surface_derivatives(s, uv[i].x, uv[i].y);
         const double lu = glm::length(dd.su), lv = glm::length(dd.sv);
-        const glm::dvec2 a = out.uv[3 * k + size_t((i + 1) % 3)], b = out.uv[3 * k + size_t((i + 2) % 3)];
-        if (lu <= 1e-9 * lv) out.uv[3 * k + size_t(i)].x = 0.5 * (a.x + b.x);
-        if (lv <= 1e-9 * lu) out.uv[3 * k + size_t(i)].y = 0.5 * (a.y + b.y);
+        const glm::dvec2 a = uv[(i + 1) % 3], b = uv[(i + 2) % 3];
+        if (lu <= 1e-9 * lv) uv[i].x = 0.5 * (a.x + b.x);
+        if (lv <= 1e-9 * lu) uv[i].y = 0.5 * (a.y + b.y);
       }
       out.triangles[k] = glm::ivec3(int(3 * k), int(3 * k + 1), int(3 * k + 2));
       out.triangle_face[k] = face;

@@ -74,12 +74,8 @@ NodeFilip filip_node_bound(const Node& node) {
   const Surface& s = node.net;
   NodeFilip r;
   if (has_c0_knot(s.knots_u, s.degree_u, s.count_u) || has_c0_knot(s.knots_v, s.degree_v, s.count_v)) return r;
-  for (const BezierPatch& piece : extract_bezier_patches(s)) {
-    const SecondDerivativeBounds b = bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width());
-    r.m.m1_norm = std::max(r.m.m1_norm, b.m1_norm);
-    r.m.m2_norm = std::max(r.m.m2_norm, b.m2_norm);
-    r.m.m3_norm = std::max(r.m.m3_norm, b.m3_norm);
-  }
+  for (const BezierPatch& piece : extract_bezier_patches(s))
+    r.m = max_of(r.m, bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width()));
   r.k = filip_k(r.m, node.u.width(), node.v.width(), KNorm::Euclidean);
   return r;
 }
@@ -162,20 +158,23 @@ class Subdivider {
         for (const Interval cu : {Interval{u.min, um}, Interval{um, u.max}}) child(node, cu, cv, err, -1, out);
       return true;
     }
+    // Two children, cut across u (an iso-u line at t) or across v.
+    auto cut = [&](bool along_u, double t) {
+      const Interval& w = along_u ? u : v;
+      if (!(w.min < t && t < w.max)) return false;
+      child(node, along_u ? Interval{u.min, t} : u, along_u ? v : Interval{v.min, t}, err, along_u ? 0 : 1, out);
+      child(node, along_u ? Interval{t, u.max} : u, along_u ? v : Interval{t, v.max}, err, along_u ? 0 : 1, out);
+      return true;
+    };
     // CellBound::Filip (beyond the paper): a node that its Filip bound will end is halved across the
     // direction whose halving lowers that bound most (K is quadratic in the widths: a cut at the
     // worst control point, right for the control-net test, leaves uneven halves here). Polynomial
     // nodes only (CellOptions::filip_split).
     if (std::isfinite(filip.k) && opt_.filip_split && !node.net.rational()) {
-      const double hu = u.width(), hv = v.width(), m1 = filip.m.m1_norm, m2 = filip.m.m2_norm, m3 = filip.m.m3_norm;
-      const double ku = m1 * hu * hu / 4 + 2 * m2 * (hu / 2) * hv + m3 * hv * hv;  // 8 K after a cut across u
-      const double kv = m1 * hu * hu + 2 * m2 * hu * (hv / 2) + m3 * hv * hv / 4;
-      const bool along_u = ku <= kv;
-      const double t = along_u ? 0.5 * (u.min + u.max) : 0.5 * (v.min + v.max);
-      if (along_u ? !(u.min < t && t < u.max) : !(v.min < t && t < v.max)) return false;
-      child(node, along_u ? Interval{u.min, t} : u, along_u ? v : Interval{v.min, t}, err, along_u ? 0 : 1, out);
-      child(node, along_u ? Interval{t, u.max} : u, along_u ? v : Interval{t, v.max}, err, along_u ? 0 : 1, out);
-      return true;
+      const double hu = u.width(), hv = v.width();
+      const bool along_u =
+          filip_k(filip.m, hu / 2, hv, KNorm::Euclidean) <= filip_k(filip.m, hu, hv / 2, KNorm::Euclidean);
+      return cut(along_u, along_u ? 0.5 * (u.min + u.max) : 0.5 * (v.min + v.max));
     }
     double fu = split_fraction(me.gu[size_t(me.k)]), fv = split_fraction(me.gv[size_t(me.l)]);
     bool along_u;  // true: cut the u interval (the splitting line is an iso-u curve)
@@ -211,18 +210,7 @@ class Subdivider {
       if (fu <= 0.0) fu = 0.5;
       if (fv <= 0.0) fv = 0.5;
     }
-    if (along_u) {
-      const double t = lerp(u.min, u.max, fu);
-      if (!(u.min < t && t < u.max)) return false;
-      child(node, {u.min, t}, v, err, 0, out);
-      child(node, {t, u.max}, v, err, 0, out);
-    } else {
-      const double t = lerp(v.min, v.max, fv);
-      if (!(v.min < t && t < v.max)) return false;
-      child(node, u, {v.min, t}, err, 1, out);
-      child(node, u, {t, v.max}, err, 1, out);
-    }
-    return true;
+    return cut(along_u, along_u ? lerp(u.min, u.max, fu) : lerp(v.min, v.max, fv));
   }
 
   void child(const Node& parent, Interval u, Interval v, double parent_error, int cut, std::vector<Cell>& out) {

@@ -17,8 +17,8 @@ namespace nurbs::tess {
 
 /// Guaranteed: the trim loops within loop_share x eps (default 1/2; §5, γ of it for the curves), the
 /// cells' proven bound for any triangle inside them (2 ε_bilin + twist/4, or Filip's, surface_cells.h)
-/// within the rest, so that trimmed and T-junction triangles keep the bound too. Approximate: the paper's approximate
-/// error, eps for the loops and eps for the surface (fewer triangles, no guarantee).
+/// within the rest, so that trimmed and T-junction triangles keep the bound too. Approximate: the
+/// paper's approximate error, eps for the loops and eps for the surface (fewer triangles, no guarantee).
 enum class TessMode { Guaranteed, Approximate };
 
 struct TessellateOptions {
