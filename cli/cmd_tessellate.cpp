@@ -20,7 +20,7 @@ struct TessArgs {
   double eps = 1e-3;
   bool relative = false, eps_given = false;
   std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
-  bool no_simplify = false, check = false, json = false, watertight = false;
+  bool no_simplify = false, check = false, json = false, watertight = false, paper_rectangles = false;
   int check_samples = 48, threads = 0;
   double loop_share = 0.5;
   std::vector<int> faces;  ///< --face; empty = all
@@ -68,6 +68,7 @@ void run(const TessArgs& a) {
   o.loop_share = a.loop_share;
   o.threads = a.threads;
   o.watertight = a.watertight;
+  o.rectangle_faces = !a.paper_rectangles;
 
   nurbs::tess::TessellateResult r;
   {
@@ -114,6 +115,7 @@ void run(const TessArgs& a) {
                           {"edges_before_simplification", r.stats.trim.edges_before},
                           {"edges_after_simplification", r.stats.trim.edges_after},
                           {"crossings_fixed", r.stats.trim.crossings_fixed},
+                          {"rectangle_faces", r.stats.trim.rectangle_faces},
                           {"lifted_degree_max", r.stats.trim.lifted_degree_max},
                           {"lift_error_max", r.stats.trim.lift_error_max}}},
                         {"seconds", stats_json(r.stats)}};
@@ -194,6 +196,9 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_flag("--watertight", a->watertight,
                 "Faces sharing an edge get the same boundary vertices (no cracks; a closed model has no open edges)");
+  cmd->add_flag("--paper-rectangles", a->paper_rectangles,
+                "Approximate the boundary of a face bounded by its parameter rectangle by loop polylines, as the "
+                "paper does any loop (default: the cells' edges are that boundary, with no loop error)");
   cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
   cmd->add_option("-o,--output", a->output, "Write the mesh: .obj, .ply or .stl");
   cmd->add_flag("--check", a->check,

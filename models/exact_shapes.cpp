@@ -87,6 +87,15 @@ nurbs::Surface rational_torus(double major, double minor, glm::dvec3 centre) {
   return revolve(profile, c.weights, kCircleKnots, 2, centre);
 }
 
+nurbs::Surface bilinear_square(double side) {
+  nurbs::Surface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, side, side};
+  s.points = {{0, 0, 0}, {side, 0, 0}, {0, side, 0}, {side, side, 0}};
+  return s;
+}
+
 nurbs::Surface rational_cylinder(double radius, double height, glm::dvec3 base) {
   return revolve({{radius, 0}, {radius, height}}, {1, 1}, {0, 0, 1, 1}, 1, base);
 }

@@ -32,4 +32,7 @@ namespace models {
 /// 9 points), v along the axis (degree 1, 2 points).
 [[nodiscard]] nurbs::Surface rational_cylinder(double radius, double height, glm::dvec3 base = glm::dvec3(0.0));
 
+/// The square [0, side]^2 of the plane z = 0 as a bilinear surface, u = x, v = y on [0, side]^2.
+[[nodiscard]] nurbs::Surface bilinear_square(double side);
+
 }  // namespace models

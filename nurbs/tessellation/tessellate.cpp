@@ -14,6 +14,7 @@
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/coherent_eval.h"
 #include "nurbs/tessellation/half_edge_trim.h"
+#include "nurbs/tessellation/rectangle_face.h"
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/triangulate.h"
 #include "nurbs/tessellation/watertight.h"
@@ -157,6 +158,7 @@ void add(TrimApproxStats& a, const TrimApproxStats& b) {
   a.edges_before += b.edges_before;
   a.edges_after += b.edges_after;
   a.crossings_fixed += b.crossings_fixed;
+  a.rectangle_faces += b.rectangle_faces;
   a.seconds_conversion += b.seconds_conversion;
   a.seconds_approximation += b.seconds_approximation;
 }
@@ -191,7 +193,16 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
     for (auto& th : pool) th.join();
   };
   // §4-§5: every face's loops first (the watertight step matches them across faces), then the rest.
-  for_faces([&](size_t f) { loops[f] = approximate_trim_loops(faces[f], to, &trim_stats[f]); });
+  for_faces([&](size_t f) {
+    if (options.rectangle_faces && !options.watertight)
+      if (const auto r = boundary_rectangle(faces[f])) {
+        loops[f] = {rectangle_polyline(faces[f].surface, *r)};
+        trim_stats[f].faces = trim_stats[f].rectangle_faces = 1;
+        trim_stats[f].edges_before = trim_stats[f].edges_after = 4;
+        return;
+      }
+    loops[f] = approximate_trim_loops(faces[f], to, &trim_stats[f]);
+  });
   WatertightStats ws;
   if (options.watertight) share_boundary_vertices(faces, loops, to.eps, &ws);
   std::atomic<int> done{0};

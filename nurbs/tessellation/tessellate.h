@@ -36,6 +36,10 @@ struct TessellateOptions {
   /// matched across faces, the trimming's crossing points put on the loops' 3D chords and T-junctions
   /// split), so the mesh has no cracks and a closed model no open edges (watertight.h).
   bool watertight = false;
+  /// Beyond the paper (rectangle_face.h): a face bounded by its own parameter rectangle gets no loop
+  /// polyline; its cells' outer edges are its boundary. Not in watertight mode (the neighbours'
+  /// shared boundary vertices would not lie on those edges).
+  bool rectangle_faces = true;
 };
 
 /// Figures of the paper's Tables 2-4 for one run (seconds are summed over faces, i.e. CPU time of

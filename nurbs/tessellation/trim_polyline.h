@@ -52,6 +52,7 @@ struct TrimApproxStats {
   size_t edges_before = 0;      ///< polyline edges after the subdivision
   size_t edges_after = 0;       ///< after simplification and crossing correction
   size_t crossings_fixed = 0;
+  size_t rectangle_faces = 0;          ///< faces bounded by their parameter rectangle (rectangle_face.h)
   double seconds_conversion = 0.0;     ///< §4
   double seconds_approximation = 0.0;  ///< §5 (subdivision, simplification, repair)
 };

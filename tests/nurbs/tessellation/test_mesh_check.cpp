@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "models/exact_shapes.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/tessellation/mesh_topology.h"
@@ -17,10 +18,7 @@ namespace {
 /// The unit square z = 0 as a bilinear face, u = x, v = y.
 nurbs::TrimmedSurface unit_square() {
   nurbs::TrimmedSurface f;
-  f.surface.degree_u = f.surface.degree_v = 1;
-  f.surface.count_u = f.surface.count_v = 2;
-  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
-  f.surface.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  f.surface = models::bilinear_square(1.0);
   return f;
 }
 
