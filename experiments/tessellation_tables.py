@@ -98,6 +98,8 @@ class Runner:
     def tessellate(self, model, method, mode, split, bound, check=False, output=None):
         cmd = [self.a.nurbsgl, "tessellate", model, "--eps", str(self.a.eps), "--relative", "--method", method,
                "--mode", mode, "--split", split, "--cell-bound", bound, "--json"]
+        if self.a.loop_share is not None:
+            cmd += ["--loop-share", str(self.a.loop_share)]
         if check:
             cmd += ["--check", "--check-samples", str(self.a.check_samples)]
         if output:
@@ -384,6 +386,7 @@ def main():
     p.add_argument("--out", help="output dir (default BUILD/experiments/tessellation)")
     p.add_argument("--shared", default=os.path.join(root, "..", "shared"), help="the shared folder (models/ in it)")
     p.add_argument("--eps", type=float, default=1e-3, help="tolerance relative to the model size")
+    p.add_argument("--loop-share", type=float, help="tessellate --loop-share (default: the CLI's)")
     p.add_argument("--check-samples", type=int, default=24, help="N x N samples per face of every measurement")
     p.add_argument("--angular", type=float, default=0.5, help="OCCT angular deflection, radians")
     p.add_argument("--occt-serial", dest="occt_parallel", action="store_false",

@@ -65,9 +65,10 @@ struct CellOptions {
   /// Conservative only: the paper's control-net test, or also Filip's bound (file comment).
   CellBound bound = CellBound::Filip;
   /// kd-tree with CellBound::Filip: a polynomial node the control-net test cannot end is halved
-  /// across the direction that lowers its Filip bound most (false: the paper's cut at the worst
-  /// control point). Rational nodes keep the paper's cut, which did better on them (the Ventilator's
-  /// B-rep faces: 24081 triangles halved, 21275 with the paper's cut; the sphere 18238 and 18382).
+  /// across the direction that lowers its Filip bound most; a rational node is halved across the
+  /// paper's direction (Fig. 3). False: the paper's cut at the worst control point for both. (The
+  /// Filip direction did worse on rational nodes: the Ventilator's B-rep faces 24081 triangles
+  /// against 21275 with the paper's cut, and 21041 with the paper's direction at the middle.)
   bool filip_split = true;
   /// Nodes at this depth become leaves even when too coarse (counted in CellStats::unconverged).
   /// Depth grows by one per split (binary for the kd-tree, four-way for the quadtree). kd-tree
