@@ -37,8 +37,10 @@ int side_of(const Curve2& c, glm::dvec2 lo, glm::dvec2 hi, double tol) {
 
 std::optional<ParamRect> boundary_rectangle(const TrimmedSurface& face) {
   const std::vector<TrimLoop> loops = loops_to_approximate(face);
-  if (loops.size() != 1 || !loops[0].outer || loops[0].curves.empty()) return std::nullopt;
-  const TrimLoop& loop = loops[0];
+  const auto outer = [](const TrimLoop& l) { return l.outer; };
+  const auto it = std::find_if(loops.begin(), loops.end(), outer);
+  if (std::count_if(loops.begin(), loops.end(), outer) != 1 || it->curves.empty()) return std::nullopt;
+  const TrimLoop& loop = *it;
   glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
   for (const Curve2& c : loop.curves) {
     if (c.points.empty() || c.knots.size() != c.points.size() + size_t(c.degree) + 1) return std::nullopt;

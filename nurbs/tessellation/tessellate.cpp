@@ -194,14 +194,11 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   };
   // §4-§5: every face's loops first (the watertight step matches them across faces), then the rest.
   for_faces([&](size_t f) {
+    TrimApproxOptions face_to = to;
     if (options.rectangle_faces && !options.watertight)
-      if (const auto r = boundary_rectangle(faces[f])) {
-        loops[f] = {rectangle_polyline(faces[f].surface, *r)};
-        trim_stats[f].faces = trim_stats[f].rectangle_faces = 1;
-        trim_stats[f].edges_before = trim_stats[f].edges_after = 4;
-        return;
-      }
-    loops[f] = approximate_trim_loops(faces[f], to, &trim_stats[f]);
+      if (const auto r = boundary_rectangle(faces[f]))
+        face_to.outer_polyline = rectangle_polyline(faces[f].surface, *r);
+    loops[f] = approximate_trim_loops(faces[f], face_to, &trim_stats[f]);
   });
   WatertightStats ws;
   if (options.watertight) share_boundary_vertices(faces, loops, to.eps, &ws);

@@ -168,7 +168,9 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   lift.method = opt.lift;
   std::vector<std::vector<TrimCurve3>> pieces(loops.size());
   TrimApproxStats st;
+  const auto given = [&](size_t l) { return opt.outer_polyline && loops[l].outer; };
   for (size_t l = 0; l < loops.size(); ++l) {
+    if (given(l)) continue;
     for (const Curve2& c : loops[l].curves) {
       for (TrimCurve3& p : convert_trim_curve(s, patches, c, lift)) {
         st.lifted_degree_max = std::max(st.lifted_degree_max, p.lifted_degree);
@@ -183,6 +185,12 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   const auto t1 = clock::now();
   std::vector<LoopPolyline> out;
   for (size_t l = 0; l < loops.size(); ++l) {
+    if (given(l)) {
+      out.push_back(*opt.outer_polyline);
+      st.edges_before += out.back().uv.size();
+      st.rectangle_faces = 1;
+      continue;
+    }
     LoopPolyline pl;
     pl.outer = loops[l].outer;
     std::vector<glm::dvec2> uv;
@@ -200,14 +208,16 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   if (opt.simplify && simplify_tol > 0.0) {
     // uv safeguard: the 3D tolerance over the largest 3D / uv stretch seen on the loops' edges.
     double stretch = 0.0;
-    for (const auto& pl : out)
-      for (size_t k = 0; k < pl.uv.size(); ++k) {
+    for (size_t l = 0; l < out.size(); ++l)
+      for (size_t k = 0; k < out[l].uv.size() && !given(l); ++k) {
+        const LoopPolyline& pl = out[l];
         const size_t k1 = (k + 1) % pl.uv.size();
         const double duv = glm::length(pl.uv[k1] - pl.uv[k]);
         if (duv > 0.0) stretch = std::max(stretch, glm::length(pl.xyz[k1] - pl.xyz[k]) / duv);
       }
     const double tol_uv = stretch > 0.0 ? simplify_tol / stretch : 0.0;
-    for (auto& pl : out) simplify_loop(pl, simplify_tol, tol_uv);
+    for (size_t l = 0; l < out.size(); ++l)
+      if (!given(l)) simplify_loop(out[l], simplify_tol, tol_uv);
   }
   if (opt.repair) st.crossings_fixed = repair_crossings(out, s);
   for (const auto& pl : out) st.edges_after += pl.uv.size();
@@ -224,6 +234,7 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
     stats->edges_before += st.edges_before;
     stats->edges_after += st.edges_after;
     stats->crossings_fixed += st.crossings_fixed;
+    stats->rectangle_faces += st.rectangle_faces;
     stats->seconds_conversion += st.seconds_conversion;
     stats->seconds_approximation += st.seconds_approximation;
   }

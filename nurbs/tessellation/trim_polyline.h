@@ -23,6 +23,7 @@
 /// Vertices are exact curve points: uv = c(t) from the 2D piece (clamped into the domain),
 /// xyz = S(uv); they differ from the lifted 3D curve by its lift error (checked <= LiftOptions::rel_tol
 /// times the patch size, measured <= 4e-9 mm on the shared models).
+#include <optional>
 #include <vector>
 
 #include "nurbs/tessellation/tess_types.h"
@@ -38,6 +39,9 @@ struct TrimApproxOptions {
   bool repair = true;    ///< run the crossing correction (loop_repair.h)
   int max_degree = 20;   ///< highest lifted degree solved by collocation (§4); above: exact composition
   LiftMethod lift = LiftMethod::Auto;
+  /// Beyond the paper (rectangle_face.h): the polyline to use for the face's outer loop instead of
+  /// approximating it (its parameter rectangle's corners); holes are approximated as usual.
+  std::optional<LoopPolyline> outer_polyline;
 };
 
 /// Figures of the paper's Table 2. approximate_trim_loops adds to them (sums; maxima for the max fields),
@@ -52,7 +56,7 @@ struct TrimApproxStats {
   size_t edges_before = 0;      ///< polyline edges after the subdivision
   size_t edges_after = 0;       ///< after simplification and crossing correction
   size_t crossings_fixed = 0;
-  size_t rectangle_faces = 0;          ///< faces bounded by their parameter rectangle (rectangle_face.h)
+  size_t rectangle_faces = 0;          ///< faces whose outer loop is their parameter rectangle (outer_polyline)
   double seconds_conversion = 0.0;     ///< §4
   double seconds_approximation = 0.0;  ///< §5 (subdivision, simplification, repair)
 };
