@@ -22,7 +22,7 @@ struct TessArgs {
   std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
   bool no_simplify = false, check = false, json = false, watertight = false, paper_rectangles = false;
   int check_samples = 48, threads = 0;
-  double loop_share = 0.5;
+  double loop_share = 0.45;
   std::vector<int> faces;  ///< --face; empty = all
 };
 

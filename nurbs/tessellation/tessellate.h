@@ -15,7 +15,7 @@
 
 namespace nurbs::tess {
 
-/// Guaranteed: the trim loops within loop_share x eps (default 1/2; §5, γ of it for the curves), the
+/// Guaranteed: the trim loops within loop_share x eps (default 0.45; §5, γ of it for the curves), the
 /// cells' proven bound for any triangle inside them (2 ε_bilin + twist/4, or Filip's, surface_cells.h)
 /// within the rest, so that trimmed and T-junction triangles keep the bound too. Approximate: the
 /// paper's approximate error, eps for the loops and eps for the surface (fewer triangles, no guarantee).
@@ -29,7 +29,9 @@ struct TessellateOptions {
   CurveSplit split = CurveSplit::Midpoint;
   double gamma = 0.75;  ///< §5: share of the loop budget for the curves, the rest for simplification
   /// Guaranteed mode: share of eps for the trim loops, the rest (1 - loop_share) for the cells.
-  double loop_share = 0.5;
+  /// 0.45: loops measure well under their bound, cells near theirs, so the cells get a little more
+  /// (the trimmed 100x105: 10620 triangles at 1/2, 8032 at 0.45, same measured deviation 0.45 eps).
+  double loop_share = 0.45;
   bool simplify = true;  ///< §5 loop simplification
   int threads = 0;       ///< 0 = all hardware threads
   /// Beyond the paper: faces sharing an edge in space get the same boundary vertices (the loops are
