@@ -19,8 +19,11 @@ struct Body {
 
 struct Model {
   std::vector<Body> bodies;
-  std::string source;                   ///< file the model came from, or the generator's name
-  double unit_scale_to_mm = 1.0;        ///< from the IGES global section (parameter 14/15)
+  std::string source;             ///< file the model came from, or the generator's name
+  double unit_scale_to_mm = 1.0;  ///< from the IGES global section (parameter 14/15)
+  /// The writer's stated resolution in model units (IGES global parameter 19: points closer than
+  /// this are meant to be one point; OpenCASCADE writes its largest edge tolerance); 0 = not given.
+  double resolution = 0.0;
   std::map<int, int> skipped_entities;  ///< IGES entity type -> count, for entities not read
 };
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -169,6 +171,7 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
   Model model;
   model.source = name;
   model.unit_scale_to_mm = file.global.unit_scale_to_mm;
+  model.resolution = std::isfinite(file.global.resolution) ? std::max(file.global.resolution, 0.0) : 0.0;
   ModelBuilder builder(file, options, lg);
   model.bodies = builder.build();
   model.skipped_entities = builder.skipped();
@@ -176,6 +179,7 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
     for (Body& b : model.bodies)
       for (TrimmedSurface& f : b.faces)
         for (glm::dvec3& q : f.surface.points) q *= model.unit_scale_to_mm;
+    model.resolution *= model.unit_scale_to_mm;
     model.unit_scale_to_mm = 1.0;
   }
   return model;

@@ -241,10 +241,11 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
     for (const glm::ivec3& t : m.triangles) mesh.triangles.push_back(t + glm::ivec3(base));
     mesh.triangle_face.insert(mesh.triangle_face.end(), m.triangles.size(), int(f));
   }
+  double size = 0.0;
+  for (const TrimmedSurface& f : faces) size = std::max(size, control_box(f.surface).diagonal());
+  r.weld_tolerance = std::max(1e-9 * size, options.weld);
   if (options.watertight) {
-    double size = 0.0;
-    for (const TrimmedSurface& f : faces) size = std::max(size, control_box(f.surface).diagonal());
-    close_t_junctions(mesh, 1e-9 * size, &ws);
+    close_t_junctions(mesh, r.weld_tolerance, &ws);
     s.shared_vertices = ws.inserted + ws.merged;
     s.t_junction_splits = ws.splits;
   }

@@ -42,6 +42,10 @@ struct TessellateOptions {
   /// polyline; its cells' outer edges are its boundary. Not in watertight mode (the neighbours'
   /// shared boundary vertices would not lie on those edges).
   bool rectangle_faces = true;
+  /// Vertices closer than this are one point (open-edge count, watertight T-junctions); the result's
+  /// weld_tolerance is the larger of this and 1e-9 x the largest face's control box. The CLI passes
+  /// the file's stated resolution (Model::resolution), capped at eps / 10.
+  double weld = 0.0;
 };
 
 /// Figures of the paper's Tables 2-4 for one run (seconds are summed over faces, i.e. CPU time of
@@ -71,6 +75,10 @@ struct TessellateResult {
   TriangleMesh mesh;  ///< positions, normals, uv, vertex_face, triangles, triangle_face
   TessellateStats stats;
   std::vector<FaceFailure> failures;  ///< faces that produced no triangles, with the reason
+  /// Vertices this close are one point: TessellateOptions::weld or 1e-9 x the largest face's
+  /// control-box diagonal, the larger (watertight mode closes T-junctions within it; count open
+  /// edges with it too).
+  double weld_tolerance = 0.0;
 };
 
 /// Tessellates `faces` (world coordinates, e.g. world_faces(model)). Each face's triangles are

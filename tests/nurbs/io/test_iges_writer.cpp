@@ -72,6 +72,11 @@ TEST_CASE("IGES writer: units, body transforms, bad input") {
   m.bodies[0].transform[3] = glm::dvec4(0.0, 0.0, 5.0, 1.0);  // +5 in z, baked into the points
   const Model r = nurbs::io::read_iges_text(nurbs::io::write_iges_text(m), "in.igs");
   CHECK(r.unit_scale_to_mm == 25.4);
+  CHECK(r.resolution == 1e-7);  // G19 as written, in file units
+  nurbs::io::IgesReadOptions to_mm;
+  to_mm.convert_to_mm = true;
+  CHECK(nurbs::io::read_iges_text(nurbs::io::write_iges_text(m), "in.igs", to_mm).resolution ==
+        doctest::Approx(2.54e-6));
   CHECK(faces(r)[0]->surface.points[0] == glm::dvec3(2.0, 0.0, 5.0));  // exact: small integers
   m.unit_scale_to_mm = 3.0;
   CHECK_THROWS_AS(nurbs::io::write_iges_text(m), std::invalid_argument);
