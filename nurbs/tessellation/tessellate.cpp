@@ -148,21 +148,6 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   return out;
 }
 
-void add(TrimApproxStats& a, const TrimApproxStats& b) {
-  a.faces += b.faces;
-  a.curve_pieces += b.curve_pieces;
-  a.composed_pieces += b.composed_pieces;
-  a.lifted_degree_max = std::max(a.lifted_degree_max, b.lifted_degree_max);
-  a.reduced_degree_max = std::max(a.reduced_degree_max, b.reduced_degree_max);
-  a.lift_error_max = std::max(a.lift_error_max, b.lift_error_max);
-  a.edges_before += b.edges_before;
-  a.edges_after += b.edges_after;
-  a.crossings_fixed += b.crossings_fixed;
-  a.rectangle_faces += b.rectangle_faces;
-  a.seconds_conversion += b.seconds_conversion;
-  a.seconds_approximation += b.seconds_approximation;
-}
-
 }  // namespace
 
 TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const TessellateOptions& options,

@@ -107,6 +107,21 @@ void approximate_piece(const Surface& surface, const TrimCurve3& piece, double t
   subdivide(surface, piece, piece.xyz, tol, 1e-13 * mag, split, 0, uv, xyz);
 }
 
+void add(TrimApproxStats& a, const TrimApproxStats& b) {
+  a.faces += b.faces;
+  a.curve_pieces += b.curve_pieces;
+  a.composed_pieces += b.composed_pieces;
+  a.lifted_degree_max = std::max(a.lifted_degree_max, b.lifted_degree_max);
+  a.reduced_degree_max = std::max(a.reduced_degree_max, b.reduced_degree_max);
+  a.lift_error_max = std::max(a.lift_error_max, b.lift_error_max);
+  a.edges_before += b.edges_before;
+  a.edges_after += b.edges_after;
+  a.crossings_fixed += b.crossings_fixed;
+  a.rectangle_faces += b.rectangle_faces;
+  a.seconds_conversion += b.seconds_conversion;
+  a.seconds_approximation += b.seconds_approximation;
+}
+
 size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
   const size_t m = loop.uv.size();
   if (m < 4 || !(tol > 0.0)) return 0;
@@ -208,13 +223,15 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   if (opt.simplify && simplify_tol > 0.0) {
     // uv safeguard: the 3D tolerance over the largest 3D / uv stretch seen on the loops' edges.
     double stretch = 0.0;
-    for (size_t l = 0; l < out.size(); ++l)
-      for (size_t k = 0; k < out[l].uv.size() && !given(l); ++k) {
-        const LoopPolyline& pl = out[l];
+    for (size_t l = 0; l < out.size(); ++l) {
+      if (given(l)) continue;
+      const LoopPolyline& pl = out[l];
+      for (size_t k = 0; k < pl.uv.size(); ++k) {
         const size_t k1 = (k + 1) % pl.uv.size();
         const double duv = glm::length(pl.uv[k1] - pl.uv[k]);
         if (duv > 0.0) stretch = std::max(stretch, glm::length(pl.xyz[k1] - pl.xyz[k]) / duv);
       }
+    }
     const double tol_uv = stretch > 0.0 ? simplify_tol / stretch : 0.0;
     for (size_t l = 0; l < out.size(); ++l)
       if (!given(l)) simplify_loop(out[l], simplify_tol, tol_uv);
@@ -224,20 +241,8 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   const auto t2 = clock::now();
   st.seconds_conversion = std::chrono::duration<double>(t1 - t0).count();
   st.seconds_approximation = std::chrono::duration<double>(t2 - t1).count();
-  if (stats) {
-    stats->faces += 1;
-    stats->curve_pieces += st.curve_pieces;
-    stats->composed_pieces += st.composed_pieces;
-    stats->lifted_degree_max = std::max(stats->lifted_degree_max, st.lifted_degree_max);
-    stats->reduced_degree_max = std::max(stats->reduced_degree_max, st.reduced_degree_max);
-    stats->lift_error_max = std::max(stats->lift_error_max, st.lift_error_max);
-    stats->edges_before += st.edges_before;
-    stats->edges_after += st.edges_after;
-    stats->crossings_fixed += st.crossings_fixed;
-    stats->rectangle_faces += st.rectangle_faces;
-    stats->seconds_conversion += st.seconds_conversion;
-    stats->seconds_approximation += st.seconds_approximation;
-  }
+  st.faces = 1;
+  if (stats) add(*stats, st);
   return out;
 }
 

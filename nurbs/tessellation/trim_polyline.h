@@ -61,6 +61,9 @@ struct TrimApproxStats {
   double seconds_approximation = 0.0;  ///< §5 (subdivision, simplification, repair)
 };
 
+/// a += b: sums, maxima for the max fields (several faces' figures into one).
+void add(TrimApproxStats& a, const TrimApproxStats& b);
+
 /// ε_line of a homogeneous 3D Bézier curve (file comment); `farthest` receives the index i of the
 /// largest |e_i| (the paper's arbitrary split point i / n).
 [[nodiscard]] double line_error_bound(const HomogeneousCurve& bezier, int* farthest = nullptr);
