@@ -16,6 +16,10 @@ struct Curve {
   std::vector<double> knots;    ///< size = points.size() + degree + 1, non-decreasing
   std::vector<Point> points;    ///< Euclidean control points (not pre-multiplied by weights)
   std::vector<double> weights;  ///< empty = polynomial (all weights 1); else same size as points, > 0
+  /// The B-rep edge a trim curve runs along: a model-wide index (IGES 508 edge uses name the same
+  /// edge, a 504 list entry, on both faces), -1 when the file gives no topology. Not geometry:
+  /// reversal and the readers' repairs keep it; curves they add (gap closers, seam sides) get -1.
+  int edge = -1;
 
   [[nodiscard]] bool rational() const { return !weights.empty(); }
 };

@@ -35,8 +35,11 @@ template <int D>
 [[nodiscard]] HomogeneousCurve reversed(const HomogeneousCurve& h);
 template <int D>
 [[nodiscard]] Curve<D> reversed(const Curve<D>& c) {
-  return {
-      c.degree, reversed_knots(c.knots), {c.points.rbegin(), c.points.rend()}, {c.weights.rbegin(), c.weights.rend()}};
+  return {c.degree,
+          reversed_knots(c.knots),
+          {c.points.rbegin(), c.points.rend()},
+          {c.weights.rbegin(), c.weights.rend()},
+          c.edge};
 }
 
 /// Row j of the control net (points (0..count_u-1, j)) as a homogeneous curve along u.

@@ -16,7 +16,9 @@ namespace nurbs {
 
 template <int D>
 [[nodiscard]] Curve<D> restrict_curve(const Curve<D>& curve, double a, double b) {
-  return from_homogeneous<D>(restrict_curve(to_homogeneous(curve), a, b), curve.rational());
+  Curve<D> out = from_homogeneous<D>(restrict_curve(to_homogeneous(curve), a, b), curve.rational());
+  out.edge = curve.edge;
+  return out;
 }
 
 /// The surface on [u.min, u.max] x [v.min, v.max] intersected with its domain.

@@ -161,8 +161,11 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
       const glm::dvec2 target = start_point(loop.curves[(c + 1) % loop.curves.size()]);
       const double gap = glm::length(end_point(cur) - target);
       if (!(gap > min_gap && gap <= tolerance)) continue;
-      if (!is_clamped(cur.knots, cur.degree))
+      if (!is_clamped(cur.knots, cur.degree)) {
+        const int edge = cur.edge;
         cur = from_homogeneous<2>(clamp_curve(to_homogeneous(cur)), cur.rational());
+        cur.edge = edge;
+      }
       cur.points.back() = target;  // clamped: the curve ends at its last control point
       ++repairs;
     }

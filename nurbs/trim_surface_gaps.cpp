@@ -59,6 +59,7 @@ double piece_extent(const Surface& s, const Curve2& c, double t0, double t1, glm
 Curve2 cut(const Curve2& c, double t0, double t1, bool at_start, glm::dvec2 q) {
   Curve2 out = restrict_curve(c, t0, t1);
   if (!is_clamped(out.knots, out.degree)) out = from_homogeneous<2>(clamp_curve(to_homogeneous(out)), out.rational());
+  out.edge = c.edge;
   (at_start ? out.points.front() : out.points.back()) = q;
   return out;
 }

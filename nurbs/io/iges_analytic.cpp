@@ -317,6 +317,7 @@ TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int
         c2.knots = c3.knots;
         c2.weights = c3.weights;
         for (const glm::dvec3& q : c3.points) c2.points.emplace_back(glm::dot(q - o, x) / x2, glm::dot(q - o, y) / x2);
+        c2.edge = g.edge_id(list, ndx);
         piece.push_back(std::move(c2));
       }
       if (of == 0) {
@@ -374,7 +375,9 @@ void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, Tri
       }
       // A polyline within the flattening tolerance of the exact image of the curve.
       const std::vector<glm::dvec2>& line = polylines[l][k];
+      const int edge = c.edge;
       c = Curve2{};
+      c.edge = edge;
       c.degree = 1;
       c.knots.push_back(0.0);
       for (size_t i = 0; i < line.size(); ++i) {

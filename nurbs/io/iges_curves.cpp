@@ -70,6 +70,12 @@ void IgesGeometry::fail(int de, const std::string& problem) const {
   throw ReadError(file_.name, fmt::format("line {}", e.line), entity_name(e) + ": " + problem);
 }
 
+int IgesGeometry::edge_id(int list_de, int ndx) {
+  const auto [it, added] = edge_ids_.try_emplace((static_cast<long long>(list_de) << 32) | static_cast<unsigned>(ndx),
+                                                 static_cast<int>(edge_ids_.size()));
+  return it->second;
+}
+
 int IgesGeometry::expect(const EntityParams& p, int i, std::initializer_list<int> types, const char* what,
                          bool null_ok) {
   const int de = p.pointer(i, null_ok);

@@ -311,6 +311,8 @@ TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const g
         for (Curve3& c3 : curves) c3 = reversed(c3);
       }
       for (const Curve3& c3 : curves) loop.curves.push_back(projected(*surface, c3, de));
+      for (size_t j = loop.curves.size() - curves.size(); j < loop.curves.size(); ++j)
+        loop.curves[j].edge = g_.edge_id(list, ndx);
     }
     std::vector<Curve2> piece;
     for (int j = 0; j < k; ++j) {
@@ -318,7 +320,10 @@ TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const g
       for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 6 + 2 * j, kCurveTypes, "a curve")))
         piece.push_back(std::move(pc));
     }
-    for (Curve2& pc : piece) loop.curves.push_back(std::move(pc));
+    for (Curve2& pc : piece) {
+      if (type == 0) pc.edge = g_.edge_id(list, ndx);
+      loop.curves.push_back(std::move(pc));
+    }
     i += 5 + 2 * k;
   }
   p.check_trailing(i - 1);

@@ -60,6 +60,10 @@ class IgesGeometry {
 
   [[nodiscard]] const IgesFile& file() const { return file_; }
 
+  /// The model-wide number of B-rep edge NDX of the 504 edge list `list_de` (Curve::edge): edges
+  /// numbered from 0 in the order the loops first use them, so both faces of an edge get the same.
+  int edge_id(int list_de, int ndx);
+
   /// True when `de` was handed out by expect(): some entity the reader converted uses it (a 116
   /// point or 123 direction of an analytic surface, say), so it is read even if its type is not.
   [[nodiscard]] bool referenced(int de) const { return referenced_.count(de) != 0; }
@@ -77,9 +81,10 @@ class IgesGeometry {
   const IgesFile& file_;
   std::unordered_map<int, glm::dmat4> transforms_;
   int ranges_restricted_ = 0;
-  long long points_made_ = 0;    // control points of every curve and surface built so far
-  std::vector<int> composites_;  // the 102s being expanded, outermost first: cycle detection
-  std::unordered_set<int> referenced_;  // entries returned by expect()
+  long long points_made_ = 0;                    // control points of every curve and surface built so far
+  std::vector<int> composites_;                  // the 102s being expanded, outermost first: cycle detection
+  std::unordered_set<int> referenced_;           // entries returned by expect()
+  std::unordered_map<long long, int> edge_ids_;  // (504 entry, NDX) -> edge_id
 };
 
 }  // namespace nurbs::io

@@ -68,13 +68,16 @@ size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface
   for (size_t l = 0; l < loops.size(); ++l) {
     LoopPolyline out;
     out.outer = loops[l].outer;
+    const bool edges = loops[l].edge.size() == loops[l].uv.size();
     for (size_t i = 0; i < loops[l].uv.size(); ++i) {
       out.uv.push_back(loops[l].uv[i]);
       out.xyz.push_back(loops[l].xyz[i]);
+      if (edges) out.edge.push_back(loops[l].edge[i]);
       for (; h < hits.size() && hits[h].loop == l && hits[h].index == i; ++h) {
         if (hits[h].p == out.uv.back()) continue;
         out.uv.push_back(hits[h].p);
         out.xyz.push_back(surface_point(surface, hits[h].p.x, hits[h].p.y));
+        if (edges) out.edge.push_back(loops[l].edge[i]);  // on segment i: its edge
       }
     }
     loops[l] = std::move(out);

@@ -40,6 +40,10 @@ struct LoopPolyline {
   std::vector<glm::dvec2> uv;
   std::vector<glm::dvec3> xyz;
   bool outer = true;
+  /// Per vertex i, the B-rep edge (Curve::edge, -1 none) of the segment from vertex i to i + 1; empty
+  /// when not recorded (TrimApproxOptions::edges). The watertight step matches vertices only with
+  /// segments of their own edges (watertight.h).
+  std::vector<int> edge;
 };
 
 /// A leaf of the surface subdivision: an axis-aligned rectangle of the parameter plane with the two

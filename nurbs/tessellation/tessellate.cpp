@@ -38,6 +38,7 @@ TrimApproxOptions trim_options(const TessellateOptions& o) {
   to.gamma = o.gamma;
   to.split = o.split;
   to.simplify = o.simplify;
+  to.edges = o.watertight;
   return to;
 }
 

@@ -135,7 +135,16 @@ size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
   if (f == 0) f = m / 2;
   std::vector<bool> keep(m, false);
   keep[0] = keep[f] = true;
-  std::vector<std::pair<size_t, size_t>> stack{{0, f}, {f, m}};
+  const bool edges = loop.edge.size() == m;
+  if (edges)
+    for (size_t k = 0; k < m; ++k) keep[k] = keep[k] || loop.edge[k] != loop.edge[(k + m - 1) % m];
+  std::vector<std::pair<size_t, size_t>> stack;
+  for (size_t a = 0; a < m;) {  // the chains between kept vertices, the last one back to vertex 0 (= m)
+    size_t b = a + 1;
+    while (b < m && !keep[b]) ++b;
+    stack.push_back({a, b});
+    a = b;
+  }
   while (!stack.empty()) {
     const auto [a, b] = stack.back();
     stack.pop_back();
@@ -156,7 +165,10 @@ size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
   LoopPolyline out;
   out.outer = loop.outer;
   for (size_t k = 0; k < m; ++k)
-    if (keep[k]) out.uv.push_back(loop.uv[k]), out.xyz.push_back(loop.xyz[k]);
+    if (keep[k]) {
+      out.uv.push_back(loop.uv[k]), out.xyz.push_back(loop.xyz[k]);
+      if (edges) out.edge.push_back(loop.edge[k]);
+    }
   const size_t removed = m - out.uv.size();
   loop = std::move(out);
   return removed;
@@ -182,6 +194,7 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   lift.max_degree = opt.max_degree;
   lift.method = opt.lift;
   std::vector<std::vector<TrimCurve3>> pieces(loops.size());
+  std::vector<std::vector<int>> piece_edge(loops.size());  // Curve::edge of each piece's trim curve
   TrimApproxStats st;
   const auto given = [&](size_t l) { return opt.outer_polyline && loops[l].outer; };
   for (size_t l = 0; l < loops.size(); ++l) {
@@ -193,6 +206,7 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
         st.lift_error_max = std::max(st.lift_error_max, p.error);
         st.composed_pieces += p.composed ? 1 : 0;
         pieces[l].push_back(std::move(p));
+        piece_edge[l].push_back(c.edge);
       }
     }
     st.curve_pieces += pieces[l].size();
@@ -210,12 +224,23 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
     pl.outer = loops[l].outer;
     std::vector<glm::dvec2> uv;
     std::vector<glm::dvec3> xyz;
-    for (const TrimCurve3& p : pieces[l]) approximate_piece(s, p, opt.gamma * opt.eps, opt.split, uv, xyz);
-    for (size_t k = 0; k < uv.size(); ++k) {  // drop exact repeats (joints of pieces and curves)
-      if (!pl.uv.empty() && uv[k] == pl.uv.back()) continue;
-      pl.uv.push_back(uv[k]), pl.xyz.push_back(xyz[k]);
+    std::vector<int> edge;  // per vertex: its piece's edge (the segment after it lies on that piece)
+    for (size_t k = 0; k < pieces[l].size(); ++k) {
+      approximate_piece(s, pieces[l][k], opt.gamma * opt.eps, opt.split, uv, xyz);
+      edge.resize(uv.size(), piece_edge[l][k]);
     }
-    while (pl.uv.size() > 1 && pl.uv.back() == pl.uv.front()) pl.uv.pop_back(), pl.xyz.pop_back();
+    for (size_t k = 0; k < uv.size(); ++k) {  // drop exact repeats (joints of pieces and curves)
+      if (!pl.uv.empty() && uv[k] == pl.uv.back()) {
+        if (opt.edges) pl.edge.back() = edge[k];  // the segment after it is the later piece's
+        continue;
+      }
+      pl.uv.push_back(uv[k]), pl.xyz.push_back(xyz[k]);
+      if (opt.edges) pl.edge.push_back(edge[k]);
+    }
+    while (pl.uv.size() > 1 && pl.uv.back() == pl.uv.front()) {
+      pl.uv.pop_back(), pl.xyz.pop_back();
+      if (opt.edges) pl.edge.pop_back();
+    }
     st.edges_before += pl.uv.size();
     out.push_back(std::move(pl));
   }

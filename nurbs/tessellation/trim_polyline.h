@@ -42,6 +42,9 @@ struct TrimApproxOptions {
   /// Beyond the paper (rectangle_face.h): the polyline to use for the face's outer loop instead of
   /// approximating it (its parameter rectangle's corners); holes are approximated as usual.
   std::optional<LoopPolyline> outer_polyline;
+  /// Beyond the paper (watertight.h): record each segment's B-rep edge in LoopPolyline::edge, and
+  /// keep the vertices where the edge changes (the B-rep vertices) through the simplification.
+  bool edges = false;
 };
 
 /// Figures of the paper's Table 2. approximate_trim_loops adds to them (sums; maxima for the max fields),
@@ -80,7 +83,8 @@ void approximate_piece(const Surface& surface, const TrimCurve3& piece, double t
 /// segment -> chain because the chain's projection parameter runs continuously from 0 to 1, so each
 /// segment point is the foot of some chain point, which is within tol of its foot. The uv test
 /// only keeps more vertices (it protects the uv shape where S degenerates, e.g. at a pole).
-/// Returns the number of vertices removed.
+/// Where loop.edge is given, the vertices at which it changes are kept too (each kept chain then
+/// lies along one edge, whose number the kept edge carries). Returns the number of vertices removed.
 size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv);
 
 /// The loops approximate_trim_loops approximates, in its output order: the face's loops, then the

@@ -141,14 +141,17 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
   std::vector<std::array<int, 3>> ref;  // global id -> (face, loop, index)
   std::vector<Segment> segments;
   std::vector<int> segment_vertex;  // segment -> global id of its first vertex
+  std::vector<int> edge_of;         // global id -> B-rep edge of the segment after it (-1 unknown)
   for (size_t f = 0; f < loops.size(); ++f)
     for (size_t l = 0; l < loops[f].size(); ++l) {
       base[f].push_back(int(ref.size()));
-      const auto& xyz = loops[f][l].xyz;
+      const LoopPolyline& loop = loops[f][l];
+      const auto& xyz = loop.xyz;
       for (size_t i = 0; i < xyz.size(); ++i) {
         const glm::dvec3 a = xyz[i], b = xyz[(i + 1) % xyz.size()];
         if (glm::length(b - a) > tolerance) segments.push_back({a, b}), segment_vertex.push_back(int(ref.size()));
         ref.push_back({int(f), int(l), int(i)});
+        edge_of.push_back(loop.edge.size() == xyz.size() ? loop.edge[i] : -1);
       }
     }
   const SegmentTree tree(segments);
@@ -177,8 +180,14 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
     const glm::dvec3 p = xyz_of(v);
     const auto [f, lf, vf] = ref[size_t(v)];
     const glm::dvec2 uv = loops[size_t(f)][size_t(lf)].uv[size_t(vf)];
+    // The B-rep edges of the vertex's two segments: with the file's topology, a vertex goes only onto
+    // segments of those edges (a sliver face's two sides may lie within the tolerance of each other).
+    const int size = int(loops[size_t(f)][size_t(lf)].uv.size());
+    const int out_edge = edge_of[size_t(v)], in_edge = edge_of[size_t(v - vf + (vf + size - 1) % size)];
     best.clear();
     tree.near(p, tolerance, [&](int s, double d, double t) {
+      const int e = edge_of[size_t(segment_vertex[size_t(s)])];
+      if (e >= 0 && in_edge >= 0 && out_edge >= 0 && e != in_edge && e != out_edge) return;
       const auto [g, l, i] = ref[size_t(segment_vertex[size_t(s)])];
       if (g == f) {  // the same face: only across its seam, never its own neighbouring edges
         const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
@@ -235,11 +244,13 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       const int n = int(loop.uv.size());
       LoopPolyline out;
       out.outer = loop.outer;
+      const bool edges = loop.edge.size() == size_t(n);
       auto it =
           std::lower_bound(list.begin(), list.end(), int(l), [](const Insertion& x, int k) { return x.loop < k; });
       for (int i = 0; i < n; ++i) {
         out.uv.push_back(loop.uv[size_t(i)]);
         out.xyz.push_back(loop.xyz[size_t(i)]);
+        if (edges) out.edge.push_back(loop.edge[size_t(i)]);
         const int a = groups.find(base[g][l] + i), c = groups.find(base[g][l] + (i + 1) % n);
         auto end = it;
         while (end != list.end() && end->loop == int(l) && end->segment == i) ++end;
@@ -254,6 +265,7 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
           const glm::dvec2 ua = loop.uv[size_t(i)], ub = loop.uv[size_t((i + 1) % n)];
           out.uv.push_back(monotone ? it->uv : ua + it->t * (ub - ua));
           out.xyz.push_back(point[size_t(r)]);
+          if (edges) out.edge.push_back(loop.edge[size_t(i)]);
           ++inserted;
           touched[g] = true;
         }

@@ -11,6 +11,7 @@
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
+#include "nurbs/curve_ends.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -211,6 +212,38 @@ TEST_CASE("trim: simplification removes the collinear vertices of the knot-line 
   CHECK(out[0].uv.size() == 3);  // the triangle's corners only
   CHECK(st.edges_after == 3);
   CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 100) <= 0.0);  // rounding, as above
+}
+
+TEST_CASE("trim: with B-rep edges recorded, the simplification keeps the vertices where the edge changes") {
+  // A square whose top side is two collinear curves of different edges (3 and 4): the plain
+  // simplification drops their joint (0.5, 0.9); with opt.edges it stays, and every segment carries
+  // the edge of the curve it lies on.
+  TrimmedSurface face;
+  face.surface = flat_bicubic();
+  face.loops.push_back(polygon({{0.1, 0.1}, {0.9, 0.1}, {0.9, 0.9}, {0.5, 0.9}, {0.1, 0.9}}, true));
+  const std::vector<int> edge_ids{1, 2, 3, 4, 5};
+  for (size_t c = 0; c < 5; ++c) face.loops[0].curves[c].edge = edge_ids[c];
+  TrimApproxOptions opt;
+  opt.eps = 0.01;
+  const auto plain = approximate_trim_loops(face, opt);
+  REQUIRE(plain.size() == 1);
+  CHECK(plain[0].uv.size() == 4);
+  CHECK(plain[0].edge.empty());
+  opt.edges = true;
+  TrimApproxStats st;
+  const auto out = approximate_trim_loops(face, opt, &st);
+  REQUIRE(out.size() == 1);
+  CHECK(st.curve_pieces > 20);  // cut at the knot lines: the simplification has work to do
+  REQUIRE(out[0].uv.size() == 5);
+  REQUIRE(out[0].edge.size() == 5);
+  for (size_t k = 0; k < 5; ++k) {
+    // Vertex k starts the segment along curve c: its start point is the vertex, its edge the segment's.
+    size_t c = 0;
+    while (c < 5 && glm::length(start_point(face.loops[0].curves[c]) - out[0].uv[k]) > 1e-12) ++c;
+    REQUIRE(c < 5);
+    CHECK(out[0].edge[k] == edge_ids[c]);
+  }
+  CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 100) <= 0.0);
 }
 
 TEST_CASE("trim: crossing loops get a vertex at each crossing") {
