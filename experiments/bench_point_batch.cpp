@@ -1,8 +1,9 @@
 // Benchmark of the batched point projection (issue 8; queries/point_batch.h), not a test: it prints
 // figures. On the generated 100 x 105 surface (models/paper_surfaces.h), untrimmed and trimmed, at a
 // tolerance relative to the model size (default 1e-5): the one-time preparation (certified grid,
-// atlas, box pyramid), then N random points (fixed seed, in the model's box grown by a quarter) in
-// one batch: points per second, the GPU and CPU parts, cells tested, CPU fallbacks, bound / size;
+// atlas, box pyramid), then N random points (fixed seed) in one batch, in the model's box grown by a
+// quarter and in the surface's z band, over the axis-aligned pyramid (the paper's boxes) and the
+// oriented one: points per second, the GPU and CPU parts, cells tested, CPU fallbacks, bound / size;
 // beside it the faithful per-point path (PointDistanceQuery::query) on a few of the same points,
 // the cost of recomputing the winning cell's corners in double (4 surface_point per point), and,
 // in the opt-in peer build (NURBSGL_PEER_BENCH), OpenCASCADE's GeomAPI_ProjectPointOnSurf.
@@ -108,33 +109,50 @@ void run(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face, const char* name, d
   gpu.finish();
   const double prepare_s = seconds_since(t0);
   t0 = Clock::now();
-  queries::PointBatch batch(gpu, m);
+  queries::PointBatch aabb(gpu, m, queries::PointBoxes::Aabb);
+  gpu.finish();
+  const double aabb_s = seconds_since(t0);
+  t0 = Clock::now();
+  queries::PointBatch batch(gpu, m, queries::PointBoxes::Oriented);
   gpu.finish();
   const double pyramid_s = seconds_since(t0);
   const nurbs::ParamGrid& g = m.grids[0].grid;
   fmt::print(
-      "{}: size {:.4g} mm, T = {:.3g} mm, grid {} x {} samples, prepared in {:.3f} s + pyramid {:.3f} s ({} levels)\n",
-      name, size, tol, g.u.size(), g.v.size(), prepare_s, pyramid_s, batch.levels(0));
+      "{}: size {:.4g} mm, T = {:.3g} mm, grid {} x {} samples, prepared in {:.3f} s + pyramid {:.3f} s (oriented "
+      "boxes; axis-aligned {:.3f} s, {} levels)\n",
+      name, size, tol, g.u.size(), g.v.size(), prepare_s, pyramid_s, aabb_s, batch.levels(0));
 
+  // Two distributions: the box grown by a quarter, and the surface's own z band (the wave band of the
+  // paper surfaces: the points nearest to many cells at once).
   models::Random rng(2024);
   const glm::dvec3 pad = 0.25 * (box.max - box.min);
-  std::vector<glm::dvec3> points;
-  for (int i = 0; i < count; ++i)
+  std::vector<glm::dvec3> points, band;
+  for (int i = 0; i < count; ++i) {
     points.emplace_back(rng.uniform(box.min.x - pad.x, box.max.x + pad.x),
                         rng.uniform(box.min.y - pad.y, box.max.y + pad.y),
                         rng.uniform(box.min.z - pad.z, box.max.z + pad.z));
-  (void)batch.query(std::span(points).first(std::min<size_t>(points.size(), 64)));  // compile the kernel
-  t0 = Clock::now();
-  const std::vector<queries::PointDistance> res = batch.query(points);
-  const double batch_s = seconds_since(t0);
-  const queries::PointBatchStats st = batch.stats();
-  double worst_bound = 0.0;
-  for (const auto& r : res) worst_bound = std::max(worst_bound, r.bound);
-  fmt::print(
-      "  batched: {} points in {:.3f} s = {:.0f} points/s (GPU pass + transfers {:.3f} s, CPU finishing {:.3f} s); "
-      "{:.1f} cells tested per point, {} CPU fallbacks; bound <= {:.3g} = {:.3g} x size\n",
-      count, batch_s, double(count) / batch_s, st.gpu_seconds, st.cpu_seconds, double(st.cells_tested) / double(count),
-      st.fallbacks, worst_bound, worst_bound / size);
+    band.emplace_back(rng.uniform(box.min.x, box.max.x), rng.uniform(box.min.y, box.max.y),
+                      rng.uniform(box.min.z, box.max.z));
+  }
+  std::vector<queries::PointDistance> res;
+  double batch_s = 0.0;  // the oriented pyramid on the grown box: the figure compared with the peers below
+  for (const auto* set : {&points, &band})
+    for (queries::PointBatch* b : {&aabb, &batch}) {
+      (void)b->query(std::span(*set).first(std::min<size_t>(set->size(), 64)));  // compile the kernel
+      t0 = Clock::now();
+      std::vector<queries::PointDistance> r = b->query(*set);
+      const double seconds = seconds_since(t0);
+      const queries::PointBatchStats st = b->stats();
+      double worst_bound = 0.0;
+      for (const auto& x : r) worst_bound = std::max(worst_bound, x.bound);
+      fmt::print(
+          "  batched, {}, {}: {} points in {:.3f} s = {:.0f} points/s (GPU pass + transfers {:.3f} s, CPU finishing "
+          "{:.3f} s); {:.1f} cells tested per point, {} CPU fallbacks; bound <= {:.3g} = {:.3g} x size\n",
+          set == &points ? "box grown by a quarter" : "z band", b == &aabb ? "axis-aligned boxes" : "oriented boxes",
+          count, seconds, double(count) / seconds, st.gpu_seconds, st.cpu_seconds,
+          double(st.cells_tested) / double(count), st.fallbacks, worst_bound, worst_bound / size);
+      if (set == &points && b == &batch) res = std::move(r), batch_s = seconds;
+    }
 
   // The corners of each winning cell recomputed in double on the surface (the option not taken).
   t0 = Clock::now();

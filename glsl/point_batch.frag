@@ -14,8 +14,16 @@
 
 uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, 16 per 4 x 4 tile, tiles row-major;
                              // w > 0: only a cell nearer than w is wanted (the descent's first best)
-uniform sampler2D u_lo;      // RGBA32F box pyramid, all levels (empty box: lo = +inf, hi = -inf)
+#ifdef ORIENTED
+// Oriented boxes (queries/point_batch_obb.cpp), all levels: (centre, e0), (axis a0, e1), (normal a2,
+// e2), a1 = a2 x a0; e0 < 0: empty.
+uniform sampler2D u_obb0;
+uniform sampler2D u_obb1;
+uniform sampler2D u_obb2;
+#else
+uniform sampler2D u_lo;  // RGBA32F box pyramid, all levels (empty box: lo = +inf, hi = -inf)
 uniform sampler2D u_hi;
+#endif
 uniform sampler2D u_samples;  // RGBA32F atlas of samples (model coordinates)
 uniform vec3 u_origin;
 uniform int u_count;       // number of query points
@@ -29,11 +37,22 @@ out vec4 o_result;
 
 const float kInf = 1.0 / 0.0;
 
+#ifdef ORIENTED
+float box_dist(vec3 q, ivec2 t, int level) {
+  vec4 c = texelFetch(u_obb0, t, level);
+  if (c.w < 0.0) return kInf;  // empty
+  vec4 a = texelFetch(u_obb1, t, level), n = texelFetch(u_obb2, t, level);
+  vec3 d = q - c.xyz;
+  vec3 local = abs(vec3(dot(d, a.xyz), dot(d, cross(n.xyz, a.xyz)), dot(d, n.xyz)));
+  return length(max(local - vec3(c.w, a.w, n.w), vec3(0.0)));
+}
+#else
 float box_dist(vec3 q, ivec2 t, int level) {
   vec3 lo = texelFetch(u_lo, t, level).xyz, hi = texelFetch(u_hi, t, level).xyz;
   if (lo.x > hi.x) return kInf;  // empty (or +inf/-inf, never NaN)
   return length(max(max(lo - q, q - hi), vec3(0.0)));
 }
+#endif
 
 void cswap(inout vec4 d, inout ivec4 k, int i, int j) {
   if (d[j] < d[i]) {

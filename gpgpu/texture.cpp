@@ -140,6 +140,20 @@ void Texture::upload(std::span<const uint32_t> d, Region r) {
   upload_raw(d.data(), d.size(), 4, GL_UNSIGNED_INT, r);
 }
 
+void Texture::upload_level(int level, std::span<const float> d) {
+  if (is_integer(format_)) throw std::invalid_argument("float upload into an integer texture");
+  if (level < 0 || level >= levels_)
+    throw std::out_of_range(fmt::format("mip level {} of a texture with {} level(s)", level, levels_));
+  const int w = level_width(level), h = level_height(level);
+  const size_t need = size_t(w) * size_t(h) * size_t(channels(format_));
+  if (d.size() != need)
+    throw std::invalid_argument(fmt::format("upload of {} values into level {} ({}x{} {}) needs {}", d.size(), level, w,
+                                            h, format_name(format_), need));
+  gl::PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl::TextureSubImage2D(id_, level, 0, 0, w, h, pixel_format(format_), GL_FLOAT, d.data());
+  gl::check_error("uploading a texture level");
+}
+
 std::vector<float> Texture::read(Region region) const {
   if (is_integer(format_)) throw std::invalid_argument("float read of an integer texture; use read_u32");
   const Region r = clip(region);

@@ -54,6 +54,10 @@ class Texture {
   void upload(std::span<const uint8_t> data, Region region = {});
   void upload(std::span<const uint32_t> data, Region region = {});
 
+  /// Uploads the whole mip level `level` (float formats): channels(format) values per texel of
+  /// level_width(level) x level_height(level), row-major.
+  void upload_level(int level, std::span<const float> data);
+
   /// Reads back a region as floats (R8 as 0..1), channels(format) per texel, row-major.
   [[nodiscard]] std::vector<float> read(Region region = {}) const;
   [[nodiscard]] std::vector<uint32_t> read_u32(Region region = {}) const;

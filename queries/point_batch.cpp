@@ -57,7 +57,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(m) {
+PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
   if (m.search != Search::Faithful)
     throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
   glm::dvec3 lo(kInf), hi(-kInf);
@@ -113,6 +113,7 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m) : gpu_(gpu), m_(
     at.slot_of = fa.slot_of.read();
     at.mask = fa.mask.read();
     at.crossed = m.crossed[index].read();
+    if (boxes_ == PointBoxes::Oriented) build_oriented_pyramid(at, index);
     atlases_.push_back(std::move(at));
   }
 }
@@ -145,7 +146,9 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   gpgpu::PooledTexture pts = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
   pts->upload(q);
   gpgpu::PooledTexture res = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
-  gpgpu::Program& prog = gpu_.program("point_batch.frag");
+  const bool oriented = boxes_ == PointBoxes::Oriented;
+  gpgpu::Program& prog =
+      oriented ? gpu_.program("point_batch.frag", {{"ORIENTED", "1"}}) : gpu_.program("point_batch.frag");
   const glm::vec3 o(m_.centre);
   prog.set("u_origin", o.x, o.y, o.z);
   prog.set("u_count", int(points.size()));
@@ -156,12 +159,19 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   for (size_t a = 0; a < atlases_.size(); ++a) {
     prog.set("u_top", atlases_[a].lo.levels() - 1);
     prog.set("u_size", atlases_[a].lo.width(), atlases_[a].lo.height());
-    const gpgpu::Input in[] = {{"u_points", pts.get()},
-                               {"u_lo", &atlases_[a].lo},
-                               {"u_hi", &atlases_[a].hi},
-                               {"u_samples", &m_.atlases[a].points}};
+    const Atlas& at = atlases_[a];
+    const gpgpu::Input in_aabb[] = {
+        {"u_points", pts.get()}, {"u_lo", &at.lo}, {"u_hi", &at.hi}, {"u_samples", &m_.atlases[a].points}};
+    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},
+                                   {"u_obb0", &at.obb[0]},
+                                   {"u_obb1", &at.obb[1]},
+                                   {"u_obb2", &at.obb[2]},
+                                   {"u_samples", &m_.atlases[a].points}};
     gpgpu::Texture* target[] = {res.get()};
-    gpu_.run("point_batch", prog, in, target);
+    if (oriented)
+      gpu_.run("point_batch", prog, in_obb, target);
+    else
+      gpu_.run("point_batch", prog, in_aabb, target);
     const std::vector<float> r = res->read();
     out[a].resize(points.size());
     for (size_t i = 0; i < points.size(); ++i) {

@@ -27,7 +27,15 @@
 ///   are taken to points, edge lines and planes, a few roundings each), not a proof; the tests
 ///   measure |pass - twin in double| <= 0.06 eps. point_bound = sqrt(4 K d + K^2) with K = bound.
 /// Needs Search::Faithful grids (the cells the answers come from meet the tolerance).
+///
+/// Beyond that (PointBoxes::Oriented, the default): the pyramid's boxes are oriented, each in the
+/// frame of its cells' mean tangent and normal (point_batch_obb.cpp). An axis-aligned box of a cell
+/// tilted to the axes is as thick as the cell is wide, so a point 5 mm off the 100x105 surface finds
+/// every cell within about one cell width of its distance below its best, and tests them all (90
+/// cells per point on the wave band); an oriented box is as thick as the cell is curved, and the
+/// same points test 5 (the prototype's count over 2000 points; 401 box tests -> 114).
 #include <algorithm>
+#include <array>
 #include <glm/vec3.hpp>
 #include <span>
 #include <vector>
@@ -61,11 +69,15 @@ struct BatchCell {
   bool cut = false;  ///< the GPU walk was cut short (see glsl/point_batch.frag): not the nearest cell
 };
 
+/// The boxes of the descent's pyramid: axis-aligned (Krishnamurthy et al. §5.1), or oriented.
+enum class PointBoxes { Aabb, Oriented };
+
 class PointBatch {
  public:
-  /// Builds the pyramids on the GPU and reads the atlases' samples, masks and slot indices back
-  /// once. `m` (Search::Faithful, else std::invalid_argument) must outlive this object.
-  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m);
+  /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
+  /// samples, masks and slot indices back once. `m` (Search::Faithful, else std::invalid_argument)
+  /// must outlive this object.
+  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes = PointBoxes::Oriented);
 
   /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
   /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent. More
@@ -93,12 +105,19 @@ class PointBatch {
   [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
   [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
   [[nodiscard]] int levels(size_t a) const { return atlases_[a].lo.levels(); }
+  [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].lo.level_width(level); }
 
   /// The part of every bound that does not depend on the point: K_e + float budget (model units).
   [[nodiscard]] double model_bound() const { return model_bound_; }
   /// The float slack eps of the descent for point p (model units).
   [[nodiscard]] double slack(const glm::dvec3& p) const;
   [[nodiscard]] const PointBatchStats& stats() const { return stats_; }
+  [[nodiscard]] PointBoxes boxes() const { return boxes_; }
+  /// Level `level` of atlas `a`'s oriented pyramid as uploaded: texture k = 0, 1, 2 holds per texel
+  /// (centre, e0), (axis a0, e1), (axis a2 = normal, e2); a1 = a2 x a0; e0 < 0: empty.
+  [[nodiscard]] const std::vector<float>& oriented_level(size_t a, int level, int k) const {
+    return atlases_[a].cpu_obb[size_t(level)][size_t(k)];
+  }
 
  private:
   struct Atlas {
@@ -109,8 +128,18 @@ class PointBatch {
     std::vector<float> crossed;              ///< 1 where a trim edge crosses the texel's cell (PreparedModel)
     std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
     std::vector<std::vector<float>> cpu_hi;
+    std::array<gpgpu::Texture, 3> obb;                       ///< PointBoxes::Oriented: the pyramid, mip levels
+    std::vector<std::array<std::vector<float>, 3>> cpu_obb;  ///< the same values per level, 4 floats per texel
   };
   void build_cpu_pyramid(Atlas& at);
+  /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
+  /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
+  [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;
+  /// PointBoxes::Oriented: builds at.cpu_obb and uploads it into at.obb (point_batch_obb.cpp).
+  void build_oriented_pyramid(Atlas& at, size_t a);
+  /// Distance from q (relative to the float origin) to node (level, x, y) of atlas a's pyramid, in
+  /// double from the stored floats: the boxes the GPU pass reads; +inf for an empty node.
+  [[nodiscard]] double node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const;
   /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
   /// `within` > 0: only a point nearer than it is wanted (query's `within`).
   PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
@@ -126,6 +155,7 @@ class PointBatch {
   std::vector<Atlas> atlases_;
   std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
   double model_bound_ = 0.0, radius_ = 0.0;
+  PointBoxes boxes_ = PointBoxes::Oriented;
   PointBatchStats stats_;
   size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
 };

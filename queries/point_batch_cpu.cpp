@@ -26,6 +26,32 @@ double box_distance(const glm::dvec3& q, const float* lo, const float* hi) {
 
 }  // namespace
 
+bool PointBatch::pyramid_cell(const Atlas& at, size_t a, int x, int y) const {
+  const int w = m_.atlases[a].plan.width, h = m_.atlases[a].plan.height;
+  if (x + 1 >= w || y + 1 >= h) return false;
+  const auto at_texel = [&](int k) { return size_t(y + (k >> 1)) * size_t(w) + size_t(x + (k & 1)); };
+  const float slot = at.slot_of[at_texel(0)];
+  bool cell = slot >= 0.0f, material = false;
+  for (int k = 1; k < 4; ++k) cell = cell && at.slot_of[at_texel(k)] == slot;
+  for (int k = 0; k < 4 && cell; ++k) material = material || at.mask[at_texel(k)] > 0.5f;
+  return cell && (material || at.crossed[at_texel(0)] > 0.5f);  // or a trim edge crosses the cell
+}
+
+double PointBatch::node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const {
+  if (boxes_ == PointBoxes::Aabb) {
+    const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
+    return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
+  }
+  const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 4;
+  const auto& l = at.cpu_obb[size_t(level)];
+  const float *c = &l[0][i], *t = &l[1][i], *n = &l[2][i];
+  if (c[3] < 0.0f) return kInf;
+  const glm::dvec3 a0(t[0], t[1], t[2]), a2(n[0], n[1], n[2]), d = q - glm::dvec3(c[0], c[1], c[2]);
+  const glm::dvec3 local(std::abs(glm::dot(d, a0)), std::abs(glm::dot(d, glm::cross(a2, a0))),
+                         std::abs(glm::dot(d, a2)));
+  return glm::length(glm::max(local - glm::dvec3(c[3], t[3], n[3]), glm::dvec3(0.0)));
+}
+
 void PointBatch::build_cpu_pyramid(Atlas& at) {
   if (!at.cpu_lo.empty()) return;
   const size_t a = size_t(&at - atlases_.data());
@@ -37,13 +63,8 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
   std::vector<float> lo(size_t(w0) * size_t(h0) * 3, kInfF), hi(lo.size(), -kInfF);
   for (int y = 0; y + 1 < h; ++y)
     for (int x = 0; x + 1 < w; ++x) {
+      if (!pyramid_cell(at, a, x, y)) continue;
       const auto at_texel = [&](int k) { return size_t(y + (k >> 1)) * size_t(w) + size_t(x + (k & 1)); };
-      const float slot = at.slot_of[at_texel(0)];
-      bool cell = slot >= 0.0f, material = false;
-      for (int k = 1; k < 4; ++k) cell = cell && at.slot_of[at_texel(k)] == slot;
-      for (int k = 0; k < 4 && cell; ++k) material = material || at.mask[at_texel(k)] > 0.5f;
-      material = material || (cell && at.crossed[at_texel(0)] > 0.5f);  // a trim edge crosses the cell
-      if (!cell || !material) continue;
       float* l = &lo[(size_t(y) * size_t(w0) + size_t(x)) * 3];
       float* u = &hi[(size_t(y) * size_t(w0) + size_t(x)) * 3];
       for (int k = 0; k < 4; ++k)
@@ -83,10 +104,7 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) 
   const glm::dvec3 q(glm::vec3(p - m_.centre));  // the GPU's float point
   const double eps = kFloatSlack * (glm::length(q) + double(float(radius_)));
   const int w = m_.atlases[a].plan.width;
-  auto box = [&](int level, int x, int y) {
-    const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
-    return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
-  };
+  auto box = [&](int level, int x, int y) { return node_distance(at, q, level, x, y); };
   auto sample = [&](int x, int y) {
     const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
     return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - of);
@@ -146,10 +164,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
   const glm::dvec3 q(glm::vec3(p - m_.centre));
   const double eps = slack(p);
   std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
-  auto box = [&](size_t a, int level, int x, int y) {
-    const size_t i = (size_t(y) * size_t(atlases_[a].lo.level_width(level)) + size_t(x)) * 3;
-    return box_distance(q, &atlases_[a].cpu_lo[size_t(level)][i], &atlases_[a].cpu_hi[size_t(level)][i]);
-  };
+  auto box = [&](size_t a, int level, int x, int y) { return node_distance(atlases_[a], q, level, x, y); };
   for (size_t a = 0; a < atlases_.size(); ++a) {
     const int top = atlases_[a].lo.levels() - 1;
     open.push({box(a, top, 0, 0), a, top, 0, 0});

@@ -21,42 +21,10 @@
 #include "nurbs/trim_classify.h"
 #include "queries/point_batch.h"
 #include "queries/point_distance.h"
+#include "tests/queries/point_batch_fixtures.h"
 #include "tests/shared_models.h"
 
 namespace {
-
-/// A few random faces side by side (trimmed and not), and random points around them (fixed seed):
-/// a quarter of them on the surfaces, the rest in the box grown by half its size.
-std::vector<nurbs::TrimmedSurface> spread_faces(int count) {
-  std::vector<nurbs::TrimmedSurface> faces;
-  for (uint64_t seed = 0; seed < uint64_t(count); ++seed) {
-    faces.push_back(models::random_trimmed_surface(seed + 7));
-    for (auto& p : faces.back().surface.points) p += glm::dvec3(3.0 * double(seed % 3), 3.0 * double(seed / 3), 0.0);
-  }
-  return faces;
-}
-
-std::vector<glm::dvec3> random_points(const std::vector<nurbs::TrimmedSurface>& faces, int count, uint64_t seed) {
-  glm::dvec3 lo(1e300), hi(-1e300);
-  for (const auto& f : faces) {
-    const nurbs::Box b = nurbs::control_box(f.surface);
-    lo = glm::min(lo, b.min), hi = glm::max(hi, b.max);
-  }
-  const glm::dvec3 pad = 0.5 * (hi - lo);
-  models::Random rng(seed);
-  std::vector<glm::dvec3> out;
-  for (int k = 0; k < count; ++k) {
-    if (k % 4 == 0) {  // on a surface
-      const nurbs::Surface& s = faces[size_t(k / 4) % faces.size()].surface;
-      const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
-      out.push_back(nurbs::surface_point(s, rng.uniform(du.min, du.max), rng.uniform(dv.min, dv.max)));
-    } else {
-      out.emplace_back(rng.uniform(lo.x - pad.x, hi.x + pad.x), rng.uniform(lo.y - pad.y, hi.y + pad.y),
-                       rng.uniform(lo.z - pad.z, hi.z + pad.z));
-    }
-  }
-  return out;
-}
 
 /// The batched result r against the faithful one: never farther than it (beyond both bounds); equal
 /// within both bounds, except on a trim edge, where the faithful path discards a cell whose closest
@@ -118,9 +86,9 @@ TEST_CASE("point batch: the banded trim classification equals nurbs::is_material
 
 TEST_CASE("point batch: the GPU pyramid equals the CPU twin's, level by level, bit for bit") {
   gpgpu::Gpu& gpu = test::gpu();
-  const auto faces = spread_faces(5);
+  const auto faces = test::spread_faces(5);
   const queries::PreparedModel m = queries::prepare_model(gpu, faces, 5e-3);
-  queries::PointBatch batch(gpu, m);
+  queries::PointBatch batch(gpu, m, queries::PointBoxes::Aabb);
   REQUIRE(m.atlases.size() == 1);
   int nonempty_leaves = 0;
   for (int l = 0; l < batch.levels(0); ++l)
@@ -143,12 +111,15 @@ TEST_CASE("point batch: the GPU pyramid equals the CPU twin's, level by level, b
 
 TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the faithful query") {
   gpgpu::Gpu& gpu = test::gpu();
-  const auto faces = spread_faces(6);
+  const auto faces = test::spread_faces(6);
   const double tol = 3e-3;
   queries::PointDistanceQuery faithful(gpu, faces, tol);  // its prepared model serves both paths
   const queries::PreparedModel& m = faithful.model();
-  queries::PointBatch batch(gpu, m);
-  const std::vector<glm::dvec3> points = random_points(faces, 320, 5);
+  queries::PointBoxes boxes = queries::PointBoxes::Oriented;
+  SUBCASE("axis-aligned boxes") { boxes = queries::PointBoxes::Aabb; }
+  SUBCASE("oriented boxes") {}
+  queries::PointBatch batch(gpu, m, boxes);
+  const std::vector<glm::dvec3> points = test::random_points(faces, 320, 5);
   double budget = 0.0;  // the float budget of the samples, the largest over the faces
   for (const auto& f : faces) budget = std::max(budget, queries::float_budget(f.surface));
   const auto cells = batch.descend_gpu(points);
@@ -217,7 +188,10 @@ TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes s
   const double size = nurbs::control_box(faces[0].surface).diagonal(), tol = 5e-3 * size;
   queries::PointDistanceQuery faithful(gpu, faces, tol);  // its prepared model serves both paths
   const queries::PreparedModel& m = faithful.model();
-  queries::PointBatch batch(gpu, m);
+  queries::PointBoxes boxes = queries::PointBoxes::Oriented;
+  SUBCASE("axis-aligned boxes") { boxes = queries::PointBoxes::Aabb; }
+  SUBCASE("oriented boxes") {}
+  queries::PointBatch batch(gpu, m, boxes);
   // Points just above the holes (u, v centres of the circles: the closest triangle lies in the hole)
   // and random points above the footprint.
   const nurbs::Surface& s = faces[0].surface;
@@ -280,7 +254,7 @@ TEST_CASE("point batch: a hole reaching out of the outer loop bounds no material
 
 TEST_CASE("point batch: coarse-to-fine models and empty batches") {
   gpgpu::Gpu& gpu = test::gpu();
-  const auto faces = spread_faces(1);
+  const auto faces = test::spread_faces(1);
   const queries::PreparedModel coarse =
       queries::prepare_model(gpu, faces, 1e-2, 1LL << 22, queries::Search::CoarseToFine);
   CHECK_THROWS_WITH_AS(queries::PointBatch(gpu, coarse),
@@ -308,7 +282,7 @@ TEST_CASE("point batch: every face of the shared IGES models takes part" * test:
     faces += int(all.size());
     const std::string name = file.filename().string();
     CAPTURE(name);
-    const std::vector<glm::dvec3> points = random_points(all, 12, 9);
+    const std::vector<glm::dvec3> points = test::random_points(all, 12, 9);
     const auto res = batch.query(points);
     fallbacks += batch.stats().fallbacks;
     for (size_t i = 0; i < points.size(); ++i) {

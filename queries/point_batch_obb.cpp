@@ -1,0 +1,166 @@
+// The oriented box pyramid of the batched point projection (point_batch.h, PointBoxes::Oriented;
+// beyond the paper, whose §5.1 hierarchies hold axis-aligned boxes). Built on the CPU in double from
+// the atlas's float samples, stored as floats, uploaded into three mip-mapped textures that
+// glsl/point_batch.frag (ORIENTED) reads; the twin (PointBatch::node_distance) reads the same floats.
+//
+// A node's box: centre c, orthonormal axes a0 (tangent), a1 = a2 x a0, a2 (normal), half extents
+// e0, e1, e2. Level 0, a cell: a0 along the cell's mean u edge, a2 its mean normal, the extents those
+// of its four samples (which span its two triangles). Level l > 0: the axes from the sums of the
+// children's axes, the extents those of the children's box corners (a box holding them holds the
+// children's boxes, so every triangle below). Containment is exact in double for the stored floats:
+// the axes are rounded first, then the centre, and the extents are taken about the rounded centre
+// along the rounded axes (for a child box: the reach of its corners, in closed form) and rounded up. What the pass adds
+// in float (a1's cross product, the projections) is within the descent's float slack.
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "queries/parallel.h"
+#include "queries/point_batch.h"
+
+namespace queries {
+namespace {
+
+struct Box {
+  glm::dvec3 c{0.0}, a0{1, 0, 0}, a1{0, 1, 0}, a2{0, 0, 1}, e{-1.0};  // e.x < 0: empty
+};
+
+/// Axes from a tangent and a normal direction, rounded to float; the world axes when they are
+/// degenerate (a collapsed cell, children whose normals cancel): the box is then axis-aligned.
+void set_axes(Box& b, glm::dvec3 t, glm::dvec3 n) {
+  const double nl = glm::length(n), t0 = glm::length(t);
+  if (nl > 0.0 && std::isfinite(nl)) {
+    n /= nl;
+    t -= glm::dot(t, n) * n;
+    const double tl = glm::length(t);
+    if (tl > 1e-6 * t0 && tl > 0.0) {
+      b.a0 = glm::dvec3(glm::vec3(t / tl));
+      b.a2 = glm::dvec3(glm::vec3(n));
+      b.a1 = glm::cross(b.a2, b.a0);
+      return;
+    }
+  }
+  b.a0 = {1, 0, 0}, b.a1 = {0, 1, 0}, b.a2 = {0, 0, 1};
+}
+
+/// The extents rounded up to floats.
+void round_up(Box& b) {
+  for (int k = 0; k < 3; ++k) {
+    float f = float(b.e[k]);
+    if (double(f) < b.e[k]) f = std::nextafter(f, HUGE_VALF);
+    b.e[k] = f;
+  }
+}
+
+/// Centre and extents of the points along b's axes (see the file comment).
+template <class Points>
+void fit(Box& b, const Points& points) {
+  glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+  for (const glm::dvec3& p : points) {
+    const glm::dvec3 l(glm::dot(p, b.a0), glm::dot(p, b.a1), glm::dot(p, b.a2));
+    lo = glm::min(lo, l), hi = glm::max(hi, l);
+  }
+  const glm::dvec3 mid = 0.5 * (lo + hi);
+  b.c = glm::dvec3(glm::vec3(mid.x * b.a0 + mid.y * b.a1 + mid.z * b.a2));
+  b.e = glm::dvec3(0.0);
+  for (const glm::dvec3& p : points) {
+    const glm::dvec3 d = p - b.c;
+    b.e = glm::max(b.e,
+                   glm::dvec3(std::abs(glm::dot(d, b.a0)), std::abs(glm::dot(d, b.a1)), std::abs(glm::dot(d, b.a2))));
+  }
+  round_up(b);
+}
+
+/// The same for the boxes `children` (non-empty): the largest |a_i . (x - c)| over a child box is
+/// |a_i . (c_child - c)| + sum_k |a_i . a_k,child| e_k,child, which its corners reach.
+void fit_boxes(Box& b, const Box* children[], int count) {
+  const glm::dvec3 axes[3] = {b.a0, b.a1, b.a2};
+  auto reach = [&](const Box& c, int i) {  // half width of child c along axis i
+    return std::abs(glm::dot(axes[i], c.a0)) * c.e.x + std::abs(glm::dot(axes[i], c.a1)) * c.e.y +
+           std::abs(glm::dot(axes[i], c.a2)) * c.e.z;
+  };
+  glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+  for (int j = 0; j < count; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const double m = glm::dot(axes[i], children[j]->c), r = reach(*children[j], i);
+      lo[i] = std::min(lo[i], m - r), hi[i] = std::max(hi[i], m + r);
+    }
+  const glm::dvec3 mid = 0.5 * (lo + hi);
+  b.c = glm::dvec3(glm::vec3(mid.x * b.a0 + mid.y * b.a1 + mid.z * b.a2));
+  b.e = glm::dvec3(0.0);
+  for (int j = 0; j < count; ++j)
+    for (int i = 0; i < 3; ++i)
+      b.e[i] = std::max(b.e[i], std::abs(glm::dot(axes[i], children[j]->c - b.c)) + reach(*children[j], i));
+  round_up(b);
+}
+
+}  // namespace
+
+void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
+  const int w = m_.atlases[a].plan.width, w0 = at.lo.width(), h0 = at.lo.height(), levels = at.lo.levels();
+  const glm::vec3 o(m_.centre);
+  auto sample = [&](int x, int y) {  // the pass's float sample - origin
+    const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
+    return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - o);
+  };
+  auto level = std::vector<std::vector<Box>>(size_t(levels));
+  level[0].resize(size_t(w0) * size_t(h0));
+  const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
+  for_shares(size_t(h), share_count(size_t(h), 16), [&](size_t, size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y)
+      for (int x = 0; x + 1 < w; ++x) {
+        if (!pyramid_cell(at, a, x, y)) continue;
+        const glm::dvec3 p[4] = {sample(x, y), sample(x + 1, y), sample(x, y + 1), sample(x + 1, y + 1)};
+        Box& b = level[0][size_t(y) * size_t(w0) + size_t(x)];
+        const glm::dvec3 du = (p[1] - p[0]) + (p[3] - p[2]), dv = (p[2] - p[0]) + (p[3] - p[1]);
+        set_axes(b, du, glm::cross(du, dv));
+        fit(b, p);
+      }
+  });
+  for (int l = 1; l < levels; ++l) {
+    const int fw = at.lo.level_width(l - 1), fh = at.lo.level_height(l - 1);
+    const int lw = at.lo.level_width(l), lh = at.lo.level_height(l);
+    level[size_t(l)].resize(size_t(lw) * size_t(lh));
+    for_shares(size_t(lh), share_count(size_t(lh), 4), [&](size_t, size_t y0, size_t y1) {
+      for (int y = int(y0); y < int(y1); ++y)
+        for (int x = 0; x < lw; ++x) {
+          glm::dvec3 t(0.0), n(0.0);
+          const Box* children[4];
+          int count = 0;
+          for (int k = 0; k < 4; ++k) {
+            const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
+            if (cx >= fw || cy >= fh) continue;
+            const Box& c = level[size_t(l - 1)][size_t(cy) * size_t(fw) + size_t(cx)];
+            if (c.e.x < 0.0) continue;
+            t += c.a0, n += c.a2;
+            children[count++] = &c;
+          }
+          if (count == 0) continue;
+          Box& b = level[size_t(l)][size_t(y) * size_t(lw) + size_t(x)];
+          set_axes(b, t, n);
+          fit_boxes(b, children, count);
+        }
+    });
+  }
+  at.cpu_obb.assign(size_t(levels), {});
+  for (int l = 0; l < levels; ++l) {
+    auto& out = at.cpu_obb[size_t(l)];
+    const auto& boxes = level[size_t(l)];
+    for (auto& v : out) v.resize(boxes.size() * 4);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      const Box& b = boxes[i];
+      const glm::dvec3 first[3] = {b.c, b.a0, b.a2};  // (centre, e0), (a0, e1), (a2, e2)
+      for (size_t k = 0; k < 3; ++k) {
+        float* texel = &out[k][4 * i];
+        for (int c = 0; c < 3; ++c) texel[c] = float(first[k][c]);
+        texel[3] = float(b.e[int(k)]);
+      }
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    at.obb[size_t(k)] = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+    for (int l = 0; l < levels; ++l) at.obb[size_t(k)].upload_level(l, at.cpu_obb[size_t(l)][size_t(k)]);
+  }
+}
+
+}  // namespace queries
