@@ -34,6 +34,7 @@ struct Options {
   queries::Search search = queries::Search::CoarseToFine;
   std::string first_stage = "hierarchy";
   int voxels = 40;
+  int reduce_block = queries::ClearanceLimits{}.reduce_block;
   bool json = false, timings = false;
 };
 
@@ -154,7 +155,9 @@ void run(const GlobalOptions& global, const Options& o) {
   nlohmann::json stage;
   queries::ClearanceCache cache;  // A's hierarchy, built once for every motion (destroyed before gpu)
   auto query = [&](const glm::dmat4& motion) {
-    if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, {}, &cache);
+    queries::ClearanceLimits limits;
+    limits.reduce_block = o.reduce_block;
+    if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, limits, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);
     stage = {{"method", "voxels"},
@@ -167,7 +170,7 @@ void run(const GlobalOptions& global, const Options& o) {
              {"faces_a", std::count(vs.faces_a.begin(), vs.faces_a.end(), 1)},
              {"faces_b", std::count(vs.faces_b.begin(), vs.faces_b.end(), 1)},
              {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count()}};
-    return queries::clearance(*gpu, a, b, motion, &vs.faces_a, &vs.faces_b);
+    return queries::clearance(*gpu, a, b, motion, &vs.faces_a, &vs.faces_b, limits);
   };
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
@@ -252,6 +255,11 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--voxels", o->voxels, "Voxels per axis of the voxel first stage")
       ->check(CLI::Range(1, 512))
+      ->capture_default_str();
+  cmd->add_option("--reduce-block", o->reduce_block,
+                  "Texels per pass along each axis of the least-upper-bound reductions: 2 (the paper's log2 passes), "
+                  "4 or 8")
+      ->check(CLI::IsMember({2, 4, 8}))
       ->capture_default_str();
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");

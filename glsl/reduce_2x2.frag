@@ -1,6 +1,8 @@
 // Standard reduction (Krishnamurthy et al. §1.1): one log-n step. Each output texel combines the
 // 2x2 block of input texels below it, channel by channel, with the operation in u_ops:
 // 0 = min, 1 = max, 2 = sum. Texels outside the input (odd sizes) count as the neutral element.
+// Beyond the paper, BLOCK = 4 or 8 combines 4x4 or 8x8 texels per pass (gpgpu/reduce.h): half or a
+// third of the passes, each costing its fixed overhead on llvmpipe.
 // NaN policy: min and max ignore NaN entries (an all-NaN block gives the neutral +inf / -inf);
 // sums propagate NaN, so a NaN in the data is visible in the result.
 #include "lib_float.glsl"
@@ -18,11 +20,15 @@ float combine(int op, float acc, float v) {
   return op == 0 ? min(acc, v) : max(acc, v);
 }
 
+#ifndef BLOCK
+#define BLOCK 2
+#endif
+
 void main() {
-  ivec2 base = ivec2(gl_FragCoord.xy) * 2;
+  ivec2 base = ivec2(gl_FragCoord.xy) * BLOCK;
   vec4 acc = vec4(neutral(u_ops.x), neutral(u_ops.y), neutral(u_ops.z), neutral(u_ops.w));
-  for (int dy = 0; dy < 2; ++dy) {
-    for (int dx = 0; dx < 2; ++dx) {
+  for (int dy = 0; dy < BLOCK; ++dy) {
+    for (int dx = 0; dx < BLOCK; ++dx) {
       ivec2 t = base + ivec2(dx, dy);
       if (t.x >= u_src_size.x || t.y >= u_src_size.y) continue;
       vec4 v = texelFetch(u_src, t, 0);

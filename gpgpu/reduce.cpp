@@ -13,14 +13,14 @@ Format reduced_format(Format f) {
   return f == Format::R8 ? Format::R32F : f;
 }
 
-/// Runs 2x2 passes of `program` from `src` until 1x1; returns the 1x1 texel.
+/// Runs block x block passes of `program` from `src` until 1x1; returns the 1x1 texel.
 std::vector<float> pyramid(Gpu& gpu, const Texture& src, Program& first, Program& rest, Format out_format,
-                           const char* name) {
+                           const char* name, int block = 2) {
   const Texture* in = &src;
   PooledTexture level;
   Program* prog = &first;
   do {
-    const int w = (in->width() + 1) / 2, h = (in->height() + 1) / 2;
+    const int w = (in->width() + block - 1) / block, h = (in->height() + block - 1) / block;
     PooledTexture next = gpu.acquire(w, h, out_format);
     prog->set("u_src_size", in->width(), in->height());
     const Input inputs[] = {{"u_src", in}};
@@ -35,18 +35,20 @@ std::vector<float> pyramid(Gpu& gpu, const Texture& src, Program& first, Program
 
 }  // namespace
 
-std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops) {
+std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block) {
+  if (block != 2 && block != 4 && block != 8) throw std::invalid_argument("reduce: block must be 2, 4 or 8");
   const Format out = reduced_format(src.format());
-  Program& p = gpu.program("reduce_2x2.frag");
+  Program& p =
+      block == 2 ? gpu.program("reduce_2x2.frag") : gpu.program("reduce_2x2.frag", {{"BLOCK", std::to_string(block)}});
   p.set("u_ops", int(ops[0]), int(ops[1]), int(ops[2]), int(ops[3]));
-  const std::vector<float> v = pyramid(gpu, src, p, p, out, "reduce_2x2");
+  const std::vector<float> v = pyramid(gpu, src, p, p, out, block == 2 ? "reduce_2x2" : "reduce_block", block);
   std::array<float, 4> result{0, 0, 0, 1};
   for (size_t c = 0; c < v.size(); ++c) result[c] = v[c];
   return result;
 }
 
-float reduce_min(Gpu& gpu, const Texture& src, int channel) {
-  return reduce(gpu, src, {ReduceOp::Min, ReduceOp::Min, ReduceOp::Min, ReduceOp::Min})[size_t(channel)];
+float reduce_min(Gpu& gpu, const Texture& src, int channel, int block) {
+  return reduce(gpu, src, {ReduceOp::Min, ReduceOp::Min, ReduceOp::Min, ReduceOp::Min}, block)[size_t(channel)];
 }
 float reduce_max(Gpu& gpu, const Texture& src, int channel) {
   return reduce(gpu, src, {ReduceOp::Max, ReduceOp::Max, ReduceOp::Max, ReduceOp::Max})[size_t(channel)];

@@ -19,11 +19,13 @@ enum class ReduceOp : int { Min = 0, Max = 1, Sum = 2 };
 using ReduceOps = std::array<ReduceOp, 4>;
 
 /// Reduces each channel of `src` with its operation. Channels the format lacks read as (0, 0, 0, 1).
-/// R8 and float formats only.
-std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops);
+/// R8 and float formats only. `block`: texels per pass along each axis, 2 (the paper's log2 passes)
+/// or, beyond it, 4 or 8 (log4 / log8 passes; std::invalid_argument otherwise). Min and max give
+/// the same value for any block; sums are added in another order.
+std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block = 2);
 
 /// Minimum / maximum / sum of channel `channel`.
-float reduce_min(Gpu& gpu, const Texture& src, int channel = 0);
+float reduce_min(Gpu& gpu, const Texture& src, int channel = 0, int block = 2);
 float reduce_max(Gpu& gpu, const Texture& src, int channel = 0);
 float reduce_sum(Gpu& gpu, const Texture& src, int channel = 0);
 

@@ -210,7 +210,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
                                {"u_hi_b", &hb.hi[size_t(lb)]}};
     gpgpu::Texture* targets[] = {minmax, records};
     gpu.run("aabb_pairs_minmax", prog, in, targets);
-    const double u = gpgpu::reduce_min(gpu, *minmax, 1);
+    const double u = gpgpu::reduce_min(gpu, *minmax, 1, limits.reduce_block);
     shared_upper = std::min(shared_upper, u);
     return std::min(u, shared_upper);
   };

@@ -52,6 +52,9 @@ struct Clearance {
 /// than a 4096^2 target holds children of) runs in chunks (tests shrink it to exercise that path).
 struct ClearanceLimits {
   long long chunk_pairs = 4096LL * 4096 / 16;
+  /// Texels per reduction pass along each axis for each level's least upper bound (gpgpu/reduce.h):
+  /// 2 is the paper's log2 passes; 4 (the default, beyond it) needs half as many.
+  int reduce_block = 4;
 };
 
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the

@@ -78,6 +78,31 @@ TEST_CASE("reduce: min, max, sum per channel match the CPU twin") {
   }
 }
 
+TEST_CASE("reduce: 4x4 and 8x8 blocks per pass give the 2x2 result (min, max exactly; sums within rounding)") {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::mt19937_64 rng(13);
+  for (Size s : sizes()) {
+    for (int block : {4, 8}) {
+      CAPTURE(s.w);
+      CAPTURE(s.h);
+      CAPTURE(block);
+      const auto data = make_data(rng, s, 4, Special::NaN);
+      gpgpu::Texture t(s.w, s.h, Format::RGBA32F);
+      t.upload(data);
+      const gpgpu::ReduceOps ops{ReduceOp::Min, ReduceOp::Max, ReduceOp::Sum, ReduceOp::Min};
+      const auto g = gpgpu::reduce(gpu, t, ops, block);
+      const auto c = gpgpu::reduce_cpu(data, 4, ops);
+      CHECK(double(g[0]) == c[0]);
+      CHECK(double(g[1]) == c[1]);
+      CHECK(double(g[3]) == c[3]);
+      CHECK(std::isnan(g[2]) == std::isnan(c[2]));  // NaN data: the sum is NaN
+      CHECK(double(gpgpu::reduce_min(gpu, t, 3, block)) == c[3]);
+    }
+  }
+  gpgpu::Texture one(3, 3, Format::R32F);
+  CHECK_THROWS_AS((void)gpgpu::reduce_min(gpu, one, 0, 3), std::invalid_argument);
+}
+
 TEST_CASE("reduce: the paper's min/max texture (RG) and R8 masks") {
   gpgpu::Gpu& gpu = test::gpu();
   std::mt19937_64 rng(12);
