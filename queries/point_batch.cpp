@@ -74,7 +74,6 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
   for (size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].loops.empty()) trim_edges_[f] = TrimEdges(m.trims[f], m.grids[f].grid);
   radius_ = m.faces.empty() ? 0.0 : 0.5 * glm::length(hi - lo);
-  const glm::vec3 o(m.centre);
   for (const FaceAtlas& fa : m.atlases) {
     // Level 0 padded to powers of two, so that every level halves exactly (mip sizes round down).
     const int w0 = pow2_at_least(fa.plan.width), h0 = pow2_at_least(fa.plan.height);
@@ -83,38 +82,45 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
     Atlas at;
     at.lo = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
     at.hi = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
-    gpgpu::Program& fill = gpu.program("fill_constant.frag");
-    for (gpgpu::Texture* t : {&at.lo, &at.hi}) {  // empty boxes in the padding
-      const float v = t == &at.lo ? kInfF : -kInfF;
-      fill.set("u_value", v, v, v, v);
-      gpgpu::Texture* out[] = {t};
-      gpu.run("point_batch_empty", fill, {}, out);
-    }
-    gpgpu::Texture no_growth(std::max<int>(1, int(fa.plan.slots.size())), 1, gpgpu::Format::R32F);
-    no_growth.upload(std::vector<float>(size_t(no_growth.width()), 0.0f));
     const size_t index = size_t(&fa - m.atlases.data());
-    gpgpu::Program& leaf = gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
-    const glm::mat4 identity(1.0f);
-    leaf.set_mat4("u_motion", &identity[0][0]);
-    leaf.set("u_origin", o.x, o.y, o.z);
-    const gpgpu::Input in[] = {{"u_points", &fa.points},
-                               {"u_slot_of", &fa.slot_of},
-                               {"u_mask", &fa.mask},
-                               {"u_grow", &no_growth},
-                               {"u_crossed", &m.crossed[index]}};
-    gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
-    gpu.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
-    gpgpu::Program& merge = gpu.program("aabb_merge.frag");
-    for (int l = 1; l < levels; ++l) {
-      const gpgpu::Input fine[] = {{"u_lo", &at.lo, l - 1}, {"u_hi", &at.hi, l - 1}};
-      gpu.run("point_batch_merge", merge, fine, boxes, std::nullopt, l);
-    }
+    // The axis-aligned pyramid on the GPU; the oriented one is built on the CPU below (lo and hi
+    // then only give the pyramid's shape: levels and their sizes).
+    if (boxes_ == PointBoxes::Aabb) build_aabb_pyramid(at, fa, index);
     at.samples = fa.points.read();
     at.slot_of = fa.slot_of.read();
     at.mask = fa.mask.read();
     at.crossed = m.crossed[index].read();
     if (boxes_ == PointBoxes::Oriented) build_oriented_pyramid(at, index);
     atlases_.push_back(std::move(at));
+  }
+}
+
+void PointBatch::build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index) {
+  const glm::vec3 o(m_.centre);
+  gpgpu::Program& fill = gpu_.program("fill_constant.frag");
+  for (gpgpu::Texture* t : {&at.lo, &at.hi}) {  // empty boxes in the padding
+    const float v = t == &at.lo ? kInfF : -kInfF;
+    fill.set("u_value", v, v, v, v);
+    gpgpu::Texture* out[] = {t};
+    gpu_.run("point_batch_empty", fill, {}, out);
+  }
+  gpgpu::Texture no_growth(std::max<int>(1, int(fa.plan.slots.size())), 1, gpgpu::Format::R32F);
+  no_growth.upload(std::vector<float>(size_t(no_growth.width()), 0.0f));
+  gpgpu::Program& leaf = gpu_.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
+  const glm::mat4 identity(1.0f);
+  leaf.set_mat4("u_motion", &identity[0][0]);
+  leaf.set("u_origin", o.x, o.y, o.z);
+  const gpgpu::Input in[] = {{"u_points", &fa.points},
+                             {"u_slot_of", &fa.slot_of},
+                             {"u_mask", &fa.mask},
+                             {"u_grow", &no_growth},
+                             {"u_crossed", &m_.crossed[index]}};
+  gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
+  gpu_.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
+  gpgpu::Program& merge = gpu_.program("aabb_merge.frag");
+  for (int l = 1; l < at.lo.levels(); ++l) {
+    const gpgpu::Input fine[] = {{"u_lo", &at.lo, l - 1}, {"u_hi", &at.hi, l - 1}};
+    gpu_.run("point_batch_merge", merge, fine, boxes, std::nullopt, l);
   }
 }
 
@@ -277,7 +283,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
     for (const BatchCell& c : per_atlas) any_cut |= c.cut;
   bool trimmed = false;
   for (size_t f = 0; f < m_.faces.size(); ++f) trimmed |= !m_.faces[f].loops.empty();
-  if (any_cut || trimmed)
+  if (boxes_ == PointBoxes::Aabb && (any_cut || trimmed))
     for (Atlas& at : atlases_) build_cpu_pyramid(at);
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).

@@ -100,8 +100,9 @@ class PointBatch {
                                                   std::span<const double> within = {});
   BatchCell descend_cpu(size_t atlas, const glm::dvec3& p, double within = 0.0);
 
-  /// Level `level` of atlas `a`'s pyramid, lo (or hi) corners, 4 floats per texel: from the GPU,
-  /// and the CPU twin's (3 floats per texel).
+  /// Level `level` of atlas `a`'s axis-aligned pyramid (PointBoxes::Aabb; with oriented boxes the GPU
+  /// one is not filled), lo (or hi) corners, 4 floats per texel: from the GPU, and the CPU twin's
+  /// (3 floats per texel).
   [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
   [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
   [[nodiscard]] int levels(size_t a) const { return atlases_[a].lo.levels(); }
@@ -121,7 +122,7 @@ class PointBatch {
 
  private:
   struct Atlas {
-    gpgpu::Texture lo, hi;                   ///< the pyramid, mip levels
+    gpgpu::Texture lo, hi;  ///< the axis-aligned pyramid, mip levels (filled for PointBoxes::Aabb; its shape in both)
     std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
     std::vector<float> slot_of;              ///< slot index per texel, -1 outside
     std::vector<float> mask;                 ///< trim mask per texel, 1 = material
@@ -135,6 +136,10 @@ class PointBatch {
   /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
   /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
   [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;
+  /// The sample at texel (x, y) of atlas a as the GPU pass has it: float sample - float origin.
+  [[nodiscard]] glm::dvec3 float_sample(const Atlas& at, size_t a, int x, int y) const;
+  /// PointBoxes::Aabb: the pyramid's boxes on the GPU (aabb_leaf.frag, aabb_merge.frag) into at.lo, at.hi.
+  void build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index);
   /// PointBoxes::Oriented: builds at.cpu_obb and uploads it into at.obb (point_batch_obb.cpp).
   void build_oriented_pyramid(Atlas& at, size_t a);
   /// Distance from q (relative to the float origin) to node (level, x, y) of atlas a's pyramid, in

@@ -37,6 +37,11 @@ bool PointBatch::pyramid_cell(const Atlas& at, size_t a, int x, int y) const {
   return cell && (material || at.crossed[at_texel(0)] > 0.5f);  // or a trim edge crosses the cell
 }
 
+glm::dvec3 PointBatch::float_sample(const Atlas& at, size_t a, int x, int y) const {
+  const float* s = &at.samples[4 * (size_t(y) * size_t(m_.atlases[a].plan.width) + size_t(x))];
+  return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - glm::vec3(m_.centre));
+}
+
 double PointBatch::node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const {
   if (boxes_ == PointBoxes::Aabb) {
     const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
@@ -99,16 +104,11 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
 
 BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) {
   Atlas& at = atlases_[a];
-  build_cpu_pyramid(at);
-  const glm::vec3 of(m_.centre);
-  const glm::dvec3 q(glm::vec3(p - m_.centre));  // the GPU's float point
+  if (boxes_ == PointBoxes::Aabb) build_cpu_pyramid(at);  // the oriented one exists from the start
+  const glm::dvec3 q(glm::vec3(p - m_.centre));           // the GPU's float point
   const double eps = kFloatSlack * (glm::length(q) + double(float(radius_)));
-  const int w = m_.atlases[a].plan.width;
   auto box = [&](int level, int x, int y) { return node_distance(at, q, level, x, y); };
-  auto sample = [&](int x, int y) {
-    const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
-    return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - of);
-  };
+  auto sample = [&](int x, int y) { return float_sample(at, a, x, y); };
   struct Node {
     int level, x, y;
     double d;

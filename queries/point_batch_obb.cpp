@@ -98,11 +98,7 @@ void fit_boxes(Box& b, const Box* children[], int count) {
 
 void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
   const int w = m_.atlases[a].plan.width, w0 = at.lo.width(), h0 = at.lo.height(), levels = at.lo.levels();
-  const glm::vec3 o(m_.centre);
-  auto sample = [&](int x, int y) {  // the pass's float sample - origin
-    const float* s = &at.samples[4 * (size_t(y) * size_t(w) + size_t(x))];
-    return glm::dvec3(glm::vec3(s[0], s[1], s[2]) - o);
-  };
+  auto sample = [&](int x, int y) { return float_sample(at, a, x, y); };
   auto level = std::vector<std::vector<Box>>(size_t(levels));
   level[0].resize(size_t(w0) * size_t(h0));
   const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
