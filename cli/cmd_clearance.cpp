@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <future>
 #include <glm/gtc/matrix_transform.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -134,14 +133,9 @@ void run(const GlobalOptions& global, const Options& o) {
   const double tolerance = o.rel_tolerance * size;
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
-  // The two models' bounds and grids (CPU) on two threads, then their atlases (GL, this thread).
-  auto geometry_b = std::async(std::launch::async, [&] {
-    return queries::prepare_geometry(nurbs::world_faces(mb), tolerance, 1LL << 22, o.search);
-  });
-  queries::PreparedModel a = queries::prepare_geometry(nurbs::world_faces(ma), tolerance, 1LL << 22, o.search);
-  queries::PreparedModel b = geometry_b.get();
-  queries::prepare_atlases(*gpu, a);
-  queries::prepare_atlases(*gpu, b);
+  queries::PreparedPair pair =
+      queries::prepare_pair(*gpu, nurbs::world_faces(ma), nurbs::world_faces(mb), tolerance, o.search);
+  const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
     gpu->profiler().reset();

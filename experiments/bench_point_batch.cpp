@@ -18,6 +18,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_machine.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"
@@ -210,11 +211,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   faithful = std::clamp(faithful, 1, count);
   gpgpu::Gpu gpu(gpgpu::ContextOptions{gpgpu::parse_backend(backend)});
-  std::ifstream loadavg("/proc/loadavg");  // llvmpipe shares the CPUs: the figures depend on the load
-  std::string load;
-  std::getline(loadavg, load);
-  fmt::print("{} ({}), {} hardware threads, load average {}\n", gpu.info().renderer, gpu.info().backend,
-             std::thread::hardware_concurrency(), load.empty() ? "?" : load.substr(0, load.find(' ', 10)));
+  print_machine(gpu);
   nurbs::TrimmedSurface plain;
   plain.surface = models::wavy_surface_100x105();
   if (which != "trimmed") run(gpu, plain, "100x105", rel, count, faithful);

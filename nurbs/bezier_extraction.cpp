@@ -97,6 +97,30 @@ Surface refine_surface_to_bezier(const Surface& s) {
   return apply_to_columns(apply_to_rows(s, refine_to_bezier), refine_to_bezier);
 }
 
+BezierPatch bezier_patch(const Surface& r, int a, int b, Interval range_u, Interval range_v) {
+  const int p = r.degree_u, q = r.degree_v;
+  BezierPatch patch;
+  patch.range_u = range_u;
+  patch.range_v = range_v;
+  patch.index_u = a;
+  patch.index_v = b;
+  Surface& ps = patch.surface;
+  ps.degree_u = p;
+  ps.degree_v = q;
+  ps.count_u = p + 1;
+  ps.count_v = q + 1;
+  ps.knots_u = bezier_knots(p, range_u);
+  ps.knots_v = bezier_knots(q, range_v);
+  ps.points.reserve(size_t(p + 1) * size_t(q + 1));
+  for (int j = 0; j <= q; ++j) {
+    for (int i = 0; i <= p; ++i) {
+      ps.points.push_back(r.point(a * p + i, b * q + j));
+      if (r.rational()) ps.weights.push_back(r.weight(a * p + i, b * q + j));
+    }
+  }
+  return patch;
+}
+
 std::vector<BezierPatch> extract_bezier_patches(const Surface& s) {
   const Surface r = refine_surface_to_bezier(s);
   const int p = r.degree_u, q = r.degree_v;
@@ -104,30 +128,8 @@ std::vector<BezierPatch> extract_bezier_patches(const Surface& s) {
   const auto rv = bezier_ranges({q, r.knots_v, std::vector<glm::dvec4>(static_cast<size_t>(r.count_v))});
   std::vector<BezierPatch> out;
   out.reserve(ru.size() * rv.size());
-  for (size_t b = 0; b < rv.size(); ++b) {
-    for (size_t a = 0; a < ru.size(); ++a) {
-      BezierPatch patch;
-      patch.range_u = ru[a];
-      patch.range_v = rv[b];
-      patch.index_u = static_cast<int>(a);
-      patch.index_v = static_cast<int>(b);
-      Surface& ps = patch.surface;
-      ps.degree_u = p;
-      ps.degree_v = q;
-      ps.count_u = p + 1;
-      ps.count_v = q + 1;
-      ps.knots_u = bezier_knots(p, ru[a]);
-      ps.knots_v = bezier_knots(q, rv[b]);
-      for (int j = 0; j <= q; ++j) {
-        for (int i = 0; i <= p; ++i) {
-          const int ci = static_cast<int>(a) * p + i, cj = static_cast<int>(b) * q + j;
-          ps.points.push_back(r.point(ci, cj));
-          if (r.rational()) ps.weights.push_back(r.weight(ci, cj));
-        }
-      }
-      out.push_back(std::move(patch));
-    }
-  }
+  for (size_t b = 0; b < rv.size(); ++b)
+    for (size_t a = 0; a < ru.size(); ++a) out.push_back(bezier_patch(r, int(a), int(b), ru[a], rv[b]));
   return out;
 }
 

@@ -41,4 +41,23 @@ template <int D>
 /// Bézier patches of a valid surface, row-major with u fastest (patch (a, b) at b * spans_u + a).
 [[nodiscard]] std::vector<BezierPatch> extract_bezier_patches(const Surface& s);
 
+/// Patch (a, b) of a surface refined to Bézier form (refine_surface_to_bezier), copied out, over
+/// the knot rectangle range_u x range_v.
+[[nodiscard]] BezierPatch bezier_patch(const Surface& refined, int a, int b, Interval range_u, Interval range_v);
+
+/// The control net of one Bézier patch read in place: patch (a, b) of a surface refined to Bézier
+/// form (refine_surface_to_bezier) is its points (a p .. a p + p, b q .. b q + q), with no copy; a
+/// lone patch (a Bézier surface) is BezierNet::of(patch).
+struct BezierNet {
+  const Surface* s = nullptr;
+  int i0 = 0, j0 = 0;  ///< the patch's first control point in s
+  int p = 0, q = 0;    ///< degrees
+  [[nodiscard]] static BezierNet of(const Surface& patch) { return {&patch, 0, 0, patch.degree_u, patch.degree_v}; }
+  [[nodiscard]] static BezierNet in_refined(const Surface& refined, int a, int b) {
+    return {&refined, a * refined.degree_u, b * refined.degree_v, refined.degree_u, refined.degree_v};
+  }
+  [[nodiscard]] const glm::dvec3& point(int i, int j) const { return s->point(i0 + i, j0 + j); }
+  [[nodiscard]] double weight(int i, int j) const { return s->weight(i0 + i, j0 + j); }
+};
+
 }  // namespace nurbs

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <stdexcept>
 #include <thread>
 
 #include "nurbs/bernstein_poly.h"
@@ -125,8 +126,8 @@ namespace {
 /// the quotient rule's triangle inequality it keeps the cancellations (an extruded arc has S_uv = 0
 /// while its quotient-rule bound stays 2 |w_u| |S_v| / w at any piece size), and converges to the
 /// true maximum as pieces shrink. Returns false when w^3 has no positive lower bound.
-bool numerator_bounds(const Surface& patch, double du, double dv, glm::dvec3 c, SecondDerivativeBounds& out) {
-  const int p = patch.degree_u, q = patch.degree_v;
+bool numerator_bounds(const BezierNet& patch, double du, double dv, glm::dvec3 c, SecondDerivativeBounds& out) {
+  const int p = patch.p, q = patch.q;
   BernsteinScalar w{p, q, {}};
   BernsteinVector N{p, q, {}};
   for (int j = 0; j <= q; ++j)
@@ -201,7 +202,37 @@ SecondDerivativeBounds max_of(const SecondDerivativeBounds& a, const SecondDeriv
 }
 
 SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv) {
-  const int p = patch.degree_u, q = patch.degree_v;
+  return bezier_patch_bounds(BezierNet::of(patch), du, dv);
+}
+
+namespace {
+
+/// The polynomial case of bezier_patch_bounds: the second-difference nets alone (every weight 1,
+/// so the quotient rule's weight terms vanish and no translation is needed).
+SecondDerivativeBounds polynomial_patch_bounds(const BezierNet& patch, double du, double dv) {
+  const int p = patch.p, q = patch.q;
+  const double fuu = p * (p - 1) / (du * du), fvv = q * (q - 1) / (dv * dv), fuv = p * q / (du * dv);
+  MaxAbs uu, uv, vv;
+  for (int j = 0; j <= q; ++j) {
+    for (int i = 0; i <= p; ++i) {
+      const glm::dvec3& P = patch.point(i, j);
+      if (i + 2 <= p) uu.add(fuu * (patch.point(i + 2, j) - 2.0 * patch.point(i + 1, j) + P));
+      if (j + 2 <= q) vv.add(fvv * (patch.point(i, j + 2) - 2.0 * patch.point(i, j + 1) + P));
+      if (i + 1 <= p && j + 1 <= q)
+        uv.add(fuv * (patch.point(i + 1, j + 1) - patch.point(i + 1, j) - patch.point(i, j + 1) + P));
+    }
+  }
+  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
+  // As norm_bound below: the norm over the net, never under the largest coordinate (rounding).
+  auto norm = [&](MaxAbs& m) { return std::max(cmax(m.coord), m.finish().norm); };
+  return {cmax(uu.coord), cmax(uv.coord), cmax(vv.coord), norm(uu), norm(uv), norm(vv)};
+}
+
+}  // namespace
+
+SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv) {
+  const int p = patch.p, q = patch.q;
+  if (!patch.s->rational()) return polynomial_patch_bounds(patch, du, dv);
   // Translation by the box centre c: derivatives unchanged, |S - c| <= R smallest.
   glm::dvec3 lo(kInf), hi(-kInf);
   double wmin = kInf;
@@ -286,38 +317,55 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   b.domain_v = surface_domain_v(s);
   b.breaks_u = breaks(s.knots_u, b.domain_u);
   b.breaks_v = breaks(s.knots_v, b.domain_v);
-  const auto patches = extract_bezier_patches(s);
-  const size_t nu = b.breaks_u.size() - 1;
-  // Patches are independent: bounded on every hardware thread (same result in any order).
-  b.patches.resize(patches.size());
-  auto bound_range = [&](size_t first, size_t step) {
-    for (size_t k = first; k < patches.size(); k += step)
-      b.patches[k] = subdivisions > 0 ? split_patch_bounds(patches[k], subdivisions)
-                                      : adaptive_patch_bounds(patches[k], AdaptiveRefinement{});
+  const size_t nu = b.breaks_u.size() - 1, nv = b.breaks_v.size() - 1;
+  // One patch per knot rectangle, read in place from the surface refined to Bézier form (patch
+  // objects are copied out only for the subdivided and adaptive bounds, which split them).
+  const Surface refined = refine_surface_to_bezier(s);
+  if (refined.count_u != int(nu) * s.degree_u + 1 || refined.count_v != int(nv) * s.degree_v + 1)
+    throw std::invalid_argument("filip_bound: a knot of the surface exceeds its degree's multiplicity");
+  b.patches.resize(nu * nv);
+  auto bound_one = [&](size_t k) {
+    const int a = int(k % nu), row = int(k / nu);
+    const double du = b.breaks_u[size_t(a) + 1] - b.breaks_u[size_t(a)];
+    const double dv = b.breaks_v[size_t(row) + 1] - b.breaks_v[size_t(row)];
+    if (subdivisions == 1) return bezier_patch_bounds(BezierNet::in_refined(refined, a, row), du, dv);
+    const BezierPatch patch = bezier_patch(refined, a, row, {b.breaks_u[size_t(a)], b.breaks_u[size_t(a) + 1]},
+                                           {b.breaks_v[size_t(row)], b.breaks_v[size_t(row) + 1]});
+    return subdivisions > 0 ? split_patch_bounds(patch, subdivisions)
+                            : adaptive_patch_bounds(patch, AdaptiveRefinement{});
   };
-  const size_t threads = patches.size() < 64 ? 1 : std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  // Patches are independent: bounded on every hardware thread in contiguous shares (same result
+  // in any order). The one-piece bound costs a fraction of a microsecond a patch: threads only pay
+  // above some thousands of patches.
+  const size_t work = b.patches.size() * size_t(subdivisions == 1 ? 1 : 16);
+  const size_t threads = work < 8192 ? 1 : std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  auto bound_range = [&](size_t t) {
+    for (size_t k = b.patches.size() * t / threads, end = b.patches.size() * (t + 1) / threads; k < end; ++k)
+      b.patches[k] = bound_one(k);
+  };
   std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t) pool.emplace_back(bound_range, t, threads);
-  bound_range(0, threads);
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(bound_range, t);
+  bound_range(0);
   for (auto& t : pool) t.join();
   for (const auto& m : b.patches) b.whole = max_of(b.whole, m);
   // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
   b.c1_u.assign(b.breaks_u.size(), true);
   b.c1_v.assign(b.breaks_v.size(), true);
-  const size_t nv = b.breaks_v.size() - 1;
+  auto patch = [&](size_t a, size_t row) {
+    return bezier_patch(refined, int(a), int(row), {b.breaks_u[a], b.breaks_u[a + 1]},
+                        {b.breaks_v[row], b.breaks_v[row + 1]});
+  };
   for (size_t a = 1; a < nu; ++a) {
     if (knot_multiplicity(s.knots_u, b.breaks_u[a]) < s.degree_u) continue;
     for (size_t row = 0; row < nv && b.c1_u[a]; ++row) {
-      const auto& L = patches[row * nu + a - 1];
-      const auto& R = patches[row * nu + a];
+      const BezierPatch L = patch(a - 1, row), R = patch(a, row);
       b.c1_u[a] = c1_across(L.surface, R.surface, true, b.breaks_u[a], L.range_v, 2 * s.degree_v + 2);
     }
   }
   for (size_t c = 1; c < nv; ++c) {
     if (knot_multiplicity(s.knots_v, b.breaks_v[c]) < s.degree_v) continue;
     for (size_t col = 0; col < nu && b.c1_v[c]; ++col) {
-      const auto& L = patches[(c - 1) * nu + col];
-      const auto& R = patches[c * nu + col];
+      const BezierPatch L = patch(col, c - 1), R = patch(col, c);
       b.c1_v[c] = c1_across(L.surface, R.surface, false, b.breaks_v[c], L.range_u, 2 * s.degree_u + 2);
     }
   }

@@ -98,6 +98,8 @@ struct SecondDerivativeBounds {
 /// Bounds of one Bézier patch (degree p x q, (p+1) x (q+1) points, u fastest) over the parameter
 /// rectangle of width du x dv (see the file comment for the polynomial and rational formulas).
 [[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv);
+/// The same for a patch read in place (patch (a, b) of a refined surface): no copy of its net.
+[[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv);
 
 /// When adaptive_patch_bounds stops splitting (see there).
 struct AdaptiveRefinement {

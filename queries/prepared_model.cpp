@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -149,6 +150,16 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
   if (!unpacked.empty())
     throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
                                         unpacked.front(), side));
+}
+
+PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
+                          double tolerance, Search search, long long max_samples) {
+  auto geometry_b =
+      std::async(std::launch::async, [&] { return prepare_geometry(std::move(b), tolerance, max_samples, search); });
+  PreparedPair p{prepare_geometry(std::move(a), tolerance, max_samples, search), geometry_b.get()};
+  prepare_atlases(gpu, p.a);
+  prepare_atlases(gpu, p.b);
+  return p;
 }
 
 }  // namespace queries

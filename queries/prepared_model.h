@@ -75,6 +75,14 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
 /// (the GL context stays on one).
 void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = 4096);
 
+/// The two models of a clearance query: their geometry on two threads (B's beside A's), then
+/// their atlases on this thread (the GL context's).
+struct PreparedPair {
+  PreparedModel a, b;
+};
+PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
+                          double tolerance, Search search, long long max_samples = 1LL << 22);
+
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).
 [[nodiscard]] double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);

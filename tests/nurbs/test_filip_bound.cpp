@@ -306,3 +306,36 @@ TEST_CASE("A bulge along (1, 1, 1) reaches sqrt(3) K and breaks Theorem 1 for th
   CHECK(d_triangles - d_surface <= ke + 1e-14);  // K_e holds, with equality up to roundoff
   MESSAGE("(1,1,1) bulge: |d - d*| = ", d_triangles - d_surface, ", K = ", k, ", K_e = ", ke);
 }
+
+TEST_CASE("filip_bound reads each patch in place: the bounds of the extracted patches, polynomial fast path included") {
+  // The one-piece bounds read the refined net in place (BezierNet); polynomial patches take the
+  // second-difference nets alone. Both must give what the general formula gives on the extracted
+  // patches: the same surface with explicit unit weights goes through the quotient rule.
+  int compared = 0;
+  for (int seed = 0; seed < 60; ++seed) {
+    const int p = 1 + seed % 4, q = 1 + (seed / 4) % 4;
+    const bool rational = seed % 3 == 0;
+    const nurbs::Surface s = models::random_surface(static_cast<std::uint64_t>(seed) + 9100, p, q, rational);
+    const nurbs::FilipBound b = nurbs::filip_bound(s, 1);
+    const auto patches = nurbs::extract_bezier_patches(s);
+    REQUIRE(b.patches.size() == patches.size());
+    for (size_t k = 0; k < patches.size(); ++k) {
+      nurbs::Surface general = patches[k].surface;
+      if (general.weights.empty()) general.weights.assign(general.points.size(), 1.0);
+      const nurbs::SecondDerivativeBounds want =
+          nurbs::bezier_patch_bounds(general, patches[k].range_u.width(), patches[k].range_v.width());
+      const nurbs::SecondDerivativeBounds& got = b.patches[k];
+      for (auto [g, w] : {std::pair{got.m1, want.m1},
+                          {got.m2, want.m2},
+                          {got.m3, want.m3},
+                          {got.m1_norm, want.m1_norm},
+                          {got.m2_norm, want.m2_norm},
+                          {got.m3_norm, want.m3_norm}}) {
+        CHECK(g == doctest::Approx(w).epsilon(1e-12).scale(1.0));
+        ++compared;
+      }
+    }
+  }
+  MESSAGE(compared, " bounds compared");
+  CHECK(compared > 1000);
+}
