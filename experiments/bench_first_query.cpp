@@ -6,7 +6,9 @@
 //    or loaded from Mesa's shader cache and run for the first time inside the figure);
 //  - warm: then `--repeat` fresh pairs in the same process, as in a session that has run a query
 //    before: each one prepared from scratch (Filip bounds, certified grids, evaluation, trim masks,
-//    growth) with a fresh cache of A's hierarchy, then its first query and a second one.
+//    growth) with a fresh cache of A's hierarchy, then its first query and a second one;
+//  - with --prime, a pair of two 8 x 8 surfaces before the cold one: what the cold pair then still
+//    loses against the warm ones is not the programs' first use.
 // Per stage: bounds (wall of the two threads), grids, atlases; the first and second query.
 #include <fmt/format.h>
 
@@ -41,11 +43,15 @@ std::vector<nurbs::TrimmedSurface> face(nurbs::Surface s) {
   return {f};
 }
 
-Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion) {
+Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion, bool tiny = false) {
   Run r;
   const auto t0 = Clock::now();
-  queries::PreparedPair p = queries::prepare_pair(gpu, face(models::wavy_surface_199x33()),
-                                                  face(models::wavy_surface_100x105()), tolerance, search);
+  queries::PreparedPair p =
+      tiny ? queries::prepare_pair(gpu, face(models::wavy_surface(8, 8, 200.0, 40.0, 5.0, 50.0, 40.0, 0.0, 0.0)),
+                                   face(models::wavy_surface(8, 8, 100.0, 100.0, 4.0, 40.0, 30.0, 1.0, 20.0)),
+                                   tolerance, search)
+           : queries::prepare_pair(gpu, face(models::wavy_surface_199x33()), face(models::wavy_surface_100x105()),
+                                   tolerance, search);
   gpu.finish();
   r.prepare = ms_since(t0);
   // Per-thread stage times: the two models' geometry runs side by side, so the larger one is the wall.
@@ -80,12 +86,19 @@ int main(int argc, char** argv) {
   std::string backend = "auto", search = "coarse-to-fine";
   double rel = 1e-5;
   int repeat = 9;
+  bool prime = false, passes = false;
   app.add_option("--gl", backend, "GL backend: auto, egl, egl-device, osmesa, glfw")->capture_default_str();
   app.add_option("--tol", rel, "Tolerance relative to the larger model's size")->capture_default_str();
   app.add_option("--repeat", repeat, "Warm pairs after the cold one")->capture_default_str();
   app.add_option("--search", search, "coarse-to-fine or faithful")
       ->check(CLI::IsMember({"coarse-to-fine", "faithful"}))
       ->capture_default_str();
+  app.add_flag("--prime", prime,
+               "Before the cold pair, one on two 8 x 8 surfaces: every program's first use without the paper "
+               "pair's sizes");
+  app.add_flag("--passes", passes,
+               "Time every pass (synchronised) and print them for the cold pair and for the warm ones: what "
+               "each program's first use costs");
   CLI11_PARSE(app, argc, argv);
   gpgpu::Gpu gpu(gpgpu::ContextOptions{gpgpu::parse_backend(backend)});
   print_machine(gpu);
@@ -100,7 +113,16 @@ int main(int argc, char** argv) {
   fmt::print("paper pair, {}, tolerance {:.3g} (ms)\n", search, tolerance);
   fmt::print("{:<8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}   distance\n", "", "prepare", "bounds", "grids", "atlas",
              "1st", "prep+1st", "2nd");
+  if (prime) print("8 x 8", run_pair(gpu, tolerance, s, above, true));
+  gpu.profiler().set_enabled(passes);
+  gpu.profiler().set_sync(passes);
   print("cold", run_pair(gpu, tolerance, s, above));
+  std::string cold_passes = gpu.profiler().table();
+  gpu.profiler().reset();
+  if (repeat <= 0) {
+    if (passes) fmt::print("\npasses of the cold pair:\n{}", cold_passes);
+    return 0;
+  }
   std::vector<Run> warm;
   for (int k = 0; k < repeat; ++k) warm.push_back(run_pair(gpu, tolerance, s, above));
   auto med = [&](double Run::*f) {
@@ -111,6 +133,9 @@ int main(int argc, char** argv) {
   Run m{med(&Run::prepare), med(&Run::bounds), med(&Run::grids),    med(&Run::atlas),
         med(&Run::first),   med(&Run::second), med(&Run::distance), med(&Run::bound)};
   print("warm", m);
+  if (passes)
+    fmt::print("\npasses of the cold pair:\n{}\npasses of the {} warm pairs:\n{}", cold_passes, warm.size(),
+               gpu.profiler().table());
   std::vector<double> totals;
   for (const Run& r : warm) totals.push_back(r.total());
   fmt::print(

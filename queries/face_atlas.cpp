@@ -138,6 +138,20 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   gpu.dump("atlas_surface_points", a.points);
   gpu.dump("atlas_surface_normals", a.normals);
 
+  a.mask = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R8);
+  if (std::none_of(plan.slots.begin(), plan.slots.end(),
+                   [&](const AtlasSlot& sl) { return !faces[size_t(sl.face)].loops.empty(); })) {
+    // No face has trim loops: every sample of a slot is material, and the mask is the slots'
+    // rectangles, uploaded (the fill below gives the same texels in a pass of its own).
+    std::vector<uint8_t> mask(size_t(plan.width) * size_t(plan.height), 0);
+    for (const AtlasSlot& sl : plan.slots)
+      for (int j = sl.y; j < sl.y + sl.height; ++j)
+        std::fill_n(mask.begin() + std::ptrdiff_t(size_t(j) * size_t(plan.width) + size_t(sl.x)), sl.width,
+                    uint8_t(255));
+    a.mask.upload(std::span<const uint8_t>(mask));
+    gpu.dump("atlas_trim_mask", a.mask);
+    return a;
+  }
   // Trim masks: every slot's loops (or its whole rectangle) in atlas coordinates, clipped to it.
   std::vector<std::vector<glm::vec2>> polygons;
   for (const AtlasSlot& sl : plan.slots) {
@@ -148,7 +162,6 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
       if (auto c = clip(poly, lo, hi); c.size() >= 3) polygons.push_back(std::move(c));
     }
   }
-  a.mask = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R8);
   gpgpu::fill_polygons_even_odd(gpu, polygons, a.mask);
   gpu.dump("atlas_trim_mask", a.mask);
   return a;

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "../gpgpu/gl_fixture.h"
+#include "gpgpu/polygon_fill.h"
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
@@ -95,4 +96,51 @@ TEST_CASE("face atlas: one pass evaluates every face as its CPU twin, one fill t
   CHECK(outside_nonzero == 0);      // nothing leaks between slots
   MESSAGE(faces.size() << " faces in " << plans.size() << " atlases: GPU-CPU error / size " << worst << ", " << differ
                        << " of " << samples << " mask samples differ");
+}
+
+TEST_CASE("face atlas: untrimmed faces get the mask the polygon fill gives, without the fill") {
+  // An atlas of faces without trim loops uploads its slots' rectangles as the mask; the fill of
+  // their window polygons (what every atlas took before) must give the same texels.
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<nurbs::TrimmedSurface> faces;
+  std::vector<nurbs::ParamGrid> grids;
+  std::vector<std::pair<int, int>> sizes;
+  std::vector<double> flatten;
+  for (uint64_t seed = 0; seed < 12; ++seed) {
+    faces.push_back({});
+    faces.back().surface = models::random_surface(seed + 300, 1 + int(seed % 3), 1 + int(seed / 3 % 3), seed % 2);
+    const auto& s = faces.back().surface;
+    const int n = 5 + int(seed * 7 % 30), m = 4 + int(seed * 11 % 25);
+    grids.push_back(nurbs::uniform_param_grid(nurbs::surface_domain_u(s), nurbs::surface_domain_v(s), n, m));
+    sizes.emplace_back(n + 1, m + 1);
+    flatten.push_back(0.1 * std::min(nurbs::surface_domain_u(s).width() / n, nurbs::surface_domain_v(s).width() / m));
+  }
+  std::vector<int> unpacked;
+  const auto plans = queries::plan_atlases(sizes, 64, 1 << 20, unpacked);
+  REQUIRE(unpacked.empty());
+  int inside = 0, differ = 0;
+  for (const auto& plan : plans) {
+    const queries::FaceAtlas atlas = queries::evaluate_atlas(gpu, plan, faces, grids, flatten);
+    std::vector<std::vector<glm::vec2>> polygons;
+    for (const auto& sl : plan.slots)
+      for (auto poly :
+           queries::trim_window_polygons(faces[size_t(sl.face)], grids[size_t(sl.face)], flatten[size_t(sl.face)])) {
+        // The domain rectangle grown past the samples, clipped to the slot (as evaluate_atlas
+        // clips every polygon; for an axis-aligned rectangle clamping its corners is the clip).
+        const glm::vec2 lo(float(sl.x), float(sl.y)), hi(float(sl.x + sl.width), float(sl.y + sl.height));
+        for (glm::vec2& v : poly) v = glm::clamp(v + lo, lo, hi);
+        polygons.push_back(std::move(poly));
+      }
+    gpgpu::Texture filled(plan.width, plan.height, gpgpu::Format::R8);
+    gpgpu::fill_polygons_even_odd(gpu, polygons, filled);
+    const auto got = atlas.mask.read(), want = filled.read();
+    REQUIRE(got.size() == want.size());
+    for (size_t t = 0; t < got.size(); ++t) {
+      inside += want[t] > 0.5f ? 1 : 0;
+      differ += (got[t] > 0.5f) != (want[t] > 0.5f) ? 1 : 0;
+    }
+  }
+  CHECK(inside > 1000);
+  CHECK(differ == 0);
+  MESSAGE(plans.size() << " atlases, " << inside << " material texels, " << differ << " differ");
 }
