@@ -34,6 +34,7 @@ struct Options {
   std::string first_stage = "hierarchy";
   int voxels = 40;
   int reduce_block = queries::ClearanceLimits{}.reduce_block;
+  int compact_fanout = queries::ClearanceLimits{}.compact_fanout;
   bool json = false, timings = false;
 };
 
@@ -151,6 +152,7 @@ void run(const GlobalOptions& global, const Options& o) {
   auto query = [&](const glm::dmat4& motion) {
     queries::ClearanceLimits limits;
     limits.reduce_block = o.reduce_block;
+    limits.compact_fanout = o.compact_fanout;
     if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, limits, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);
@@ -254,6 +256,10 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
                   "Texels per pass along each axis of the least-upper-bound reductions: 2 (the paper's log2 passes), "
                   "4 or 8")
       ->check(CLI::IsMember({2, 4, 8}))
+      ->capture_default_str();
+  cmd->add_option("--compact-fanout", o->compact_fanout,
+                  "Texels each level of the stream reduction's count pyramid sums: 4 (one pass per factor 4) or 16")
+      ->check(CLI::IsMember({4, 16}))
       ->capture_default_str();
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");

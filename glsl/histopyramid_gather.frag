@@ -15,14 +15,14 @@ uniform uint u_count;
 layout(location = 0) out vec4 o_record;
 layout(location = 1) out uint o_index;
 
-// One level down: among the (up to 4) children of p along `axis`, find the one holding `rank`.
+// One level down: among the (up to FANOUT) children of p along `axis`, find the one holding `rank`.
 void step_counts(usampler2D child, ivec2 axis, inout ivec2 p, inout uint rank) {
   ivec2 size = textureSize(child, 0);
-  ivec2 first = p * (ivec2(1) + 3 * axis);
-  for (int j = 0; j < 4; ++j) {
+  ivec2 first = p * (ivec2(1) + (FANOUT - 1) * axis);
+  for (int j = 0; j < FANOUT; ++j) {
     ivec2 c = first + j * axis;
     uint n = texelFetch(child, c, 0).r;
-    if (rank < n || j == 3 || any(greaterThanEqual(c + axis, size))) {
+    if (rank < n || j == FANOUT - 1 || any(greaterThanEqual(c + axis, size))) {
       p = c;
       return;
     }
@@ -33,11 +33,11 @@ void step_counts(usampler2D child, ivec2 axis, inout ivec2 p, inout uint rank) {
 // The last level down, onto the predicate (kept = channel 0 > 0).
 void step_predicate(ivec2 axis, inout ivec2 p, inout uint rank) {
   ivec2 size = textureSize(u_pred, 0);
-  ivec2 first = p * (ivec2(1) + 3 * axis);
-  for (int j = 0; j < 4; ++j) {
+  ivec2 first = p * (ivec2(1) + (FANOUT - 1) * axis);
+  for (int j = 0; j < FANOUT; ++j) {
     ivec2 c = first + j * axis;
     uint n = texelFetch(u_pred, c, 0).r > 0.0 ? 1u : 0u;
-    if (rank < n || j == 3 || any(greaterThanEqual(c + axis, size))) {
+    if (rank < n || j == FANOUT - 1 || any(greaterThanEqual(c + axis, size))) {
       p = c;
       return;
     }

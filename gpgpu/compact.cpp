@@ -20,22 +20,25 @@ std::vector<uint32_t> Compacted::read_source() const {
   return v;
 }
 
-Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
+Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout) {
+  if (fanout != 4 && fanout != 16)
+    throw std::invalid_argument(fmt::format("compact: fan-out {} is not 4 or 16", fanout));
   if (predicate.width() != records.width() || predicate.height() != records.height())
     throw std::invalid_argument(fmt::format("compact: predicate {}x{} and records {}x{} differ", predicate.width(),
                                             predicate.height(), records.width(), records.height()));
   if (is_integer(records.format()) || is_integer(predicate.format()))
     throw std::invalid_argument("compact: predicate and records must be float or R8 textures");
 
-  // Build: reduce along rows by 4 until one column, then along the column by 4 until 1x1.
+  // Build: reduce along rows by `fanout` until one column, then along the column until 1x1.
   std::vector<PooledTexture> levels;
   std::vector<std::pair<int, int>> axes;
   const Texture* in = &predicate;
   do {
     const bool along_x = in->width() > 1;
-    const int w = along_x ? (in->width() + 3) / 4 : 1;
-    const int h = along_x ? in->height() : (in->height() + 3) / 4;
-    Program& p = gpu.program("histopyramid_build.frag", {{"FROM_PREDICATE", levels.empty() ? "1" : "0"}});
+    const int w = along_x ? (in->width() + fanout - 1) / fanout : 1;
+    const int h = along_x ? in->height() : (in->height() + fanout - 1) / fanout;
+    Program& p = gpu.program("histopyramid_build.frag",
+                             {{"FROM_PREDICATE", levels.empty() ? "1" : "0"}, {"FANOUT", std::to_string(fanout)}});
     p.set("u_src_size", in->width(), in->height());
     p.set("u_axis", along_x ? 1 : 0, along_x ? 0 : 1);
     PooledTexture next = gpu.acquire(w, h, Format::R32UI);
@@ -63,7 +66,8 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records) {
   if (units_needed > gpu.info().max_texture_units)
     throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}", out.levels,
                                         units_needed, gpu.info().max_texture_units));
-  Program& g = gpu.program("histopyramid_gather.frag", {{"NUM_LEVELS", std::to_string(out.levels)}});
+  Program& g = gpu.program("histopyramid_gather.frag",
+                           {{"NUM_LEVELS", std::to_string(out.levels)}, {"FANOUT", std::to_string(fanout)}});
   std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
   for (size_t i = 0; i < levels.size(); ++i) {
     // The 1x1 top level is where the descent starts (p = 0); its count was read above, the shader

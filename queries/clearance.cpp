@@ -222,7 +222,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     const gpgpu::Input tin[] = {{"u_values", minmax}};
     gpgpu::Texture* tout[] = {keep.get()};
     gpu.run("threshold_le", thr, tin, tout);
-    return gpgpu::compact(gpu, *keep.get(), *records);
+    return gpgpu::compact(gpu, *keep.get(), *records, limits.compact_fanout);
   };
   while ((la > 0 || lb > 0) && count > 0) {
     const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;

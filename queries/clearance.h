@@ -55,6 +55,9 @@ struct ClearanceLimits {
   /// Texels per reduction pass along each axis for each level's least upper bound (gpgpu/reduce.h):
   /// 2 is the paper's log2 passes; 4 (the default, beyond it) needs half as many.
   int reduce_block = 4;
+  /// Texels each level of the stream reduction's count pyramid sums (gpgpu/compact.h): 4, or 16
+  /// (the default, beyond it) for half the build passes.
+  int compact_fanout = 16;
 };
 
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the

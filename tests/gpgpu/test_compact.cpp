@@ -1,5 +1,5 @@
-// Stream compaction against std::copy_if at densities 0, 1e-4, 0.5 and 1, sizes up to 4096^2:
-// same count, same records, same order.
+// Stream compaction against std::copy_if at densities 0, 1e-4, 0.5 and 1, sizes up to 4096^2,
+// pyramid fan-outs 4 and 16: same count, same records, same order.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -12,7 +12,7 @@ using gpgpu::Format;
 
 namespace {
 
-void check_compaction(int w, int h, double density, uint64_t seed) {
+void check_compaction(int w, int h, double density, uint64_t seed, int fanout) {
   gpgpu::Gpu& gpu = test::gpu();
   std::mt19937_64 rng(seed);
   const size_t n = size_t(w) * h;
@@ -27,7 +27,7 @@ void check_compaction(int w, int h, double density, uint64_t seed) {
   gpgpu::Texture pred(w, h, Format::R8), rec(w, h, Format::RG32F);
   pred.upload(keep);
   rec.upload(records);
-  const gpgpu::Compacted c = gpgpu::compact(gpu, pred, rec);
+  const gpgpu::Compacted c = gpgpu::compact(gpu, pred, rec, fanout);
 
   std::vector<uint32_t> expected_index(n);
   std::iota(expected_index.begin(), expected_index.end(), 0u);
@@ -46,15 +46,19 @@ void check_compaction(int w, int h, double density, uint64_t seed) {
 
 }  // namespace
 
-TEST_CASE("compact: odd and elongated sizes at every density") {
-  const std::pair<int, int> sizes[] = {{1, 1}, {1, 7}, {7, 1}, {1, 1000}, {1000, 1}, {5, 3}, {4097, 3}, {37, 1023}};
-  uint64_t seed = 100;
-  for (auto [w, h] : sizes) {
-    for (double d : {0.0, 1e-4, 0.5, 1.0}) {
-      CAPTURE(w);
-      CAPTURE(h);
-      CAPTURE(d);
-      check_compaction(w, h, d, seed++);
+TEST_CASE("compact: odd and elongated sizes at every density, fan-out 4 and 16") {
+  const std::pair<int, int> sizes[] = {{1, 1},    {1, 7},     {7, 1},   {1, 1000}, {1000, 1}, {5, 3},
+                                       {4097, 3}, {37, 1023}, {17, 16}, {16, 17},  {257, 255}};
+  for (int fanout : {4, 16}) {
+    uint64_t seed = 100;
+    for (auto [w, h] : sizes) {
+      for (double d : {0.0, 1e-4, 0.5, 1.0}) {
+        CAPTURE(fanout);
+        CAPTURE(w);
+        CAPTURE(h);
+        CAPTURE(d);
+        check_compaction(w, h, d, seed++, fanout);
+      }
     }
   }
 }
@@ -64,7 +68,7 @@ TEST_CASE("compact: 1024^2 and 4096^2") {
     for (double d : {0.0, 1e-4, 0.5, 1.0}) {
       CAPTURE(size);
       CAPTURE(d);
-      check_compaction(size, size, d, uint64_t(size) + uint64_t(d * 1000));
+      check_compaction(size, size, d, uint64_t(size) + uint64_t(d * 1000), size == 4096 ? 16 : 4);
     }
   }
 }
@@ -72,4 +76,6 @@ TEST_CASE("compact: 1024^2 and 4096^2") {
 TEST_CASE("compact: mismatched sizes are rejected") {
   gpgpu::Texture a(4, 4, Format::R8), b(4, 5, Format::RGBA32F);
   CHECK_THROWS_AS(gpgpu::compact(test::gpu(), a, b), std::invalid_argument);
+  gpgpu::Texture c(4, 5, Format::R8);
+  CHECK_THROWS_AS(gpgpu::compact(test::gpu(), c, b, 8), std::invalid_argument);
 }
