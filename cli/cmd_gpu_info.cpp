@@ -24,7 +24,8 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
                        {"max_texture_size", i.max_texture_size},
                        {"max_texture_units", i.max_texture_units},
                        {"float_targets_ok", i.float_targets_ok},
-                       {"timer_queries", i.timer_queries}};
+                       {"timer_queries", i.timer_queries},
+                       {"software_threads", i.software_threads}};
       fmt::print("{}\n", j.dump(2));
       return;
     }
@@ -38,6 +39,8 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
     fmt::print("texture units      {}\n", i.max_texture_units);
     fmt::print("float targets      {}\n", i.float_targets_ok ? "OK (R32F, RG32F, RGBA32F unclamped)" : "NOT OK");
     fmt::print("timer queries      {}\n", i.timer_queries ? "yes" : "no");
+    fmt::print("LP_NUM_THREADS     {}\n",
+               i.software_threads.empty() ? "(not set: llvmpipe's default)" : i.software_threads);
     report_profile(*gpu, global);
     if (!i.float_targets_ok) throw CommandFailed("float render targets do not work on this GL");
   });

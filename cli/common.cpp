@@ -18,6 +18,7 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
     // --gl is checked by CLI11 while parsing, so this is the environment variable.
     throw BadInput(fmt::format("NURBSGL_GL={}: {}", std::getenv("NURBSGL_GL"), e.what()));
   }
+  ctx.software_threads = options.gl_threads;
   auto gpu = std::make_unique<gpgpu::Gpu>(ctx);
   if (!options.dump_dir.empty()) gpu->set_dump_dir(options.dump_dir);
   gpu->profiler().set_enabled(options.profile);

@@ -30,6 +30,7 @@ struct GlobalOptions {
   std::string gl = "";   ///< --gl; empty = NURBSGL_GL, else auto
   std::string dump_dir;  ///< --dump DIR: EXR dumps of the textures a command produces
   bool profile = false;  ///< --profile: per-pass GPU/CPU time table on stderr
+  int gl_threads = -1;   ///< --gl-threads: llvmpipe's rasterizer threads (gpgpu::ContextOptions)
 };
 
 /// Starts the GPU for a command (backend from --gl, else NURBSGL_GL, else auto), with dumps and

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 a check failed, 2 bad command line or input file, 3 no usable OpenGL.",
       "nurbsgl"};
   app.require_subcommand(1);
-  app.fallthrough();  // global options (--gl, --dump, --profile) also after the subcommand
+  app.fallthrough();  // global options (--gl, --dump, --profile, --gl-threads) also after the subcommand
   cli::GlobalOptions global;
   app.add_option("--gl", global.gl,
                  "GL backend: auto (EGL, then OSMesa), egl, egl-device, osmesa, glfw "
@@ -20,6 +20,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "egl", "egl-device", "osmesa", "glfw"}));
   app.add_option("--dump", global.dump_dir, "Write the textures a command produces as OpenEXR files into DIR");
   app.add_flag("--profile", global.profile, "Print GPU and CPU time per pass (synchronised) on stderr");
+  app.add_option("--gl-threads", global.gl_threads,
+                 "Rasterizer threads of Mesa's software renderer llvmpipe (sets LP_NUM_THREADS; default: the "
+                 "environment's, else one per core). 0 draws on the calling thread: faster for searches of many "
+                 "small passes (clearance of the paper pair: about 2x per query), slower for large passes")
+      ->check(CLI::Range(0, 256));
   cli::add_gpu_info(app, global);
   cli::add_selftest(app, global);
   cli::add_info(app, global);

@@ -85,9 +85,11 @@ int main(int argc, char** argv) {
   CLI::App app{"First clearance query with evaluation on the paper pair (issue 8, Table 1), cold and warm"};
   std::string backend = "auto", search = "coarse-to-fine";
   double rel = 1e-5;
-  int repeat = 9;
+  int repeat = 9, threads = -1;
   bool prime = false, passes = false;
   app.add_option("--gl", backend, "GL backend: auto, egl, egl-device, osmesa, glfw")->capture_default_str();
+  app.add_option("--gl-threads", threads, "llvmpipe's rasterizer threads (LP_NUM_THREADS; -1: one per core)")
+      ->capture_default_str();
   app.add_option("--tol", rel, "Tolerance relative to the larger model's size")->capture_default_str();
   app.add_option("--repeat", repeat, "Warm pairs after the cold one")->capture_default_str();
   app.add_option("--search", search, "coarse-to-fine or faithful")
@@ -100,7 +102,9 @@ int main(int argc, char** argv) {
                "Time every pass (synchronised) and print them for the cold pair and for the warm ones: what "
                "each program's first use costs");
   CLI11_PARSE(app, argc, argv);
-  gpgpu::Gpu gpu(gpgpu::ContextOptions{gpgpu::parse_backend(backend)});
+  gpgpu::ContextOptions context{gpgpu::parse_backend(backend)};
+  context.software_threads = threads;
+  gpgpu::Gpu gpu(context);
   print_machine(gpu);
   auto size = [](nurbs::Surface s) {
     nurbs::Model m;

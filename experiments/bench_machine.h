@@ -14,6 +14,8 @@ inline void print_machine(gpgpu::Gpu& gpu) {
   std::ifstream loadavg("/proc/loadavg");
   std::string load;
   std::getline(loadavg, load);
-  fmt::print("{} ({}), {} hardware threads, load average {}\n", gpu.info().renderer, gpu.info().backend,
-             std::thread::hardware_concurrency(), load.empty() ? "?" : load.substr(0, load.find(' ', 10)));
+  fmt::print("{} ({}), {} hardware threads, LP_NUM_THREADS {}, load average {}\n", gpu.info().renderer,
+             gpu.info().backend, std::thread::hardware_concurrency(),
+             gpu.info().software_threads.empty() ? "not set" : gpu.info().software_threads,
+             load.empty() ? "?" : load.substr(0, load.find(' ', 10)));
 }

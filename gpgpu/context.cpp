@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdlib>
+#include <string>
 
 #include "gpgpu/gl_api.h"
 #include "gpgpu/gl_debug.h"
@@ -103,6 +104,9 @@ std::unique_ptr<Context> detail::finish_context(std::unique_ptr<Context> ctx, vo
 }
 
 std::unique_ptr<Context> Context::create(const ContextOptions& options) {
+  // llvmpipe reads LP_NUM_THREADS when its screen starts, that is with the first context.
+  if (options.software_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(options.software_threads).c_str(), 1);
+  const char* threads = std::getenv("LP_NUM_THREADS");
   std::vector<Backend> order;
   if (options.backend == Backend::Auto)
     order = {Backend::Egl, Backend::OSMesa};
@@ -131,6 +135,7 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     }
     if (ctx) {
       ctx->info_.backend = std::string(backend_name(b));
+      ctx->info_.software_threads = threads ? threads : "";
       return ctx;
     }
     tried += fmt::format("{}{}: {}", tried.empty() ? "" : "; ", backend_name(b), why);

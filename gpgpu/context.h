@@ -31,6 +31,12 @@ struct ContextOptions {
   int height = 64;
   bool visible = false;  ///< Glfw only
   std::string title = "nurbsgl";
+  /// Rasterizer threads of Mesa's software renderer llvmpipe (LP_NUM_THREADS, set for this process
+  /// before the context starts); -1 leaves the environment alone (llvmpipe: one per core). 0 draws
+  /// on the calling thread: no hand-off to the rasterizer threads and back on every pass, which
+  /// costs llvmpipe 0.1-0.3 ms a pass whatever its size; large passes lose the other cores.
+  /// Hardware drivers ignore it.
+  int software_threads = -1;
 };
 
 /// What `nurbsgl gpu-info` prints.
@@ -46,6 +52,7 @@ struct ContextInfo {
   bool float_targets_ok = false;  ///< R32F/RG32F/RGBA32F attach, clear and read back unclamped
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
   bool debug_output = false;      ///< KHR_debug messages go to stderr and check_error (gl_debug.h)
+  std::string software_threads;   ///< LP_NUM_THREADS when the context started; empty = llvmpipe's default
 };
 
 /// Raised when no backend could start: one line naming each backend tried and why, and how to
