@@ -134,8 +134,13 @@ void run(const GlobalOptions& global, const Options& o) {
   const double tolerance = o.rel_tolerance * size;
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
+  queries::ClearanceLimits limits;
+  limits.reduce_block = o.reduce_block;
+  limits.compact_fanout = o.compact_fanout;
+  // The query's programs compile on this thread while the geometry threads work.
   queries::PreparedPair pair =
-      queries::prepare_pair(*gpu, nurbs::world_faces(ma), nurbs::world_faces(mb), tolerance, o.search);
+      queries::prepare_pair(*gpu, nurbs::world_faces(ma), nurbs::world_faces(mb), tolerance, o.search, 1LL << 22,
+                            [&] { queries::compile_clearance_programs(*gpu, limits); });
   const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
@@ -150,9 +155,6 @@ void run(const GlobalOptions& global, const Options& o) {
   nlohmann::json stage;
   queries::ClearanceCache cache;  // A's hierarchy, built once for every motion (destroyed before gpu)
   auto query = [&](const glm::dmat4& motion) {
-    queries::ClearanceLimits limits;
-    limits.reduce_block = o.reduce_block;
-    limits.compact_fanout = o.compact_fanout;
     if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, limits, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);

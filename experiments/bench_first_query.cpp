@@ -7,6 +7,8 @@
 //  - warm: then `--repeat` fresh pairs in the same process, as in a session that has run a query
 //    before: each one prepared from scratch (Filip bounds, certified grids, evaluation, trim masks,
 //    growth) with a fresh cache of A's hierarchy, then its first query and a second one;
+//  - with --compile-beside, the cold pair's programs compile while its geometry threads work, as
+//    `nurbsgl clearance` does (without, each compiles at its first pass);
 //  - with --prime, a pair of two 8 x 8 surfaces before the cold one: what the cold pair then still
 //    loses against the warm ones is not the programs' first use.
 // Per stage: bounds (wall of the two threads), grids, atlases; the first and second query.
@@ -43,7 +45,8 @@ std::vector<nurbs::TrimmedSurface> face(nurbs::Surface s) {
   return {f};
 }
 
-Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion, bool tiny = false) {
+Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion, bool tiny = false,
+             bool compile_beside = false) {
   Run r;
   const auto t0 = Clock::now();
   queries::PreparedPair p =
@@ -51,7 +54,9 @@ Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const gl
                                    face(models::wavy_surface(8, 8, 100.0, 100.0, 4.0, 40.0, 30.0, 1.0, 20.0)),
                                    tolerance, search)
            : queries::prepare_pair(gpu, face(models::wavy_surface_199x33()), face(models::wavy_surface_100x105()),
-                                   tolerance, search);
+                                   tolerance, search, 1LL << 22, [&] {
+                                     if (compile_beside) queries::compile_clearance_programs(gpu);
+                                   });
   gpu.finish();
   r.prepare = ms_since(t0);
   // Per-thread stage times: the two models' geometry runs side by side, so the larger one is the wall.
@@ -86,7 +91,7 @@ int main(int argc, char** argv) {
   std::string backend = "auto", search = "coarse-to-fine";
   double rel = 1e-5;
   int repeat = 9, threads = -1;
-  bool prime = false, passes = false;
+  bool prime = false, passes = false, beside = false;
   app.add_option("--gl", backend, "GL backend: auto, egl, egl-device, osmesa, glfw")->capture_default_str();
   app.add_option("--gl-threads", threads, "llvmpipe's rasterizer threads (LP_NUM_THREADS; -1: one per core)")
       ->capture_default_str();
@@ -98,6 +103,8 @@ int main(int argc, char** argv) {
   app.add_flag("--prime", prime,
                "Before the cold pair, one on two 8 x 8 surfaces: every program's first use without the paper "
                "pair's sizes");
+  app.add_flag("--compile-beside", beside,
+               "The cold pair compiles the programs while its geometry threads work, as `nurbsgl clearance` does");
   app.add_flag("--passes", passes,
                "Time every pass (synchronised) and print them for the cold pair and for the warm ones: what "
                "each program's first use costs");
@@ -120,7 +127,7 @@ int main(int argc, char** argv) {
   if (prime) print("8 x 8", run_pair(gpu, tolerance, s, above, true));
   gpu.profiler().set_enabled(passes);
   gpu.profiler().set_sync(passes);
-  print("cold", run_pair(gpu, tolerance, s, above));
+  print("cold", run_pair(gpu, tolerance, s, above, false, beside));
   std::string cold_passes = gpu.profiler().table();
   gpu.profiler().reset();
   if (repeat <= 0) {

@@ -1,6 +1,8 @@
 // Non-uniform stream reduction, gather step: output element k descends the count pyramid from its
-// 1x1 top to the k-th kept input texel (levels built by histopyramid_build.frag, NUM_LEVELS of them,
-// level 0 built from the predicate). Writes that texel's record and its row-major source index.
+// 1x1 top to the k-th kept input texel (levels built by histopyramid_build.frag, u_num_levels of
+// them, level 0 built from the predicate). MAX_LEVELS (a define) is the most levels of any input
+// the GPU can hold, so that one program serves every size; the samplers of levels past the top are
+// bound to the top level and never read. Writes that texel's record and its row-major source index.
 // Elements past u_count (padding of the output layout) get zeros and index 0xffffffff.
 // The descent is unrolled by the preprocessor (STEP) so every sampler index is a constant: a loop
 // over a sampler array is dynamic indexing, which llvmpipe runs several times slower.
@@ -8,8 +10,9 @@
 
 uniform sampler2D u_pred;
 uniform sampler2D u_records;
-uniform usampler2D u_levels[NUM_LEVELS];
-uniform ivec2 u_level_axis[NUM_LEVELS];  // axis level i was reduced along
+uniform usampler2D u_levels[MAX_LEVELS];
+uniform ivec2 u_level_axis[MAX_LEVELS];  // axis level i was reduced along
+uniform int u_num_levels;
 uniform int u_out_width;
 uniform uint u_count;
 layout(location = 0) out vec4 o_record;
@@ -45,7 +48,8 @@ void step_predicate(ivec2 axis, inout ivec2 p, inout uint rank) {
   }
 }
 
-#define STEP(i) step_counts(u_levels[i - 1], u_level_axis[i], p, rank);
+#define STEP(i) \
+  if (u_num_levels > i) step_counts(u_levels[i - 1], u_level_axis[i], p, rank);
 
 void main() {
   uint k = uint(layout_index(ivec2(gl_FragCoord.xy), u_out_width));
@@ -56,52 +60,52 @@ void main() {
   }
   ivec2 p = ivec2(0);
   uint rank = k;
-#if NUM_LEVELS > 16
+#if MAX_LEVELS > 16
 #error at most 16 pyramid levels (a 65536^2 input)
 #endif
-#if NUM_LEVELS > 15
+#if MAX_LEVELS > 15
   STEP(15)
 #endif
-#if NUM_LEVELS > 14
+#if MAX_LEVELS > 14
   STEP(14)
 #endif
-#if NUM_LEVELS > 13
+#if MAX_LEVELS > 13
   STEP(13)
 #endif
-#if NUM_LEVELS > 12
+#if MAX_LEVELS > 12
   STEP(12)
 #endif
-#if NUM_LEVELS > 11
+#if MAX_LEVELS > 11
   STEP(11)
 #endif
-#if NUM_LEVELS > 10
+#if MAX_LEVELS > 10
   STEP(10)
 #endif
-#if NUM_LEVELS > 9
+#if MAX_LEVELS > 9
   STEP(9)
 #endif
-#if NUM_LEVELS > 8
+#if MAX_LEVELS > 8
   STEP(8)
 #endif
-#if NUM_LEVELS > 7
+#if MAX_LEVELS > 7
   STEP(7)
 #endif
-#if NUM_LEVELS > 6
+#if MAX_LEVELS > 6
   STEP(6)
 #endif
-#if NUM_LEVELS > 5
+#if MAX_LEVELS > 5
   STEP(5)
 #endif
-#if NUM_LEVELS > 4
+#if MAX_LEVELS > 4
   STEP(4)
 #endif
-#if NUM_LEVELS > 3
+#if MAX_LEVELS > 3
   STEP(3)
 #endif
-#if NUM_LEVELS > 2
+#if MAX_LEVELS > 2
   STEP(2)
 #endif
-#if NUM_LEVELS > 1
+#if MAX_LEVELS > 1
   STEP(1)
 #endif
   step_predicate(u_level_axis[0], p, rank);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace gpgpu {
@@ -20,9 +21,44 @@ std::vector<uint32_t> Compacted::read_source() const {
   return v;
 }
 
-Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout) {
+namespace {
+
+/// The most pyramid levels of an input of the GPU's largest size (along both axes): one gather
+/// program serves every size (a program per level count cost each new count its compilation and
+/// first draw).
+int max_levels(Gpu& gpu, int fanout) {
+  int levels = 0;
+  for (int side : {gpu.info().max_texture_size, gpu.info().max_texture_size})
+    for (int n = side; n > 1; n = (n + fanout - 1) / fanout) ++levels;
+  return std::max(levels, 1);
+}
+
+Program& build_program(Gpu& gpu, bool from_predicate, int fanout) {
+  return gpu.program("histopyramid_build.frag",
+                     {{"FROM_PREDICATE", from_predicate ? "1" : "0"}, {"FANOUT", std::to_string(fanout)}});
+}
+
+Program& gather_program(Gpu& gpu, int fanout) {
+  return gpu.program("histopyramid_gather.frag",
+                     {{"MAX_LEVELS", std::to_string(max_levels(gpu, fanout))}, {"FANOUT", std::to_string(fanout)}});
+}
+
+void check_fanout(int fanout) {
   if (fanout != 4 && fanout != 16)
     throw std::invalid_argument(fmt::format("compact: fan-out {} is not 4 or 16", fanout));
+}
+
+}  // namespace
+
+void compile_compact(Gpu& gpu, int fanout) {
+  check_fanout(fanout);
+  build_program(gpu, true, fanout);
+  build_program(gpu, false, fanout);
+  gather_program(gpu, fanout);
+}
+
+Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout) {
+  check_fanout(fanout);
   if (predicate.width() != records.width() || predicate.height() != records.height())
     throw std::invalid_argument(fmt::format("compact: predicate {}x{} and records {}x{} differ", predicate.width(),
                                             predicate.height(), records.width(), records.height()));
@@ -37,8 +73,7 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, in
     const bool along_x = in->width() > 1;
     const int w = along_x ? (in->width() + fanout - 1) / fanout : 1;
     const int h = along_x ? in->height() : (in->height() + fanout - 1) / fanout;
-    Program& p = gpu.program("histopyramid_build.frag",
-                             {{"FROM_PREDICATE", levels.empty() ? "1" : "0"}, {"FANOUT", std::to_string(fanout)}});
+    Program& p = build_program(gpu, levels.empty(), fanout);
     p.set("u_src_size", in->width(), in->height());
     p.set("u_axis", along_x ? 1 : 0, along_x ? 0 : 1);
     PooledTexture next = gpu.acquire(w, h, Format::R32UI);
@@ -62,19 +97,26 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, in
   out.source = Texture(out.layout.width, out.layout.height, Format::R32UI);
   if (out.count == 0) return out;
 
-  const int units_needed = out.levels + 2;
+  const int most = max_levels(gpu, fanout);
+  if (out.levels > most || most > 16)
+    throw std::length_error(fmt::format("compact: {} pyramid levels, at most {}", out.levels, std::min(most, 16)));
+  const int units_needed = most + 1;
   if (units_needed > gpu.info().max_texture_units)
-    throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}", out.levels,
+    throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}", most,
                                         units_needed, gpu.info().max_texture_units));
-  Program& g = gpu.program("histopyramid_gather.frag",
-                           {{"NUM_LEVELS", std::to_string(out.levels)}, {"FANOUT", std::to_string(fanout)}});
+  Program& g = gather_program(gpu, fanout);
   std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
-  for (size_t i = 0; i < levels.size(); ++i) {
+  for (int i = 0; i + 1 < most; ++i) {
     // The 1x1 top level is where the descent starts (p = 0); its count was read above, the shader
-    // never samples it.
-    if (i + 1 < levels.size()) inputs.push_back({fmt::format("u_levels[{}]", i), levels[i].get()});
-    g.set(fmt::format("u_level_axis[{}]", i), axes[i].first, axes[i].second);
+    // never samples it, nor the levels past it (bound to it so that every sampler has an integer texture).
+    const size_t l = std::min(size_t(i), levels.size() - 1);
+    inputs.push_back({fmt::format("u_levels[{}]", i), levels[l].get()});
   }
+  for (int i = 0; i < most; ++i) {
+    const auto axis = size_t(i) < axes.size() ? axes[size_t(i)] : std::pair{0, 0};
+    g.set(fmt::format("u_level_axis[{}]", i), axis.first, axis.second);
+  }
+  g.set("u_num_levels", out.levels);
   g.set("u_out_width", out.layout.width);
   g.set("u_count", static_cast<unsigned>(out.count));
   Texture* outputs[] = {&out.records, &out.source};

@@ -32,4 +32,8 @@ struct Compacted {
 /// `fanout` (4 or 16) is the texels each pyramid level counts along its axis.
 Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout = 4);
 
+/// Compiles compact()'s programs for `fanout` ahead of its first call (they are otherwise compiled
+/// on first use).
+void compile_compact(Gpu& gpu, int fanout);
+
 }  // namespace gpgpu

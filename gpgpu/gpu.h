@@ -65,6 +65,11 @@ class Gpu {
   Program& program(const std::string& fragment, const Defines& defines = {});
   /// The same with another vertex stage (e.g. polygon.vert for rasterised geometry).
   Program& program(const std::string& vertex, const std::string& fragment, const Defines& defines);
+  /// Programs compiled so far (each vertex + fragment + defines once).
+  [[nodiscard]] size_t program_count() const { return programs_.size(); }
+  /// Deletes every compiled program (they compile again on demand): tests of which programs a
+  /// computation uses start from none. No program reference may be held across it.
+  void forget_programs() { programs_.clear(); }
 
   /// Runs one pass: binds `outputs` (checked for completeness), the viewport (whole first output
   /// unless `viewport` is given), `inputs` on texture units 0..n-1, blend/depth/scissor/stencil off,

@@ -19,6 +19,16 @@ struct FillObjects {
 
 }  // namespace
 
+namespace {
+Program& fan_program(Gpu& gpu) { return gpu.program("polygon.vert", "fill_constant.frag", {}); }
+Program& cover_program(Gpu& gpu) { return gpu.program("fill_constant.frag"); }
+}  // namespace
+
+void compile_polygon_fill(Gpu& gpu) {
+  fan_program(gpu);
+  cover_program(gpu);
+}
+
 void fill_polygons_even_odd(Gpu& gpu, const std::vector<std::vector<glm::vec2>>& polygons, Texture& target) {
   FillObjects o;
   gl::CreateRenderbuffers(1, &o.stencil);
@@ -50,8 +60,8 @@ void fill_polygons_even_odd(Gpu& gpu, const std::vector<std::vector<glm::vec2>>&
   gl::VertexArrayAttribBinding(o.vao, 0, 0);
   gl::EnableVertexArrayAttrib(o.vao, 0);
 
-  Program& fan = gpu.program("polygon.vert", "fill_constant.frag", {});
-  Program& cover = gpu.program("fill_constant.frag");
+  Program& fan = fan_program(gpu);
+  Program& cover = cover_program(gpu);
   fan.set("u_target_size", float(target.width()), float(target.height()));
   fan.set("u_value", 0.0f, 0.0f, 0.0f, 0.0f);
   cover.set("u_value", 1.0f, 1.0f, 1.0f, 1.0f);

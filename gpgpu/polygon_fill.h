@@ -16,6 +16,9 @@ namespace gpgpu {
 /// each is closed implicitly. `target` must be R8 (or any colour format: 1.0 inside, 0.0 outside).
 void fill_polygons_even_odd(Gpu& gpu, const std::vector<std::vector<glm::vec2>>& polygons, Texture& target);
 
+/// Compiles fill_polygons_even_odd's programs ahead of its first call (otherwise on first use).
+void compile_polygon_fill(Gpu& gpu);
+
 /// CPU twin: the same even-odd rule on texel centres (edges exactly through a centre may differ).
 std::vector<uint8_t> fill_polygons_even_odd_cpu(const std::vector<std::vector<glm::vec2>>& polygons, int width,
                                                 int height);

@@ -35,11 +35,15 @@ std::vector<float> pyramid(Gpu& gpu, const Texture& src, Program& first, Program
 
 }  // namespace
 
-std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block) {
+Program& reduce_program(Gpu& gpu, int block) {
   if (block != 2 && block != 4 && block != 8) throw std::invalid_argument("reduce: block must be 2, 4 or 8");
+  return block == 2 ? gpu.program("reduce_2x2.frag")
+                    : gpu.program("reduce_2x2.frag", {{"BLOCK", std::to_string(block)}});
+}
+
+std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block) {
+  Program& p = reduce_program(gpu, block);
   const Format out = reduced_format(src.format());
-  Program& p =
-      block == 2 ? gpu.program("reduce_2x2.frag") : gpu.program("reduce_2x2.frag", {{"BLOCK", std::to_string(block)}});
   p.set("u_ops", int(ops[0]), int(ops[1]), int(ops[2]), int(ops[3]));
   const std::vector<float> v = pyramid(gpu, src, p, p, out, block == 2 ? "reduce_2x2" : "reduce_block", block);
   std::array<float, 4> result{0, 0, 0, 1};

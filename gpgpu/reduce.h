@@ -24,6 +24,9 @@ using ReduceOps = std::array<ReduceOp, 4>;
 /// the same value for any block; sums are added in another order.
 std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block = 2);
 
+/// The program of reduce() for `block` (compiled on first use; callers may compile it ahead).
+Program& reduce_program(Gpu& gpu, int block);
+
 /// Minimum / maximum / sum of channel `channel`.
 float reduce_min(Gpu& gpu, const Texture& src, int channel = 0, int block = 2);
 float reduce_max(Gpu& gpu, const Texture& src, int channel = 0);

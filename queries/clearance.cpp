@@ -12,6 +12,7 @@
 
 #include "gpgpu/compact.h"
 #include "gpgpu/layout.h"
+#include "gpgpu/polygon_fill.h"
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
@@ -22,6 +23,12 @@ namespace queries {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The programs of a query, named once for the passes and for compile_clearance_programs.
+gpgpu::Program& leaf_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}}); }
+gpgpu::Program& merge_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_merge.frag"); }
+gpgpu::Program& pairs_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_pairs_minmax.frag"); }
+gpgpu::Program& threshold_program(gpgpu::Gpu& gpu) { return gpu.program("threshold_le.frag"); }
 
 /// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1.
 struct Hierarchy {
@@ -34,7 +41,7 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm
   Hierarchy h;
   h.lo.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
   h.hi.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
-  gpgpu::Program& leaf = gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
+  gpgpu::Program& leaf = leaf_program(gpu);
   const glm::mat4 mf(motion);
   leaf.set_mat4("u_motion", &mf[0][0]);
   const glm::vec3 o(origin);
@@ -57,7 +64,7 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm
                              {"u_crossed", &m.crossed[atlas]}};
   gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
   gpu.run("aabb_leaf", leaf, in, out);
-  gpgpu::Program& merge = gpu.program("aabb_merge.frag");
+  gpgpu::Program& merge = merge_program(gpu);
   while (h.lo.back().width() > 1 || h.lo.back().height() > 1) {
     const int w = (h.lo.back().width() + 1) / 2, hh = (h.lo.back().height() + 1) / 2;
     gpgpu::Texture lo(w, hh, gpgpu::Format::RGBA32F), hi(w, hh, gpgpu::Format::RGBA32F);
@@ -170,7 +177,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   start.resize(size_t(start_layout.width) * size_t(start_layout.height) * 4, 0.0f);
   gpgpu::Texture pairs(start_layout.width, start_layout.height, gpgpu::Format::RGBA32F);
   pairs.upload(start);
-  gpgpu::Program& prog = gpu.program("aabb_pairs_minmax.frag");
+  gpgpu::Program& prog = pairs_program(gpu);
   const int max_size = gpu.info().max_texture_size;
   size_t level = 0;
   auto record = [&](long long kept) {
@@ -217,7 +224,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   auto prune = [&](double upper, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
     // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
     gpgpu::PooledTexture keep = gpu.acquire(out.width, out.height, gpgpu::Format::R8);
-    gpgpu::Program& thr = gpu.program("threshold_le.frag");
+    gpgpu::Program& thr = threshold_program(gpu);
     thr.set("u_cut", std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f);
     const gpgpu::Input tin[] = {{"u_values", minmax}};
     gpgpu::Texture* tout[] = {keep.get()};
@@ -270,6 +277,17 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
 }
 
 }  // namespace
+
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits) {
+  atlas_program(gpu);
+  gpgpu::compile_polygon_fill(gpu);  // trim masks
+  leaf_program(gpu);
+  merge_program(gpu);
+  pairs_program(gpu);
+  threshold_program(gpu);
+  gpgpu::reduce_program(gpu, limits.reduce_block);
+  gpgpu::compile_compact(gpu, limits.compact_fanout);
+}
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
                     const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,

@@ -84,6 +84,11 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
                     const std::vector<char>* faces_b = nullptr, const ClearanceLimits& limits = {},
                     ClearanceCache* cache = nullptr);
 
+/// Compiles (or loads from Mesa's shader cache) every program that preparing the models' atlases
+/// and a query with `limits` use, ahead of their first use: the CLI does it on the GL thread while
+/// prepare_pair's geometry threads work (about 2 ms a program on llvmpipe, 25 ms in all).
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {});
+
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
                          glm::dvec3& wb);

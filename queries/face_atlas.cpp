@@ -128,7 +128,7 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   const auto ctrl_tex = gpgpu::upload_array_pow2(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);
   a.points = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
   a.normals = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
-  gpgpu::Program& p = gpu.program("surface_eval_atlas.frag");
+  gpgpu::Program& p = atlas_program(gpu);
   const gpgpu::Input inputs[] = {{"u_slot_of", &slot_tex},
                                  {"u_slots", &rec_tex.texture},
                                  {"u_basis", &basis_tex.texture},
@@ -166,5 +166,7 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   gpu.dump("atlas_trim_mask", a.mask);
   return a;
 }
+
+gpgpu::Program& atlas_program(gpgpu::Gpu& gpu) { return gpu.program("surface_eval_atlas.frag"); }
 
 }  // namespace queries

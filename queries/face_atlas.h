@@ -41,7 +41,11 @@ struct FaceAtlas {
 
 /// Evaluates every slot's face (faces[slot.face]) on its grid (grids[slot.face]) in one pass and
 /// renders all trim masks in one fill. `flatten_tolerance[f]` is in parameter units of face f.
+/// Atlases of faces without trim loops upload their slots' rectangles as the mask (no fill pass).
 FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vector<nurbs::TrimmedSurface>& faces,
                          const std::vector<nurbs::ParamGrid>& grids, const std::vector<double>& flatten_tolerance);
+
+/// The evaluation program of evaluate_atlas (compiled on first use; callers may compile it ahead).
+gpgpu::Program& atlas_program(gpgpu::Gpu& gpu);
 
 }  // namespace queries

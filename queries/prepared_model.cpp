@@ -153,10 +153,22 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
 }
 
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
-                          double tolerance, Search search, long long max_samples) {
-  auto geometry_b =
-      std::async(std::launch::async, [&] { return prepare_geometry(std::move(b), tolerance, max_samples, search); });
-  PreparedPair p{prepare_geometry(std::move(a), tolerance, max_samples, search), geometry_b.get()};
+                          double tolerance, Search search, long long max_samples,
+                          const std::function<void()>& meanwhile) {
+  auto geometry = [&](std::vector<nurbs::TrimmedSurface>& faces) {
+    return std::async(std::launch::async,
+                      [&] { return prepare_geometry(std::move(faces), tolerance, max_samples, search); });
+  };
+  std::future<PreparedModel> geometry_b = geometry(b);
+  std::future<PreparedModel> geometry_a = meanwhile ? geometry(a) : std::future<PreparedModel>{};
+  PreparedPair p;
+  if (meanwhile) {
+    meanwhile();
+    p.a = geometry_a.get();
+  } else {  // A's on this thread
+    p.a = prepare_geometry(std::move(a), tolerance, max_samples, search);
+  }
+  p.b = geometry_b.get();
   prepare_atlases(gpu, p.a);
   prepare_atlases(gpu, p.b);
   return p;

@@ -5,6 +5,7 @@
 /// (face_atlas.h), and per atlas slot the growth of its cell boxes: K_e plus the float budget of
 /// the GPU samples. Evaluated once; queries reuse it.
 #include <cstdint>
+#include <functional>
 #include <glm/vec3.hpp>
 #include <optional>
 #include <vector>
@@ -75,13 +76,15 @@ PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> 
 /// (the GL context stays on one).
 void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = 4096);
 
-/// The two models of a clearance query: their geometry on two threads (B's beside A's), then
-/// their atlases on this thread (the GL context's).
+/// The two models of a clearance query: their geometry on two threads, then their atlases on this
+/// thread (the GL context's). `meanwhile`, when given, runs on this thread while the geometry
+/// threads work (compile_clearance_programs: GL work that needs no model).
 struct PreparedPair {
   PreparedModel a, b;
 };
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
-                          double tolerance, Search search, long long max_samples = 1LL << 22);
+                          double tolerance, Search search, long long max_samples = 1LL << 22,
+                          const std::function<void()>& meanwhile = {});
 
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).

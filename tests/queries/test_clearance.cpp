@@ -13,6 +13,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "queries/clearance.h"
+#include "queries/prepared_model.h"
 #include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 
@@ -211,4 +212,34 @@ TEST_CASE("clearance: models in several atlases give the answer of one atlas and
   }
   MESSAGE("atlases " << many_a.atlases.size() << " x " << many_b.atlases.size() << ": distance " << many.distance
                      << ", leaf pairs " << many.leaf_pairs << " (one atlas " << one.leaf_pairs << ")");
+}
+
+TEST_CASE("clearance: compile_clearance_programs compiles every program that preparation and a query use") {
+  // The CLI compiles them while the geometry threads work; a program left out of the list would
+  // compile at its first pass instead, silently. From no programs: compile the list, then prepare
+  // two pairs (trimmed and not) and query them at both fan-outs and two reduction blocks: nothing new.
+  gpgpu::Gpu& gpu = test::gpu();
+  nurbs::TrimmedSurface s1, s2;
+  s1.surface = models::rational_sphere(1.0);
+  s2.surface = models::rational_sphere(2.0);
+  for (const auto& [fanout, block] : {std::pair{16, 4}, {4, 2}}) {
+    CAPTURE(fanout);
+    queries::ClearanceLimits limits;
+    limits.compact_fanout = fanout;
+    limits.reduce_block = block;
+    gpu.forget_programs();
+    queries::compile_clearance_programs(gpu, limits);
+    const size_t compiled = gpu.program_count();
+    CHECK(compiled >= 8);
+    for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+      const queries::PreparedPair p =
+          queries::prepare_pair(gpu, {s1}, {models::random_trimmed_surface(7)}, 1e-3, search);
+      (void)queries::clearance(gpu, p.a, p.b, glm::translate(glm::dmat4(1.0), glm::dvec3(3, 0, 0)), nullptr, nullptr,
+                               limits);
+      const queries::PreparedPair q = queries::prepare_pair(gpu, {s1}, {s2}, 1e-3, search);
+      (void)queries::clearance(gpu, q.a, q.b, glm::translate(glm::dmat4(1.0), glm::dvec3(3.5, 0, 0)), nullptr, nullptr,
+                               limits);
+    }
+    CHECK(gpu.program_count() == compiled);
+  }
 }
