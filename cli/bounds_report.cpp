@@ -10,13 +10,16 @@
 #include "nurbs/model_ops.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace bounds_report_impl {
 
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
-}  // namespace
+}  // namespace bounds_report_impl
 
 nlohmann::json bounds_report(const nurbs::Model& model, double rel_tolerance, bool progress) {
+  using namespace bounds_report_impl;
   const double size = nurbs::model_size(model);
   const double tolerance = rel_tolerance * size;
   const auto faces = nurbs::world_faces(model);
@@ -62,6 +65,7 @@ nlohmann::json bounds_report(const nurbs::Model& model, double rel_tolerance, bo
 }
 
 std::string bounds_text(const nlohmann::json& r) {
+  using namespace bounds_report_impl;
   auto num = [](const nlohmann::json& x) {
     return x.is_null() ? std::string("inf") : fmt::format("{:.3g}", x.get<double>());
   };

@@ -25,7 +25,9 @@
 #include "queries/voxel_stage.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_clearance_impl {
 
 struct Options {
   std::string a, b, move, rotate, motion;
@@ -229,9 +231,10 @@ void run(const GlobalOptions& global, const Options& o) {
   }
 }
 
-}  // namespace
+}  // namespace cmd_clearance_impl
 
 void add_clearance(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_clearance_impl;
   auto* cmd = app.add_subcommand("clearance",
                                  "Minimum distance between two models with a certified bound "
                                  "(Krishnamurthy et al. 5.1-5.3)");

@@ -24,7 +24,9 @@
 #include "nurbs/trim_classify.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_deviation_impl {
 
 struct DeviationArgs {
   std::string model, mesh;
@@ -92,9 +94,10 @@ void run(const DeviationArgs& a) {
   if (above) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", d.max(), eps));
 }
 
-}  // namespace
+}  // namespace cmd_deviation_impl
 
 void add_deviation(CLI::App& app, const GlobalOptions& /*global*/) {
+  using namespace cmd_deviation_impl;
   auto* cmd = app.add_subcommand(
       "deviation", "Measure how far a triangle mesh (.stl/.ply/.obj, from any program) lies from a model's faces");
   auto a = std::make_shared<DeviationArgs>();

@@ -21,7 +21,9 @@
 #include "queries/point_distance.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_distance_impl {
 
 struct Options {
   std::string path, point, points;
@@ -142,9 +144,10 @@ void run(const GlobalOptions& global, const Options& o) {
   report_profile(*gpu, global);
 }
 
-}  // namespace
+}  // namespace cmd_distance_impl
 
 void add_distance(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_distance_impl;
   auto* cmd = app.add_subcommand(
       "distance", "Minimum distance from points to a model with certified bounds (Krishnamurthy et al. 3.1-4)");
   auto o = std::make_shared<Options>();

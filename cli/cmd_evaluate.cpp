@@ -25,7 +25,9 @@
 #include "queries/trim_texture.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_evaluate_impl {
 
 struct Options {
   std::string path;
@@ -289,9 +291,10 @@ void run(const GlobalOptions& global, const Options& o) {
   }
 }
 
-}  // namespace
+}  // namespace cmd_evaluate_impl
 
 void add_evaluate(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_evaluate_impl;
   auto* cmd =
       app.add_subcommand("evaluate",
                          "Evaluate faces on the GPU on knot-aligned grids whose Filip bound K_e meets the "

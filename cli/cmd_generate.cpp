@@ -12,7 +12,9 @@
 #include "nurbs/io/iges_writer.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_generate_impl {
 
 nurbs::Model single_face(const std::string& name, nurbs::TrimmedSurface face) {
   nurbs::Model m;
@@ -25,9 +27,10 @@ nurbs::Model single_face(const std::string& name, nurbs::TrimmedSurface face) {
 
 nurbs::TrimmedSurface untrimmed(nurbs::Surface s) { return nurbs::TrimmedSurface{std::move(s), {}, 0, ""}; }
 
-}  // namespace
+}  // namespace cmd_generate_impl
 
 void add_generate(CLI::App& app, const GlobalOptions& /*global*/) {
+  using namespace cmd_generate_impl;
   static const std::map<std::string, std::function<nurbs::TrimmedSurface(uint64_t)>> generators{
       {"paper-199x33", [](uint64_t) { return untrimmed(models::wavy_surface_199x33()); }},
       {"paper-100x105", [](uint64_t) { return untrimmed(models::wavy_surface_100x105()); }},

@@ -10,7 +10,9 @@
 #include "nurbs/io/read_model.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_raycast_impl {
 
 struct RaycastArgs {
   std::string model, rays;
@@ -71,9 +73,10 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   if (shown < hits.size()) fmt::print("... {} more (--json lists all)\n", hits.size() - shown);
 }
 
-}  // namespace
+}  // namespace cmd_raycast_impl
 
 void add_raycast(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_raycast_impl;
   auto args = std::make_shared<RaycastArgs>();
   CLI::App* cmd = app.add_subcommand(
       "raycast",

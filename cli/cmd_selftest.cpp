@@ -11,7 +11,9 @@
 #include "gpgpu/reduce.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_selftest_impl {
 
 struct Options {
   int size = 1024;
@@ -91,9 +93,10 @@ void run(const GlobalOptions& global, const Options& o) {
   if (!ok_min || !ok_arg || !ok_cmp) throw CommandFailed("GPU results differ from the CPU twins");
 }
 
-}  // namespace
+}  // namespace cmd_selftest_impl
 
 void add_selftest(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_selftest_impl;
   auto* cmd = app.add_subcommand(
       "selftest", "Run a min reduction, an argmin and a stream compaction on the GPU against their CPU twins");
   auto o = std::make_shared<Options>();

@@ -13,7 +13,9 @@
 #include "nurbs/tessellation/tessellate.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_tessellate_impl {
 
 struct TessArgs {
   std::string path, output;
@@ -163,9 +165,10 @@ void run(const TessArgs& a) {
   if (check_failed) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", dev.max(), eps));
 }
 
-}  // namespace
+}  // namespace cmd_tessellate_impl
 
 void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
+  using namespace cmd_tessellate_impl;
   auto* cmd = app.add_subcommand(
       "tessellate", "Triangulate a model's trimmed faces within a geometric error (Balazs, Guthe, Klein 2004)");
   auto a = std::make_shared<TessArgs>();

@@ -19,7 +19,9 @@
 #include "nurbs/raycast/thickness.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace cmd_thickness_impl {
 
 struct ThicknessArgs {
   std::string model, output, csv, exr;
@@ -192,9 +194,10 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
              f["tests_per_ray"]["patch"].get<double>());
 }
 
-}  // namespace
+}  // namespace cmd_thickness_impl
 
 void add_thickness(CLI::App& app, const GlobalOptions& global) {
+  using namespace cmd_thickness_impl;
   auto a = std::make_shared<ThicknessArgs>();
   CLI::App* cmd = app.add_subcommand(
       "thickness",

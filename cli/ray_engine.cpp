@@ -13,7 +13,9 @@
 #include "nurbs/model_ops.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace ray_engine_impl {
 
 std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& name) {
   std::vector<nurbs::ray::Ray> rays;
@@ -51,9 +53,10 @@ std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& nam
   return rays;
 }
 
-}  // namespace
+}  // namespace ray_engine_impl
 
 std::vector<nurbs::ray::Ray> read_rays(const std::string& path) {
+  using namespace ray_engine_impl;
   if (path == "-") return parse_rays(std::cin, "stdin");
   std::ifstream in(path);
   if (!in) throw BadInput(fmt::format("{}: cannot open the ray file", path));
@@ -61,6 +64,7 @@ std::vector<nurbs::ray::Ray> read_rays(const std::string& path) {
 }
 
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
+  using namespace ray_engine_impl;
   cmd->add_option("--method", args.method,
                   "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
                   "ray tracing without a kept structure (§3.2)")
@@ -108,11 +112,13 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
 }
 
 RayEngine::~RayEngine() {
+  using namespace ray_engine_impl;
   caster_.reset();  // its textures before the context
   if (gpu_) report_profile(*gpu_, global_);
 }
 
 std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
+  using namespace ray_engine_impl;
   Progress progress(what, "rays");
   return caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
 }

@@ -8,17 +8,20 @@
 #include "queries/prepared_model.h"
 
 namespace cli {
-namespace {
+// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
+// files' anonymous namespaces would meet.
+namespace thickness_ball_impl {
 
 double since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-}  // namespace
+}  // namespace thickness_ball_impl
 
 BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::ThicknessRays& rays,
                           const std::vector<nurbs::ray::Hit>& hits, double size, const BallArgs& args,
                           const GlobalOptions& global, gpgpu::Gpu* gpu) {
+  using namespace thickness_ball_impl;
   BallResult out;
   std::unique_ptr<gpgpu::Gpu> own;
   if (!gpu) {
@@ -59,6 +62,7 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
 }
 
 nlohmann::json ball_json(const BallResult& r, const std::vector<nurbs::ray::Hit>& hits, double min_wall) {
+  using namespace thickness_ball_impl;
   std::vector<double> v;
   long long thinner = 0, below = 0;
   double worst_bound = 0.0;
