@@ -85,7 +85,7 @@ int find_span(const std::vector<double>& knots, int degree, int count, double u)
 
 void basis_functions(const std::vector<double>& knots, int degree, int span, double u, double* out) {
   const int p = degree;
-  std::vector<double> left(static_cast<size_t>(p) + 1), right(static_cast<size_t>(p) + 1);
+  SmallBuffer<double, 8> left(static_cast<size_t>(p) + 1), right(static_cast<size_t>(p) + 1);
   out[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = u - knots[static_cast<size_t>(span + 1 - j)];
@@ -105,7 +105,8 @@ void basis_function_derivatives(const std::vector<double>& knots, int degree, in
   const int p = degree;
   const size_t w = static_cast<size_t>(p) + 1;
   // ndu: upper triangle holds basis functions of each degree, lower triangle the knot differences.
-  std::vector<double> ndu(w * w), left(w), right(w), a(2 * w);
+  SmallBuffer<double, 64> ndu(w * w), a(2 * w);  // no allocation up to degree 7
+  SmallBuffer<double, 8> left(w), right(w);
   auto NDU = [&](int r, int c) -> double& { return ndu[static_cast<size_t>(r) * w + static_cast<size_t>(c)]; };
   auto A = [&](int r, int c) -> double& { return a[static_cast<size_t>(r) * w + static_cast<size_t>(c)]; };
   NDU(0, 0) = 1.0;

@@ -6,6 +6,8 @@
 /// Conventions used everywhere in nurbs/: `count` control points, `degree` p, knot vector U of size
 /// count + p + 1 (m + 1 in the book with m = n + p + 1, n = count - 1). The valid parameter domain is
 /// [U[p], U[count]].
+#include <algorithm>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,31 @@ void basis_function_derivatives(const std::vector<double>& knots, int degree, in
 [[nodiscard]] std::vector<double> basis_functions(const std::vector<double>& knots, int degree, int span, double u);
 [[nodiscard]] std::vector<double> basis_function_derivatives(const std::vector<double>& knots, int degree, int span,
                                                              double u, int order);
+
+/// Zeroed scratch space of n values: on the stack up to N, else on the heap. The evaluation kernels
+/// take their work arrays from it, so that low degrees allocate nothing (the allocations had been
+/// a third of the time of every surface evaluation).
+template <typename T, size_t N>
+class SmallBuffer {
+ public:
+  explicit SmallBuffer(size_t n) : data_(stack_) {
+    if (n > N) {
+      heap_.assign(n, T{});
+      data_ = heap_.data();
+    } else {
+      std::fill_n(stack_, n, T{});
+    }
+  }
+  SmallBuffer(const SmallBuffer&) = delete;
+  SmallBuffer& operator=(const SmallBuffer&) = delete;
+  [[nodiscard]] T* data() { return data_; }
+  T& operator[](size_t i) { return data_[i]; }
+
+ private:
+  T stack_[N];
+  std::vector<T> heap_;
+  T* data_;
+};
 
 /// Binomial coefficient C(n, k) as a double (used by A4.2/A4.4 and degree elevation).
 [[nodiscard]] double binomial(int n, int k);

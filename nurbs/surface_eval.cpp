@@ -21,11 +21,11 @@ void homogeneous_derivatives(const Surface& s, double u, double v, int order, gl
   u = std::clamp(u, du.min, du.max);
   v = std::clamp(v, dv.min, dv.max);
   const size_t wu = static_cast<size_t>(p) + 1, wv = static_cast<size_t>(q) + 1;
-  std::vector<double> nu((static_cast<size_t>(order) + 1) * wu), nv((static_cast<size_t>(order) + 1) * wv);
+  SmallBuffer<double, 24> nu((static_cast<size_t>(order) + 1) * wu), nv((static_cast<size_t>(order) + 1) * wv);
   basis_function_derivatives(s.knots_u, p, su, u, order, nu.data());
   basis_function_derivatives(s.knots_v, q, sv, v, order, nv.data());
   // temp[k][i] = sum_l Nv^(l)_j P^w_{i,j}: contract v first, then u (A3.6 ordering).
-  std::vector<glm::dvec4> temp(wu);
+  SmallBuffer<glm::dvec4, 8> temp(wu);
   for (int l = 0; l <= order; ++l) {
     for (int i = 0; i <= p; ++i) {
       glm::dvec4 acc(0.0);
