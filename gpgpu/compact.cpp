@@ -27,10 +27,9 @@ namespace {
 /// program serves every size (a program per level count cost each new count its compilation and
 /// first draw).
 int max_levels(Gpu& gpu, int fanout) {
-  int levels = 0;
-  for (int side : {gpu.info().max_texture_size, gpu.info().max_texture_size})
-    for (int n = side; n > 1; n = (n + fanout - 1) / fanout) ++levels;
-  return std::max(levels, 1);
+  int per_axis = 0;
+  for (int n = gpu.info().max_texture_size; n > 1; n = (n + fanout - 1) / fanout) ++per_axis;
+  return std::max(2 * per_axis, 1);
 }
 
 Program& build_program(Gpu& gpu, bool from_predicate, int fanout) {

@@ -33,6 +33,9 @@ struct MaxAbs {
   }
 };
 
+/// The largest coordinate of a vector of magnitudes.
+double largest(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
+
 /// Distinct knot values within the domain, ends included.
 std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
   std::vector<double> out;
@@ -222,10 +225,9 @@ SecondDerivativeBounds polynomial_patch_bounds(const BezierNet& patch, double du
         uv.add(fuv * (patch.point(i + 1, j + 1) - patch.point(i + 1, j) - patch.point(i, j + 1) + P));
     }
   }
-  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
   // As norm_bound below: the norm over the net, never under the largest coordinate (rounding).
-  auto norm = [&](MaxAbs& m) { return std::max(cmax(m.coord), m.finish().norm); };
-  return {cmax(uu.coord), cmax(uv.coord), cmax(vv.coord), norm(uu), norm(uv), norm(vv)};
+  auto norm = [&](MaxAbs& m) { return std::max(largest(m.coord), m.finish().norm); };
+  return {largest(uu.coord), largest(uv.coord), largest(vv.coord), norm(uu), norm(uv), norm(vv)};
 }
 
 }  // namespace
@@ -244,7 +246,6 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
     }
   }
   const glm::dvec3 c = 0.5 * (lo + hi), R = 0.5 * (hi - lo);
-  auto cmax = [](const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); };
   double Re = 0.0;  // Euclidean radius about the same c
   for (int j = 0; j <= q; ++j) {
     for (int i = 0; i <= p; ++i) Re = std::max(Re, glm::dot(patch.point(i, j) - c, patch.point(i, j) - c));
@@ -290,14 +291,14 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
   // are >= the per-coordinate bound in exact arithmetic; the outer max absorbs rounding (and FMA
   // contraction that may differ between the vector and scalar formulas): a larger number is still a bound.
   auto norm_bound = [&](double quotient, const glm::dvec3& per_coord) {
-    return std::max(cmax(per_coord), std::min(quotient, glm::length(per_coord)));
+    return std::max(largest(per_coord), std::min(quotient, glm::length(per_coord)));
   };
   const double Due = (Au.norm + Wu * Re) / wmin, Dve = (Av.norm + Wv * Re) / wmin;
   const double Muu_e = (Auu.norm + 2.0 * Wu * Due + Wuu * Re) / wmin;
   const double Muv_e = (Auv.norm + Wu * Dve + Wv * Due + Wuv * Re) / wmin;
   const double Mvv_e = (Avv.norm + 2.0 * Wv * Dve + Wvv * Re) / wmin;
-  const SecondDerivativeBounds quotient{
-      cmax(Muu), cmax(Muv), cmax(Mvv), norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
+  const SecondDerivativeBounds quotient{largest(Muu),           largest(Muv),           largest(Mvv),
+                                        norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
   // Rational patches with varying weights: also the exact-form bound; both hold, keep the smaller.
   SecondDerivativeBounds exact;
   if ((Wu == 0 && Wv == 0) || !numerator_bounds(patch, du, dv, c, exact)) return quotient;
@@ -324,15 +325,16 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   if (refined.count_u != int(nu) * s.degree_u + 1 || refined.count_v != int(nv) * s.degree_v + 1)
     throw std::invalid_argument("filip_bound: a knot of the surface exceeds its degree's multiplicity");
   b.patches.resize(nu * nv);
+  auto patch = [&](size_t a, size_t row) {  // a copy of patch (a, row), for the bounds that split it
+    return bezier_patch(refined, int(a), int(row), {b.breaks_u[a], b.breaks_u[a + 1]},
+                        {b.breaks_v[row], b.breaks_v[row + 1]});
+  };
   auto bound_one = [&](size_t k) {
-    const int a = int(k % nu), row = int(k / nu);
-    const double du = b.breaks_u[size_t(a) + 1] - b.breaks_u[size_t(a)];
-    const double dv = b.breaks_v[size_t(row) + 1] - b.breaks_v[size_t(row)];
-    if (subdivisions == 1) return bezier_patch_bounds(BezierNet::in_refined(refined, a, row), du, dv);
-    const BezierPatch patch = bezier_patch(refined, a, row, {b.breaks_u[size_t(a)], b.breaks_u[size_t(a) + 1]},
-                                           {b.breaks_v[size_t(row)], b.breaks_v[size_t(row) + 1]});
-    return subdivisions > 0 ? split_patch_bounds(patch, subdivisions)
-                            : adaptive_patch_bounds(patch, AdaptiveRefinement{});
+    const size_t a = k % nu, row = k / nu;
+    const double du = b.breaks_u[a + 1] - b.breaks_u[a], dv = b.breaks_v[row + 1] - b.breaks_v[row];
+    if (subdivisions == 1) return bezier_patch_bounds(BezierNet::in_refined(refined, int(a), int(row)), du, dv);
+    return subdivisions > 0 ? split_patch_bounds(patch(a, row), subdivisions)
+                            : adaptive_patch_bounds(patch(a, row), AdaptiveRefinement{});
   };
   // Patches are independent: bounded on every hardware thread in contiguous shares (same result
   // in any order). The one-piece bound costs a fraction of a microsecond a patch: threads only pay
@@ -351,10 +353,6 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   // C^1 across knot lines: automatic where multiplicity < degree (C^{p - mult}), checked otherwise.
   b.c1_u.assign(b.breaks_u.size(), true);
   b.c1_v.assign(b.breaks_v.size(), true);
-  auto patch = [&](size_t a, size_t row) {
-    return bezier_patch(refined, int(a), int(row), {b.breaks_u[a], b.breaks_u[a + 1]},
-                        {b.breaks_v[row], b.breaks_v[row + 1]});
-  };
   for (size_t a = 1; a < nu; ++a) {
     if (knot_multiplicity(s.knots_u, b.breaks_u[a]) < s.degree_u) continue;
     for (size_t row = 0; row < nv && b.c1_u[a]; ++row) {
@@ -404,10 +402,9 @@ FilipBound sampled_bound(const Surface& s, const FilipBound& b, int samples) {
           vv.add(d.svv);
         }
       }
-      auto cmax = [](const glm::dvec3& c) { return std::max({c.x, c.y, c.z}); };
       uu.finish(), uv.finish(), vv.finish();
       SecondDerivativeBounds& m = out.patches[pv * b.spans_u() + pu];
-      m = {cmax(uu.coord), cmax(uv.coord), cmax(vv.coord), uu.norm, uv.norm, vv.norm};
+      m = {largest(uu.coord), largest(uv.coord), largest(vv.coord), uu.norm, uv.norm, vv.norm};
       out.whole = max_of(out.whole, m);
     }
   }

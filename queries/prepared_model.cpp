@@ -159,16 +159,9 @@ PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a,
     return std::async(std::launch::async,
                       [&] { return prepare_geometry(std::move(faces), tolerance, max_samples, search); });
   };
-  std::future<PreparedModel> geometry_b = geometry(b);
-  std::future<PreparedModel> geometry_a = meanwhile ? geometry(a) : std::future<PreparedModel>{};
-  PreparedPair p;
-  if (meanwhile) {
-    meanwhile();
-    p.a = geometry_a.get();
-  } else {  // A's on this thread
-    p.a = prepare_geometry(std::move(a), tolerance, max_samples, search);
-  }
-  p.b = geometry_b.get();
+  std::future<PreparedModel> geometry_a = geometry(a), geometry_b = geometry(b);
+  if (meanwhile) meanwhile();
+  PreparedPair p{geometry_a.get(), geometry_b.get()};
   prepare_atlases(gpu, p.a);
   prepare_atlases(gpu, p.b);
   return p;

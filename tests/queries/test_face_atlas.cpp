@@ -14,6 +14,25 @@
 #include "queries/surface_grid.h"
 #include "queries/trim_texture.h"
 
+namespace {
+
+/// Faces with their uniform n x m grids, atlas sizes and trim flattening tolerances (a tenth of a cell).
+struct AtlasFaces {
+  std::vector<nurbs::TrimmedSurface> faces;
+  std::vector<nurbs::ParamGrid> grids;
+  std::vector<std::pair<int, int>> sizes;
+  std::vector<double> flatten;
+  void add(nurbs::TrimmedSurface f, int n, int m) {
+    const nurbs::Interval du = nurbs::surface_domain_u(f.surface), dv = nurbs::surface_domain_v(f.surface);
+    grids.push_back(nurbs::uniform_param_grid(du, dv, n, m));
+    sizes.emplace_back(n + 1, m + 1);
+    flatten.push_back(0.1 * std::min(du.width() / n, dv.width() / m));
+    faces.push_back(std::move(f));
+  }
+};
+
+}  // namespace
+
 TEST_CASE("face atlas: packing keeps slots apart, within the side and the sample budget") {
   std::vector<std::pair<int, int>> sizes;
   models::Random rng(5);
@@ -50,18 +69,10 @@ TEST_CASE("face atlas: packing keeps slots apart, within the side and the sample
 
 TEST_CASE("face atlas: one pass evaluates every face as its CPU twin, one fill trims them") {
   gpgpu::Gpu& gpu = test::gpu();
-  std::vector<nurbs::TrimmedSurface> faces;
-  std::vector<nurbs::ParamGrid> grids;
-  std::vector<std::pair<int, int>> sizes;
-  std::vector<double> flatten;
-  for (uint64_t seed = 0; seed < 40; ++seed) {
-    faces.push_back(models::random_trimmed_surface(seed));
-    const auto& s = faces.back().surface;
-    const int n = 8 + int(seed * 7 % 50), m = 5 + int(seed * 11 % 40);
-    grids.push_back(nurbs::uniform_param_grid(nurbs::surface_domain_u(s), nurbs::surface_domain_v(s), n, m));
-    sizes.emplace_back(n + 1, m + 1);
-    flatten.push_back(0.1 * std::min(nurbs::surface_domain_u(s).width() / n, nurbs::surface_domain_v(s).width() / m));
-  }
+  AtlasFaces set;
+  for (uint64_t seed = 0; seed < 40; ++seed)
+    set.add(models::random_trimmed_surface(seed), 8 + int(seed * 7 % 50), 5 + int(seed * 11 % 40));
+  const auto& [faces, grids, sizes, flatten] = set;
   std::vector<int> unpacked;
   const auto plans = queries::plan_atlases(sizes, 200, 1 << 20, unpacked);
   REQUIRE(unpacked.empty());
@@ -102,19 +113,13 @@ TEST_CASE("face atlas: untrimmed faces get the mask the polygon fill gives, with
   // An atlas of faces without trim loops uploads its slots' rectangles as the mask; the fill of
   // their window polygons (what every atlas took before) must give the same texels.
   gpgpu::Gpu& gpu = test::gpu();
-  std::vector<nurbs::TrimmedSurface> faces;
-  std::vector<nurbs::ParamGrid> grids;
-  std::vector<std::pair<int, int>> sizes;
-  std::vector<double> flatten;
+  AtlasFaces set;
   for (uint64_t seed = 0; seed < 12; ++seed) {
-    faces.push_back({});
-    faces.back().surface = models::random_surface(seed + 300, 1 + int(seed % 3), 1 + int(seed / 3 % 3), seed % 2);
-    const auto& s = faces.back().surface;
-    const int n = 5 + int(seed * 7 % 30), m = 4 + int(seed * 11 % 25);
-    grids.push_back(nurbs::uniform_param_grid(nurbs::surface_domain_u(s), nurbs::surface_domain_v(s), n, m));
-    sizes.emplace_back(n + 1, m + 1);
-    flatten.push_back(0.1 * std::min(nurbs::surface_domain_u(s).width() / n, nurbs::surface_domain_v(s).width() / m));
+    nurbs::TrimmedSurface f;  // no loops
+    f.surface = models::random_surface(seed + 300, 1 + int(seed % 3), 1 + int(seed / 3 % 3), seed % 2);
+    set.add(std::move(f), 5 + int(seed * 7 % 30), 4 + int(seed * 11 % 25));
   }
+  const auto& [faces, grids, sizes, flatten] = set;
   std::vector<int> unpacked;
   const auto plans = queries::plan_atlases(sizes, 64, 1 << 20, unpacked);
   REQUIRE(unpacked.empty());
