@@ -119,6 +119,23 @@ int winding_number(const std::vector<glm::dvec2>& poly, glm::dvec2 p) {
   return wn;
 }
 
+bool segment_meets_box(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
+  double t0 = 0.0, t1 = 1.0;
+  const glm::dvec2 d = b - a;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (d[axis] == 0.0) {
+      if (a[axis] < lo[axis] || a[axis] > hi[axis]) return false;
+      continue;
+    }
+    double ta = (lo[axis] - a[axis]) / d[axis], tb = (hi[axis] - a[axis]) / d[axis];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
 double signed_area(const std::vector<glm::dvec2>& poly) {
   double a = 0.0;
   const size_t n = poly.size();

@@ -32,6 +32,9 @@ struct TrimPolygons {
 /// counted once). CCW loops give +1 inside.
 [[nodiscard]] int winding_number(const std::vector<glm::dvec2>& polygon, glm::dvec2 p);
 
+/// Whether segment ab meets the closed box [lo, hi] (Liang-Barsky clipping).
+[[nodiscard]] bool segment_meets_box(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi);
+
 /// Signed area (shoelace): > 0 for counter-clockwise polygons.
 [[nodiscard]] double signed_area(const std::vector<glm::dvec2>& polygon);
 

@@ -25,21 +25,24 @@ BandedTrim::BandedTrim(const nurbs::TrimPolygons& trim) : trim_(&trim) {
     l.v0 = lo;
     l.height = hi > lo ? (hi - lo) / bands : 1.0;
     l.bands.resize(size_t(bands));
-    const auto band = [&](double v) { return std::clamp(int((v - l.v0) / l.height), 0, bands - 1); };
     for (size_t e = 0; e < poly.size(); ++e) {
       const double a = poly[e].y, b = poly[(e + 1) % poly.size()].y;
-      for (int k = band(std::min(a, b)); k <= band(std::max(a, b)); ++k) l.bands[size_t(k)].push_back(int(e));
+      for (size_t k = band(l, std::min(a, b)); k <= band(l, std::max(a, b)); ++k) l.bands[k].push_back(int(e));
     }
     loops_.push_back(std::move(l));
   }
 }
 
+size_t BandedTrim::band(const Loop& l, double v) {
+  // Monotone in v (clamped below and above): an edge is listed in every band from that of its
+  // lowest to that of its highest v, so every band of a v within its range lists it.
+  return !(v > l.v0) ? 0 : std::min(size_t((v - l.v0) / l.height), l.bands.size() - 1);
+}
+
 int BandedTrim::winding(size_t k, glm::dvec2 p) const {
   const Loop& l = loops_[k];
   if (p.y < l.v0 || l.bands.empty()) return 0;
-  // The band of band() in the constructor (the same arithmetic, clamped to the top band, whose
-  // edges give nothing above the loop).
-  const size_t b = std::min(size_t((p.y - l.v0) / l.height), l.bands.size() - 1);
+  const size_t b = band(l, p.y);
   const auto& poly = trim_->loops[k];
   int wn = 0;
   // The arithmetic of nurbs::winding_number, on the edges whose v range may hold p.y.
@@ -70,6 +73,19 @@ bool BandedTrim::is_material(glm::dvec2 uv) const {
     }
   }
   return any_outer ? in_outer : true;
+}
+
+bool BandedTrim::meets_box(glm::dvec2 lo, glm::dvec2 hi) const {
+  for (size_t k = 0; k < loops_.size(); ++k) {
+    const Loop& l = loops_[k];
+    const auto& poly = trim_->loops[k];
+    if (l.bands.empty()) continue;
+    // An edge meeting the box has a point with v in [lo.y, hi.y]: listed in that point's band.
+    for (size_t b = band(l, lo.y), last = band(l, hi.y); b <= last; ++b)
+      for (int e : l.bands[b])
+        if (nurbs::segment_meets_box(poly[size_t(e)], poly[(size_t(e) + 1) % poly.size()], lo, hi)) return true;
+  }
+  return false;
 }
 
 TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& grid)

@@ -33,6 +33,8 @@ class BandedTrim {
   BandedTrim() = default;
   explicit BandedTrim(const nurbs::TrimPolygons& trim);  ///< `trim` must outlive this
   [[nodiscard]] bool is_material(glm::dvec2 uv) const;
+  /// Whether an edge of the loops meets the closed box [lo, hi] (reads only the bands of its v range).
+  [[nodiscard]] bool meets_box(glm::dvec2 lo, glm::dvec2 hi) const;
 
  private:
   struct Loop {
@@ -40,6 +42,7 @@ class BandedTrim {
     std::vector<std::vector<int>> bands;  ///< edge indices per band
   };
   [[nodiscard]] int winding(size_t k, glm::dvec2 p) const;
+  [[nodiscard]] static size_t band(const Loop& l, double v);
   const nurbs::TrimPolygons* trim_ = nullptr;
   std::vector<Loop> loops_;
 };

@@ -8,7 +8,6 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
-#include <map>
 
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
@@ -16,6 +15,7 @@
 #include "nurbs/trim_classify.h"
 #include "queries/clearance.h"
 #include "queries/parallel.h"
+#include "queries/point_batch_trim.h"
 #include "queries/point_distance.h"
 
 namespace queries {
@@ -61,7 +61,11 @@ double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi 
 /// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
 class Cells {
  public:
-  Cells(const PreparedModel& m, const glm::dmat4& motion) : m_(m), motion_(motion), inverse_(glm::inverse(motion)) {}
+  Cells(const PreparedModel& m, const glm::dmat4& motion)
+      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()) {
+    for (size_t f = 0; f < m.faces.size(); ++f)
+      if (!m.faces[f].loops.empty()) banded_[f] = BandedTrim(m.trims[f]);
+  }
 
   /// Polishes (u, v) on `face` towards the closest point to q (q in moved coordinates). When the
   /// Newton point is trimmed away (the closest point often lies on a trim edge), the last material
@@ -80,19 +84,23 @@ class Cells {
 
   std::vector<Cell> all;
 
-  /// The cell of grid cell c (its index).
-  uint32_t add_grid_cell(const FaceCell& c) {
-    const auto key = std::make_tuple(c.face, c.i, c.j);
-    if (const auto it = grid_index_.find(key); it != grid_index_.end()) return it->second;
-    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
-    Cell cell;
-    cell.face = c.face;
-    cell.u0 = g.u[size_t(c.i)], cell.u1 = g.u[size_t(c.i) + 1];
-    cell.v0 = g.v[size_t(c.j)], cell.v1 = g.v[size_t(c.j) + 1];
-    for (int k = 0; k < 4; ++k) set_corner(cell, k, at(cell.face, cell.uv(k)));
-    finish(cell);
-    all.push_back(cell);
-    return grid_index_[key] = uint32_t(all.size() - 1);
+  /// The cells of grid cells `grid` (their indices, in that order): each distinct one created once,
+  /// on the hardware threads, appended in the order of first appearance (the sequential order).
+  std::vector<uint32_t> add_grid_cells(const std::vector<FaceCell>& grid) {
+    constexpr uint32_t kPending = std::numeric_limits<uint32_t>::max();
+    std::vector<FaceCell> fresh;
+    for (const FaceCell& c : grid)
+      if (uint32_t& s = slot(c); s == 0) s = kPending, fresh.push_back(c);
+    const size_t first = all.size();
+    all.resize(first + fresh.size());
+    for_shares(fresh.size(), share_count(fresh.size(), 256), [&](size_t, size_t begin, size_t end) {
+      for (size_t n = begin; n < end; ++n) all[first + n] = grid_cell(fresh[n]);
+    });
+    for (size_t n = 0; n < fresh.size(); ++n) slot(fresh[n]) = uint32_t(first + n + 1);
+    std::vector<uint32_t> out;
+    out.reserve(grid.size());
+    for (const FaceCell& c : grid) out.push_back(slot(c) - 1);
+    return out;
   }
 
   /// The surface point at uv of `face` (moved) and whether it is material.
@@ -100,10 +108,10 @@ class Cells {
     glm::dvec3 p{0.0};
     bool material = false;
   };
-  Sample at(int face, glm::dvec2 uv) {
+  Sample at(int face, glm::dvec2 uv) const {
     const nurbs::TrimmedSurface& f = m_.faces[size_t(face)];
     const glm::dvec3 q = glm::dvec3(motion_ * glm::dvec4(nurbs::surface_point(f.surface, uv.x, uv.y), 1.0));
-    return {q, f.loops.empty() || nurbs::is_material(m_.trims[size_t(face)], uv)};
+    return {q, f.loops.empty() || banded_[size_t(face)].is_material(uv)};
   }
 
   /// Splits cell i 2 x 2 (once); children with no material are culled.
@@ -137,6 +145,26 @@ class Cells {
   }
 
  private:
+  /// Index + 1 of the cell of grid cell c (0: none yet); a face's table is made when it first appears.
+  uint32_t& slot(const FaceCell& c) {
+    std::vector<uint32_t>& t = grid_index_[size_t(c.face)];
+    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+    if (t.empty()) t.assign(size_t(g.cells_u()) * size_t(g.cells_v()), 0);
+    return t[size_t(c.j) * size_t(g.cells_u()) + size_t(c.i)];
+  }
+
+  /// The cell of grid cell c, its corners evaluated (thread-safe: reads the model only).
+  Cell grid_cell(const FaceCell& c) const {
+    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+    Cell cell;
+    cell.face = c.face;
+    cell.u0 = g.u[size_t(c.i)], cell.u1 = g.u[size_t(c.i) + 1];
+    cell.v0 = g.v[size_t(c.j)], cell.v1 = g.v[size_t(c.j) + 1];
+    for (int k = 0; k < 4; ++k) set_corner(cell, k, at(cell.face, cell.uv(k)));
+    finish(cell);
+    return cell;
+  }
+
   static void set_corner(Cell& c, int k, const Sample& s) {
     c.corner[k] = s.p;
     if (s.material) c.material |= 1u << k;
@@ -157,36 +185,12 @@ class Cells {
 
   /// Whether an edge of the face's trim polygons meets the cell's rectangle (then material may lie
   /// inside even with every corner trimmed).
-  bool trim_crosses(const Cell& c) const {
-    const nurbs::TrimPolygons& t = m_.trims[size_t(c.face)];
-    const glm::dvec2 lo(c.u0, c.v0), hi(c.u1, c.v1);
-    for (const auto& loop : t.loops)
-      for (size_t e = 0; e < loop.size(); ++e)
-        if (segment_meets_box(loop[e], loop[(e + 1) % loop.size()], lo, hi)) return true;
-    return false;
-  }
-
-  /// Liang-Barsky clipping of segment ab against the box [lo, hi].
-  static bool segment_meets_box(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
-    double t0 = 0.0, t1 = 1.0;
-    const glm::dvec2 d = b - a;
-    for (int axis = 0; axis < 2; ++axis) {
-      if (d[axis] == 0.0) {
-        if (a[axis] < lo[axis] || a[axis] > hi[axis]) return false;
-        continue;
-      }
-      double ta = (lo[axis] - a[axis]) / d[axis], tb = (hi[axis] - a[axis]) / d[axis];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-      if (t0 > t1) return false;
-    }
-    return true;
-  }
+  bool trim_crosses(const Cell& c) const { return banded_[size_t(c.face)].meets_box({c.u0, c.v0}, {c.u1, c.v1}); }
 
   const PreparedModel& m_;
   glm::dmat4 motion_, inverse_;
-  std::map<std::tuple<int, int, int>, uint32_t> grid_index_;
+  std::vector<std::vector<uint32_t>> grid_index_;  ///< per face, by grid cell: slot()
+  std::vector<BandedTrim> banded_;                 ///< per face with trim loops (is_material, edge-box)
 };
 
 /// The children of cell i to pair with (itself when it is not split).
@@ -201,8 +205,7 @@ std::pair<uint32_t, uint32_t> children_of(Cells& cells, uint32_t i, bool split) 
 Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start, const glm::dvec3& p, double tolerance,
                      RefineLimits limits) {
   Cells cells(m, glm::dmat4(1.0));
-  std::vector<uint32_t> cand;
-  for (const FaceCell& c : start) cand.push_back(cells.add_grid_cell(c));
+  std::vector<uint32_t> cand = cells.add_grid_cells(start);
   std::sort(cand.begin(), cand.end());
   cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
   Refined r;
@@ -290,7 +293,11 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
                      const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance, RefineLimits limits) {
   Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  for (const auto& [x, y] : start) pairs.emplace_back(ca.add_grid_cell(x), cb.add_grid_cell(y));
+  std::vector<FaceCell> xs, ys;
+  xs.reserve(start.size()), ys.reserve(start.size());
+  for (const auto& [x, y] : start) xs.push_back(x), ys.push_back(y);
+  const std::vector<uint32_t> ia = ca.add_grid_cells(xs), ib = cb.add_grid_cells(ys);
+  for (size_t n = 0; n < start.size(); ++n) pairs.emplace_back(ia[n], ib[n]);
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   Refined r;

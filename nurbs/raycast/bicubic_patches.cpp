@@ -108,24 +108,6 @@ bool normals_within(const Surface& piece, const std::array<double, 4>& cell, dou
   return true;
 }
 
-/// Liang-Barsky: does segment ab meet the rectangle?
-bool segment_meets_rect(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
-  double t0 = 0.0, t1 = 1.0;
-  const glm::dvec2 d = b - a;
-  for (int ax = 0; ax < 2; ++ax) {
-    if (d[ax] == 0.0) {
-      if (a[ax] < lo[ax] || a[ax] > hi[ax]) return false;
-      continue;
-    }
-    double ta = (lo[ax] - a[ax]) / d[ax], tb = (hi[ax] - a[ax]) / d[ax];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
 /// §3.1 culling: keep a cell when any trim edge meets it (inflated by the flattening tolerance) or
 /// its centre is material. A cell with neither lies wholly in one region, which is not material.
 bool cell_kept(const TrimPolygons& trim, bool trimmed, glm::dvec2 lo, glm::dvec2 hi, double pad) {
@@ -134,7 +116,7 @@ bool cell_kept(const TrimPolygons& trim, bool trimmed, glm::dvec2 lo, glm::dvec2
   const glm::dvec2 l = lo - pad, h = hi + pad;
   for (const auto& loop : trim.loops)
     for (size_t i = 0; i < loop.size(); ++i)
-      if (segment_meets_rect(loop[i], loop[(i + 1) % loop.size()], l, h)) return true;
+      if (segment_meets_box(loop[i], loop[(i + 1) % loop.size()], l, h)) return true;
   return false;
 }
 
