@@ -351,6 +351,7 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
       glm::dvec2 a{0.0}, b{0.0};
     };
     std::vector<Nearest> nearests(shares);
+    const double split_below = r.distance - tolerance;
     for_shares(pairs.size(), shares, [&](size_t share, size_t begin, size_t end) {
       Nearest& near = nearests[share];
       for (size_t n = begin; n < end; ++n) {
@@ -358,16 +359,20 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
         low[n] = box_box(x, y);
         if (low[n] > r.distance) continue;
         double tri_low = kInf;
-        for (int s = 0; s < 2; ++s)
-          for (int t = 0; t < 2; ++t) {
+        bool split = false;
+        for (int s = 0; s < 2 && !split; ++s)
+          for (int t = 0; t < 2 && !split; ++t) {
             glm::dvec3 ta[3], tb[3], pa, pb, wa, wb;
             x.triangle(s, ta);
             y.triangle(t, tb);
             const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
             tri_low = std::min(tri_low, d);
             if (d < near.d) near = {d, n, x.uv_at(s, wa), y.uv_at(t, wb)};
+            // Split for certain (its least triangle distance can only be lower): the box is its
+            // lower bound, and the pair's other triangles are left to its children.
+            split = low[n] < split_below && d - x.k - y.k < split_below;
           }
-        low[n] = std::max(low[n], tri_low - x.k - y.k);
+        if (!split) low[n] = std::max(low[n], tri_low - x.k - y.k);
       }
     });
     double nearest = kInf;

@@ -59,6 +59,21 @@ bool segment_hits_triangle(glm::dvec3 p, glm::dvec3 q, const glm::dvec3 tri[3], 
   return at >= 0 && at <= 1;
 }
 
+/// Whether the points s[0..2] lie strictly on one side of the plane of triangle o, beyond the
+/// rounding of the test (a degenerate o has no plane: false).
+bool strictly_one_side(const glm::dvec3 s[3], const glm::dvec3 o[3]) {
+  const glm::dvec3 n = glm::cross(o[1] - o[0], o[2] - o[0]);
+  double d[3], far = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 r = s[k] - o[0];
+    d[k] = glm::dot(n, r);
+    far = std::max(far, glm::dot(r, r));
+  }
+  const double margin = 1e-12 * std::sqrt(glm::dot(n, n) * far);  // |n| |r| bounds each |d|
+  return margin > 0.0 &&
+         ((d[0] > margin && d[1] > margin && d[2] > margin) || (d[0] < -margin && d[1] < -margin && d[2] < -margin));
+}
+
 }  // namespace
 
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
@@ -68,11 +83,13 @@ double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec
   for (int side = 0; side < 2; ++side) {
     const glm::dvec3* s = side == 0 ? a : b;
     const glm::dvec3* o = side == 0 ? b : a;
+    // No edge of s can cross o when all of s lies strictly on one side of o's plane.
+    const bool apart = strictly_one_side(s, o);
     for (int k = 0; k < 3; ++k) {
       // An edge of one crossing the other: distance 0 at the crossing.
       double at;
       glm::dvec3 w;
-      if (segment_hits_triangle(s[k], s[(k + 1) % 3], o, at, w)) {
+      if (!apart && segment_hits_triangle(s[k], s[(k + 1) % 3], o, at, w)) {
         const glm::dvec3 x = s[k] + at * (s[(k + 1) % 3] - s[k]);
         const glm::dvec3 ws = (1 - at) * unit(k) + at * unit((k + 1) % 3);
         pa = pb = x;
