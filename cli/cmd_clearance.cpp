@@ -37,6 +37,7 @@ struct Options {
   int voxels = 40;
   int reduce_block = queries::ClearanceLimits{}.reduce_block;
   int compact_fanout = queries::ClearanceLimits{}.compact_fanout;
+  std::string upper = "auto";
   bool json = false, timings = false;
 };
 
@@ -139,10 +140,12 @@ void run(const GlobalOptions& global, const Options& o) {
   queries::ClearanceLimits limits;
   limits.reduce_block = o.reduce_block;
   limits.compact_fanout = o.compact_fanout;
+  using Upper = queries::ClearanceLimits::Upper;
+  limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
   queries::PreparedPair pair =
       queries::prepare_pair(*gpu, nurbs::world_faces(ma), nurbs::world_faces(mb), tolerance, o.search, 1LL << 22,
-                            [&] { queries::compile_clearance_programs(*gpu, limits); });
+                            [&] { queries::compile_clearance_programs(*gpu, limits, o.search); });
   const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
@@ -265,6 +268,12 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--compact-fanout", o->compact_fanout,
                   "Texels each level of the stream reduction's count pyramid sums: 4 (one pass per factor 4) or 16")
       ->check(CLI::IsMember({4, 16}))
+      ->capture_default_str();
+  cmd->add_option("--gpu-upper", o->upper,
+                  "Least upper bound of each level of the descent: boxes (the paper's farthest box points), "
+                  "samples (also a face sample per node: far fewer pairs survive; the same answer) or auto "
+                  "(samples with coarse-to-fine, boxes with faithful)")
+      ->check(CLI::IsMember({"auto", "boxes", "samples"}))
       ->capture_default_str();
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");

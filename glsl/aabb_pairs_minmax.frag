@@ -3,6 +3,10 @@
 // ((k >> 2) & 3) of box B (an object already at its leaves keeps its box: child 0 only). R and G are
 // the minimum and maximum distance between the two boxes (Eqs. 13-20); the second target holds the
 // child pair record (xa, ya, xb, yb) for the next level. Missing or empty children: (+inf, +inf).
+// SAMPLE_UPPER (beyond the paper): G is also bounded by the distance of the two nodes' face samples
+// (aabb_leaf.frag) plus their float budgets: two points of the faces, a tighter upper bound than the
+// boxes' farthest points, and no less than the closest triangle pair's distance (samples are
+// triangle corners), so the least upper bound U prunes more and keeps the same answer.
 #include "lib_layout.glsl"
 #include "lib_box.glsl"
 
@@ -15,6 +19,10 @@ uniform sampler2D u_lo_b;
 uniform sampler2D u_hi_b;
 uniform ivec2 u_descend;    // 1 when A (x) / B (y) goes one level down, 0 when it stays at its leaves
 uniform int u_out_width;    // width of this pass's target
+#ifdef SAMPLE_UPPER
+uniform sampler2D u_sample_a;  // the face samples of A's and B's levels (w < 0: none)
+uniform sampler2D u_sample_b;
+#endif
 layout(location = 0) out vec4 o_minmax;
 layout(location = 1) out vec4 o_pair;
 
@@ -35,5 +43,13 @@ void main() {
   vec3 lo2 = texelFetch(u_lo_b, b, 0).xyz, hi2 = texelFetch(u_hi_b, b, 0).xyz;
   if (any(greaterThan(lo1, hi1)) || any(greaterThan(lo2, hi2))) return;  // empty box
   o_minmax = vec4(box_box_minmax(lo1, hi1, lo2, hi2), 0.0, 0.0);  // Eqs. (13)-(20)
+#ifdef SAMPLE_UPPER
+  vec4 sa = texelFetch(u_sample_a, a, 0), sb = texelFetch(u_sample_b, b, 0);
+  if (sa.w >= 0.0 && sb.w >= 0.0) {
+    // The budgets, and the float rounding of the coordinates and of the distance (1e-6 relative).
+    float slack = sa.w + sb.w + 1e-6 * (length(sa.xyz) + length(sb.xyz));
+    o_minmax.y = min(o_minmax.y, distance(sa.xyz, sb.xyz) + slack);
+  }
+#endif
   o_pair = vec4(vec2(a), vec2(b));
 }

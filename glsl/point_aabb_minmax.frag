@@ -11,7 +11,7 @@ uniform sampler2D u_mask;     // R8 trim mask, 1 = material
 #ifdef TRIM_CROSSED
 uniform sampler2D u_crossed;  // R8: 1 where a trim edge crosses the cell with lower-left sample (x, y)
 #endif
-uniform sampler2D u_grow;     // R32F per slot: K_e + float budget, model units
+uniform sampler2D u_grow;     // per slot: R = K_e + float budget, model units (G: the budget)
 uniform vec3 u_point;         // query point relative to u_origin
 uniform vec3 u_origin;        // subtracted from the samples (keeps the differences small in float)
 out vec4 o_minmax;

@@ -25,23 +25,34 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The programs of a query, named once for the passes and for compile_clearance_programs.
-gpgpu::Program& leaf_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}}); }
-gpgpu::Program& merge_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_merge.frag"); }
-gpgpu::Program& pairs_program(gpgpu::Gpu& gpu) { return gpu.program("aabb_pairs_minmax.frag"); }
+// `samples`: with the face samples of ClearanceLimits::Upper::Samples (SAMPLE_UPPER).
+gpgpu::Program& leaf_program(gpgpu::Gpu& gpu, bool samples) {
+  if (samples) return gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}, {"SAMPLE_UPPER", "1"}});
+  return gpu.program("aabb_leaf.frag", {{"TRIM_CROSSED", "1"}});
+}
+gpgpu::Program& merge_program(gpgpu::Gpu& gpu, bool samples) {
+  return samples ? gpu.program("aabb_merge.frag", {{"SAMPLE_UPPER", "1"}}) : gpu.program("aabb_merge.frag");
+}
+gpgpu::Program& pairs_program(gpgpu::Gpu& gpu, bool samples) {
+  return samples ? gpu.program("aabb_pairs_minmax.frag", {{"SAMPLE_UPPER", "1"}})
+                 : gpu.program("aabb_pairs_minmax.frag");
+}
 gpgpu::Program& threshold_program(gpgpu::Gpu& gpu) { return gpu.program("threshold_le.frag"); }
 
-/// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1.
+/// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1; with the
+/// face samples of Upper::Samples, a sample per node (empty without).
 struct Hierarchy {
-  std::vector<gpgpu::Texture> lo, hi;
+  std::vector<gpgpu::Texture> lo, hi, sample;
 };
 
 Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm::dmat4& motion,
-                const glm::dvec3& origin, const std::vector<char>* faces) {
+                const glm::dvec3& origin, const std::vector<char>* faces, bool samples) {
   const FaceAtlas& at = m.atlases[atlas];
   Hierarchy h;
   h.lo.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
   h.hi.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
-  gpgpu::Program& leaf = leaf_program(gpu);
+  if (samples) h.sample.emplace_back(at.plan.width, at.plan.height, gpgpu::Format::RGBA32F);
+  gpgpu::Program& leaf = leaf_program(gpu, samples);
   const glm::mat4 mf(motion);
   leaf.set_mat4("u_motion", &mf[0][0]);
   const glm::vec3 o(origin);
@@ -50,10 +61,10 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm
   const gpgpu::Texture* grow = &m.grow[atlas];
   gpgpu::Texture filtered;
   if (faces) {
-    std::vector<float> g = m.grow[atlas].read();
+    std::vector<float> g = m.grow[atlas].read();  // (growth, budget) per slot
     for (size_t sl = 0; sl < at.plan.slots.size(); ++sl)
-      if (!(*faces)[size_t(at.plan.slots[sl].face)]) g[sl] = -1.0f;
-    filtered = gpgpu::Texture(int(g.size()), 1, gpgpu::Format::R32F);
+      if (!(*faces)[size_t(at.plan.slots[sl].face)]) g[2 * sl] = -1.0f;
+    filtered = gpgpu::Texture(int(g.size() / 2), 1, gpgpu::Format::RG32F);
     filtered.upload(g);
     grow = &filtered;
   }
@@ -62,26 +73,30 @@ Hierarchy build(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm
                              {"u_mask", &at.mask},
                              {"u_grow", grow},
                              {"u_crossed", &m.crossed[atlas]}};
-  gpgpu::Texture* out[] = {&h.lo.back(), &h.hi.back()};
+  std::vector<gpgpu::Texture*> out = {&h.lo.back(), &h.hi.back()};
+  if (samples) out.push_back(&h.sample.back());
   gpu.run("aabb_leaf", leaf, in, out);
-  gpgpu::Program& merge = merge_program(gpu);
+  gpgpu::Program& merge = merge_program(gpu, samples);
   while (h.lo.back().width() > 1 || h.lo.back().height() > 1) {
     const int w = (h.lo.back().width() + 1) / 2, hh = (h.lo.back().height() + 1) / 2;
     gpgpu::Texture lo(w, hh, gpgpu::Format::RGBA32F), hi(w, hh, gpgpu::Format::RGBA32F);
-    const gpgpu::Input min[] = {{"u_lo", &h.lo.back()}, {"u_hi", &h.hi.back()}};
-    gpgpu::Texture* mout[] = {&lo, &hi};
+    gpgpu::Texture sample = samples ? gpgpu::Texture(w, hh, gpgpu::Format::RGBA32F) : gpgpu::Texture();
+    std::vector<gpgpu::Input> min = {{"u_lo", &h.lo.back()}, {"u_hi", &h.hi.back()}};
+    std::vector<gpgpu::Texture*> mout = {&lo, &hi};
+    if (samples) min.push_back({"u_sample", &h.sample.back()}), mout.push_back(&sample);
     gpu.run("aabb_merge", merge, min, mout);
     h.lo.push_back(std::move(lo));
     h.hi.push_back(std::move(hi));
+    if (samples) h.sample.push_back(std::move(sample));
   }
   return h;
 }
 
 /// One hierarchy per atlas of the model.
 std::vector<Hierarchy> build_all(gpgpu::Gpu& gpu, const PreparedModel& m, const glm::dmat4& motion,
-                                 const glm::dvec3& origin, const std::vector<char>* faces) {
+                                 const glm::dvec3& origin, const std::vector<char>* faces, bool samples) {
   std::vector<Hierarchy> out;
-  for (size_t k = 0; k < m.atlases.size(); ++k) out.push_back(build(gpu, m, k, motion, origin, faces));
+  for (size_t k = 0; k < m.atlases.size(); ++k) out.push_back(build(gpu, m, k, motion, origin, faces, samples));
   return out;
 }
 
@@ -139,6 +154,7 @@ CellTable cell_table(const PreparedModel& m, std::vector<FaceCell> cells, const 
 
 struct ClearanceCache::Impl {
   const PreparedModel* a = nullptr;
+  bool samples = false;       ///< built with face samples (Upper::Samples)
   std::vector<Hierarchy> ha;  ///< one per atlas
 };
 
@@ -177,7 +193,8 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   start.resize(size_t(start_layout.width) * size_t(start_layout.height) * 4, 0.0f);
   gpgpu::Texture pairs(start_layout.width, start_layout.height, gpgpu::Format::RGBA32F);
   pairs.upload(start);
-  gpgpu::Program& prog = pairs_program(gpu);
+  const bool samples = !ha.sample.empty() && !hb.sample.empty();
+  gpgpu::Program& prog = pairs_program(gpu, samples);
   const int max_size = gpu.info().max_texture_size;
   size_t level = 0;
   auto record = [&](long long kept) {
@@ -210,11 +227,12 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     prog.set("u_pair_count", int(in_pairs));
     prog.set("u_pair_offset", int(offset));
     prog.set("u_out_width", out.width);
-    const gpgpu::Input in[] = {{"u_pairs", &pairs},
-                               {"u_lo_a", &ha.lo[size_t(la)]},
-                               {"u_hi_a", &ha.hi[size_t(la)]},
-                               {"u_lo_b", &hb.lo[size_t(lb)]},
-                               {"u_hi_b", &hb.hi[size_t(lb)]}};
+    std::vector<gpgpu::Input> in = {{"u_pairs", &pairs},
+                                    {"u_lo_a", &ha.lo[size_t(la)]},
+                                    {"u_hi_a", &ha.hi[size_t(la)]},
+                                    {"u_lo_b", &hb.lo[size_t(lb)]},
+                                    {"u_hi_b", &hb.hi[size_t(lb)]}};
+    if (samples) in.insert(in.end(), {{"u_sample_a", &ha.sample[size_t(la)]}, {"u_sample_b", &hb.sample[size_t(lb)]}});
     gpgpu::Texture* targets[] = {minmax, records};
     gpu.run("aabb_pairs_minmax", prog, in, targets);
     const double u = gpgpu::reduce_min(gpu, *minmax, 1, limits.reduce_block);
@@ -278,12 +296,23 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
 
 }  // namespace
 
-void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits) {
+namespace {
+
+/// Whether the descent bounds U with face samples (ClearanceLimits::upper).
+bool use_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
+  if (limits.upper != ClearanceLimits::Upper::Auto) return limits.upper == ClearanceLimits::Upper::Samples;
+  return coarse_to_fine;
+}
+
+}  // namespace
+
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, Search search) {
   atlas_program(gpu);
   gpgpu::compile_polygon_fill(gpu);  // trim masks
-  leaf_program(gpu);
-  merge_program(gpu);
-  pairs_program(gpu);
+  const bool samples = use_samples(limits, search == Search::CoarseToFine);
+  leaf_program(gpu, samples);
+  merge_program(gpu, samples);
+  pairs_program(gpu, samples);
   threshold_program(gpu);
   gpgpu::reduce_program(gpu, limits.reduce_block);
   gpgpu::compile_compact(gpu, limits.compact_fanout);
@@ -295,13 +324,15 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   const glm::dvec3 origin = a.centre;
   std::vector<Hierarchy> own_a;
   const bool cached = cache && !faces_a;
-  if (cached && cache->impl->a != &a) {
-    cache->impl->ha = build_all(gpu, a, glm::dmat4(1.0), origin, nullptr);
+  const bool samples = use_samples(limits, a.search == Search::CoarseToFine || b.search == Search::CoarseToFine);
+  if (cached && (cache->impl->a != &a || cache->impl->samples != samples)) {
+    cache->impl->ha = build_all(gpu, a, glm::dmat4(1.0), origin, nullptr, samples);
     cache->impl->a = &a;
+    cache->impl->samples = samples;
   }
-  if (!cached) own_a = build_all(gpu, a, glm::dmat4(1.0), origin, faces_a);
+  if (!cached) own_a = build_all(gpu, a, glm::dmat4(1.0), origin, faces_a, samples);
   const std::vector<Hierarchy>& ha = cached ? cache->impl->ha : own_a;
-  const std::vector<Hierarchy> hb = build_all(gpu, b, motion_b, origin, faces_b);
+  const std::vector<Hierarchy> hb = build_all(gpu, b, motion_b, origin, faces_b, samples);
   Clearance r;
   // Every atlas of A against every atlas of B, the least upper bound shared (§5.1-5.2 per pair).
   std::vector<std::pair<FaceCell, FaceCell>> leaves;

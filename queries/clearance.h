@@ -10,7 +10,8 @@
 ///    hierarchy of the whole object in place of the paper's voxel first stage (§5.4), same pruning.
 ///  - Descent: from the root pair, the 4x4 child pairs of every surviving pair get the box-box min
 ///    and max distance (Eqs. 13-20, glsl/aabb_pairs_minmax.frag); a min reduction gives the least
-///    upper bound U, pairs with lower bound <= U survive by stream reduction (their records stay on
+///    upper bound U (ClearanceLimits::upper: from the boxes alone, or also from face samples),
+///    pairs with lower bound <= U survive by stream reduction (their records stay on
 ///    the GPU; one read-back of U and one of the count per level). Pairs per level are recorded
 ///    (the paper's Fig. 12).
 ///  - Leaves: the surviving cell pairs are read back; two triangles per cell from the surfaces in
@@ -58,6 +59,12 @@ struct ClearanceLimits {
   /// Texels each level of the stream reduction's count pyramid sums (gpgpu/compact.h): 4, or 16
   /// (the default, beyond it) for half the build passes.
   int compact_fanout = 16;
+  /// The least upper bound U of each level: from the box pairs' farthest points (Eqs. 13-16, the
+  /// paper's), or also from the distance of a face sample in each node (beyond it: two points of the
+  /// faces, a far tighter bound, so fewer pairs survive each level; the same answer). Auto: samples
+  /// for the coarse-to-fine search, boxes for the faithful path.
+  enum class Upper { Auto, Boxes, Samples };
+  Upper upper = Upper::Auto;
 };
 
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the
@@ -87,7 +94,9 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
 /// Compiles (or loads from Mesa's shader cache) every program that preparing the models' atlases
 /// and a query with `limits` use, ahead of their first use: the CLI does it on the GL thread while
 /// prepare_pair's geometry threads work (about 2 ms a program on llvmpipe, 25 ms in all).
-void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {});
+/// `search`: the models' search (the descent's programs differ with ClearanceLimits::upper's Auto).
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {},
+                                Search search = Search::CoarseToFine);
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,

@@ -122,14 +122,15 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
   std::vector<int> unpacked;
   for (const AtlasPlan& plan : plan_atlases(sizes, side, static_cast<long long>(side) * side, unpacked)) {
     m.atlases.push_back(evaluate_atlas(gpu, plan, m.faces, params, flatten));
-    std::vector<float> grow;
+    std::vector<float> grow;  // (growth, float budget) per slot
     for (const AtlasSlot& sl : plan.slots) {
       const auto f = size_t(sl.face);
-      grow.push_back(float(m.grids[f].k_e + float_budget(m.faces[f].surface)));
+      const double budget = float_budget(m.faces[f].surface);
+      grow.insert(grow.end(), {float(m.grids[f].k_e + budget), float(budget)});
     }
-    if (grow.size() > size_t(gpu.info().max_texture_size))
+    if (grow.size() / 2 > size_t(gpu.info().max_texture_size))
       throw std::length_error("prepare_model: more faces in one atlas than the texture size allows");
-    m.grow.emplace_back(int(grow.size()), 1, gpgpu::Format::R32F);
+    m.grow.emplace_back(int(grow.size() / 2), 1, gpgpu::Format::RG32F);
     m.grow.back().upload(grow);
     std::vector<uint8_t> crossed(size_t(plan.width) * size_t(plan.height), 0);
     for (const AtlasSlot& sl : plan.slots) {

@@ -40,7 +40,7 @@ struct PreparedModel {
   std::vector<nurbs::FilipBound> bounds;
   std::vector<nurbs::CertifiedGrid> grids;
   std::vector<FaceAtlas> atlases;
-  std::vector<gpgpu::Texture> grow;  ///< per atlas: R32F, one texel per slot
+  std::vector<gpgpu::Texture> grow;  ///< per atlas: RG32F per slot, (K_e + float budget, float budget)
   /// Per atlas: R8, 1 where an edge of the face's trim polygons crosses the cell with lower-left
   /// sample (x, y). Such a cell is not culled even when its four samples are trimmed away: the
   /// paper's §5.3 corner test alone loses material between samples (a thin strip along a trim).

@@ -169,6 +169,80 @@ TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, a
   }
 }
 
+TEST_CASE("clearance: face samples bound U tighter than the boxes: fewer pairs, the same answer, holes respected") {
+  // ClearanceLimits::Upper: Samples against Boxes (the paper's). The samples' U is no larger, so at
+  // every level no more pairs survive; the faithful answer is the exhaustive twin's either way, the
+  // coarse-to-fine answers agree within their bounds. Then a sample in a hole would be a point of no
+  // face: a square with a hole of radius 0.3 under a sphere of radius 0.2 whose centre is 0.25 above
+  // the hole's: the clearance is sqrt(0.3^2 + 0.25^2) - 0.2 (the hole's rim), not 0.05.
+  gpgpu::Gpu& gpu = test::gpu();
+  using Upper = queries::ClearanceLimits::Upper;
+  queries::ClearanceLimits boxes, samples;
+  boxes.upper = Upper::Boxes;
+  samples.upper = Upper::Samples;
+  long long pairs_boxes = 0, pairs_samples = 0;
+  auto compare = [&](const queries::PreparedModel& a, const queries::PreparedModel& b, const glm::dmat4& motion) {
+    const queries::Clearance x = queries::clearance(gpu, a, b, motion, nullptr, nullptr, boxes);
+    const queries::Clearance y = queries::clearance(gpu, a, b, motion, nullptr, nullptr, samples);
+    REQUIRE(x.found);
+    REQUIRE(y.found);
+    if (a.search == queries::Search::Faithful) {
+      CHECK(y.distance == x.distance);
+    } else {
+      CHECK(std::abs(y.distance - x.distance) <= x.bound + y.bound);
+    }
+    REQUIRE(y.pairs_per_level.size() == x.pairs_per_level.size());
+    for (size_t l = 0; l < x.pairs_per_level.size(); ++l) CHECK(y.pairs_per_level[l] <= x.pairs_per_level[l]);
+    pairs_boxes += x.leaf_pairs, pairs_samples += y.leaf_pairs;
+    return y;
+  };
+  for (uint64_t seed = 0; seed < 6; ++seed)
+    for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+      CAPTURE(seed);
+      nurbs::TrimmedSurface fb;
+      const nurbs::TrimmedSurface fa = models::random_trimmed_surface(seed + 20);
+      fb.surface = models::random_surface(seed + 720, 2, 1 + int(seed % 3), seed % 2 == 1);
+      for (auto& p : fb.surface.points) p += glm::dvec3(0.3, -0.2, 2.0 + 0.1 * double(seed));
+      const auto a = queries::prepare_model(gpu, {fa}, 5e-3, 1LL << 22, search);
+      const auto b = queries::prepare_model(gpu, {fb}, 5e-3, 1LL << 22, search);
+      const queries::Clearance y = compare(a, b, glm::dmat4(1.0));
+      if (search == queries::Search::Faithful && fa.loops.empty())  // the twin knows no trims
+        CHECK(y.distance == doctest::Approx(brute_force(a, b)).epsilon(1e-12));
+    }
+  CHECK(pairs_samples < pairs_boxes);
+  MESSAGE("leaf pairs over 12 random pairs: " << pairs_samples << " with samples, " << pairs_boxes << " with boxes");
+  // The square [0, 2]^2 of the plane z = 0 parametrized by a cubic each way (x = f(u), y = f(v),
+  // f(1) = 1): flat, yet its grids have many cells (a bilinear square's K_e is 0: one cell).
+  nurbs::TrimmedSurface square, ball;
+  square.surface.degree_u = square.surface.degree_v = 3;
+  square.surface.count_u = square.surface.count_v = 4;
+  square.surface.knots_u = square.surface.knots_v = {0, 0, 0, 0, 2, 2, 2, 2};
+  const double f[4] = {0.0, 0.3, 1.7, 2.0};
+  for (double y : f)
+    for (double x : f) square.surface.points.emplace_back(x, y, 0.0);
+  square.loops.push_back({{models::rational_circle_2d({1.0, 1.0}, 0.3, false)}, false});
+  ball.surface = models::rational_sphere(0.2);
+  const glm::dvec3 centre(1.0, 1.0, 0.25);
+  double truth = 1e300;  // the rim's closest point (the plane's points get farther from (1, 1))
+  for (int k = 0; k < 100000; ++k) {
+    const double t = 2.0 * M_PI * k / 100000;
+    const glm::dvec3 p = nurbs::surface_point(square.surface, 1.0 + 0.3 * std::cos(t), 1.0 + 0.3 * std::sin(t));
+    truth = std::min(truth, glm::length(p - centre) - 0.2);
+  }
+  for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+    const double tol = 1e-3;
+    const auto a = queries::prepare_model(gpu, {square}, tol, 1LL << 22, search);
+    const auto b = queries::prepare_model(gpu, {ball}, tol, 1LL << 22, search);
+    CAPTURE(int(search));
+    const queries::Clearance c = compare(a, b, glm::translate(glm::dmat4(1.0), centre));
+    // Within the bound, less the rim's flattening into a polygon (1e-6 of the domain) and sampling.
+    CHECK(std::abs(c.distance - truth) <= c.bound + 1e-5);
+    CHECK(c.distance > 0.1);  // the 0.05 of a point in the hole is far outside
+    MESSAGE(std::string(search == queries::Search::Faithful ? "faithful" : "coarse-to-fine")
+            << ": " << c.distance << " +- " << c.bound << " (truth " << truth << "), leaf pairs " << c.leaf_pairs);
+  }
+}
+
 TEST_CASE("clearance: models in several atlases give the answer of one atlas and of the exhaustive twin") {
   // Four faces per model, prepared once into one atlas and once into atlases of side just above
   // the largest grid (two or more atlases each): every atlas pair is searched, the least upper
@@ -216,22 +290,24 @@ TEST_CASE("clearance: models in several atlases give the answer of one atlas and
 
 TEST_CASE("clearance: compile_clearance_programs compiles every program that preparation and a query use") {
   // The CLI compiles them while the geometry threads work; a program left out of the list would
-  // compile at its first pass instead, silently. From no programs: compile the list, then prepare
-  // two pairs (trimmed and not) and query them at both fan-outs and two reduction blocks: nothing new.
+  // compile at its first pass instead, silently. From no programs: compile the list for a search,
+  // then prepare two pairs (trimmed and not) and query them with it, at both fan-outs and two
+  // reduction blocks: nothing new.
   gpgpu::Gpu& gpu = test::gpu();
   nurbs::TrimmedSurface s1, s2;
   s1.surface = models::rational_sphere(1.0);
   s2.surface = models::rational_sphere(2.0);
-  for (const auto& [fanout, block] : {std::pair{16, 4}, {4, 2}}) {
-    CAPTURE(fanout);
-    queries::ClearanceLimits limits;
-    limits.compact_fanout = fanout;
-    limits.reduce_block = block;
-    gpu.forget_programs();
-    queries::compile_clearance_programs(gpu, limits);
-    const size_t compiled = gpu.program_count();
-    CHECK(compiled >= 8);
+  for (const auto& [fanout, block] : {std::pair{16, 4}, {4, 2}})
     for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+      CAPTURE(fanout);
+      CAPTURE(int(search));
+      queries::ClearanceLimits limits;
+      limits.compact_fanout = fanout;
+      limits.reduce_block = block;
+      gpu.forget_programs();
+      queries::compile_clearance_programs(gpu, limits, search);
+      const size_t compiled = gpu.program_count();
+      CHECK(compiled >= 8);
       const queries::PreparedPair p =
           queries::prepare_pair(gpu, {s1}, {models::random_trimmed_surface(7)}, 1e-3, search);
       (void)queries::clearance(gpu, p.a, p.b, glm::translate(glm::dmat4(1.0), glm::dvec3(3, 0, 0)), nullptr, nullptr,
@@ -239,7 +315,6 @@ TEST_CASE("clearance: compile_clearance_programs compiles every program that pre
       const queries::PreparedPair q = queries::prepare_pair(gpu, {s1}, {s2}, 1e-3, search);
       (void)queries::clearance(gpu, q.a, q.b, glm::translate(glm::dmat4(1.0), glm::dvec3(3.5, 0, 0)), nullptr, nullptr,
                                limits);
+      CHECK(gpu.program_count() == compiled);
     }
-    CHECK(gpu.program_count() == compiled);
-  }
 }
