@@ -2,12 +2,16 @@
 // row-major so that compaction preserves element order). Each output texel counts the elements
 // kept in the FANOUT input texels along u_axis ((1,0): along a row, (0,1): along the column);
 // FANOUT is 4, or 16 for half the passes (gpgpu/compact.h).
-// FROM_PREDICATE: the input is the predicate texture (kept where channel 0 > 0; NaN is not kept);
-// otherwise it is the previous R32UI count level.
+// FROM_PREDICATE: the input is the predicate texture (kept where channel 0 > 0; NaN is not kept;
+// with PREDICATE_CUT, kept where channel 0 <= u_cut: compact_at_most); otherwise it is the
+// previous R32UI count level.
 uniform ivec2 u_src_size;
 uniform ivec2 u_axis;
 #if FROM_PREDICATE
 uniform sampler2D u_src;
+#if PREDICATE_CUT
+uniform float u_cut;
+#endif
 #else
 uniform usampler2D u_src;
 #endif
@@ -19,7 +23,9 @@ void main() {
   for (int k = 0; k < FANOUT; ++k) {
     ivec2 t = base + k * u_axis;
     if (t.x >= u_src_size.x || t.y >= u_src_size.y) break;
-#if FROM_PREDICATE
+#if FROM_PREDICATE && PREDICATE_CUT
+    count += texelFetch(u_src, t, 0).r <= u_cut ? 1u : 0u;
+#elif FROM_PREDICATE
     count += texelFetch(u_src, t, 0).r > 0.0 ? 1u : 0u;
 #else
     count += texelFetch(u_src, t, 0).r;

@@ -1,6 +1,7 @@
 // Non-uniform stream reduction, gather step: output element k descends the count pyramid from its
 // 1x1 top to the k-th kept input texel (levels built by histopyramid_build.frag, u_num_levels of
-// them, level 0 built from the predicate). MAX_LEVELS (a define) is the most levels of any input
+// them, level 0 built from the predicate: channel 0 > 0, or with PREDICATE_CUT channel 0 <= u_cut).
+// MAX_LEVELS (a define) is the most levels of any input
 // the GPU can hold, so that one program serves every size; the samplers of levels past the top are
 // bound to the top level and never read. Writes that texel's record and its row-major source index.
 // Elements past u_count (padding of the output layout) get zeros and index 0xffffffff.
@@ -15,6 +16,9 @@ uniform ivec2 u_level_axis[MAX_LEVELS];  // axis level i was reduced along
 uniform int u_num_levels;
 uniform int u_out_width;
 uniform uint u_count;
+#if PREDICATE_CUT
+uniform float u_cut;
+#endif
 layout(location = 0) out vec4 o_record;
 layout(location = 1) out uint o_index;
 
@@ -33,13 +37,17 @@ void step_counts(usampler2D child, ivec2 axis, inout ivec2 p, inout uint rank) {
   }
 }
 
-// The last level down, onto the predicate (kept = channel 0 > 0).
+// The last level down, onto the predicate.
 void step_predicate(ivec2 axis, inout ivec2 p, inout uint rank) {
   ivec2 size = textureSize(u_pred, 0);
   ivec2 first = p * (ivec2(1) + (FANOUT - 1) * axis);
   for (int j = 0; j < FANOUT; ++j) {
     ivec2 c = first + j * axis;
+#if PREDICATE_CUT
+    uint n = texelFetch(u_pred, c, 0).r <= u_cut ? 1u : 0u;
+#else
     uint n = texelFetch(u_pred, c, 0).r > 0.0 ? 1u : 0u;
+#endif
     if (rank < n || j == FANOUT - 1 || any(greaterThanEqual(c + axis, size))) {
       p = c;
       return;

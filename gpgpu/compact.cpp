@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 namespace gpgpu {
@@ -32,14 +33,17 @@ int max_levels(Gpu& gpu, int fanout) {
   return std::max(2 * per_axis, 1);
 }
 
-Program& build_program(Gpu& gpu, bool from_predicate, int fanout) {
-  return gpu.program("histopyramid_build.frag",
-                     {{"FROM_PREDICATE", from_predicate ? "1" : "0"}, {"FANOUT", std::to_string(fanout)}});
+/// `cut`: the predicate is "channel 0 <= u_cut" (compact_at_most) instead of "channel 0 > 0".
+Program& build_program(Gpu& gpu, bool from_predicate, int fanout, bool cut) {
+  return gpu.program("histopyramid_build.frag", {{"FROM_PREDICATE", from_predicate ? "1" : "0"},
+                                                 {"FANOUT", std::to_string(fanout)},
+                                                 {"PREDICATE_CUT", from_predicate && cut ? "1" : "0"}});
 }
 
-Program& gather_program(Gpu& gpu, int fanout) {
-  return gpu.program("histopyramid_gather.frag",
-                     {{"MAX_LEVELS", std::to_string(max_levels(gpu, fanout))}, {"FANOUT", std::to_string(fanout)}});
+Program& gather_program(Gpu& gpu, int fanout, bool cut) {
+  return gpu.program("histopyramid_gather.frag", {{"MAX_LEVELS", std::to_string(max_levels(gpu, fanout))},
+                                                  {"FANOUT", std::to_string(fanout)},
+                                                  {"PREDICATE_CUT", cut ? "1" : "0"}});
 }
 
 void check_fanout(int fanout) {
@@ -49,14 +53,18 @@ void check_fanout(int fanout) {
 
 }  // namespace
 
-void compile_compact(Gpu& gpu, int fanout) {
+void compile_compact(Gpu& gpu, int fanout, bool cut) {
   check_fanout(fanout);
-  build_program(gpu, true, fanout);
-  build_program(gpu, false, fanout);
-  gather_program(gpu, fanout);
+  build_program(gpu, true, fanout, cut);
+  build_program(gpu, false, fanout, cut);
+  gather_program(gpu, fanout, cut);
 }
 
-Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout) {
+namespace {
+
+/// compact() (no cut) or compact_at_most() (the predicate is channel 0 <= *cut).
+Compacted compact_impl(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout,
+                       std::optional<float> cut) {
   check_fanout(fanout);
   if (predicate.width() != records.width() || predicate.height() != records.height())
     throw std::invalid_argument(fmt::format("compact: predicate {}x{} and records {}x{} differ", predicate.width(),
@@ -72,7 +80,8 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, in
     const bool along_x = in->width() > 1;
     const int w = along_x ? (in->width() + fanout - 1) / fanout : 1;
     const int h = along_x ? in->height() : (in->height() + fanout - 1) / fanout;
-    Program& p = build_program(gpu, levels.empty(), fanout);
+    Program& p = build_program(gpu, levels.empty(), fanout, cut.has_value());
+    if (levels.empty() && cut) p.set("u_cut", *cut);
     p.set("u_src_size", in->width(), in->height());
     p.set("u_axis", along_x ? 1 : 0, along_x ? 0 : 1);
     PooledTexture next = gpu.acquire(w, h, Format::R32UI);
@@ -103,7 +112,8 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, in
   if (units_needed > gpu.info().max_texture_units)
     throw std::length_error(fmt::format("compact: {} pyramid levels need {} texture units, the GPU has {}", most,
                                         units_needed, gpu.info().max_texture_units));
-  Program& g = gather_program(gpu, fanout);
+  Program& g = gather_program(gpu, fanout, cut.has_value());
+  if (cut) g.set("u_cut", *cut);
   std::vector<Input> inputs{{"u_pred", &predicate}, {"u_records", &records}};
   for (int i = 0; i + 1 < most; ++i) {
     // The 1x1 top level is where the descent starts (p = 0); its count was read above, the shader
@@ -122,6 +132,17 @@ Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, in
   gpu.run("histopyramid_gather", g, inputs, outputs);
   gpu.dump("compacted_records", out.records);
   return out;
+}
+
+}  // namespace
+
+Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout) {
+  return compact_impl(gpu, predicate, records, fanout, std::nullopt);
+}
+
+Compacted compact_at_most(Gpu& gpu, const Texture& values, float cut, const Texture& records, int fanout) {
+  if (values.format() == Format::R8) throw std::invalid_argument("compact_at_most: the values must be a float texture");
+  return compact_impl(gpu, values, records, fanout, cut);
 }
 
 }  // namespace gpgpu

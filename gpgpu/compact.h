@@ -32,8 +32,13 @@ struct Compacted {
 /// `fanout` (4 or 16) is the texels each pyramid level counts along its axis.
 Compacted compact(Gpu& gpu, const Texture& predicate, const Texture& records, int fanout = 4);
 
-/// Compiles compact()'s programs for `fanout` ahead of its first call (they are otherwise compiled
-/// on first use).
-void compile_compact(Gpu& gpu, int fanout);
+/// compact() keeping the texels where channel 0 of `values` (a float texture of the records' size)
+/// is <= cut (NaN is not kept): the test made by the pyramid's first level and by the gather, in
+/// place of a predicate texture written by a pass of its own (a pass and a program fewer).
+Compacted compact_at_most(Gpu& gpu, const Texture& values, float cut, const Texture& records, int fanout = 4);
+
+/// Compiles compact()'s (or with `cut`, compact_at_most()'s) programs for `fanout` ahead of its
+/// first call (they are otherwise compiled on first use).
+void compile_compact(Gpu& gpu, int fanout, bool cut = false);
 
 }  // namespace gpgpu

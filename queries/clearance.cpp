@@ -37,7 +37,6 @@ gpgpu::Program& pairs_program(gpgpu::Gpu& gpu, bool samples) {
   return samples ? gpu.program("aabb_pairs_minmax.frag", {{"SAMPLE_UPPER", "1"}})
                  : gpu.program("aabb_pairs_minmax.frag");
 }
-gpgpu::Program& threshold_program(gpgpu::Gpu& gpu) { return gpu.program("threshold_le.frag"); }
 
 /// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1; with the
 /// face samples of Upper::Samples, a sample per node (empty without).
@@ -239,15 +238,11 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     shared_upper = std::min(shared_upper, u);
     return std::min(u, shared_upper);
   };
-  auto prune = [&](double upper, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
-    // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
-    gpgpu::PooledTexture keep = gpu.acquire(out.width, out.height, gpgpu::Format::R8);
-    gpgpu::Program& thr = threshold_program(gpu);
-    thr.set("u_cut", std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f);
-    const gpgpu::Input tin[] = {{"u_values", minmax}};
-    gpgpu::Texture* tout[] = {keep.get()};
-    gpu.run("threshold_le", thr, tin, tout);
-    return gpgpu::compact(gpu, *keep.get(), *records, limits.compact_fanout);
+  auto prune = [&](double upper, gpgpu::Texture* minmax, gpgpu::Texture* records) {
+    // Lower bound within U (a relative 1e-5 above it covers the float rounding of both), tested by
+    // the stream reduction itself (compact_at_most: no predicate pass).
+    const float cut = std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f;
+    return gpgpu::compact_at_most(gpu, *minmax, cut, *records, limits.compact_fanout);
   };
   while ((la > 0 || lb > 0) && count > 0) {
     const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;
@@ -259,7 +254,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
       gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
       gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
       const double upper = pair_pass(0, out, minmax.get(), records.get());
-      gpgpu::Compacted c = prune(upper, out, minmax.get(), records.get());
+      gpgpu::Compacted c = prune(upper, minmax.get(), records.get());
       count = c.count;
       pairs = std::move(c.records);
     } else {
@@ -272,7 +267,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
       std::vector<float> kept;
       for (long long off = 0; off < count; off += chunk_pairs) {
         pair_pass(off, out, minmax.get(), records.get());
-        const gpgpu::Compacted c = prune(upper, out, minmax.get(), records.get());
+        const gpgpu::Compacted c = prune(upper, minmax.get(), records.get());
         const std::vector<float> part = c.count > 0 ? c.read_records() : std::vector<float>{};
         kept.insert(kept.end(), part.begin(), part.end());
       }
@@ -313,9 +308,8 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   leaf_program(gpu, samples);
   merge_program(gpu, samples);
   pairs_program(gpu, samples);
-  threshold_program(gpu);
   gpgpu::reduce_program(gpu, limits.reduce_block);
-  gpgpu::compile_compact(gpu, limits.compact_fanout);
+  gpgpu::compile_compact(gpu, limits.compact_fanout, true);
 }
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
