@@ -1,8 +1,9 @@
 // Standard reduction (Krishnamurthy et al. §1.1): one log-n step. Each output texel combines the
 // 2x2 block of input texels below it, channel by channel, with the operation in u_ops:
 // 0 = min, 1 = max, 2 = sum. Texels outside the input (odd sizes) count as the neutral element.
-// Beyond the paper, BLOCK = 4 or 8 combines 4x4 or 8x8 texels per pass (gpgpu/reduce.h): half or a
-// third of the passes, each costing its fixed overhead on llvmpipe.
+// Beyond the paper, BLOCK = 4 or 8 combines BLOCK^2 texels per pass (gpgpu/reduce.h): half or a
+// third of the passes, each costing its fixed overhead on llvmpipe; the block is BLOCK x BLOCK, or a
+// row (a column) of BLOCK^2 texels where the input is one texel high (wide), as u_block says.
 // NaN policy: min and max ignore NaN entries (an all-NaN block gives the neutral +inf / -inf);
 // sums propagate NaN, so a NaN in the data is visible in the result.
 #include "lib_float.glsl"
@@ -23,18 +24,24 @@ float combine(int op, float acc, float v) {
 #ifndef BLOCK
 #define BLOCK 2
 #endif
+#if BLOCK > 2
+uniform ivec2 u_block;  // the block's shape: (BLOCK, BLOCK), (BLOCK^2, 1) or (1, BLOCK^2)
+#endif
 
 void main() {
-  ivec2 base = ivec2(gl_FragCoord.xy) * BLOCK;
+#if BLOCK > 2
+  ivec2 shape = u_block;
+#else
+  ivec2 shape = ivec2(2);
+#endif
+  ivec2 base = ivec2(gl_FragCoord.xy) * shape;
   vec4 acc = vec4(neutral(u_ops.x), neutral(u_ops.y), neutral(u_ops.z), neutral(u_ops.w));
-  for (int dy = 0; dy < BLOCK; ++dy) {
-    for (int dx = 0; dx < BLOCK; ++dx) {
-      ivec2 t = base + ivec2(dx, dy);
-      if (t.x >= u_src_size.x || t.y >= u_src_size.y) continue;
-      vec4 v = texelFetch(u_src, t, 0);
-      acc = vec4(combine(u_ops.x, acc.x, v.x), combine(u_ops.y, acc.y, v.y),
-                 combine(u_ops.z, acc.z, v.z), combine(u_ops.w, acc.w, v.w));
-    }
+  for (int k = 0; k < BLOCK * BLOCK; ++k) {  // row by row through the block
+    ivec2 t = base + ivec2(k % shape.x, k / shape.x);
+    if (t.x >= u_src_size.x || t.y >= u_src_size.y) continue;
+    vec4 v = texelFetch(u_src, t, 0);
+    acc = vec4(combine(u_ops.x, acc.x, v.x), combine(u_ops.y, acc.y, v.y),
+               combine(u_ops.z, acc.z, v.z), combine(u_ops.w, acc.w, v.w));
   }
   o_value = acc;
 }

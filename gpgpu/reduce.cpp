@@ -13,15 +13,21 @@ Format reduced_format(Format f) {
   return f == Format::R8 ? Format::R32F : f;
 }
 
-/// Runs block x block passes of `program` from `src` until 1x1; returns the 1x1 texel.
+/// Runs passes of `program` from `src` until 1x1; returns the 1x1 texel. Block 2: 2x2 texels a pass
+/// (the paper's); 4 or 8: block x block, or a row (column) of block^2 texels while the input is one
+/// texel high (wide), set in u_block (a 2048 x 1 input: 3 passes of 16 instead of 6 of 4).
 std::vector<float> pyramid(Gpu& gpu, const Texture& src, Program& first, Program& rest, Format out_format,
                            const char* name, int block = 2) {
   const Texture* in = &src;
   PooledTexture level;
   Program* prog = &first;
   do {
-    const int w = (in->width() + block - 1) / block, h = (in->height() + block - 1) / block;
+    int bx = block, by = block;
+    if (block > 2 && in->height() == 1) bx = block * block, by = 1;
+    if (block > 2 && in->width() == 1) bx = 1, by = block * block;
+    const int w = (in->width() + bx - 1) / bx, h = (in->height() + by - 1) / by;
     PooledTexture next = gpu.acquire(w, h, out_format);
+    if (block > 2) prog->set("u_block", bx, by);
     prog->set("u_src_size", in->width(), in->height());
     const Input inputs[] = {{"u_src", in}};
     Texture* outputs[] = {next.get()};

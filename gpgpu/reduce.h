@@ -20,7 +20,8 @@ using ReduceOps = std::array<ReduceOp, 4>;
 
 /// Reduces each channel of `src` with its operation. Channels the format lacks read as (0, 0, 0, 1).
 /// R8 and float formats only. `block`: texels per pass along each axis, 2 (the paper's log2 passes)
-/// or, beyond it, 4 or 8 (log4 / log8 passes; std::invalid_argument otherwise). Min and max give
+/// or, beyond it, 4 or 8 (block^2 texels a pass: block x block, or a row / column of block^2 while
+/// the input is one texel high / wide; std::invalid_argument otherwise). Min and max give
 /// the same value for any block; sums are added in another order.
 std::array<float, 4> reduce(Gpu& gpu, const Texture& src, ReduceOps ops, int block = 2);
 
