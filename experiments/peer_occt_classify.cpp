@@ -53,6 +53,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "peer_occt_read.h"
 
 namespace {
 
@@ -67,11 +68,10 @@ struct OcctFace {
 };
 
 std::vector<OcctFace> occt_faces(const fs::path& path) {
-  IGESControl_Reader reader;
-  reader.ReadFile(path.c_str());
-  reader.TransferRoots();
+  double seconds = 0.0;
+  const TopoDS_Shape shape = peer::read_iges(path.string(), seconds);
   std::vector<OcctFace> faces;
-  for (TopExp_Explorer e(reader.OneShape(), TopAbs_FACE); e.More(); e.Next()) {
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
     OcctFace f;
     f.face = TopoDS::Face(e.Current());
     f.surface = BRep_Tool::Surface(f.face);

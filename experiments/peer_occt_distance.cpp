@@ -39,10 +39,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "peer_occt_read.h"
+
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using peer::Clock;
+using peer::read_iges;
+using peer::seconds_since;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -68,17 +71,6 @@ gp_Trsf rigid_motion(const std::vector<double>& v) {
   if (v[6] != 0.0) rotation.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(v[3], v[4], v[5])), v[6] * M_PI / 180.0);
   move.SetTranslation(gp_Vec(v[0], v[1], v[2]));
   return move * rotation;  // applied right to left: rotation first
-}
-
-TopoDS_Shape read_iges(const std::string& path, double& seconds) {
-  const auto t0 = Clock::now();
-  IGESControl_Reader reader;
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
-  reader.TransferRoots();
-  TopoDS_Shape shape = reader.OneShape();
-  seconds = seconds_since(t0);
-  if (shape.IsNull()) throw std::runtime_error(path + ": OCCT transferred no shape");
-  return shape;
 }
 
 /// The largest vertex, edge or face tolerance of the shape: OCCT's own precision on its answer.

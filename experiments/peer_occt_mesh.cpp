@@ -29,22 +29,13 @@
 
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/read_model.h"
+#include "peer_occt_read.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-TopoDS_Shape read_iges(const std::string& path, double& seconds) {
-  const auto t0 = Clock::now();
-  IGESControl_Reader reader;
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
-  reader.TransferRoots();
-  TopoDS_Shape shape = reader.OneShape();
-  seconds = seconds_since(t0);
-  if (shape.IsNull()) throw std::runtime_error(path + ": OCCT transferred no shape");
-  return shape;
-}
+using peer::Clock;
+using peer::read_iges;
+using peer::seconds_since;
 
 /// Every face's Poly_Triangulation in world coordinates (the face's location applied), one mesh;
 /// triangles of reversed faces flipped so that all are counter-clockwise seen from outside.
