@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -143,9 +144,12 @@ void run(const GlobalOptions& global, const Options& o) {
   using Upper = queries::ClearanceLimits::Upper;
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
+  std::vector<nurbs::TrimmedSurface> fa = nurbs::world_faces(ma), fb = nurbs::world_faces(mb);
+  const bool trimmed = std::any_of(fa.begin(), fa.end(), [](const auto& f) { return !f.loops.empty(); }) ||
+                       std::any_of(fb.begin(), fb.end(), [](const auto& f) { return !f.loops.empty(); });
   queries::PreparedPair pair =
-      queries::prepare_pair(*gpu, nurbs::world_faces(ma), nurbs::world_faces(mb), tolerance, o.search, 1LL << 22,
-                            [&] { queries::compile_clearance_programs(*gpu, limits, o.search); });
+      queries::prepare_pair(*gpu, std::move(fa), std::move(fb), tolerance, o.search, 1LL << 22,
+                            [&] { queries::compile_clearance_programs(*gpu, limits, o.search, trimmed); });
   const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)

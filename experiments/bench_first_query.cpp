@@ -55,7 +55,8 @@ Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const gl
                                    tolerance, search)
            : queries::prepare_pair(gpu, face(models::wavy_surface_199x33()), face(models::wavy_surface_100x105()),
                                    tolerance, search, 1LL << 22, [&] {
-                                     if (compile_beside) queries::compile_clearance_programs(gpu);
+                                     // as the CLI: the pair's search, no trim loops
+                                     if (compile_beside) queries::compile_clearance_programs(gpu, {}, search, false);
                                    });
   gpu.finish();
   r.prepare = ms_since(t0);

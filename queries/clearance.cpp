@@ -301,9 +301,9 @@ bool use_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
 
 }  // namespace
 
-void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, Search search) {
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, Search search, bool trimmed) {
   atlas_program(gpu);
-  gpgpu::compile_polygon_fill(gpu);  // trim masks
+  if (trimmed) gpgpu::compile_polygon_fill(gpu);  // trim masks
   const bool samples = use_samples(limits, search == Search::CoarseToFine);
   leaf_program(gpu, samples);
   merge_program(gpu, samples);

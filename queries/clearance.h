@@ -94,9 +94,10 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
 /// Compiles (or loads from Mesa's shader cache) every program that preparing the models' atlases
 /// and a query with `limits` use, ahead of their first use: the CLI does it on the GL thread while
 /// prepare_pair's geometry threads work (about 2 ms a program on llvmpipe, 25 ms in all).
-/// `search`: the models' search (the descent's programs differ with ClearanceLimits::upper's Auto).
+/// `search`: the models' search (the descent's programs differ with ClearanceLimits::upper's Auto);
+/// `trimmed`: whether a face of either model has trim loops (else no trim mask is filled).
 void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {},
-                                Search search = Search::CoarseToFine);
+                                Search search = Search::CoarseToFine, bool trimmed = true);
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,

@@ -169,33 +169,38 @@ TEST_CASE("clearance: coarse-to-fine search on exact spheres and random pairs, a
   }
 }
 
-TEST_CASE("clearance: face samples bound U tighter than the boxes: fewer pairs, the same answer, holes respected") {
-  // ClearanceLimits::Upper: Samples against Boxes (the paper's). The samples' U is no larger, so at
-  // every level no more pairs survive; the faithful answer is the exhaustive twin's either way, the
-  // coarse-to-fine answers agree within their bounds. Then a sample in a hole would be a point of no
-  // face: a square with a hole of radius 0.3 under a sphere of radius 0.2 whose centre is 0.25 above
-  // the hole's: the clearance is sqrt(0.3^2 + 0.25^2) - 0.2 (the hole's rim), not 0.05.
+namespace {
+
+/// Clearance with face samples against boxes (ClearanceLimits::Upper). The samples' U is no larger,
+/// so at every level no more pairs survive; the faithful answer is the same, the coarse-to-fine ones
+/// agree within their bounds. Adds the leaf pairs (boxes, samples) to `pairs`; returns the samples'.
+queries::Clearance samples_against_boxes(const queries::PreparedModel& a, const queries::PreparedModel& b,
+                                         const glm::dmat4& motion, std::pair<long long, long long>& pairs) {
   gpgpu::Gpu& gpu = test::gpu();
-  using Upper = queries::ClearanceLimits::Upper;
   queries::ClearanceLimits boxes, samples;
-  boxes.upper = Upper::Boxes;
-  samples.upper = Upper::Samples;
-  long long pairs_boxes = 0, pairs_samples = 0;
-  auto compare = [&](const queries::PreparedModel& a, const queries::PreparedModel& b, const glm::dmat4& motion) {
-    const queries::Clearance x = queries::clearance(gpu, a, b, motion, nullptr, nullptr, boxes);
-    const queries::Clearance y = queries::clearance(gpu, a, b, motion, nullptr, nullptr, samples);
-    REQUIRE(x.found);
-    REQUIRE(y.found);
-    if (a.search == queries::Search::Faithful) {
-      CHECK(y.distance == x.distance);
-    } else {
-      CHECK(std::abs(y.distance - x.distance) <= x.bound + y.bound);
-    }
-    REQUIRE(y.pairs_per_level.size() == x.pairs_per_level.size());
-    for (size_t l = 0; l < x.pairs_per_level.size(); ++l) CHECK(y.pairs_per_level[l] <= x.pairs_per_level[l]);
-    pairs_boxes += x.leaf_pairs, pairs_samples += y.leaf_pairs;
-    return y;
-  };
+  boxes.upper = queries::ClearanceLimits::Upper::Boxes;
+  samples.upper = queries::ClearanceLimits::Upper::Samples;
+  const queries::Clearance x = queries::clearance(gpu, a, b, motion, nullptr, nullptr, boxes);
+  const queries::Clearance y = queries::clearance(gpu, a, b, motion, nullptr, nullptr, samples);
+  REQUIRE(x.found);
+  REQUIRE(y.found);
+  if (a.search == queries::Search::Faithful) {
+    CHECK(y.distance == x.distance);
+  } else {
+    CHECK(std::abs(y.distance - x.distance) <= x.bound + y.bound);
+  }
+  REQUIRE(y.pairs_per_level.size() == x.pairs_per_level.size());
+  for (size_t l = 0; l < x.pairs_per_level.size(); ++l) CHECK(y.pairs_per_level[l] <= x.pairs_per_level[l]);
+  pairs.first += x.leaf_pairs, pairs.second += y.leaf_pairs;
+  return y;
+}
+
+}  // namespace
+
+TEST_CASE("clearance: face samples bound U tighter than the boxes on random pairs: fewer pairs, the same answer" *
+          test::sweep()) {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::pair<long long, long long> pairs{0, 0};
   for (uint64_t seed = 0; seed < 6; ++seed)
     for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
       CAPTURE(seed);
@@ -205,12 +210,19 @@ TEST_CASE("clearance: face samples bound U tighter than the boxes: fewer pairs, 
       for (auto& p : fb.surface.points) p += glm::dvec3(0.3, -0.2, 2.0 + 0.1 * double(seed));
       const auto a = queries::prepare_model(gpu, {fa}, 5e-3, 1LL << 22, search);
       const auto b = queries::prepare_model(gpu, {fb}, 5e-3, 1LL << 22, search);
-      const queries::Clearance y = compare(a, b, glm::dmat4(1.0));
+      const queries::Clearance y = samples_against_boxes(a, b, glm::dmat4(1.0), pairs);
       if (search == queries::Search::Faithful && fa.loops.empty())  // the twin knows no trims
         CHECK(y.distance == doctest::Approx(brute_force(a, b)).epsilon(1e-12));
     }
-  CHECK(pairs_samples < pairs_boxes);
-  MESSAGE("leaf pairs over 12 random pairs: " << pairs_samples << " with samples, " << pairs_boxes << " with boxes");
+  CHECK(pairs.second < pairs.first);
+  MESSAGE("leaf pairs over 12 random pairs: " << pairs.second << " with samples, " << pairs.first << " with boxes");
+}
+
+TEST_CASE("clearance: face samples never come from a hole (a sphere over a holed plane)") {
+  // A sample in a hole would be a point of no face: a square with a hole of radius 0.3 (in (u, v))
+  // under a sphere of radius 0.2 whose centre is 0.25 above the hole's: the clearance is the rim's.
+  gpgpu::Gpu& gpu = test::gpu();
+  std::pair<long long, long long> pairs{0, 0};
   // The square [0, 2]^2 of the plane z = 0 parametrized by a cubic each way (x = f(u), y = f(v),
   // f(1) = 1): flat, yet its grids have many cells (a bilinear square's K_e is 0: one cell).
   nurbs::TrimmedSurface square, ball;
@@ -234,7 +246,7 @@ TEST_CASE("clearance: face samples bound U tighter than the boxes: fewer pairs, 
     const auto a = queries::prepare_model(gpu, {square}, tol, 1LL << 22, search);
     const auto b = queries::prepare_model(gpu, {ball}, tol, 1LL << 22, search);
     CAPTURE(int(search));
-    const queries::Clearance c = compare(a, b, glm::translate(glm::dmat4(1.0), centre));
+    const queries::Clearance c = samples_against_boxes(a, b, glm::translate(glm::dmat4(1.0), centre), pairs);
     // Within the bound, less the rim's flattening into a polygon (1e-6 of the domain) and sampling.
     CHECK(std::abs(c.distance - truth) <= c.bound + 1e-5);
     CHECK(c.distance > 0.1);  // the 0.05 of a point in the hole is far outside
