@@ -289,6 +289,13 @@ TEST_CASE("clearance: models in several atlases give the answer of one atlas and
   CHECK(many.distance == doctest::Approx(brute_force(one_a, one_b)).epsilon(1e-12));
   CHECK(many.face_a == one.face_a);
   CHECK(many.face_b == one.face_b);
+  // Face samples in every atlas's hierarchy (U shared across the atlas pairs): the same answer.
+  queries::ClearanceLimits samples;
+  samples.upper = queries::ClearanceLimits::Upper::Samples;
+  const queries::Clearance many_samples =
+      queries::clearance(gpu, many_a, many_b, glm::dmat4(1.0), nullptr, nullptr, samples);
+  CHECK(many_samples.distance == many.distance);
+  CHECK(many_samples.leaf_pairs <= many.leaf_pairs);
   // Moved, with A's hierarchies cached across two queries.
   queries::ClearanceCache cache;
   const queries::Clearance moved_one = queries::clearance(gpu, one_a, one_b, motion);
@@ -297,7 +304,8 @@ TEST_CASE("clearance: models in several atlases give the answer of one atlas and
     CHECK(moved.distance == doctest::Approx(moved_one.distance).epsilon(1e-12));
   }
   MESSAGE("atlases " << many_a.atlases.size() << " x " << many_b.atlases.size() << ": distance " << many.distance
-                     << ", leaf pairs " << many.leaf_pairs << " (one atlas " << one.leaf_pairs << ")");
+                     << ", leaf pairs " << many.leaf_pairs << " (one atlas " << one.leaf_pairs << "; face samples "
+                     << many_samples.leaf_pairs << ")");
 }
 
 TEST_CASE("clearance: compile_clearance_programs compiles every program that preparation and a query use") {
