@@ -11,7 +11,7 @@
 using gpgpu::Format;
 
 namespace {
-constexpr gpgpu::ShaderFile kFiles[] = {
+constexpr gpgpu::ShaderFile kMipFiles[] = {
     // Sum of the 2x2 children: the finer level is this sampler's lod 0 (Input::level).
     {"mip_sum_2x2.frag",
      "uniform sampler2D u_fine;\n"
@@ -46,7 +46,7 @@ constexpr gpgpu::ShaderFile kFiles[] = {
 
 TEST_CASE("mip levels: a 2x2-sum pyramid built in place, read back per level and through one sampler") {
   gpgpu::Gpu& gpu = test::gpu();
-  gpu.shaders().add(kFiles, "tests/");
+  gpu.shaders().add(kMipFiles, "tests/");
   // 8 x 4: levels 8x4, 4x2, 2x1, 1x1 (a non-square pyramid; the last levels are 1 texel high).
   gpgpu::Texture t(8, 4, Format::RGBA32F, 4);
   CHECK(t.levels() == 4);
@@ -118,7 +118,7 @@ TEST_CASE("mip levels: a 2x2-sum pyramid built in place, read back per level and
 
 TEST_CASE("mip levels: bad level counts, same-level feedback and missing levels are refused") {
   gpgpu::Gpu& gpu = test::gpu();
-  gpu.shaders().add(kFiles, "tests/");
+  gpu.shaders().add(kMipFiles, "tests/");
   CHECK_THROWS_WITH_AS(gpgpu::Texture(8, 4, Format::RGBA32F, 5), "5 mip levels for a 8x4 texture (it can have 1..4)",
                        std::invalid_argument);
   CHECK_THROWS_AS(gpgpu::Texture(8, 4, Format::RGBA32F, 0), std::invalid_argument);

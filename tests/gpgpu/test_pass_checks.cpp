@@ -11,7 +11,7 @@ using gpgpu::Format;
 
 namespace {
 // u_unused and u_unused_scale are declared but not read: the compiler drops them (no location).
-constexpr gpgpu::ShaderFile kFiles[] = {
+constexpr gpgpu::ShaderFile kCheckFiles[] = {
     {"checks_scale.frag",
      "uniform sampler2D u_src;\n"
      "uniform sampler2D u_unused;  // declared, never read\n"
@@ -33,7 +33,7 @@ TEST_CASE("uniform names: declarations are read from the source text") {
 
 TEST_CASE("program: a uniform name the sources lack throws; an optimised-away one is a no-op") {
   gpgpu::Gpu& gpu = test::gpu();
-  gpu.shaders().add(kFiles, "tests/");
+  gpu.shaders().add(kCheckFiles, "tests/");
   const gpgpu::Program& p = gpu.program("checks_scale.frag");
   CHECK(p.declared_uniforms().contains("u_unused_scale"));
   CHECK_NOTHROW(p.set("u_scale", 2.0f));
@@ -47,7 +47,7 @@ TEST_CASE("program: a uniform name the sources lack throws; an optimised-away on
 
 TEST_CASE("pass runner: unknown or unread samplers and feedback loops throw, naming pass and program") {
   gpgpu::Gpu& gpu = test::gpu();
-  gpu.shaders().add(kFiles, "tests/");
+  gpu.shaders().add(kCheckFiles, "tests/");
   gpgpu::Program& p = gpu.program("checks_scale.frag");
   p.set("u_scale", 3.0f);
   gpgpu::Texture a(3, 2, Format::RGBA32F), b(3, 2, Format::RGBA32F);

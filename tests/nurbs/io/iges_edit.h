@@ -10,6 +10,9 @@
 
 namespace nurbs::io::test {
 
+/// An integer as an IGES parameter (for building parameter lists by hand).
+inline std::string s(int v) { return std::to_string(v); }
+
 struct IgesEdit {
   struct Entity {
     std::string d1, d2;               // columns 1-72 of the two directory lines

@@ -23,11 +23,11 @@
 #include "shared_models.h"
 
 using nurbs::io::test::IgesEdit;
+using nurbs::io::test::s;
 
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-std::string s(int v) { return std::to_string(v); }
 std::string r(double v) { return fmt::format("{:.17g}", v); }
 
 // The frame of every case: location L, axis A (written unnormalised), reference X, Y = A x X.

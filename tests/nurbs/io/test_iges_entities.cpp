@@ -15,10 +15,9 @@
 #include "sample_models.h"
 
 using nurbs::io::test::IgesEdit;
+using nurbs::io::test::s;
 
 namespace {
-
-std::string s(int v) { return std::to_string(v); }
 
 // A file with one bare bicubic 128 (D1) over [0, 1]^2.
 IgesEdit one_surface() {
@@ -106,8 +105,8 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   const int face = e.append(510, {"1", "2", "1", s(loop), s(loop_e)}, 1);
   const int shell = e.append(514, {"1", s(face), "1"}, 1);
   e.append(186, {s(shell), "1", "0"});
-  e.append(116, {"0.", "0.", "0.", "0"});                 // point: skipped and counted
-  e.append(406, {"1", "4HNAME"}, 15);                     // property: ignored
+  e.append(116, {"0.", "0.", "0.", "0"});          // point: skipped and counted
+  e.append(406, {"1", "4HNAME"}, 15);              // property: ignored
   const int rev = e.append(118, {"1", "1", "0"});  // ruled surface: unsupported
   e.append(144, {s(rev), "0", "0", "0"});
 
