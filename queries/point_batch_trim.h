@@ -27,7 +27,8 @@ struct TrimEdgeHit {
 
 /// nurbs::is_material with the same answer, bit for bit, in far fewer steps: each loop's edges
 /// sorted into horizontal bands of its box, so a winding number (Sunday's rule counts only the
-/// edges whose half-open v range holds the point) reads only the point's band.
+/// edges whose half-open v range holds the point) reads only the point's band. The batched
+/// projection and the coarse-to-fine refinement (refine.cpp: material tests and cell crossings) use it.
 class BandedTrim {
  public:
   BandedTrim() = default;
