@@ -38,6 +38,12 @@ gpgpu::Program& pairs_program(gpgpu::Gpu& gpu, bool samples) {
                  : gpu.program("aabb_pairs_minmax.frag");
 }
 
+/// Whether the descent bounds U with face samples (ClearanceLimits::upper).
+bool use_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
+  if (limits.upper != ClearanceLimits::Upper::Auto) return limits.upper == ClearanceLimits::Upper::Samples;
+  return coarse_to_fine;
+}
+
 /// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1; with the
 /// face samples of Upper::Samples, a sample per node (empty without).
 struct Hierarchy {
@@ -287,16 +293,6 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   std::vector<float> recs = on_host ? std::move(host) : count > 0 ? pairs.read() : std::vector<float>{};
   recs.resize(size_t(4 * count));
   return recs;
-}
-
-}  // namespace
-
-namespace {
-
-/// Whether the descent bounds U with face samples (ClearanceLimits::upper).
-bool use_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
-  if (limits.upper != ClearanceLimits::Upper::Auto) return limits.upper == ClearanceLimits::Upper::Samples;
-  return coarse_to_fine;
 }
 
 }  // namespace
