@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <optional>
 
 #include "nurbs/filip_bound.h"
 #include "nurbs/surface_eval.h"
@@ -62,10 +63,7 @@ double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi 
 class Cells {
  public:
   Cells(const PreparedModel& m, const glm::dmat4& motion)
-      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()) {
-    for (size_t f = 0; f < m.faces.size(); ++f)
-      if (!m.faces[f].loops.empty()) banded_[f] = BandedTrim(m.trims[f]);
-  }
+      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()) {}
 
   /// Polishes (u, v) on `face` towards the closest point to q (q in moved coordinates). When the
   /// Newton point is trimmed away (the closest point often lies on a trim edge), the last material
@@ -91,6 +89,10 @@ class Cells {
     std::vector<FaceCell> fresh;
     for (const FaceCell& c : grid)
       if (uint32_t& s = slot(c); s == 0) s = kPending, fresh.push_back(c);
+    // The band index of each trimmed face the cells lie on, made here, before the threads read it:
+    // a point query touches a few faces of a model of hundreds.
+    for (const FaceCell& c : fresh)
+      if (const auto f = size_t(c.face); !m_.faces[f].loops.empty() && !banded_[f]) banded_[f].emplace(m_.trims[f]);
     const size_t first = all.size();
     all.resize(first + fresh.size());
     for_shares(fresh.size(), share_count(fresh.size(), 256), [&](size_t, size_t begin, size_t end) {
@@ -111,7 +113,7 @@ class Cells {
   Sample at(int face, glm::dvec2 uv) const {
     const nurbs::TrimmedSurface& f = m_.faces[size_t(face)];
     const glm::dvec3 q = glm::dvec3(motion_ * glm::dvec4(nurbs::surface_point(f.surface, uv.x, uv.y), 1.0));
-    return {q, f.loops.empty() || banded_[size_t(face)].is_material(uv)};
+    return {q, f.loops.empty() || banded_[size_t(face)]->is_material(uv)};
   }
 
   /// Splits cell i 2 x 2 (once); children with no material are culled.
@@ -185,12 +187,15 @@ class Cells {
 
   /// Whether an edge of the face's trim polygons meets the cell's rectangle (then material may lie
   /// inside even with every corner trimmed).
-  bool trim_crosses(const Cell& c) const { return banded_[size_t(c.face)].meets_box({c.u0, c.v0}, {c.u1, c.v1}); }
+  bool trim_crosses(const Cell& c) const {
+    const std::optional<BandedTrim>& b = banded_[size_t(c.face)];
+    return b && b->meets_box({c.u0, c.v0}, {c.u1, c.v1});
+  }
 
   const PreparedModel& m_;
   glm::dmat4 motion_, inverse_;
   std::vector<std::vector<uint32_t>> grid_index_;  ///< per face, by grid cell: slot()
-  std::vector<BandedTrim> banded_;                 ///< per face with trim loops (is_material, edge-box)
+  std::vector<std::optional<BandedTrim>> banded_;  ///< per trimmed face of a cell (is_material, edge-box)
 };
 
 /// The children of cell i to pair with (itself when it is not split).
