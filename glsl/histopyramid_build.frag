@@ -8,10 +8,8 @@
 uniform ivec2 u_src_size;
 uniform ivec2 u_axis;
 #if FROM_PREDICATE
+#include "lib_keep.glsl"
 uniform sampler2D u_src;
-#if PREDICATE_CUT
-uniform float u_cut;
-#endif
 #else
 uniform usampler2D u_src;
 #endif
@@ -23,10 +21,8 @@ void main() {
   for (int k = 0; k < FANOUT; ++k) {
     ivec2 t = base + k * u_axis;
     if (t.x >= u_src_size.x || t.y >= u_src_size.y) break;
-#if FROM_PREDICATE && PREDICATE_CUT
-    count += texelFetch(u_src, t, 0).r <= u_cut ? 1u : 0u;
-#elif FROM_PREDICATE
-    count += texelFetch(u_src, t, 0).r > 0.0 ? 1u : 0u;
+#if FROM_PREDICATE
+    count += kept(texelFetch(u_src, t, 0).r);
 #else
     count += texelFetch(u_src, t, 0).r;
 #endif

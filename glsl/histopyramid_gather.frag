@@ -7,6 +7,7 @@
 // Elements past u_count (padding of the output layout) get zeros and index 0xffffffff.
 // The descent is unrolled by the preprocessor (STEP) so every sampler index is a constant: a loop
 // over a sampler array is dynamic indexing, which llvmpipe runs several times slower.
+#include "lib_keep.glsl"
 #include "lib_layout.glsl"
 
 uniform sampler2D u_pred;
@@ -16,9 +17,6 @@ uniform ivec2 u_level_axis[MAX_LEVELS];  // axis level i was reduced along
 uniform int u_num_levels;
 uniform int u_out_width;
 uniform uint u_count;
-#if PREDICATE_CUT
-uniform float u_cut;
-#endif
 layout(location = 0) out vec4 o_record;
 layout(location = 1) out uint o_index;
 
@@ -43,11 +41,7 @@ void step_predicate(ivec2 axis, inout ivec2 p, inout uint rank) {
   ivec2 first = p * (ivec2(1) + (FANOUT - 1) * axis);
   for (int j = 0; j < FANOUT; ++j) {
     ivec2 c = first + j * axis;
-#if PREDICATE_CUT
-    uint n = texelFetch(u_pred, c, 0).r <= u_cut ? 1u : 0u;
-#else
-    uint n = texelFetch(u_pred, c, 0).r > 0.0 ? 1u : 0u;
-#endif
+    uint n = kept(texelFetch(u_pred, c, 0).r);
     if (rank < n || j == FANOUT - 1 || any(greaterThanEqual(c + axis, size))) {
       p = c;
       return;
