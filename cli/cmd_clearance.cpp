@@ -145,8 +145,10 @@ void run(const GlobalOptions& global, const Options& o) {
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
   std::vector<nurbs::TrimmedSurface> fa = nurbs::world_faces(ma), fb = nurbs::world_faces(mb);
-  const bool trimmed = std::any_of(fa.begin(), fa.end(), [](const auto& f) { return !f.loops.empty(); }) ||
-                       std::any_of(fb.begin(), fb.end(), [](const auto& f) { return !f.loops.empty(); });
+  auto any_trimmed = [](const std::vector<nurbs::TrimmedSurface>& faces) {
+    return std::any_of(faces.begin(), faces.end(), [](const auto& f) { return !f.loops.empty(); });
+  };
+  const bool trimmed = any_trimmed(fa) || any_trimmed(fb);
   queries::PreparedPair pair =
       queries::prepare_pair(*gpu, std::move(fa), std::move(fb), tolerance, o.search, 1LL << 22,
                             [&] { queries::compile_clearance_programs(*gpu, limits, o.search, trimmed); });
