@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 
@@ -16,6 +19,7 @@
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/material_distance.h"
 #include "queries/parallel.h"
 #include "queries/refine.h"
 
@@ -109,6 +113,8 @@ std::vector<Hierarchy> build_all(gpgpu::Gpu& gpu, const PreparedModel& m, const 
 struct CellTriangles {
   glm::dvec3 p[2][3];
   glm::dvec2 uv[2][3];
+  /// The cell's corners in TrimEdges order: (u_{i + (k & 1)}, v_{j + (k >> 1)}).
+  [[nodiscard]] std::array<glm::dvec3, 4> corners() const { return {p[0][0], p[0][1], p[1][2], p[0][2]}; }
 };
 CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const glm::dmat4& motion) {
   const nurbs::Surface& s = m.faces[size_t(c.face)].surface;
@@ -358,18 +364,36 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   }
   // The leaf pairs in contiguous shares over the hardware threads, merged in share order with a
   // strict "<" (the sequential loop's answer: the first pair of least distance).
+  // §5.3: a closest point inside a trimmed region is discarded and the search goes on: such
+  // triangle pairs wait, and those still below the best material pair are searched over their
+  // material parts (material_distance.h).
+  struct Waiting {
+    size_t leaf;
+    int i, j;
+    double distance;
+  };
   struct Best {
     bool found = false;
-    double distance = kInf, ka = 0.0, kb = 0.0, closest_any = kInf;
+    double distance = kInf, ka = 0.0, kb = 0.0;
     glm::dvec3 pa{0.0}, pb{0.0};
     glm::dvec2 uva{0.0}, uvb{0.0};
     int face_a = -1, face_b = -1;
+    std::vector<Waiting> waiting;
   };
   std::vector<FaceCell> cells_a, cells_b;
   cells_a.reserve(leaves.size()), cells_b.reserve(leaves.size());
   for (const auto& [ca, cb] : leaves) cells_a.push_back(ca), cells_b.push_back(cb);
   const CellTable table_a = cell_table(a, std::move(cells_a), glm::dmat4(1.0));
   const CellTable table_b = cell_table(b, std::move(cells_b), motion_b);
+  // Band indexes of the trimmed faces that take part (is_material's answer, in fewer steps).
+  auto banded = [&](const PreparedModel& m, const CellTable& t) {
+    std::vector<std::optional<BandedTrim>> out(m.faces.size());
+    for (const FaceCell& c : t.cells)
+      if (!m.faces[size_t(c.face)].loops.empty() && !out[size_t(c.face)])
+        out[size_t(c.face)].emplace(m.trims[size_t(c.face)]);
+    return out;
+  };
+  const std::vector<std::optional<BandedTrim>> banded_a = banded(a, table_a), banded_b = banded(b, table_b);
   std::vector<Best> shares(share_count(leaves.size(), 4096));
   for_shares(leaves.size(), shares.size(), [&](size_t share, size_t begin, size_t end) {
     Best& s = shares[share];
@@ -384,13 +408,14 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
         for (int j = 0; j < 2; ++j) {
           glm::dvec3 pa, pb, wa, wb;
           const double d = triangle_distance(ta.p[i], tb.p[j], pa, pb, wa, wb);
-          s.closest_any = std::min(s.closest_any, d);
           if (d >= s.distance) continue;
-          // §5.3: a closest point inside a trimmed region is discarded (PreparedModel::trims).
           const glm::dvec2 uva = wa.x * ta.uv[i][0] + wa.y * ta.uv[i][1] + wa.z * ta.uv[i][2];
           const glm::dvec2 uvb = wb.x * tb.uv[j][0] + wb.y * tb.uv[j][1] + wb.z * tb.uv[j][2];
-          if (!fa.loops.empty() && !nurbs::is_material(a.trims[size_t(ca.face)], uva)) continue;
-          if (!fb.loops.empty() && !nurbs::is_material(b.trims[size_t(cb.face)], uvb)) continue;
+          if ((!fa.loops.empty() && !banded_a[size_t(ca.face)]->is_material(uva)) ||
+              (!fb.loops.empty() && !banded_b[size_t(cb.face)]->is_material(uvb))) {
+            s.waiting.push_back({k, i, j, d});
+            continue;
+          }
           s.found = true;
           s.distance = d;
           s.pa = pa, s.pb = pb, s.uva = uva, s.uvb = uvb;
@@ -398,24 +423,56 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
         }
     }
   });
-  double ka = 0.0, kb = 0.0, closest_any = kInf;
+  double ka = 0.0, kb = 0.0;
   r.distance = kInf;
+  std::vector<Waiting> waiting;
   for (const Best& s : shares) {
-    ka = std::max(ka, s.ka), kb = std::max(kb, s.kb), closest_any = std::min(closest_any, s.closest_any);
+    ka = std::max(ka, s.ka), kb = std::max(kb, s.kb);
+    waiting.insert(waiting.end(), s.waiting.begin(), s.waiting.end());
     if (!s.found || !(s.distance < r.distance)) continue;
     r.found = true;
     r.distance = s.distance;
     r.point_a = s.pa, r.point_b = s.pb, r.uv_a = s.uva, r.uv_b = s.uvb;
     r.face_a = s.face_a, r.face_b = s.face_b;
   }
-  // Theorem 1 holds for the closest triangle pair of all; when closer ones were discarded as
-  // trimmed (their cells may hold material up to the trim edge), the proven bound reaches down
-  // to them and the answer is on a trim edge (§5.3's looser case).
-  r.bound = ka + kb;
-  if (r.found && closest_any < r.distance) {
-    r.bound = std::max(r.bound, r.distance - closest_any + ka + kb);
-    r.on_trim_edge = true;
+  // The waiting pairs nearest first, while they can still beat the best material pair; trim edges
+  // indexed for a face when one of its cells first needs them.
+  std::sort(waiting.begin(), waiting.end(), [](const Waiting& x, const Waiting& y) {
+    return std::tie(x.distance, x.leaf, x.i, x.j) < std::tie(y.distance, y.leaf, y.i, y.j);
+  });
+  std::map<int, TrimEdges> edges_a, edges_b;
+  auto edges = [](std::map<int, TrimEdges>& index, const PreparedModel& m, int face) -> const TrimEdges* {
+    if (m.faces[size_t(face)].loops.empty()) return nullptr;
+    auto it = index.find(face);
+    if (it == index.end()) it = index.emplace(face, TrimEdges(m.trims[size_t(face)], m.grids[size_t(face)].grid)).first;
+    return &it->second;
+  };
+  // A cell's trim pieces once (table index -> pieces; a cell meets many partners).
+  std::map<size_t, std::vector<TrimPiece>> pieces_a, pieces_b;
+  auto pieces = [](std::map<size_t, std::vector<TrimPiece>>& cache, const TrimEdges* e, const CellTable& t, size_t k) {
+    auto it = cache.find(k);
+    if (it != cache.end()) return &it->second;
+    std::vector<TrimPiece>& out = cache[k];
+    if (e) e->pieces(t.cells[k].i, t.cells[k].j, t.tris[k].corners().data(), out);
+    return &out;
+  };
+  for (const Waiting& w : waiting) {
+    if (!(w.distance < r.distance)) break;
+    const auto& [ca, cb] = leaves[w.leaf];
+    const size_t ia = table_a.index(ca), ib = table_b.index(cb);
+    const CellTriangles &ta = table_a.tris[ia], &tb = table_b.tris[ib];
+    const TrimEdges *ea = edges(edges_a, a, ca.face), *eb = edges(edges_b, b, cb.face);
+    const MaterialPair m =
+        material_pair_distance({ta.p[w.i], ta.uv[w.i], w.i, ea, pieces(pieces_a, ea, table_a, ia)},
+                               {tb.p[w.j], tb.uv[w.j], w.j, eb, pieces(pieces_b, eb, table_b, ib)}, r.distance);
+    if (!m.found) continue;
+    r.found = r.on_trim_edge = true;
+    r.distance = m.distance;
+    r.point_a = m.point_a, r.point_b = m.point_b, r.uv_a = m.uv_a, r.uv_b = m.uv_b;
+    r.face_a = ca.face, r.face_b = cb.face;
   }
+  // Theorem 1 over the material parts: every candidate pair's triangles within K of their surfaces.
+  r.bound = ka + kb;
   return r;
 }
 

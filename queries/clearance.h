@@ -103,4 +103,11 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits =
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
                          glm::dvec3& wb);
 
+/// Closest points of segments p1q1 and p2q2 in double: their parameters s, t in [0, 1].
+double segment_distance(glm::dvec3 p1, glm::dvec3 q1, glm::dvec3 p2, glm::dvec3 q2, double& s, double& t);
+
+/// Closest points of segment pq and triangle `tri` in double: the segment's parameter s in [0, 1]
+/// and the triangle point's barycentric coordinates w (0 distance where the segment crosses it).
+double segment_triangle_distance(glm::dvec3 p, glm::dvec3 q, const glm::dvec3 tri[3], double& s, glm::dvec3& w);
+
 }  // namespace queries

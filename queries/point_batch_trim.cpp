@@ -119,13 +119,12 @@ TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& gr
   }
 }
 
-bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const {
-  if (trim_ == nullptr) return false;
+void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<TrimPiece>& out) const {
+  if (trim_ == nullptr) return;
   const auto it = cells_.find(int64_t(j) * grid_->cells_u() + i);
-  if (it == cells_.end()) return false;
+  if (it == cells_.end()) return;
   const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
   const double v0 = grid_->v[size_t(j)], v1 = grid_->v[size_t(j) + 1];
-  bool improved = false;
   for (const auto& [k, e] : it->second) {
     const auto& loop = trim_->loops[size_t(k)];
     const glm::dvec2 a = loop[size_t(e)], b = loop[(size_t(e) + 1) % loop.size()];
@@ -145,35 +144,57 @@ bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corn
         if (q > 0.0) l1 = std::min(l1, l);
       }
     if (!inside || l0 > l1) continue;
-    // Split where it crosses the diagonal s = t; each piece is straight on its triangle.
-    double cuts[3] = {l0, l1, l1};
+    // Cut where it crosses the diagonal s = t (each piece is straight on its triangle) and the
+    // cell's other edges (another loop may cross it: a hole reaching out of the outer loop). Only
+    // pieces with material beside them bound material, and the side is the same all along a piece:
+    // tested at its middle (at a sharp corner's vertex both steps would fall outside).
+    std::vector<double> cuts{l0, l1};
     const double denom = sd.x - sd.y;
-    if (denom != 0.0) {
-      const double l = (sa.y - sa.x) / denom;
-      if (l > l0 && l < l1) cuts[1] = l;
+    if (denom != 0.0) cuts.push_back((sa.y - sa.x) / denom);
+    const glm::dvec2 ab = b - a;
+    for (const auto& [k2, e2] : it->second) {
+      if (k2 == k && e2 == e) continue;
+      const auto& loop2 = trim_->loops[size_t(k2)];
+      const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
+      const double det = ab.x * cd.y - ab.y * cd.x;
+      if (det == 0.0) continue;  // parallel
+      const glm::dvec2 ac = c - a;
+      const double l = (ac.x * cd.y - ac.y * cd.x) / det, mu = (ac.x * ab.y - ac.y * ab.x) / det;
+      if (mu >= 0.0 && mu <= 1.0) cuts.push_back(l);
     }
-    for (int piece = 0; piece < 2; ++piece) {
-      const double m0 = cuts[piece], m1 = cuts[piece + 1];
-      if (m1 <= m0 && piece == 1) continue;
-      const glm::dvec2 st0 = sa + m0 * sd, st1 = sa + m1 * sd, mid = 0.5 * (st0 + st1);
-      const bool lower = mid.x >= mid.y;
+    std::sort(cuts.begin(), cuts.end());
+    const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
+    for (size_t c = 0; c + 1 < cuts.size(); ++c) {
+      const double m0 = std::max(cuts[c], l0), m1 = std::min(cuts[c + 1], l1);
+      if (!(m1 > m0)) continue;  // (an edge that only touches the cell: its neighbour holds it)
+      const glm::dvec2 mid = a + 0.5 * (m0 + m1) * ab;
+      if (!banded_.is_material(mid + side) && !banded_.is_material(mid - side)) continue;
+      const glm::dvec2 st0 = sa + m0 * sd, st1 = sa + m1 * sd, st_mid = 0.5 * (st0 + st1);
+      const bool lower = st_mid.x >= st_mid.y;
       // (s, t) in the unit cell -> the piece's triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t >= s.
       const auto on = [&](glm::dvec2 st) {
         return lower ? corners[0] + st.x * (corners[1] - corners[0]) + st.y * (corners[3] - corners[1])
                      : corners[0] + st.y * (corners[2] - corners[0]) + st.x * (corners[3] - corners[2]);
       };
-      const glm::dvec3 q0 = on(st0), q1 = on(st1), d = q1 - q0;
-      const double len2 = glm::dot(d, d);
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - q0, d) / len2, 0.0, 1.0) : 0.0;
-      const glm::dvec3 q = q0 + t * d;
-      const double dist = glm::length(q - p);
-      if (dist >= best.distance) continue;
-      const glm::dvec2 st = st0 + t * (st1 - st0), uv(u0 + st.x * (u1 - u0), v0 + st.y * (v1 - v0));
-      const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
-      if (!banded_.is_material(uv + side) && !banded_.is_material(uv - side)) continue;
-      best = {dist, q, uv};
-      improved = true;
+      const auto uv = [&](glm::dvec2 st) { return glm::dvec2(u0 + st.x * (u1 - u0), v0 + st.y * (v1 - v0)); };
+      out.push_back({on(st0), on(st1), uv(st0), uv(st1), lower ? 0 : 1});
     }
+  }
+}
+
+bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const {
+  std::vector<TrimPiece> found;
+  pieces(i, j, corners, found);
+  bool improved = false;
+  for (const TrimPiece& pc : found) {
+    const glm::dvec3 d = pc.b - pc.a;
+    const double len2 = glm::dot(d, d);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - pc.a, d) / len2, 0.0, 1.0) : 0.0;
+    const glm::dvec3 q = pc.a + t * d;
+    const double dist = glm::length(q - p);
+    if (dist >= best.distance) continue;
+    best = {dist, q, pc.uv_at(t)};
+    improved = true;
   }
   return improved;
 }

@@ -48,6 +48,14 @@ class BandedTrim {
   std::vector<Loop> loops_;
 };
 
+/// A piece of a trim edge inside one triangle of a grid cell, where it is straight (TrimEdges::pieces).
+struct TrimPiece {
+  glm::dvec3 a{0.0}, b{0.0};        ///< its ends on the triangle
+  glm::dvec2 uv_a{0.0}, uv_b{0.0};  ///< their parameters
+  int triangle = 0;                 ///< 0: corners (0, 1, 3); 1: corners (0, 3, 2)
+  [[nodiscard]] glm::dvec2 uv_at(double t) const { return uv_a + t * (uv_b - uv_a); }
+};
+
 class TrimEdges {
  public:
   TrimEdges() = default;
@@ -56,10 +64,13 @@ class TrimEdges {
 
   /// The closest point to p of the trim edges inside cell (i, j), whose corner points are
   /// corners[k] at (u_{i + (k & 1)}, v_{j + (k >> 1)}); triangles (0, 1, 3) and (0, 3, 2) as
-  /// point_distance.cpp cell_hit. Replaces `best` when closer; true if it did. A point of an edge
-  /// counts only where material lies beside it (is_material 1e-9 of the domain to either side):
-  /// a hole's edge outside the outer loop bounds no material.
+  /// point_distance.cpp cell_hit. Replaces `best` when closer; true if it did. An edge counts only
+  /// where material lies beside it (pieces): a hole's edge outside the outer loop bounds no material.
   bool closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const;
+  /// The pieces of the trim edges inside cell (i, j) (corners as `closest`), appended to `out`:
+  /// each edge clipped to the cell and split at the diagonal, mapped onto its triangle. Only edges
+  /// with material beside them (is_material 1e-9 of the domain to either side of their middle).
+  void pieces(int i, int j, const glm::dvec3 corners[4], std::vector<TrimPiece>& out) const;
   /// nurbs::is_material(trim, uv) (BandedTrim).
   [[nodiscard]] bool is_material(glm::dvec2 uv) const { return banded_.is_material(uv); }
 

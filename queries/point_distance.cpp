@@ -3,16 +3,19 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "gpgpu/compact.h"
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/point_batch_trim.h"
 #include "queries/refine.h"
 
 namespace queries {
@@ -20,28 +23,42 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// One candidate cell evaluated on the CPU: the closer of its two triangles.
+/// The closest point of a triangle (or a cell) on the CPU.
 struct CellHit {
   double distance = kInf;
   glm::dvec3 point{0.0};
   glm::dvec2 uv{0.0};
 };
 
-CellHit cell_hit(const nurbs::Surface& s, const nurbs::ParamGrid& g, int i, int j, const glm::dvec3& p) {
+/// The corners of cell (i, j) in TrimEdges order: (u_{i + (k & 1)}, v_{j + (k >> 1)}).
+std::array<glm::dvec3, 4> cell_corners(const nurbs::Surface& s, const nurbs::ParamGrid& g, int i, int j) {
+  std::array<glm::dvec3, 4> c;
+  for (int k = 0; k < 4; ++k)
+    c[size_t(k)] = nurbs::surface_point(s, g.u[size_t(i + (k & 1))], g.v[size_t(j + (k >> 1))]);
+  return c;
+}
+
+/// The closest points to p of the two triangles of cell (i, j): (0, 1, 3) and (0, 3, 2), the
+/// (i, j)-(i+1, j+1) diagonal, with their (u, v).
+std::array<CellHit, 2> triangle_hits(const nurbs::Surface& s, const nurbs::ParamGrid& g, int i, int j,
+                                     const glm::dvec3& p) {
   const double u0 = g.u[size_t(i)], u1 = g.u[size_t(i) + 1], v0 = g.v[size_t(j)], v1 = g.v[size_t(j) + 1];
-  const glm::dvec3 a = nurbs::surface_point(s, u0, v0), b = nurbs::surface_point(s, u1, v0);
-  const glm::dvec3 c = nurbs::surface_point(s, u0, v1), d = nurbs::surface_point(s, u1, v1);
-  // The two triangles of the (i, j)-(i+1, j+1) diagonal, with their corners' parameters.
-  const glm::dvec3 tri[2][3] = {{a, b, d}, {a, d, c}};
+  const auto c = cell_corners(s, g, i, j);
+  const glm::dvec3 tri[2][3] = {{c[0], c[1], c[3]}, {c[0], c[3], c[2]}};
   const glm::dvec2 par[2][3] = {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}};
-  CellHit best;
+  std::array<CellHit, 2> hits;
   for (int t = 0; t < 2; ++t) {
     glm::dvec3 w;
     const glm::dvec3 q = closest_on_triangle(p, tri[t][0], tri[t][1], tri[t][2], w);
-    const double dist = glm::length(q - p);
-    if (dist < best.distance) best = {dist, q, w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2]};
+    hits[size_t(t)] = {glm::length(q - p), q, w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2]};
   }
-  return best;
+  return hits;
+}
+
+/// One candidate cell evaluated on the CPU: the closer of its two triangles.
+CellHit cell_hit(const nurbs::Surface& s, const nurbs::ParamGrid& g, int i, int j, const glm::dvec3& p) {
+  const auto h = triangle_hits(s, g, i, j, p);
+  return h[1].distance < h[0].distance ? h[1] : h[0];
 }
 
 }  // namespace
@@ -138,47 +155,59 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     r.refined_cells = f.cells;
     return r;
   }
-  // Faithful: two triangles per candidate cell in double.
+  // Faithful: two triangles per candidate cell in double. §5.3: a triangle's closest point inside
+  // a trimmed region is discarded and the search goes on over the triangle's material part, whose
+  // closest point then lies on a trim edge inside the cell (material_distance.h).
   struct Candidate {
     CellHit hit;
     int face, i, j;
+    bool trimmed;
   };
   std::vector<Candidate> cands;
-  for (const FaceCell& c : cells)
-    cands.push_back(
-        {cell_hit(m_.faces[size_t(c.face)].surface, m_.grids[size_t(c.face)].grid, c.i, c.j, p), c.face, c.i, c.j});
-  // On the CPU: the closest triangle point that is material (§5.3); K_e maxed over the candidates.
-  std::sort(cands.begin(), cands.end(),
-            [](const Candidate& x, const Candidate& y) { return x.hit.distance < y.hit.distance; });
   double k = 0.0;
+  for (const FaceCell& c : cells) {
+    const nurbs::Surface& s = m_.faces[size_t(c.face)].surface;
+    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+    k = std::max(k, nurbs::grid_cell_k(m_.bounds[size_t(c.face)], g, c.i, c.j, nurbs::KNorm::Euclidean));
+    const bool trimmed = !m_.faces[size_t(c.face)].loops.empty();
+    for (const CellHit& h : triangle_hits(s, g, c.i, c.j, p))
+      cands.push_back({h, c.face, c.i, c.j, trimmed && !nurbs::is_material(m_.trims[size_t(c.face)], h.uv)});
+  }
+  // Nearest first (ties in cell order): the material ones, then the trimmed ones still nearer.
+  std::stable_sort(cands.begin(), cands.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.hit.distance < y.hit.distance; });
+  const Candidate* win = nullptr;
   for (const Candidate& c : cands)
-    k = std::max(k, nurbs::grid_cell_k(m_.bounds[size_t(c.face)], m_.grids[size_t(c.face)].grid, c.i, c.j,
-                                       nurbs::KNorm::Euclidean));
-  for (const Candidate& c : cands) {
-    const nurbs::TrimmedSurface& f = m_.faces[size_t(c.face)];
-    if (!f.loops.empty()) {
-      const nurbs::TrimPolygons& trim = m_.trims[size_t(c.face)];
-      if (!nurbs::is_material(trim, c.hit.uv)) continue;
-      const auto& g = m_.grids[size_t(c.face)].grid;
+    if (!c.trimmed) {
+      win = &c;
+      break;
+    }
+  if (win) {
+    r.found = true;
+    r.distance = win->hit.distance, r.point = win->hit.point, r.uv = win->hit.uv, r.face = win->face;
+    if (!m_.faces[size_t(win->face)].loops.empty()) {
+      const auto& g = m_.grids[size_t(win->face)].grid;
       for (int corner = 0; corner < 4; ++corner)
-        if (!nurbs::is_material(trim, {g.u[size_t(c.i + (corner & 1))], g.v[size_t(c.j + (corner >> 1))]}))
+        if (!nurbs::is_material(m_.trims[size_t(win->face)],
+                                {g.u[size_t(win->i + (corner & 1))], g.v[size_t(win->j + (corner >> 1))]}))
           r.on_trim_edge = true;
     }
-    r.found = true;
-    r.distance = c.hit.distance;
-    r.point = c.hit.point;
-    r.uv = c.hit.uv;
-    r.face = c.face;
-    break;
   }
-  // Theorem 1 holds for the closest triangle point of all candidates; when closer ones were
-  // discarded as trimmed (their cells may still hold material up to the trim edge), the proven
-  // bound widens to reach down to them, and the answer is on a trim edge (§5.3's looser case).
+  std::map<int, TrimEdges> edges;  // indexed when a cell of the face first needs them
+  for (const Candidate& c : cands) {
+    if (r.found && !(c.hit.distance < r.distance)) break;
+    if (!c.trimmed) continue;
+    auto it = edges.find(c.face);
+    if (it == edges.end())
+      it = edges.emplace(c.face, TrimEdges(m_.trims[size_t(c.face)], m_.grids[size_t(c.face)].grid)).first;
+    const auto corners = cell_corners(m_.faces[size_t(c.face)].surface, m_.grids[size_t(c.face)].grid, c.i, c.j);
+    TrimEdgeHit hit{r.found ? r.distance : kInf};
+    if (!it->second.closest(p, c.i, c.j, corners.data(), hit)) continue;
+    r.found = r.on_trim_edge = true;
+    r.distance = hit.distance, r.point = hit.point, r.uv = hit.uv, r.face = c.face;
+  }
+  // Theorem 1 over the material parts: every candidate cell's triangles lie within K of the surface.
   r.bound = k;
-  if (r.found && !cands.empty() && cands.front().hit.distance < r.distance) {
-    r.bound = std::max(k, r.distance - cands.front().hit.distance + k);
-    r.on_trim_edge = true;
-  }
   r.point_bound = std::sqrt(4 * r.bound * r.distance + r.bound * r.bound);
   return r;
 }

@@ -4,15 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "queries/clearance.h"
 #include "queries/point_distance.h"
 
 namespace queries {
-namespace {
 
-/// Closest points of segments p1q1 and p2q2 (Ericson, "Real-Time Collision Detection", §5.1.9):
-/// parameters s, t in [0, 1].
+// Ericson, "Real-Time Collision Detection", §5.1.9.
 double segment_distance(glm::dvec3 p1, glm::dvec3 q1, glm::dvec3 p2, glm::dvec3 q2, double& s, double& t) {
   const glm::dvec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
@@ -41,6 +40,8 @@ double segment_distance(glm::dvec3 p1, glm::dvec3 q1, glm::dvec3 p2, glm::dvec3 
   }
   return glm::length((p1 + s * d1) - (p2 + t * d2));
 }
+
+namespace {
 
 /// Where segment pq crosses triangle abc (Möller-Trumbore), as the segment parameter; false if not.
 bool segment_hits_triangle(glm::dvec3 p, glm::dvec3 q, const glm::dvec3 tri[3], double& at, glm::dvec3& w) {
@@ -75,6 +76,29 @@ bool strictly_one_side(const glm::dvec3 s[3], const glm::dvec3 o[3]) {
 }
 
 }  // namespace
+
+double segment_triangle_distance(glm::dvec3 p, glm::dvec3 q, const glm::dvec3 tri[3], double& s, glm::dvec3& w) {
+  // Crossing: 0 there. Else the closest pair has an end of the segment or an edge of the triangle.
+  if (segment_hits_triangle(p, q, tri, s, w)) return 0.0;
+  double best = std::numeric_limits<double>::infinity();
+  for (int end = 0; end < 2; ++end) {
+    glm::dvec3 wt;
+    const glm::dvec3 x = end == 0 ? p : q;
+    const double d = glm::length(closest_on_triangle(x, tri[0], tri[1], tri[2], wt) - x);
+    if (d < best) best = d, s = double(end), w = wt;
+  }
+  for (int k = 0; k < 3; ++k) {
+    double a, b;
+    const double d = segment_distance(p, q, tri[k], tri[(k + 1) % 3], a, b);
+    if (d < best) {
+      best = d, s = a;
+      w = glm::dvec3(0.0);
+      w[k] = 1.0 - b;
+      w[(k + 1) % 3] = b;
+    }
+  }
+  return best;
+}
 
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,
                          glm::dvec3& wb) {

@@ -4,13 +4,30 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <vector>
 
 #include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
 
 namespace test {
+
+/// Whether (u, v) of `face` is material (its loops flattened at 1e-9 of the domain) or, for an
+/// answer on a trim edge, lies within 2e-6 of the domain of material: the queries flatten the
+/// loops at 1e-6 of it, so a point of their polygons' edges may fall just outside the finer ones.
+inline bool material_or_trim_edge(const nurbs::TrimmedSurface& face, glm::dvec2 uv, bool on_trim_edge) {
+  const double width = nurbs::surface_domain_u(face.surface).width();
+  const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, 1e-9 * width);
+  if (nurbs::is_material(trim, uv)) return true;
+  if (!on_trim_edge) return false;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2.0 * M_PI * k / 16;
+    if (nurbs::is_material(trim, uv + 2e-6 * width * glm::dvec2(std::cos(a), std::sin(a)))) return true;
+  }
+  return false;
+}
 
 /// Independent reference: the closest of 200 x 200 samples, then projected Newton on
 /// f(u, v) = |S(u, v) - p|^2 from the best 8 samples and one more start (clamped to the domain).
