@@ -200,7 +200,7 @@ FaceCell PointBatch::cell_corners(size_t a, int x, int y, glm::dvec3 corners[4])
   return {sl.face, x - sl.x, y - sl.y};
 }
 
-PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge) const {
+PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge, int triangle) const {
   glm::dvec3 corner[4];
   const FaceCell cell = cell_corners(a, x, y, corner);
   const auto f = size_t(cell.face);
@@ -213,6 +213,7 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
   PointDistance r;
   r.distance = kInf;
   for (int t = 0; t < 2; ++t) {
+    if (triangle >= 0 && t != triangle) continue;
     glm::dvec3 w;
     const glm::dvec3 c = closest_on_triangle(p, tri[t][0], tri[t][1], tri[t][2], w);
     const double d = glm::length(c - p);

@@ -150,7 +150,10 @@ class PointBatch {
   PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
                        double within = 0.0) const;
   PointDistance search_material(const glm::dvec3& p, double within = 0.0) const;
-  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true) const;
+  /// The closest point to p of the cell at texel (x, y) of atlas a: of its closer triangle, or of
+  /// `triangle` 0 (corners 0, 1, 3) or 1 (0, 3, 2) alone; `trim_edge`: classify its corners.
+  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true,
+                            int triangle = -1) const;
   /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
   FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
   [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face

@@ -172,6 +172,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
   PointDistance best;
   best.distance = within > 0.0 ? within : kInf;  // nothing beyond `within` is wanted
   Node win{};
+  int win_triangle = -1;  // the winner's triangle: -1 the closer of the two
   bool any = false;
   bool on_edge = false;
   while (!open.empty() && open.top().d <= best.distance + eps) {
@@ -183,10 +184,17 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
       const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
       if (r.distance >= best.distance) continue;
       if (material(r)) {
-        best = r, win = n, on_edge = false, any = true;
+        best = r, win = n, win_triangle = -1, on_edge = false, any = true;
         continue;
       }
-      // The closest material point of this cell's triangles lies on the trim curve.
+      // The distance is convex on each triangle, not on the cell: the other triangle's closest
+      // point may be material. Else the closest material point lies on the trim curve
+      // (material_distance.h).
+      for (int t = 0; t < 2; ++t) {
+        const PointDistance rt = cell_result(p, n.a, n.x, n.y, false, t);
+        if (rt.distance < best.distance && material(rt))
+          best = rt, win = n, win_triangle = t, on_edge = false, any = true;
+      }
       glm::dvec3 corners[4];
       const FaceCell c = cell_corners(n.a, n.x, n.y, corners);
       TrimEdgeHit h{best.distance};
@@ -203,7 +211,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
     }
   }
   if (!any) return PointDistance{};
-  if (!on_edge) return cell_result(p, win.a, win.x, win.y, true);
+  if (!on_edge) return cell_result(p, win.a, win.x, win.y, true, win_triangle);
   best.found = true;
   best.on_trim_edge = true;
   best.bound = model_bound_ + 2.0 * slack(p);

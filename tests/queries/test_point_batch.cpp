@@ -222,6 +222,39 @@ TEST_CASE("point batch: a hole reaching out of the outer loop bounds no material
   CHECK(r.distance > 10.0);
 }
 
+TEST_CASE("point batch and point distance: a folded cell's other triangle, material, beats the hole's rim") {
+  // One grid cell (a bilinear net with a strong twist, K_e = 3 < T = 5): triangle (0, 1, 3) is the
+  // square z = 0 with a hole of radius 1 around (6, 3.5); triangle (0, 3, 2) folds back over it,
+  // through (8, 2, 4). Above the hole, 0.5 up: the flat triangle's closest point is in the hole,
+  // the rim is 1.118 away, and the folded triangle's closest point, material, 0.849 away. The
+  // distance is convex on each triangle, not on the cell: that point must not be lost.
+  gpgpu::Gpu& gpu = test::gpu();
+  nurbs::TrimmedSurface face;
+  face.surface.degree_u = face.surface.degree_v = 1;
+  face.surface.count_u = face.surface.count_v = 2;
+  face.surface.knots_u = face.surface.knots_v = {0, 0, 1, 1};
+  face.surface.points = {{0, 0, 0}, {10, 0, 0}, {8, 2, 4}, {10, 10, 0}};
+  face.loops.push_back({{models::rational_circle_2d({0.6, 0.35}, 0.1, false)}, false});
+  const glm::dvec3 p(6.0, 3.5, 0.5);
+  glm::dvec3 w;
+  const glm::dvec3 foot = queries::closest_on_triangle(p, {0, 0, 0}, {10, 10, 0}, {8, 2, 4}, w);
+  const glm::dvec2 foot_uv = w.x * glm::dvec2(0, 0) + w.y * glm::dvec2(1, 1) + w.z * glm::dvec2(0, 1);
+  REQUIRE(nurbs::is_material(face, foot_uv, 1e-9));
+  const double truth = glm::length(foot - p);
+  REQUIRE(truth < std::hypot(1.0, 0.5) - 0.2);
+  const queries::PreparedModel m = queries::prepare_model(gpu, {face}, 5.0);
+  REQUIRE(m.grids[0].grid.cells_u() * m.grids[0].grid.cells_v() == 1);
+  queries::PointBatch batch(gpu, m);
+  const queries::PointDistance r = batch.query(std::vector{p}).front();
+  REQUIRE(r.found);
+  CHECK(r.distance == doctest::Approx(truth).epsilon(1e-6));
+  queries::PointDistanceQuery q(gpu, {face}, 5.0);
+  const queries::PointDistance d = q.query(p);
+  REQUIRE(d.found);
+  CHECK(d.distance == doctest::Approx(truth).epsilon(1e-12));
+  CHECK(glm::length(d.point - foot) <= 1e-9);
+}
+
 TEST_CASE("point batch: coarse-to-fine models and empty batches") {
   gpgpu::Gpu& gpu = test::gpu();
   const auto faces = test::spread_faces(1);
