@@ -96,6 +96,15 @@ nurbs::Surface bilinear_square(double side) {
   return s;
 }
 
+nurbs::Surface bilinear_patch(const std::array<glm::dvec3, 4>& corners) {
+  nurbs::Surface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.points.assign(corners.begin(), corners.end());
+  return s;
+}
+
 nurbs::Surface rational_cylinder(double radius, double height, glm::dvec3 base) {
   return revolve({{radius, 0}, {radius, height}}, {1, 1}, {0, 0, 1, 1}, 1, base);
 }

@@ -3,6 +3,7 @@
 /// Exact rational NURBS shapes (The NURBS Book §7.5 circle, §8.5 surfaces of revolution): the
 /// closed-form references for evaluation tests. Circles use the standard 9-point construction:
 /// degree 2, knots {0,0,0,1/4,1/4,1/2,1/2,3/4,3/4,1,1,1}, corner weights sqrt(2)/2.
+#include <array>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -34,5 +35,8 @@ namespace models {
 
 /// The square [0, side]^2 of the plane z = 0 as a bilinear surface, u = x, v = y on [0, side]^2.
 [[nodiscard]] nurbs::Surface bilinear_square(double side);
+
+/// The bilinear surface over [0, 1]^2 through four corners, P(i, j) = corners[i + 2 j].
+[[nodiscard]] nurbs::Surface bilinear_patch(const std::array<glm::dvec3, 4>& corners);
 
 }  // namespace models

@@ -230,10 +230,7 @@ TEST_CASE("point batch and point distance: a folded cell's other triangle, mater
   // distance is convex on each triangle, not on the cell: that point must not be lost.
   gpgpu::Gpu& gpu = test::gpu();
   nurbs::TrimmedSurface face;
-  face.surface.degree_u = face.surface.degree_v = 1;
-  face.surface.count_u = face.surface.count_v = 2;
-  face.surface.knots_u = face.surface.knots_v = {0, 0, 1, 1};
-  face.surface.points = {{0, 0, 0}, {10, 0, 0}, {8, 2, 4}, {10, 10, 0}};
+  face.surface = models::bilinear_patch({{{0, 0, 0}, {10, 0, 0}, {8, 2, 4}, {10, 10, 0}}});
   face.loops.push_back({{models::rational_circle_2d({0.6, 0.35}, 0.1, false)}, false});
   const glm::dvec3 p(6.0, 3.5, 0.5);
   glm::dvec3 w;

@@ -202,10 +202,7 @@ TEST_CASE("point distance and clearance: a trimmed face smaller than one grid ce
   // disc that trims it. The corner test of the paper alone culls it; the crossed-cell flag keeps it.
   gpgpu::Gpu& gpu = test::gpu();
   nurbs::TrimmedSurface plate;
-  plate.surface.degree_u = plate.surface.degree_v = 1;
-  plate.surface.count_u = plate.surface.count_v = 2;
-  plate.surface.knots_u = plate.surface.knots_v = {0, 0, 1, 1};
-  plate.surface.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}};
+  plate.surface = models::bilinear_patch({{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}}});
   plate.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.1, true)}, true});
   for (const auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
     queries::PointDistanceQuery q(gpu, {plate}, 1e-3, 1LL << 22, search);
@@ -227,13 +224,9 @@ TEST_CASE("point distance and clearance: over a hole of a one-cell face, the sea
   // paper discards them and continues the search, which ends on the rim's material side.
   gpgpu::Gpu& gpu = test::gpu();
   nurbs::TrimmedSurface plate, square;
-  plate.surface.degree_u = plate.surface.degree_v = 1;
-  plate.surface.count_u = plate.surface.count_v = 2;
-  plate.surface.knots_u = plate.surface.knots_v = {0, 0, 1, 1};
-  plate.surface.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}};
+  plate.surface = models::bilinear_patch({{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}}});
   plate.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.1, false)}, false});
-  square.surface = plate.surface;
-  square.surface.points = {{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {-0.1, 0.1, 0}, {0.1, 0.1, 0}};
+  square.surface = models::bilinear_patch({{{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {-0.1, 0.1, 0}, {0.1, 0.1, 0}}});
   // The rim's polygon is inscribed in the circle: its points lie up to 1e-5 inside radius 1.
   const double flat = 1e-4;
   for (const auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {

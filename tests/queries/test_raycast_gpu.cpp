@@ -232,11 +232,7 @@ TEST_CASE("raycast gpu: exact rational sphere far from the origin, every ray hit
 }
 
 TEST_CASE("raycast gpu: plane with a circular hole, rays through the hole miss") {
-  nurbs::Surface plane;
-  plane.degree_u = plane.degree_v = 1;
-  plane.count_u = plane.count_v = 2;
-  plane.knots_u = plane.knots_v = {0, 0, 1, 1};
-  plane.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2, 2, 0}};
+  const nurbs::Surface plane = models::bilinear_patch({{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2, 2, 0}}});
   nurbs::TrimmedSurface face = untrimmed(plane);
   face.loops.push_back({{models::rational_circle_2d({0.5, 0.5}, 0.2, false)}, false});  // hole of radius 0.4 in xy
   const Scene scene = nurbs::ray::build_scene({face}, cubics_options());
