@@ -38,6 +38,7 @@ struct Options {
   int voxels = 40;
   int reduce_block = queries::ClearanceLimits{}.reduce_block;
   int compact_fanout = queries::ClearanceLimits{}.compact_fanout;
+  long long host_pairs = queries::ClearanceLimits{}.host_pairs;
   std::string upper = "auto";
   bool json = false, timings = false;
 };
@@ -141,6 +142,7 @@ void run(const GlobalOptions& global, const Options& o) {
   queries::ClearanceLimits limits;
   limits.reduce_block = o.reduce_block;
   limits.compact_fanout = o.compact_fanout;
+  limits.host_pairs = o.host_pairs;
   using Upper = queries::ClearanceLimits::Upper;
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
@@ -274,6 +276,12 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--compact-fanout", o->compact_fanout,
                   "Texels each level of the stream reduction's count pyramid sums: 4 (one pass per factor 4) or 16")
       ->check(CLI::IsMember({4, 16}))
+      ->capture_default_str();
+  cmd->add_option("--host-pairs", o->host_pairs,
+                  "A descent level of at most this many child box pairs is pruned on the CPU from one read-back "
+                  "instead of the reduction and stream-reduction passes (the same pairs survive); 0: every level "
+                  "on the GPU, as the paper")
+      ->check(CLI::Range(0LL, 1LL << 40))
       ->capture_default_str();
   cmd->add_option("--gpu-upper", o->upper,
                   "Least upper bound of each level of the descent: boxes (the paper's farthest box points), "

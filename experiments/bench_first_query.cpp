@@ -45,8 +45,8 @@ std::vector<nurbs::TrimmedSurface> face(nurbs::Surface s) {
   return {f};
 }
 
-Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion, bool tiny = false,
-             bool compile_beside = false) {
+Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const glm::dmat4& motion,
+             const queries::ClearanceLimits& limits, bool tiny = false, bool compile_beside = false) {
   Run r;
   const auto t0 = Clock::now();
   queries::PreparedPair p =
@@ -56,7 +56,8 @@ Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const gl
            : queries::prepare_pair(gpu, face(models::wavy_surface_199x33()), face(models::wavy_surface_100x105()),
                                    tolerance, search, 1LL << 22, [&] {
                                      // as the CLI: the pair's search, no trim loops
-                                     if (compile_beside) queries::compile_clearance_programs(gpu, {}, search, false);
+                                     if (compile_beside)
+                                       queries::compile_clearance_programs(gpu, limits, search, false);
                                    });
   gpu.finish();
   r.prepare = ms_since(t0);
@@ -67,7 +68,7 @@ Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const gl
   queries::ClearanceCache cache;
   for (double* out : {&r.first, &r.second}) {
     const auto t1 = Clock::now();
-    const queries::Clearance c = queries::clearance(gpu, p.a, p.b, motion, nullptr, nullptr, {}, &cache);
+    const queries::Clearance c = queries::clearance(gpu, p.a, p.b, motion, nullptr, nullptr, limits, &cache);
     *out = ms_since(t1);
     r.distance = c.distance;
     r.bound = c.bound;
@@ -93,6 +94,7 @@ int main(int argc, char** argv) {
   double rel = 1e-5;
   int repeat = 9, threads = -1;
   bool prime = false, passes = false, beside = false;
+  queries::ClearanceLimits limits;
   app.add_option("--gl", backend, "GL backend: auto, egl, egl-device, osmesa, glfw")->capture_default_str();
   app.add_option("--gl-threads", threads, "llvmpipe's rasterizer threads (LP_NUM_THREADS; -1: one per core)")
       ->capture_default_str();
@@ -100,6 +102,9 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "Warm pairs after the cold one")->capture_default_str();
   app.add_option("--search", search, "coarse-to-fine or faithful")
       ->check(CLI::IsMember({"coarse-to-fine", "faithful"}))
+      ->capture_default_str();
+  app.add_option("--host-pairs", limits.host_pairs,
+                 "Descent levels of at most this many child pairs pruned on the CPU (0: all on the GPU)")
       ->capture_default_str();
   app.add_flag("--prime", prime,
                "Before the cold pair, one on two 8 x 8 surfaces: every program's first use without the paper "
@@ -125,10 +130,10 @@ int main(int argc, char** argv) {
   fmt::print("paper pair, {}, tolerance {:.3g} (ms)\n", search, tolerance);
   fmt::print("{:<8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}   distance\n", "", "prepare", "bounds", "grids", "atlas",
              "1st", "prep+1st", "2nd");
-  if (prime) print("8 x 8", run_pair(gpu, tolerance, s, above, true));
+  if (prime) print("8 x 8", run_pair(gpu, tolerance, s, above, limits, true));
   gpu.profiler().set_enabled(passes);
   gpu.profiler().set_sync(passes);
-  print("cold", run_pair(gpu, tolerance, s, above, false, beside));
+  print("cold", run_pair(gpu, tolerance, s, above, limits, false, beside));
   std::string cold_passes = gpu.profiler().table();
   gpu.profiler().reset();
   if (repeat <= 0) {
@@ -136,7 +141,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::vector<Run> warm;
-  for (int k = 0; k < repeat; ++k) warm.push_back(run_pair(gpu, tolerance, s, above));
+  for (int k = 0; k < repeat; ++k) warm.push_back(run_pair(gpu, tolerance, s, above, limits));
   auto med = [&](double Run::*f) {
     std::vector<double> v;
     for (const Run& r : warm) v.push_back(r.*f);

@@ -233,7 +233,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     pairs.upload(slice);
     return std::pair<long long, long long>(0, n);
   };
-  auto pair_pass = [&](long long chunk, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
+  auto run_pairs = [&](long long chunk, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
     const auto [offset, in_pairs] = load_chunk(chunk);
     prog.set("u_pair_count", int(in_pairs));
     prog.set("u_pair_offset", int(offset));
@@ -246,15 +246,44 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     if (samples) in.insert(in.end(), {{"u_sample_a", &ha.sample[size_t(la)]}, {"u_sample_b", &hb.sample[size_t(lb)]}});
     gpgpu::Texture* targets[] = {minmax, records};
     gpu.run("aabb_pairs_minmax", prog, in, targets);
+  };
+  auto pair_pass = [&](long long chunk, const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
+    run_pairs(chunk, out, minmax, records);
     const double u = gpgpu::reduce_min(gpu, *minmax, 1, limits.reduce_block);
     shared_upper = std::min(shared_upper, u);
     return std::min(u, shared_upper);
   };
+  // Lower bound within U (a relative 1e-5 above it covers the float rounding of both).
+  auto cut_of = [](double upper) { return std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f; };
   auto prune = [&](double upper, gpgpu::Texture* minmax, gpgpu::Texture* records) {
-    // Lower bound within U (a relative 1e-5 above it covers the float rounding of both), tested by
-    // the stream reduction itself (compact_at_most: no predicate pass).
-    const float cut = std::isfinite(upper) ? float(upper * (1 + 1e-5)) : -1.0f;
-    return gpgpu::compact_at_most(gpu, *minmax, cut, *records, limits.compact_fanout);
+    // Tested by the stream reduction itself (compact_at_most: no predicate pass).
+    return gpgpu::compact_at_most(gpu, *minmax, cut_of(upper), *records, limits.compact_fanout);
+  };
+  // ClearanceLimits::host_pairs: U and the survivors of a small level from one read-back, with the
+  // GPU passes' arithmetic (a float minimum of G ignoring NaN, then R <= the same float cut).
+  auto host_prune = [&](const gpgpu::Layout2D& out, gpgpu::Texture* minmax, gpgpu::Texture* records) {
+    run_pairs(0, out, minmax, records);
+    gpu.profiler().begin("aabb_pairs_host_prune");
+    const long long n = count * 16;
+    const gpgpu::Region rows{0, 0, out.width, int((n + out.width - 1) / out.width)};
+    const std::vector<float> mm = minmax->read(rows), rec = records->read(rows);
+    float u = std::numeric_limits<float>::infinity();
+    for (long long k = 0; k < n; ++k)
+      if (!std::isnan(mm[size_t(2 * k + 1)])) u = std::min(u, mm[size_t(2 * k + 1)]);
+    shared_upper = std::min(shared_upper, double(u));
+    const float cut = cut_of(std::min(double(u), shared_upper));
+    std::vector<float> kept;
+    for (long long k = 0; k < n; ++k)
+      if (mm[size_t(2 * k)] <= cut)
+        kept.insert(kept.end(), rec.begin() + ptrdiff_t(4 * k), rec.begin() + ptrdiff_t(4 * k + 4));
+    count = static_cast<long long>(kept.size() / 4);
+    if (count > 0) {
+      const gpgpu::Layout2D l = gpgpu::layout_pow2(count, side);
+      kept.resize(size_t(l.width) * size_t(l.height) * 4, 0.0f);
+      pairs = gpgpu::Texture(l.width, l.height, gpgpu::Format::RGBA32F);
+      pairs.upload(kept);
+    }
+    gpu.profiler().end();
   };
   while ((la > 0 || lb > 0) && count > 0) {
     const int da = la > 0 ? 1 : 0, db = lb > 0 ? 1 : 0;
@@ -265,10 +294,14 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
       const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, side);
       gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
       gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
-      const double upper = pair_pass(0, out, minmax.get(), records.get());
-      gpgpu::Compacted c = prune(upper, minmax.get(), records.get());
-      count = c.count;
-      pairs = std::move(c.records);
+      if (count * 16 <= limits.host_pairs) {
+        host_prune(out, minmax.get(), records.get());
+      } else {
+        const double upper = pair_pass(0, out, minmax.get(), records.get());
+        gpgpu::Compacted c = prune(upper, minmax.get(), records.get());
+        count = c.count;
+        pairs = std::move(c.records);
+      }
     } else {
       const gpgpu::Layout2D out = gpgpu::layout_pow2(chunk_pairs * 16, side);  // one chunk's children
       gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);

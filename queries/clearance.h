@@ -65,6 +65,12 @@ struct ClearanceLimits {
   /// for the coarse-to-fine search, boxes for the faithful path.
   enum class Upper { Auto, Boxes, Samples };
   Upper upper = Upper::Auto;
+  /// A level of the descent whose child pairs number at most this is pruned on the CPU: one
+  /// read-back of the pair pass's min/max and records, U and the survivors (lower bound <= U, the
+  /// stream reduction's test) computed there, the survivors uploaded. The same pairs survive as
+  /// with the GPU passes; it saves the reduction's and the stream reduction's passes, which on
+  /// small levels cost more than their data (beyond the paper; 0: every level on the GPU).
+  long long host_pairs = 65536;
 };
 
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the

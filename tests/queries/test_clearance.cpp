@@ -218,6 +218,41 @@ TEST_CASE("clearance: face samples bound U tighter than the boxes on random pair
   MESSAGE("leaf pairs over 12 random pairs: " << pairs.second << " with samples, " << pairs.first << " with boxes");
 }
 
+TEST_CASE("clearance: levels pruned on the CPU keep the GPU passes' pairs on random pairs" * test::sweep()) {
+  // ClearanceLimits::host_pairs: U and the survivors from one read-back instead of the reduction and
+  // the stream reduction: the same pairs per level, leaves and answer, bit for bit.
+  gpgpu::Gpu& gpu = test::gpu();
+  long long host_levels = 0;
+  for (uint64_t seed = 0; seed < 4; ++seed)
+    for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine})
+      for (auto upper : {queries::ClearanceLimits::Upper::Boxes, queries::ClearanceLimits::Upper::Samples}) {
+        CAPTURE(seed);
+        CAPTURE(int(search));
+        CAPTURE(int(upper));
+        nurbs::TrimmedSurface fb;
+        const nurbs::TrimmedSurface fa = models::random_trimmed_surface(seed + 40);
+        fb.surface = models::random_surface(seed + 740, 3, 1 + int(seed % 3), seed % 2 == 0);
+        for (auto& p : fb.surface.points) p += glm::dvec3(-0.2, 0.3, 1.5 + 0.2 * double(seed));
+        const auto a = queries::prepare_model(gpu, {fa}, 5e-3, 1LL << 22, search);
+        const auto b = queries::prepare_model(gpu, {fb}, 5e-3, 1LL << 22, search);
+        queries::ClearanceLimits on_gpu, on_host;
+        on_gpu.upper = on_host.upper = upper;
+        on_gpu.host_pairs = 0;
+        on_host.host_pairs = 1LL << 40;  // every level that fits one pass
+        const auto motion = glm::rotate(glm::dmat4(1.0), 0.3 * double(seed), glm::dvec3(0, 0, 1));
+        const queries::Clearance x = queries::clearance(gpu, a, b, motion, nullptr, nullptr, on_gpu);
+        const queries::Clearance y = queries::clearance(gpu, a, b, motion, nullptr, nullptr, on_host);
+        REQUIRE(x.found);
+        REQUIRE(y.found);
+        CHECK(y.pairs_per_level == x.pairs_per_level);
+        CHECK(y.leaf_pairs == x.leaf_pairs);
+        CHECK(y.distance == x.distance);
+        CHECK(y.bound == x.bound);
+        host_levels += static_cast<long long>(y.pairs_per_level.size());
+      }
+  MESSAGE(host_levels << " levels pruned on the CPU over 16 queries");
+}
+
 TEST_CASE("clearance: face samples never come from a hole (a sphere over a holed plane)") {
   // A sample in a hole would be a point of no face: a square with a hole of radius 0.3 (in (u, v))
   // under a sphere of radius 0.2 whose centre is 0.25 above the hole's: the clearance is the rim's.
