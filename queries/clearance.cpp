@@ -345,6 +345,17 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   pairs_program(gpu, samples);
   gpgpu::reduce_program(gpu, limits.reduce_block);
   gpgpu::compile_compact(gpu, limits.compact_fanout, true);
+  // llvmpipe makes a program's machine code at its first draw, per set of bound texture formats
+  // (and whether their sizes are powers of 2): 7-8 ms for the evaluation program, which would
+  // otherwise stall the atlas right after the geometry threads. One texel on inputs shaped as an
+  // atlas's (a slot table of another size than a power of 2, the coefficient arrays of one) makes
+  // it here, beside those threads.
+  using F = gpgpu::Format;
+  gpgpu::Texture slot_of(3, 3, F::R32F), slots(1, 1, F::RGBA32F), basis(1, 1, F::RGBA32F), ctrl(1, 1, F::RGBA32F);
+  gpgpu::Texture points(1, 1, F::RGBA32F), normals(1, 1, F::RGBA32F);
+  const gpgpu::Input in[] = {{"u_slot_of", &slot_of}, {"u_slots", &slots}, {"u_basis", &basis}, {"u_ctrl", &ctrl}};
+  gpgpu::Texture* out[] = {&points, &normals};
+  gpu.run("surface_eval_atlas_first_draw", atlas_program(gpu), in, out);
 }
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
