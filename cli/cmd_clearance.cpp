@@ -280,8 +280,8 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--host-pairs", o->host_pairs,
                   "A descent level of at most this many child box pairs is pruned on the CPU from one read-back "
                   "instead of the reduction and stream-reduction passes (the same pairs survive); 0: every level "
-                  "on the GPU, as the paper")
-      ->check(CLI::Range(0LL, 1LL << 40))
+                  "on the GPU, as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
+      ->check(CLI::Range(-1LL, 1LL << 40))
       ->capture_default_str();
   cmd->add_option("--gpu-upper", o->upper,
                   "Least upper bound of each level of the descent: boxes (the paper's farthest box points), "

@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"coarse-to-fine", "faithful"}))
       ->capture_default_str();
   app.add_option("--host-pairs", limits.host_pairs,
-                 "Descent levels of at most this many child pairs pruned on the CPU (0: all on the GPU)")
+                 "Descent levels of at most this many child pairs pruned on the CPU (0: all on the GPU; -1: auto)")
       ->capture_default_str();
   app.add_flag("--prime", prime,
                "Before the cold pair, one on two 8 x 8 surfaces: every program's first use without the paper "

@@ -178,7 +178,7 @@ namespace {
 /// surviving leaf records (xa, ya, xb, yb), 4 floats each; adds the pairs per level to `per_level`;
 /// `upper` carries the least upper bound U across atlas pairs (any pair's U bounds the distance).
 std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy& hb, const ClearanceLimits& limits,
-                           double& shared_upper, std::vector<long long>& per_level) {
+                           long long host_pairs, double& shared_upper, std::vector<long long>& per_level) {
   // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
   // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them
   // (the levels above prune little and cost a pair pass, a reduction and a compaction each).
@@ -294,7 +294,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
       const gpgpu::Layout2D out = gpgpu::layout_pow2(count * 16, side);
       gpgpu::PooledTexture minmax = gpu.acquire(out.width, out.height, gpgpu::Format::RG32F);
       gpgpu::PooledTexture records = gpu.acquire(out.width, out.height, gpgpu::Format::RGBA32F);
-      if (count * 16 <= limits.host_pairs) {
+      if (count * 16 <= host_pairs) {
         host_prune(out, minmax.get(), records.get());
       } else {
         const double upper = pair_pass(0, out, minmax.get(), records.get());
@@ -364,7 +364,9 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   const glm::dvec3 origin = a.centre;
   std::vector<Hierarchy> own_a;
   const bool cached = cache && !faces_a;
-  const bool samples = use_samples(limits, a.search == Search::CoarseToFine || b.search == Search::CoarseToFine);
+  const bool coarse_to_fine = a.search == Search::CoarseToFine || b.search == Search::CoarseToFine;
+  const bool samples = use_samples(limits, coarse_to_fine);
+  const long long host_pairs = limits.host_pairs >= 0 ? limits.host_pairs : coarse_to_fine ? 65536 : 0;
   if (cached && (cache->impl->a != &a || cache->impl->samples != samples)) {
     cache->impl->ha = build_all(gpu, a, glm::dmat4(1.0), origin, nullptr, samples);
     cache->impl->a = &a;
@@ -379,7 +381,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   double upper = kInf;
   for (size_t ia = 0; ia < ha.size(); ++ia)
     for (size_t ib = 0; ib < hb.size(); ++ib) {
-      const std::vector<float> recs = descend(gpu, ha[ia], hb[ib], limits, upper, r.pairs_per_level);
+      const std::vector<float> recs = descend(gpu, ha[ia], hb[ib], limits, host_pairs, upper, r.pairs_per_level);
       for (size_t k = 0; k + 3 < recs.size(); k += 4) {
         const auto ca = a.cell_at(ia, int(recs[k]), int(recs[k + 1]));
         const auto cb = b.cell_at(ib, int(recs[k + 2]), int(recs[k + 3]));

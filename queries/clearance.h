@@ -69,8 +69,9 @@ struct ClearanceLimits {
   /// read-back of the pair pass's min/max and records, U and the survivors (lower bound <= U, the
   /// stream reduction's test) computed there, the survivors uploaded. The same pairs survive as
   /// with the GPU passes; it saves the reduction's and the stream reduction's passes, which on
-  /// small levels cost more than their data (beyond the paper; 0: every level on the GPU).
-  long long host_pairs = 65536;
+  /// small levels cost more than their data (beyond the paper). 0: every level on the GPU; -1
+  /// (auto): 65536 with the coarse-to-fine search, 0 with the faithful path (the paper's passes).
+  long long host_pairs = -1;
 };
 
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the
