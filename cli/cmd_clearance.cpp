@@ -153,7 +153,9 @@ void run(const GlobalOptions& global, const Options& o) {
   const bool trimmed = any_trimmed(fa) || any_trimmed(fb);
   queries::PreparedPair pair =
       queries::prepare_pair(*gpu, std::move(fa), std::move(fb), tolerance, o.search, 1LL << 22,
-                            [&] { queries::compile_clearance_programs(*gpu, limits, o.search, trimmed); });
+                            [&](const std::function<bool()>& geometry_done) {
+                              queries::compile_clearance_programs(*gpu, limits, o.search, trimmed, geometry_done);
+                            });
   const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)

@@ -54,10 +54,10 @@ Run run_pair(gpgpu::Gpu& gpu, double tolerance, queries::Search search, const gl
                                    face(models::wavy_surface(8, 8, 100.0, 100.0, 4.0, 40.0, 30.0, 1.0, 20.0)),
                                    tolerance, search)
            : queries::prepare_pair(gpu, face(models::wavy_surface_199x33()), face(models::wavy_surface_100x105()),
-                                   tolerance, search, 1LL << 22, [&] {
+                                   tolerance, search, 1LL << 22, [&](const std::function<bool()>& done) {
                                      // as the CLI: the pair's search, no trim loops
                                      if (compile_beside)
-                                       queries::compile_clearance_programs(gpu, limits, search, false);
+                                       queries::compile_clearance_programs(gpu, limits, search, false, done);
                                    });
   gpu.finish();
   r.prepare = ms_since(t0);

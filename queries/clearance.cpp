@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <map>
@@ -336,15 +337,8 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
 
 }  // namespace
 
-void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, Search search, bool trimmed) {
-  atlas_program(gpu);
-  if (trimmed) gpgpu::compile_polygon_fill(gpu);  // trim masks
-  const bool samples = use_samples(limits, search == Search::CoarseToFine);
-  leaf_program(gpu, samples);
-  merge_program(gpu, samples);
-  pairs_program(gpu, samples);
-  gpgpu::reduce_program(gpu, limits.reduce_block);
-  gpgpu::compile_compact(gpu, limits.compact_fanout, true);
+void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, Search search, bool trimmed,
+                                const std::function<bool()>& geometry_done) {
   // llvmpipe makes a program's machine code at its first draw, per set of bound texture formats
   // (and whether their sizes are powers of 2): 7-8 ms for the evaluation program, which would
   // otherwise stall the atlas right after the geometry threads. One texel on inputs shaped as an
@@ -356,6 +350,16 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   const gpgpu::Input in[] = {{"u_slot_of", &slot_of}, {"u_slots", &slots}, {"u_basis", &basis}, {"u_ctrl", &ctrl}};
   gpgpu::Texture* out[] = {&points, &normals};
   gpu.run("surface_eval_atlas_first_draw", atlas_program(gpu), in, out);
+  if (trimmed) gpgpu::compile_polygon_fill(gpu);  // trim masks
+  const bool samples = use_samples(limits, search == Search::CoarseToFine);
+  leaf_program(gpu, samples);
+  merge_program(gpu, samples);
+  pairs_program(gpu, samples);
+  const bool may_wait = search == Search::CoarseToFine && limits.host_pairs != 0 && geometry_done;
+  if (may_wait && geometry_done()) return;
+  gpgpu::reduce_program(gpu, limits.reduce_block);
+  if (may_wait && geometry_done()) return;
+  gpgpu::compile_compact(gpu, limits.compact_fanout, true);
 }
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,

@@ -20,6 +20,7 @@
 /// surviving cells of each side. With Search::CoarseToFine (refine.h) the candidates are refined
 /// until d* is proven in [distance - bound, distance] with bound <= T_a + T_b (the faithful
 /// path's K_a + K_b), distance realised by two material surface points.
+#include <functional>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -103,8 +104,13 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
 /// prepare_pair's geometry threads work (about 2 ms a program on llvmpipe, 25 ms in all).
 /// `search`: the models' search (the descent's programs differ with ClearanceLimits::upper's Auto);
 /// `trimmed`: whether a face of either model has trim loops (else no trim mask is filled).
+/// `geometry_done` (prepare_pair's): once it is true, the reduction's and the stream reduction's
+/// programs are left to compile at their first use when the coarse-to-fine search may not need
+/// them (ClearanceLimits::host_pairs prunes its small levels on the CPU), rather than delay the
+/// atlases.
 void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {},
-                                Search search = Search::CoarseToFine, bool trimmed = true);
+                                Search search = Search::CoarseToFine, bool trimmed = true,
+                                const std::function<bool()>& geometry_done = {});
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,

@@ -155,13 +155,17 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
 
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
                           double tolerance, Search search, long long max_samples,
-                          const std::function<void()>& meanwhile) {
+                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile) {
   auto geometry = [&](std::vector<nurbs::TrimmedSurface>& faces) {
     return std::async(std::launch::async,
                       [&] { return prepare_geometry(std::move(faces), tolerance, max_samples, search); });
   };
   std::future<PreparedModel> geometry_a = geometry(a), geometry_b = geometry(b);
-  if (meanwhile) meanwhile();
+  const auto done = [&] {
+    using namespace std::chrono_literals;
+    return geometry_a.wait_for(0s) == std::future_status::ready && geometry_b.wait_for(0s) == std::future_status::ready;
+  };
+  if (meanwhile) meanwhile(done);
   PreparedPair p{geometry_a.get(), geometry_b.get()};
   prepare_atlases(gpu, p.a);
   prepare_atlases(gpu, p.b);

@@ -78,13 +78,14 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = 4096);
 
 /// The two models of a clearance query: their geometry on two threads, then their atlases on this
 /// thread (the GL context's). `meanwhile`, when given, runs on this thread while the geometry
-/// threads work (compile_clearance_programs: GL work that needs no model).
+/// threads work (compile_clearance_programs: GL work that needs no model); its argument tells
+/// whether both have finished (work that can wait may stop then).
 struct PreparedPair {
   PreparedModel a, b;
 };
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
                           double tolerance, Search search, long long max_samples = 1LL << 22,
-                          const std::function<void()>& meanwhile = {});
+                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile = {});
 
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).
