@@ -32,6 +32,7 @@ struct Options {
   bool json = false;
   bool per_point = false;
   std::string boxes = "oriented";  ///< the batched projection's pyramid (point_batch.h)
+  long long host_cells = -1;       ///< PointDistanceQuery::set_host_cells
 };
 
 /// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
@@ -94,6 +95,7 @@ void run(const GlobalOptions& global, const Options& o) {
     batch.emplace(*gpu, *prepared, o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented);
   } else {
     query.emplace(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
+    query->set_host_cells(o.host_cells);
   }
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
@@ -165,6 +167,12 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "Batched projection: the box pyramid the points descend, 'oriented' (each box in its cells' "
                   "tangent frame: far fewer cells tested) or 'aabb' (axis-aligned, as Krishnamurthy et al. 5.1)")
       ->check(CLI::IsMember({"oriented", "aabb"}))
+      ->capture_default_str();
+  cmd->add_option("--host-cells", o->host_cells,
+                  "One query at a time: an atlas of at most this many cells is pruned on the CPU from one read-back "
+                  "instead of the reduction, threshold and stream-reduction passes (the same cells); 0: on the GPU, "
+                  "as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
+      ->check(CLI::Range(-1LL, 1LL << 40))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });

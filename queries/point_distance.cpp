@@ -100,8 +100,14 @@ PointDistanceQuery::PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::Trimm
 
 PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   PointDistance r;
+  const long long host_cells = host_cells_ >= 0 ? host_cells_ : m_.search == Search::CoarseToFine ? 65536 : 0;
+  auto on_host = [&](const FaceAtlas& at) {
+    return static_cast<long long>(at.plan.width) * at.plan.height <= host_cells;
+  };
   // Pass 1 and the reduction, per atlas: R = min, G = max distance to each cell's box; U = min G.
+  // Atlases pruned on the CPU read the pass back instead (host_cells).
   std::vector<gpgpu::PooledTexture> minmax;
+  std::vector<std::vector<float>> read(m_.atlases.size());
   double upper = kInf;
   const glm::vec3 q(p - m_.centre), o(m_.centre);
   for (size_t a = 0; a < m_.atlases.size(); ++a) {
@@ -117,7 +123,15 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
                                {"u_crossed", &m_.crossed[a]}};
     gpgpu::Texture* out[] = {minmax.back().get()};
     gpu_.run("point_aabb_minmax", prog, in, out);
-    upper = std::min(upper, double(gpgpu::reduce_min(gpu_, *minmax.back().get(), 1)));
+    if (on_host(at)) {
+      read[a] = minmax.back()->read();
+      float u = std::numeric_limits<float>::infinity();  // reduce_min's: NaN ignored
+      for (size_t k = 1; k < read[a].size(); k += 2)
+        if (!std::isnan(read[a][k])) u = std::min(u, read[a][k]);
+      upper = std::min(upper, double(u));
+    } else {
+      upper = std::min(upper, double(gpgpu::reduce_min(gpu_, *minmax.back().get(), 1)));
+    }
     r.cells += static_cast<long long>(at.plan.width) * at.plan.height;
   }
   r.upper = upper;
@@ -127,6 +141,13 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   std::vector<FaceCell> cells;
   for (size_t a = 0; a < m_.atlases.size(); ++a) {
     const FaceAtlas& at = m_.atlases[a];
+    if (on_host(at)) {  // threshold_le's test, in texel order as the compaction keeps them
+      for (size_t k = 0; 2 * k < read[a].size(); ++k)
+        if (read[a][2 * k] <= cut)
+          if (const auto cell = m_.cell_at(a, int(k % size_t(at.plan.width)), int(k / size_t(at.plan.width))))
+            cells.push_back(*cell);
+      continue;
+    }
     gpgpu::PooledTexture keep = gpu_.acquire(at.plan.width, at.plan.height, gpgpu::Format::R8);
     gpgpu::Program& prog = gpu_.program("threshold_le.frag");
     prog.set("u_cut", cut);

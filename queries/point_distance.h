@@ -57,6 +57,12 @@ class PointDistanceQuery {
   PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                      long long max_samples = 1LL << 22, Search search = Search::Faithful);
   PointDistance query(const glm::dvec3& p);
+  /// An atlas of at most this many cells is pruned on the CPU from one read-back of its min/max
+  /// pass: U and the cells within it computed there with the GPU passes' float arithmetic (the same
+  /// cells), without the reduction, threshold and stream-reduction passes (beyond the paper, as
+  /// ClearanceLimits::host_pairs). 0: always on the GPU; -1 (the default): 65536 with the
+  /// coarse-to-fine search, 0 with the faithful path.
+  void set_host_cells(long long cells) { host_cells_ = cells; }
 
   [[nodiscard]] const std::vector<nurbs::CertifiedGrid>& grids() const { return m_.grids; }
   [[nodiscard]] size_t atlases() const { return m_.atlases.size(); }
@@ -65,6 +71,7 @@ class PointDistanceQuery {
  private:
   gpgpu::Gpu& gpu_;
   PreparedModel m_;
+  long long host_cells_ = -1;
 };
 
 /// CPU twin in double: the same cells, boxes, cut-off and triangles for one face on its grid

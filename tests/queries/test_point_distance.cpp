@@ -119,6 +119,40 @@ TEST_CASE("point distance: many faces at once equal the best face, trimmed regio
                       << " of 12 winners on trimmed faces");
 }
 
+TEST_CASE("point distance: atlases pruned on the CPU give the GPU passes' cells and answers") {
+  // PointDistanceQuery::set_host_cells: U and the cells within it from one read-back instead of the
+  // reduction, threshold and stream reduction: the same candidates and answers, bit for bit.
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    faces.push_back(models::random_trimmed_surface(seed + 60));
+    for (auto& p : faces.back().surface.points) p += glm::dvec3(3.0 * double(seed % 3), 3.0 * double(seed / 3), 0.0);
+  }
+  models::Random rng(31);
+  int queries = 0;
+  for (auto search : {queries::Search::Faithful, queries::Search::CoarseToFine}) {
+    CAPTURE(int(search));
+    queries::PointDistanceQuery q(gpu, faces, 5e-3, 1LL << 22, search);
+    for (int k = 0; k < 10; ++k) {
+      const glm::dvec3 p(rng.uniform(-1, 8), rng.uniform(-1, 5), rng.uniform(-2, 2));
+      q.set_host_cells(0);
+      const queries::PointDistance x = q.query(p);
+      q.set_host_cells(1LL << 40);
+      const queries::PointDistance y = q.query(p);
+      REQUIRE(x.found);
+      REQUIRE(y.found);
+      CHECK(y.upper == x.upper);
+      CHECK(y.candidates == x.candidates);
+      CHECK(y.distance == x.distance);
+      CHECK(y.bound == x.bound);
+      CHECK(y.face == x.face);
+      CHECK(y.uv == x.uv);
+      ++queries;
+    }
+  }
+  MESSAGE(queries << " points, both searches");
+}
+
 TEST_CASE("point distance: every face of the shared IGES models takes part" * test::needs_shared_models()) {
   gpgpu::Gpu& gpu = test::gpu();
   const std::vector<std::filesystem::path> files = test::shared_iges_files();
