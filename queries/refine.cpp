@@ -146,6 +146,10 @@ class Cells {
     all[i].children = int32_t(all.size()) - first;
   }
 
+  /// Whether a cell's corner is trimmed or a trim edge crosses it: an answer there may lie on the
+  /// trim edge (Refined::on_trim_edge).
+  [[nodiscard]] bool on_trim_edge(const Cell& c) const { return c.material != 15u || trim_crosses(c); }
+
  private:
   /// Index + 1 of the cell of grid cell c (0: none yet); a face's table is made when it first appears.
   uint32_t& slot(const FaceCell& c) {
@@ -290,7 +294,7 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
   r.found = true;
   r.point_b = p;
   r.bound = r.distance - std::min(lower, r.distance);
-  r.on_trim_edge = cells.all[best_cell].material != 15u;
+  r.on_trim_edge = cells.on_trim_edge(cells.all[best_cell]);
   return r;
 }
 
@@ -445,7 +449,7 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
   if (!std::isfinite(r.distance)) return r;
   r.found = true;
   r.bound = r.distance - std::min(lower, r.distance);
-  r.on_trim_edge = ca.all[best.first].material != 15u || cb.all[best.second].material != 15u;
+  r.on_trim_edge = ca.on_trim_edge(ca.all[best.first]) || cb.on_trim_edge(cb.all[best.second]);
   return r;
 }
 

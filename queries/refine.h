@@ -40,7 +40,7 @@ struct Refined {
   glm::dvec3 point_a{0.0}, point_b{0.0};  ///< exact surface points (point_b: the query point, for points)
   glm::dvec2 uv_a{0.0}, uv_b{0.0};
   int face_a = -1, face_b = -1;
-  bool on_trim_edge = false;    ///< a cell of the answer has a trimmed corner
+  bool on_trim_edge = false;    ///< a cell of the answer has a trimmed corner or a trim edge crosses it
   bool meets_tolerance = true;  ///< bound <= T (false: stopped at max_pairs)
   int rounds = 0;               ///< subdivision rounds
   long long cells = 0;          ///< cells evaluated (four corners each, shared with the parent)
