@@ -125,7 +125,9 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
   if (it == cells_.end()) return;
   const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
   const double v0 = grid_->v[size_t(j)], v1 = grid_->v[size_t(j) + 1];
-  for (const auto& [k, e] : it->second) {
+  const std::vector<std::pair<int, int>>& edges = it->second;  // grouped by loop (the constructor's order)
+  for (size_t n = 0; n < edges.size(); ++n) {
+    const auto [k, e] = edges[n];
     const auto& loop = trim_->loops[size_t(k)];
     const glm::dvec2 a = loop[size_t(e)], b = loop[(size_t(e) + 1) % loop.size()];
     // The edge in unit-cell coordinates, clipped to [0, 1]^2 (Liang-Barsky).
@@ -145,15 +147,19 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
       }
     if (!inside || l0 > l1) continue;
     // Cut where it crosses the diagonal s = t (each piece is straight on its triangle) and the
-    // cell's other edges (another loop may cross it: a hole reaching out of the outer loop). Only
+    // cell's edges of other loops (a hole reaching out of the outer loop; a loop is simple). Only
     // pieces with material beside them bound material, and the side is the same all along a piece:
     // tested at its middle (at a sharp corner's vertex both steps would fall outside).
     std::vector<double> cuts{l0, l1};
     const double denom = sd.x - sd.y;
     if (denom != 0.0) cuts.push_back((sa.y - sa.x) / denom);
     const glm::dvec2 ab = b - a;
-    for (const auto& [k2, e2] : it->second) {
-      if (k2 == k && e2 == e) continue;
+    for (size_t n2 = 0; n2 < edges.size(); ++n2) {
+      const auto [k2, e2] = edges[n2];
+      if (k2 == k) {  // skip the rest of this loop's run
+        while (n2 + 1 < edges.size() && edges[n2 + 1].first == k) ++n2;
+        continue;
+      }
       const auto& loop2 = trim_->loops[size_t(k2)];
       const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
       const double det = ab.x * cd.y - ab.y * cd.x;

@@ -9,7 +9,9 @@
 #include <glm/geometric.hpp>
 #include <limits>
 #include <map>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "gpgpu/compact.h"
 #include "gpgpu/reduce.h"
@@ -214,10 +216,11 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
           r.on_trim_edge = true;
     }
   }
-  std::map<int, TrimEdges> edges;  // indexed when a cell of the face first needs them
+  std::map<int, TrimEdges> edges;                // indexed when a cell of the face first needs them
+  std::set<std::tuple<int, int, int>> searched;  // cells whose trim pieces were read (both triangles')
   for (const Candidate& c : cands) {
     if (r.found && !(c.hit.distance < r.distance)) break;
-    if (!c.trimmed) continue;
+    if (!c.trimmed || !searched.insert({c.face, c.i, c.j}).second) continue;
     auto it = edges.find(c.face);
     if (it == edges.end())
       it = edges.emplace(c.face, TrimEdges(m_.trims[size_t(c.face)], m_.grids[size_t(c.face)].grid)).first;
