@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <tuple>
 
@@ -268,11 +269,12 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
     const long long n = count * 16;
     const gpgpu::Region rows{0, 0, out.width, int((n + out.width - 1) / out.width)};
     const std::vector<float> mm = minmax->read(rows), rec = records->read(rows);
-    float u = std::numeric_limits<float>::infinity();
-    for (long long k = 0; k < n; ++k)
-      if (!std::isnan(mm[size_t(2 * k + 1)])) u = std::min(u, mm[size_t(2 * k + 1)]);
-    shared_upper = std::min(shared_upper, double(u));
-    const float cut = cut_of(std::min(double(u), shared_upper));
+    // reduce_min's CPU twin (a minimum of floats, NaN ignored: the same value).
+    const double u =
+        gpgpu::reduce_cpu(std::span<const float>(mm).first(size_t(2 * n)), 2,
+                          {gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min})[1];
+    shared_upper = std::min(shared_upper, u);
+    const float cut = cut_of(std::min(u, shared_upper));
     std::vector<float> kept;
     for (long long k = 0; k < n; ++k)
       if (mm[size_t(2 * k)] <= cut)
@@ -490,13 +492,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   std::sort(waiting.begin(), waiting.end(), [](const Waiting& x, const Waiting& y) {
     return std::tie(x.distance, x.leaf, x.i, x.j) < std::tie(y.distance, y.leaf, y.i, y.j);
   });
-  std::map<int, TrimEdges> edges_a, edges_b;
-  auto edges = [](std::map<int, TrimEdges>& index, const PreparedModel& m, int face) -> const TrimEdges* {
-    if (m.faces[size_t(face)].loops.empty()) return nullptr;
-    auto it = index.find(face);
-    if (it == index.end()) it = index.emplace(face, TrimEdges(m.trims[size_t(face)], m.grids[size_t(face)].grid)).first;
-    return &it->second;
-  };
+  FaceTrimEdges edges_a(a), edges_b(b);
   // A cell's trim pieces once (table index -> pieces; a cell meets many partners).
   std::map<size_t, std::vector<TrimPiece>> pieces_a, pieces_b;
   auto pieces = [](std::map<size_t, std::vector<TrimPiece>>& cache, const TrimEdges* e, const CellTable& t, size_t k) {
@@ -511,7 +507,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
     const auto& [ca, cb] = leaves[w.leaf];
     const size_t ia = table_a.index(ca), ib = table_b.index(cb);
     const CellTriangles &ta = table_a.tris[ia], &tb = table_b.tris[ib];
-    const TrimEdges *ea = edges(edges_a, a, ca.face), *eb = edges(edges_b, b, cb.face);
+    const TrimEdges *ea = edges_a(ca.face), *eb = edges_b(cb.face);
     const MaterialPair m =
         material_pair_distance({ta.p[w.i], ta.uv[w.i], w.i, ea, pieces(pieces_a, ea, table_a, ia)},
                                {tb.p[w.j], tb.uv[w.j], w.j, eb, pieces(pieces_b, eb, table_b, ib)}, r.distance);

@@ -6,6 +6,14 @@
 
 namespace queries {
 
+const TrimEdges* FaceTrimEdges::operator()(int face) {
+  if (m_.faces[size_t(face)].loops.empty()) return nullptr;
+  auto it = index_.find(face);
+  if (it == index_.end())
+    it = index_.emplace(face, TrimEdges(m_.trims[size_t(face)], m_.grids[size_t(face)].grid)).first;
+  return &it->second;
+}
+
 MaterialPair material_pair_distance(const MaterialTriangle& a, const MaterialTriangle& b, double below) {
   MaterialPair r;
   r.distance = below;

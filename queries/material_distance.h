@@ -16,11 +16,26 @@
 /// size that the paper states for answers on a trim edge.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <map>
 #include <vector>
 
 #include "queries/point_batch_trim.h"
+#include "queries/prepared_model.h"
 
 namespace queries {
+
+/// The trim edges of a model's faces, each face's indexed when first asked for (the faithful leaf
+/// passes need few faces' of a large model).
+class FaceTrimEdges {
+ public:
+  explicit FaceTrimEdges(const PreparedModel& m) : m_(m) {}
+  /// Null for an untrimmed face.
+  const TrimEdges* operator()(int face);
+
+ private:
+  const PreparedModel& m_;
+  std::map<int, TrimEdges> index_;
+};
 
 /// One triangle of a grid cell: its corners, their parameters and, for a trimmed face, the trim
 /// edges of its face and their pieces inside the cell (null for an untrimmed face); only the

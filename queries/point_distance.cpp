@@ -8,7 +8,6 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
-#include <map>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -17,7 +16,7 @@
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_batch_trim.h"
+#include "queries/material_distance.h"
 #include "queries/refine.h"
 
 namespace queries {
@@ -126,11 +125,10 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
     gpgpu::Texture* out[] = {minmax.back().get()};
     gpu_.run("point_aabb_minmax", prog, in, out);
     if (on_host(at)) {
-      read[a] = minmax.back()->read();
-      float u = std::numeric_limits<float>::infinity();  // reduce_min's: NaN ignored
-      for (size_t k = 1; k < read[a].size(); k += 2)
-        if (!std::isnan(read[a][k])) u = std::min(u, read[a][k]);
-      upper = std::min(upper, double(u));
+      read[a] = minmax.back()->read();  // reduce_min's CPU twin: the same minimum, NaN ignored
+      upper = std::min(upper, gpgpu::reduce_cpu(read[a], 2,
+                                                {gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min, gpgpu::ReduceOp::Min,
+                                                 gpgpu::ReduceOp::Min})[1]);
     } else {
       upper = std::min(upper, double(gpgpu::reduce_min(gpu_, *minmax.back().get(), 1)));
     }
@@ -216,17 +214,14 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
           r.on_trim_edge = true;
     }
   }
-  std::map<int, TrimEdges> edges;                // indexed when a cell of the face first needs them
+  FaceTrimEdges edges(m_);                       // indexed when a cell of the face first needs them
   std::set<std::tuple<int, int, int>> searched;  // cells whose trim pieces were read (both triangles')
   for (const Candidate& c : cands) {
     if (r.found && !(c.hit.distance < r.distance)) break;
     if (!c.trimmed || !searched.insert({c.face, c.i, c.j}).second) continue;
-    auto it = edges.find(c.face);
-    if (it == edges.end())
-      it = edges.emplace(c.face, TrimEdges(m_.trims[size_t(c.face)], m_.grids[size_t(c.face)].grid)).first;
     const auto corners = cell_corners(m_.faces[size_t(c.face)].surface, m_.grids[size_t(c.face)].grid, c.i, c.j);
     TrimEdgeHit hit{r.found ? r.distance : kInf};
-    if (!it->second.closest(p, c.i, c.j, corners.data(), hit)) continue;
+    if (!edges(c.face)->closest(p, c.i, c.j, corners.data(), hit)) continue;
     r.found = r.on_trim_edge = true;
     r.distance = hit.distance, r.point = hit.point, r.uv = hit.uv, r.face = c.face;
   }
