@@ -80,12 +80,14 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
     int levels = 1;
     while ((std::max(w0, h0) >> levels) > 0) ++levels;
     Atlas at;
-    at.lo = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
-    at.hi = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+    at.w0 = w0, at.h0 = h0, at.levels = levels;
     const size_t index = size_t(&fa - m.atlases.data());
-    // The axis-aligned pyramid on the GPU; the oriented one is built on the CPU below (lo and hi
-    // then only give the pyramid's shape: levels and their sizes).
-    if (boxes_ == PointBoxes::Aabb) build_aabb_pyramid(at, fa, index);
+    // The axis-aligned pyramid on the GPU; the oriented one is built on the CPU below.
+    if (boxes_ == PointBoxes::Aabb) {
+      at.lo = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+      at.hi = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+      build_aabb_pyramid(at, fa, index);
+    }
     at.samples = fa.points.read();
     at.slot_of = fa.slot_of.read();
     at.mask = fa.mask.read();
@@ -118,7 +120,7 @@ void PointBatch::build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index
   gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
   gpu_.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
   gpgpu::Program& merge = gpu_.program("aabb_merge.frag");
-  for (int l = 1; l < at.lo.levels(); ++l) {
+  for (int l = 1; l < at.levels; ++l) {
     const gpgpu::Input fine[] = {{"u_lo", &at.lo, l - 1}, {"u_hi", &at.hi, l - 1}};
     gpu_.run("point_batch_merge", merge, fine, boxes, std::nullopt, l);
   }
@@ -163,8 +165,8 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   prog.set("u_radius", float(radius_));
   prog.set("u_two", 2);
   for (size_t a = 0; a < atlases_.size(); ++a) {
-    prog.set("u_top", atlases_[a].lo.levels() - 1);
-    prog.set("u_size", atlases_[a].lo.width(), atlases_[a].lo.height());
+    prog.set("u_top", atlases_[a].levels - 1);
+    prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
     const Atlas& at = atlases_[a];
     const gpgpu::Input in_aabb[] = {
         {"u_points", pts.get()}, {"u_lo", &at.lo}, {"u_hi", &at.hi}, {"u_samples", &m_.atlases[a].points}};

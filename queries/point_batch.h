@@ -105,8 +105,8 @@ class PointBatch {
   /// (3 floats per texel).
   [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
   [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
-  [[nodiscard]] int levels(size_t a) const { return atlases_[a].lo.levels(); }
-  [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].lo.level_width(level); }
+  [[nodiscard]] int levels(size_t a) const { return atlases_[a].levels; }
+  [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].level_width(level); }
 
   /// The part of every bound that does not depend on the point: K_e + float budget (model units).
   [[nodiscard]] double model_bound() const { return model_bound_; }
@@ -122,7 +122,11 @@ class PointBatch {
 
  private:
   struct Atlas {
-    gpgpu::Texture lo, hi;  ///< the axis-aligned pyramid, mip levels (filled for PointBoxes::Aabb; its shape in both)
+    /// The pyramid's shape: level 0 padded to powers of two (w0 x h0), so that every level halves.
+    int w0 = 1, h0 = 1, levels = 1;
+    [[nodiscard]] int level_width(int l) const { return std::max(1, w0 >> l); }
+    [[nodiscard]] int level_height(int l) const { return std::max(1, h0 >> l); }
+    gpgpu::Texture lo, hi;  ///< PointBoxes::Aabb: the axis-aligned pyramid, mip levels (empty otherwise)
     std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
     std::vector<float> slot_of;              ///< slot index per texel, -1 outside
     std::vector<float> mask;                 ///< trim mask per texel, 1 = material

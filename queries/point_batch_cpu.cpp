@@ -44,10 +44,10 @@ glm::dvec3 PointBatch::float_sample(const Atlas& at, size_t a, int x, int y) con
 
 double PointBatch::node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const {
   if (boxes_ == PointBoxes::Aabb) {
-    const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 3;
+    const size_t i = (size_t(y) * size_t(at.level_width(level)) + size_t(x)) * 3;
     return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
   }
-  const size_t i = (size_t(y) * size_t(at.lo.level_width(level)) + size_t(x)) * 4;
+  const size_t i = (size_t(y) * size_t(at.level_width(level)) + size_t(x)) * 4;
   const auto& l = at.cpu_obb[size_t(level)];
   const float *c = &l[0][i], *t = &l[1][i], *n = &l[2][i];
   if (c[3] < 0.0f) return kInf;
@@ -61,7 +61,7 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
   if (!at.cpu_lo.empty()) return;
   const size_t a = size_t(&at - atlases_.data());
   const AtlasPlan& plan = m_.atlases[a].plan;
-  const int w = plan.width, h = plan.height, w0 = at.lo.width(), h0 = at.lo.height();
+  const int w = plan.width, h = plan.height, w0 = at.w0, h0 = at.h0;
   const glm::vec3 o(m_.centre);
   // Level 0: aabb_leaf.frag (TRIM_CROSSED) in float (the same boxes, bit for bit), empty outside the
   // cells and in cells with no material sample that no trim edge crosses.
@@ -81,9 +81,9 @@ void PointBatch::build_cpu_pyramid(Atlas& at) {
   at.cpu_lo.push_back(std::move(lo));
   at.cpu_hi.push_back(std::move(hi));
   // Levels 1..: the 2x2 merge of aabb_merge.frag.
-  for (int l = 1; l < at.lo.levels(); ++l) {
-    const int fw = at.lo.level_width(l - 1), fh = at.lo.level_height(l - 1);
-    const int lw = at.lo.level_width(l), lh = at.lo.level_height(l);
+  for (int l = 1; l < at.levels; ++l) {
+    const int fw = at.level_width(l - 1), fh = at.level_height(l - 1);
+    const int lw = at.level_width(l), lh = at.level_height(l);
     std::vector<float> nlo(size_t(lw) * size_t(lh) * 3, kInfF), nhi(nlo.size(), -kInfF);
     for (int y = 0; y < lh; ++y)
       for (int x = 0; x < lw; ++x)
@@ -113,14 +113,14 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) 
     int level, x, y;
     double d;
   };
-  const int top = at.lo.levels() - 1;
+  const int top = at.levels - 1;
   std::vector<Node> stack{{top, 0, 0, box(top, 0, 0)}};
   BatchCell best{within > 0.0 ? double(float(within)) : kInf, -1, -1, 0};  // the pass's float start
   while (!stack.empty()) {
     const Node n = stack.back();
     stack.pop_back();
     if (n.d > best.distance + eps) continue;
-    const int cw = at.lo.level_width(n.level - 1), ch = at.lo.level_height(n.level - 1);
+    const int cw = at.level_width(n.level - 1), ch = at.level_height(n.level - 1);
     double d[4];
     for (int k = 0; k < 4; ++k) {
       const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
@@ -166,7 +166,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
   std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
   auto box = [&](size_t a, int level, int x, int y) { return node_distance(atlases_[a], q, level, x, y); };
   for (size_t a = 0; a < atlases_.size(); ++a) {
-    const int top = atlases_[a].lo.levels() - 1;
+    const int top = atlases_[a].levels - 1;
     open.push({box(a, top, 0, 0), a, top, 0, 0});
   }
   PointDistance best;
@@ -206,7 +206,7 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
     const Atlas& at = atlases_[n.a];
     for (int k = 0; k < 4; ++k) {
       const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
-      if (cx < at.lo.level_width(n.level - 1) && cy < at.lo.level_height(n.level - 1))
+      if (cx < at.level_width(n.level - 1) && cy < at.level_height(n.level - 1))
         open.push({box(n.a, n.level - 1, cx, cy), n.a, n.level - 1, cx, cy});
     }
   }

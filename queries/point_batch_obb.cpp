@@ -12,6 +12,7 @@
 // along the rounded axes (for a child box: the reach of its corners, in closed form) and rounded up. What the pass adds
 // in float (a1's cross product, the projections) is within the descent's float slack.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -94,67 +95,85 @@ void fit_boxes(Box& b, const Box* children[], int count) {
   round_up(b);
 }
 
+/// Box i of a level stored as three RGBA float arrays ((c, e0), (a0, e1), (a2, e2)): the floats
+/// are the box's values (set_axes and fit round them), so storing and loading loses nothing and
+/// no level is kept in double (a 4096 x 1024 level of Box would take 500 MB).
+void store(const Box& b, std::array<std::vector<float>, 3>& out, size_t i) {
+  const glm::dvec3 first[3] = {b.c, b.a0, b.a2};
+  for (size_t k = 0; k < 3; ++k) {
+    float* texel = &out[k][4 * i];
+    for (int c = 0; c < 3; ++c) texel[c] = float(first[k][c]);
+    texel[3] = float(b.e[int(k)]);
+  }
+}
+
+Box load(const std::array<std::vector<float>, 3>& in, size_t i) {
+  Box b;
+  const float *c = &in[0][4 * i], *t = &in[1][4 * i], *n = &in[2][4 * i];
+  b.c = {c[0], c[1], c[2]}, b.a0 = {t[0], t[1], t[2]}, b.a2 = {n[0], n[1], n[2]};
+  b.a1 = glm::cross(b.a2, b.a0);
+  b.e = {c[3], t[3], n[3]};
+  return b;
+}
+
 }  // namespace
 
 void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
-  const int w = m_.atlases[a].plan.width, w0 = at.lo.width(), h0 = at.lo.height(), levels = at.lo.levels();
+  const int w = m_.atlases[a].plan.width, levels = at.levels;
   auto sample = [&](int x, int y) { return float_sample(at, a, x, y); };
-  auto level = std::vector<std::vector<Box>>(size_t(levels));
-  level[0].resize(size_t(w0) * size_t(h0));
+  at.cpu_obb.assign(size_t(levels), {});
+  const auto empty_level = [&](int l) {  // every texel an empty Box
+    auto& out = at.cpu_obb[size_t(l)];
+    const size_t n = size_t(at.level_width(l)) * size_t(at.level_height(l));
+    for (auto& v : out) v.resize(n * 4);
+    const Box none;
+    for (size_t i = 0; i < n; ++i) store(none, out, i);
+  };
+  empty_level(0);
   const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
   for_shares(size_t(h), share_count(size_t(h), 16), [&](size_t, size_t y0, size_t y1) {
     for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x + 1 < w; ++x) {
         if (!pyramid_cell(at, a, x, y)) continue;
         const glm::dvec3 p[4] = {sample(x, y), sample(x + 1, y), sample(x, y + 1), sample(x + 1, y + 1)};
-        Box& b = level[0][size_t(y) * size_t(w0) + size_t(x)];
+        Box b;
         const glm::dvec3 du = (p[1] - p[0]) + (p[3] - p[2]), dv = (p[2] - p[0]) + (p[3] - p[1]);
         set_axes(b, du, glm::cross(du, dv));
         fit(b, p);
+        store(b, at.cpu_obb[0], size_t(y) * size_t(at.w0) + size_t(x));
       }
   });
   for (int l = 1; l < levels; ++l) {
-    const int fw = at.lo.level_width(l - 1), fh = at.lo.level_height(l - 1);
-    const int lw = at.lo.level_width(l), lh = at.lo.level_height(l);
-    level[size_t(l)].resize(size_t(lw) * size_t(lh));
+    const int fw = at.level_width(l - 1), fh = at.level_height(l - 1), lw = at.level_width(l), lh = at.level_height(l);
+    empty_level(l);
+    const auto& fine = at.cpu_obb[size_t(l - 1)];
+    auto& out = at.cpu_obb[size_t(l)];
     for_shares(size_t(lh), share_count(size_t(lh), 4), [&](size_t, size_t y0, size_t y1) {
       for (int y = int(y0); y < int(y1); ++y)
         for (int x = 0; x < lw; ++x) {
           glm::dvec3 t(0.0), n(0.0);
+          Box kids[4];
           const Box* children[4];
           int count = 0;
           for (int k = 0; k < 4; ++k) {
             const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
             if (cx >= fw || cy >= fh) continue;
-            const Box& c = level[size_t(l - 1)][size_t(cy) * size_t(fw) + size_t(cx)];
-            if (c.e.x < 0.0) continue;
-            t += c.a0, n += c.a2;
-            children[count++] = &c;
+            kids[count] = load(fine, size_t(cy) * size_t(fw) + size_t(cx));
+            if (kids[count].e.x < 0.0) continue;
+            t += kids[count].a0, n += kids[count].a2;
+            children[count] = &kids[count];
+            ++count;
           }
           if (count == 0) continue;
-          Box& b = level[size_t(l)][size_t(y) * size_t(lw) + size_t(x)];
+          Box b;
           set_axes(b, t, n);
           fit_boxes(b, children, count);
+          store(b, out, size_t(y) * size_t(lw) + size_t(x));
         }
     });
   }
-  at.cpu_obb.assign(size_t(levels), {});
-  for (int l = 0; l < levels; ++l) {
-    auto& out = at.cpu_obb[size_t(l)];
-    const auto& boxes = level[size_t(l)];
-    for (auto& v : out) v.resize(boxes.size() * 4);
-    for (size_t i = 0; i < boxes.size(); ++i) {
-      const Box& b = boxes[i];
-      const glm::dvec3 first[3] = {b.c, b.a0, b.a2};  // (centre, e0), (a0, e1), (a2, e2)
-      for (size_t k = 0; k < 3; ++k) {
-        float* texel = &out[k][4 * i];
-        for (int c = 0; c < 3; ++c) texel[c] = float(first[k][c]);
-        texel[3] = float(b.e[int(k)]);
-      }
-    }
-  }
   for (int k = 0; k < 3; ++k) {
-    at.obb[size_t(k)] = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+    at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, levels);
     for (int l = 0; l < levels; ++l) at.obb[size_t(k)].upload_level(l, at.cpu_obb[size_t(l)][size_t(k)]);
   }
 }
