@@ -125,7 +125,17 @@ void run(const GlobalOptions& global, const Options& o) {
     j["prepare_seconds"] = prepare_s;
     j["tolerance"] = o.rel_tolerance * size;
     if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
-    if (batched) j["fallbacks"] = batch->stats().fallbacks, j["boxes"] = o.boxes;
+    if (batched) {
+      const queries::PointBatchStats& st = batch->stats();
+      j["fallbacks"] = st.fallbacks, j["boxes"] = o.boxes;
+      // The points whose answer the CPU searched for, by reason (the rest: the GPU pass's cell,
+      // finished in double), and those resolved inside a cell a trim edge crosses.
+      j["cpu"] = {{"points", st.fallbacks + st.cut},
+                  {"walk_cut_short", st.cut},
+                  {"no_material_in_winning_cell", st.fallbacks},
+                  {"share", st.points > 0 ? double(st.fallbacks + st.cut) / double(st.points) : 0.0}};
+      j["trimmed_winners"] = st.trimmed;
+    }
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print("{} faces, model size {:.6g}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
@@ -141,7 +151,9 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), query_s,
                1e3 * query_s / double(points.size()),
-               batched ? fmt::format(", batched; {} searched again on the CPU", batch->stats().fallbacks) : "");
+               batched ? fmt::format(", batched; {} searched again on the CPU, {} walks cut short and finished there",
+                                     batch->stats().fallbacks, batch->stats().cut)
+                       : "");
   }
   report_profile(*gpu, global);
 }

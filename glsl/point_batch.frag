@@ -3,7 +3,8 @@
 // levels of one texture; level 0 = the box of each cell's four samples, ungrown) depth first, the
 // four children of a node visited nearest first (their point-box minimum distance, Eqs. 9-12), a
 // node pruned when that distance exceeds the best triangle distance so far plus the float slack.
-// At the cells the two triangles of the four samples (the diagonal of queries/point_distance.cpp).
+// At the cells the two triangles of the four samples (the diagonal of queries/point_distance.cpp);
+// at a cell that a trim edge crosses, their material part (point_batch_trim.frag).
 // Output per point: (best triangle distance, cell x, cell y, cells tested); (+inf, -1, -1, n) when
 // no cell is material; the fourth channel is -1 - cells tested when the walk was cut short:
 // llvmpipe ends an invocation's loops after 65535 iterations in all, which a point equidistant
@@ -11,6 +12,7 @@
 // reaches; the answer is then not the nearest, and the CPU searches that point again. Every triangle lies in its cell's box, so the pruning never drops a closer
 // triangle; the CPU twin is queries/point_batch.cpp descend().
 #include "point_batch_triangle.frag"
+#include "point_batch_trim.frag"
 
 uniform sampler2D u_points;  // RGBA32F query points relative to u_origin, 16 per 4 x 4 tile, tiles row-major;
                              // w > 0: only a cell nearer than w is wanted (the descent's first best)
@@ -116,6 +118,8 @@ void main() {
         vec3 cc = texelFetch(u_samples, c + ivec2(0, 1), 0).xyz - u_origin;
         vec3 dd = texelFetch(u_samples, c + ivec2(1, 1), 0).xyz - u_origin;
         float t = sqrt(min(point_triangle_dist2(q, a, b, dd), point_triangle_dist2(q, a, dd, cc)));
+        float header = texelFetch(u_trim_cell, c, 0).r;  // a trim edge crosses the cell: its material part,
+        if (header > 0.0 && t < best) t = sqrt(trimmed_cell_dist2(q, a, b, cc, dd, int(header) - 1));  // no nearer
         ++tested;
         if (t < best) {
           best = t;

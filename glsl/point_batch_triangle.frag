@@ -16,14 +16,14 @@ float point_triangle_dist2(vec3 p, vec3 a, vec3 b, vec3 c) {
   float d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0.0 && d4 <= d3) return dot(bp, bp);
   float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return line_dist2(ap, ab);
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 > d3) return line_dist2(ap, ab);
   vec3 cp = p - c;
   float d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0.0 && d5 <= d6) return dot(cp, cp);
   float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return line_dist2(ap, ac);
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 > d6) return line_dist2(ap, ac);
   float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return line_dist2(bp, c - b);
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) return line_dist2(bp, c - b);
   vec3 n = cross(ab, ac);
   float h = dot(ap, n);
   return h * h / dot(n, n);

@@ -92,6 +92,7 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
     at.slot_of = fa.slot_of.read();
     at.mask = fa.mask.read();
     at.crossed = m.crossed[index].read();
+    upload_trim_cells(at, index);
     if (boxes_ == PointBoxes::Oriented) build_oriented_pyramid(at, index);
     atlases_.push_back(std::move(at));
   }
@@ -164,17 +165,19 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   prog.set("u_slack", float(kFloatSlack));
   prog.set("u_radius", float(radius_));
   prog.set("u_two", 2);
+  prog.set("u_trim_width", kTrimTextureWidth);
   for (size_t a = 0; a < atlases_.size(); ++a) {
     prog.set("u_top", atlases_[a].levels - 1);
     prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
     const Atlas& at = atlases_[a];
-    const gpgpu::Input in_aabb[] = {
-        {"u_points", pts.get()}, {"u_lo", &at.lo}, {"u_hi", &at.hi}, {"u_samples", &m_.atlases[a].points}};
-    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},
-                                   {"u_obb0", &at.obb[0]},
-                                   {"u_obb1", &at.obb[1]},
-                                   {"u_obb2", &at.obb[2]},
-                                   {"u_samples", &m_.atlases[a].points}};
+    const gpgpu::Input in_aabb[] = {{"u_points", pts.get()},         {"u_lo", &at.lo},
+                                    {"u_hi", &at.hi},                 {"u_samples", &m_.atlases[a].points},
+                                    {"u_trim_cell", &at.trim_cell_tex}, {"u_trim_head", &at.trim_head_tex},
+                                    {"u_trim_segs", &at.trim_segs_tex}};
+    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},           {"u_obb0", &at.obb[0]},
+                                   {"u_obb1", &at.obb[1]},            {"u_obb2", &at.obb[2]},
+                                   {"u_samples", &m_.atlases[a].points}, {"u_trim_cell", &at.trim_cell_tex},
+                                   {"u_trim_head", &at.trim_head_tex}, {"u_trim_segs", &at.trim_segs_tex}};
     gpgpu::Texture* target[] = {res.get()};
     if (oriented)
       gpu_.run("point_batch", prog, in_obb, target);
@@ -238,7 +241,7 @@ bool PointBatch::material(const PointDistance& r) const {
 }
 
 PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
-                                 double within) const {
+                                 long long& trimmed, double within) const {
   size_t win = best.size();
   long long tested = 0;
   for (size_t a = 0; a < best.size(); ++a) {
@@ -248,8 +251,12 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   PointDistance r;
   if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
   if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
-    ++fallbacks;
-    r = search_material(p, within);
+    ++trimmed;
+    r = material_cell(p, win, best[win].x, best[win].y);
+    if (!r.found) {  // the float pass judged a point within rounding of a trim edge
+      ++fallbacks;
+      r = search_material(p, within);
+    }
   }
   r.candidates = tested;
   return r;
@@ -267,6 +274,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
       const auto part = query(points.subspan(s, count), within.empty() ? within : within.subspan(s, count));
       out.insert(out.end(), part.begin(), part.end());
       total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
+      total.trimmed += stats_.trimmed;
       total.cut += stats_.cut;
       total.gpu_seconds += stats_.gpu_seconds, total.cpu_seconds += stats_.cpu_seconds;
     }
@@ -292,7 +300,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
   const size_t threads = share_count(points.size(), 128);
-  std::vector<long long> fallbacks(threads, 0), tested(threads, 0), cut(threads, 0);
+  std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0);
   for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
     std::vector<BatchCell> best(atlases_.size());
     for (size_t i = begin; i < end; ++i) {
@@ -303,12 +311,13 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
           best[a] = descend_cpu(a, points[i], within.empty() ? 0.0 : within[i]), was_cut = true;
       }
       cut[t] += was_cut;
-      out[i] = finish(points[i], best, fallbacks[t], within.empty() ? 0.0 : within[i]);
+      out[i] = finish(points[i], best, fallbacks[t], in_trim[t], within.empty() ? 0.0 : within[i]);
       tested[t] += out[i].candidates;
     }
   });
   for (size_t t = 0; t < threads; ++t)
-    stats_.fallbacks += fallbacks[t], stats_.cells_tested += tested[t], stats_.cut += cut[t];
+    stats_.fallbacks += fallbacks[t], stats_.trimmed += in_trim[t], stats_.cells_tested += tested[t],
+        stats_.cut += cut[t];
   stats_.cpu_seconds = seconds_since(t1);
   return out;
 }

@@ -10,15 +10,19 @@
 ///     first, nearest child first, with no stack array (siblings left per level in bit fields),
 ///     pruned by its best triangle distance so far, ending at the closest cell triangle; one
 ///     read-back of (distance, cell) for all points;
+///     At a cell that a trim edge crosses the pass takes the distance to the cell's material part
+///     (glsl/point_batch_trim.frag: a triangle's closest point when a crossing count says it is
+///     material, else the closest point of the trim pieces inside the cell), so the walk ends at
+///     the closest material point (§5.3: "discard the point and continue the search");
 ///  3. per point on the CPU, in double: the winning cell's two triangles from its float samples,
 ///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
 ///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
-///     point whose winner lies in a trimmed region is searched again on the CPU, best first over
-///     the same pyramid: a cell whose closest triangle point is material gives it, a cell whose
-///     closest point is trimmed gives the closest point of the trim polygon's pieces inside it
-///     (point_batch_trim.h; such a winner is on_trim_edge). Cells with all four samples trimmed are
-///     culled (a feature thinner than a cell is missed, as in the faithful path); trim points are
-///     those of the flattened polygons (nurbs::flatten_trim, within 1e-6 of the u domain).
+///     trimmed closest point is replaced by the cell's closest material point (material_cell; on
+///     a trim piece, on_trim_edge). Only when that cell holds no material in double (the float
+///     pass judged a point within rounding of a trim edge) is the point searched again on the CPU,
+///     best first over the same pyramid. Cells with all four samples trimmed that no trim edge
+///     crosses are culled; trim points are those of the flattened polygons (nurbs::flatten_trim,
+///     within 1e-6 of the u domain).
 /// Bound, per point (|distance - true distance| <= bound):
 ///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
 ///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
@@ -49,12 +53,15 @@ namespace queries {
 
 /// Relative float slack of the descent (16 float ulp of |q| + the model's radius).
 inline constexpr double kFloatSlack = 0x1.0p-20;
+/// Width of the trimmed cells' header and segment textures (glsl/point_batch_trim.frag u_trim_width).
+inline constexpr int kTrimTextureWidth = 4096;
 
 /// Figures of the last batch.
 struct PointBatchStats {
   long long points = 0;
   long long cells_tested = 0;  ///< triangle pairs evaluated by the descent (summed over points)
-  long long fallbacks = 0;     ///< points searched again on the CPU (winner in a trimmed region)
+  long long fallbacks = 0;     ///< points searched again on the CPU: the winning cell holds no material in double
+  long long trimmed = 0;       ///< points whose winning cell a trim edge crosses (its material part, on the GPU)
   long long cut = 0;           ///< points whose GPU walk was cut short, descended again by the CPU twin
   double gpu_seconds = 0.0;    ///< upload, descent passes and read-back
   double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
@@ -134,6 +141,11 @@ class PointBatch {
     std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
     std::vector<std::vector<float>> cpu_hi;
     std::array<gpgpu::Texture, 3> obb;                       ///< PointBoxes::Oriented: the pyramid, mip levels
+    /// The cells a trim edge crosses (glsl/point_batch_trim.frag): per texel 0 or 1 + header index;
+    /// per header (first segment, crossing segments, pieces, reference side); per segment
+    /// (s0, t0, s1, t1) in unit-cell coordinates, a cell's crossing segments then its pieces.
+    std::vector<float> trim_cell, trim_head, trim_segs;
+    gpgpu::Texture trim_cell_tex, trim_head_tex, trim_segs_tex;
     std::vector<std::array<std::vector<float>, 3>> cpu_obb;  ///< the same values per level, 4 floats per texel
   };
   void build_cpu_pyramid(Atlas& at);
@@ -152,8 +164,18 @@ class PointBatch {
   /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
   /// `within` > 0: only a point nearer than it is wanted (query's `within`).
   PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
-                       double within = 0.0) const;
+                       long long& trimmed, double within = 0.0) const;
   PointDistance search_material(const glm::dvec3& p, double within = 0.0) const;
+  /// The closest material point to p of the cell at texel (x, y) of atlas a, in double: a triangle's
+  /// closest point when material, else the closest point of the cell's trim pieces; found = false
+  /// when the cell holds no material.
+  PointDistance material_cell(const glm::dvec3& p, size_t a, int x, int y) const;
+  /// Fills at.trim_* for the trimmed faces of atlas a and uploads them.
+  void upload_trim_cells(Atlas& at, size_t a);
+  /// glsl/point_batch_trim.frag trimmed_cell_dist2 in double on the uploaded floats (the twin):
+  /// q and the corners relative to the float origin.
+  [[nodiscard]] double trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
+                                             int header) const;
   /// The closest point to p of the cell at texel (x, y) of atlas a: of its closer triangle, or of
   /// `triangle` 0 (corners 0, 1, 3) or 1 (0, 3, 2) alone; `trim_edge`: classify its corners.
   PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true,

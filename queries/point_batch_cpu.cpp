@@ -130,11 +130,12 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) 
       for (int k = 0; k < 4; ++k) {
         if (d[k] == kInf || d[k] > best.distance + eps) continue;  // empty cells too (point_batch.frag)
         const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
-        const glm::dvec3 s00 = sample(cx, cy), s10 = sample(cx + 1, cy), s01 = sample(cx, cy + 1),
-                         s11 = sample(cx + 1, cy + 1);
+        const glm::dvec3 s[4] = {sample(cx, cy), sample(cx + 1, cy), sample(cx, cy + 1), sample(cx + 1, cy + 1)};
+        const float header = at.trim_cell[size_t(cy) * size_t(m_.atlases[a].plan.width) + size_t(cx)];
         glm::dvec3 wts;
-        const double t = std::min(glm::length(closest_on_triangle(q, s00, s10, s11, wts) - q),
-                                  glm::length(closest_on_triangle(q, s00, s11, s01, wts) - q));
+        double t = std::min(glm::length(closest_on_triangle(q, s[0], s[1], s[3], wts) - q),
+                            glm::length(closest_on_triangle(q, s[0], s[3], s[2], wts) - q));
+        if (header > 0.0f && t < best.distance) t = trimmed_cell_distance(at, q, s, int(header) - 1);  // no nearer
         ++best.tested;
         if (t < best.distance) best.distance = t, best.x = cx, best.y = cy;
       }
@@ -171,36 +172,17 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
   }
   PointDistance best;
   best.distance = within > 0.0 ? within : kInf;  // nothing beyond `within` is wanted
-  Node win{};
-  int win_triangle = -1;  // the winner's triangle: -1 the closer of the two
   bool any = false;
-  bool on_edge = false;
   while (!open.empty() && open.top().d <= best.distance + eps) {
     const Node n = open.top();
     open.pop();
     if (!std::isfinite(n.d)) break;
     if (n.level == 0) {
-      // on_trim_edge (four more classifications) only for the winner.
-      const PointDistance r = cell_result(p, n.a, n.x, n.y, false);
-      if (r.distance >= best.distance) continue;
-      if (material(r)) {
-        best = r, win = n, win_triangle = -1, on_edge = false, any = true;
-        continue;
-      }
-      // The distance is convex on each triangle, not on the cell: the other triangle's closest
-      // point may be material. Else the closest material point lies on the trim curve
-      // (material_distance.h).
-      for (int t = 0; t < 2; ++t) {
-        const PointDistance rt = cell_result(p, n.a, n.x, n.y, false, t);
-        if (rt.distance < best.distance && material(rt))
-          best = rt, win = n, win_triangle = t, on_edge = false, any = true;
-      }
-      glm::dvec3 corners[4];
-      const FaceCell c = cell_corners(n.a, n.x, n.y, corners);
-      TrimEdgeHit h{best.distance};
-      if (trim_edges_[size_t(c.face)].closest(p, c.i, c.j, corners, h))
-        best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face, on_edge = true,
-        any = true;
+      // The closer triangle's distance is a lower bound of the cell's material distance; a
+      // triangle point in a trimmed region is discarded and the search goes on (material_cell).
+      if (cell_result(p, n.a, n.x, n.y, false).distance >= best.distance) continue;
+      const PointDistance r = material_cell(p, n.a, n.x, n.y);
+      if (r.found && r.distance < best.distance) best = r, any = true;
       continue;
     }
     const Atlas& at = atlases_[n.a];
@@ -210,20 +192,14 @@ PointDistance PointBatch::search_material(const glm::dvec3& p, double within) co
         open.push({box(n.a, n.level - 1, cx, cy), n.a, n.level - 1, cx, cy});
     }
   }
-  if (!any) return PointDistance{};
-  if (!on_edge) return cell_result(p, win.a, win.x, win.y, true, win_triangle);
-  best.found = true;
-  best.on_trim_edge = true;
-  best.bound = model_bound_ + 2.0 * slack(p);
-  best.point_bound = std::sqrt(4 * best.bound * best.distance + best.bound * best.bound);
-  return best;
+  return any ? best : PointDistance{};
 }
 
 PointDistance PointBatch::query_cpu(const glm::dvec3& p, double within) {
   std::vector<BatchCell> best;
   for (size_t a = 0; a < atlases_.size(); ++a) best.push_back(descend_cpu(a, p, within));  // builds the pyramids
-  long long fallbacks = 0;
-  return finish(p, best, fallbacks, within);
+  long long fallbacks = 0, trimmed = 0;
+  return finish(p, best, fallbacks, trimmed, within);
 }
 
 const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {

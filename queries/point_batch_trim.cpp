@@ -14,6 +14,23 @@ int cell_index(const std::vector<double>& knots, double x) {
   return std::clamp(int(it - knots.begin()) - 1, 0, int(knots.size()) - 2);
 }
 
+/// Liang-Barsky: the parameter range [l0, l1] of a + l d, l in [0, 1], inside the box [lo, hi]^2;
+/// false when it misses the box.
+bool clip_to_square(glm::dvec2 a, glm::dvec2 d, double lo, double hi, double& l0, double& l1) {
+  l0 = 0.0, l1 = 1.0;
+  for (int c = 0; c < 2; ++c)
+    for (const auto& [q, r] : {std::pair{-d[c], a[c] - lo}, std::pair{d[c], hi - a[c]}}) {
+      if (q == 0.0) {
+        if (r < 0.0) return false;
+        continue;
+      }
+      const double l = r / q;
+      if (q < 0.0) l0 = std::max(l0, l);
+      if (q > 0.0) l1 = std::min(l1, l);
+    }
+  return l0 <= l1;
+}
+
 }  // namespace
 
 BandedTrim::BandedTrim(const nurbs::TrimPolygons& trim) : trim_(&trim) {
@@ -134,18 +151,7 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
     const glm::dvec2 sa((a.x - u0) / (u1 - u0), (a.y - v0) / (v1 - v0));
     const glm::dvec2 sd((b.x - u0) / (u1 - u0) - sa.x, (b.y - v0) / (v1 - v0) - sa.y);
     double l0 = 0.0, l1 = 1.0;
-    bool inside = true;
-    for (int c = 0; c < 2 && inside; ++c)
-      for (const auto& [q, r] : {std::pair{-sd[c], sa[c]}, std::pair{sd[c], 1.0 - sa[c]}}) {
-        if (q == 0.0) {
-          inside = inside && r >= 0.0;
-          continue;
-        }
-        const double l = r / q;
-        if (q < 0.0) l0 = std::max(l0, l);
-        if (q > 0.0) l1 = std::min(l1, l);
-      }
-    if (!inside || l0 > l1) continue;
+    if (!clip_to_square(sa, sd, 0.0, 1.0, l0, l1)) continue;
     // Cut where it crosses the diagonal s = t (each piece is straight on its triangle) and the
     // cell's edges of other loops (a hole reaching out of the outer loop; a loop is simple). Only
     // pieces with material beside them bound material, and the side is the same all along a piece:
@@ -186,6 +192,33 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
       out.push_back({on(st0), on(st1), uv(st0), uv(st1), lower ? 0 : 1});
     }
   }
+}
+
+void TrimEdges::segments(int i, int j, double margin, std::vector<glm::dvec4>& out) const {
+  if (trim_ == nullptr) return;
+  const auto it = cells_.find(int64_t(j) * grid_->cells_u() + i);
+  if (it == cells_.end()) return;
+  const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
+  const double v0 = grid_->v[size_t(j)], v1 = grid_->v[size_t(j) + 1];
+  for (const auto& [k, e] : it->second) {
+    const auto& loop = trim_->loops[size_t(k)];
+    const glm::dvec2 a = loop[size_t(e)], b = loop[(size_t(e) + 1) % loop.size()];
+    const glm::dvec2 sa((a.x - u0) / (u1 - u0), (a.y - v0) / (v1 - v0));
+    const glm::dvec2 sd((b.x - u0) / (u1 - u0) - sa.x, (b.y - v0) / (v1 - v0) - sa.y);
+    double l0 = 0.0, l1 = 1.0;
+    if (!clip_to_square(sa, sd, -margin, 1.0 + margin, l0, l1)) continue;
+    const glm::dvec2 p = sa + l0 * sd, q = sa + l1 * sd;
+    out.emplace_back(p.x, p.y, q.x, q.y);
+  }
+}
+
+std::vector<glm::ivec2> TrimEdges::cells() const {
+  std::vector<glm::ivec2> out;
+  out.reserve(cells_.size());
+  const int64_t nu = grid_ == nullptr ? 1 : grid_->cells_u();
+  for (const auto& [key, edges] : cells_) out.emplace_back(int(key % nu), int(key / nu));
+  std::sort(out.begin(), out.end(), [](glm::ivec2 a, glm::ivec2 b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+  return out;
 }
 
 bool TrimEdges::closest(const glm::dvec3& p, int i, int j, const glm::dvec3 corners[4], TrimEdgeHit& best) const {

@@ -8,6 +8,7 @@
 /// same piecewise-linear interpolant the triangle distances use), where it is a straight segment.
 #include <cstdint>
 #include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 #include <glm/vec3.hpp>
 #include <unordered_map>
 #include <utility>
@@ -71,6 +72,17 @@ class TrimEdges {
   /// each edge clipped to the cell and split at the diagonal, mapped onto its triangle. Only edges
   /// with material beside them (is_material 1e-9 of the domain to either side of their middle).
   void pieces(int i, int j, const glm::dvec3 corners[4], std::vector<TrimPiece>& out) const;
+  /// The edges of the trim loops inside cell (i, j) in unit-cell coordinates ((u - u_i) / du,
+  /// (v - v_j) / dv), clipped to the cell grown by `margin` on every side, appended to `out` as
+  /// (s0, t0, s1, t1): every edge, with material beside it or not (a crossing count from a point of
+  /// known side tells the side of any point of the cell; glsl/point_batch_trim.frag).
+  void segments(int i, int j, double margin, std::vector<glm::dvec4>& out) const;
+  /// Whether some edge crosses cell (i, j); if none does, one side holds the whole cell.
+  [[nodiscard]] bool crossed(int i, int j) const {
+    return grid_ != nullptr && cells_.count(int64_t(j) * grid_->cells_u() + i) > 0;
+  }
+  /// The cells some edge crosses (pieces or segments may still be empty), as (i, j).
+  [[nodiscard]] std::vector<glm::ivec2> cells() const;
   /// nurbs::is_material(trim, uv) (BandedTrim).
   [[nodiscard]] bool is_material(glm::dvec2 uv) const { return banded_.is_material(uv); }
 

@@ -73,7 +73,7 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
   const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return w = {0, 1, 0}, b;
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 > d3) {
     const double t = d1 / (d1 - d3);
     return w = {1 - t, t, 0}, a + t * ab;
   }
@@ -81,12 +81,12 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
   const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return w = {0, 0, 1}, c;
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 > d6) {
     const double t = d2 / (d2 - d6);
     return w = {1 - t, 0, t}, a + t * ac;
   }
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0 && (d4 - d3) + (d5 - d6) > 0) {
     const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     return w = {0, 1 - t, t}, b + t * (c - b);
   }
