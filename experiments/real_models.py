@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Batched point distance on the shared multi-face B-rep models, OpenCASCADE beside it.
+
+For each model (../shared/models: the Ventilator B-rep, component8, the bearing, every other multi-face
+IGES file there) and each relative tolerance (1e-4, 1e-5): N random points in the model's box grown by
+a fifth (fixed seed), `nurbsgl distance --points --json` as one process (points per second of the
+whole process, preparation included), its CPU share (the JSON `cpu` block: walks cut short, winning
+cells without material), its peak resident memory; then OpenCASCADE's projection
+(`peer_occt_distance points`: GeomAPI_ProjectPointOnSurf per face, trims ignored) on the first
+`--occt-points` of the same points, its rate, and the ratio. Writes real_models.csv in OUT and prints
+a table. A benchmark, not a test: nothing fails on a slow figure.
+
+Usage: experiments/real_models.py --build BUILD --out OUT [--points N] [--occt-points M] [--models ...]
+       [--peer PEER]
+"""
+import argparse
+import csv
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "models")
+DEFAULT_MODELS = ["generated/pythonocc_Ventilator_brep.igs", "generated/gmsh_component8_brep.igs",
+                  "iges/occt_bearing.iges", "iges/pythonocc_example_45_faces.iges"]
+
+
+def run(cmd):
+    """Runs cmd; returns (stdout, wall seconds, peak resident MB of that child, from os.wait4)."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        t0 = time.monotonic()
+        p = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
+        _, status, usage = os.wait4(p.pid, 0)
+        wall = time.monotonic() - t0
+        out.seek(0), err.seek(0)
+        code = os.waitstatus_to_exitcode(status)
+        if code != 0:
+            raise RuntimeError(f"{' '.join(cmd)}: exit {code}: {err.read().strip()[-400:]}")
+        return out.read(), wall, usage.ru_maxrss / 1024.0
+
+
+def write_points(cli, model, n, path):
+    info = json.loads(subprocess.run([cli, "info", model, "--json"], capture_output=True, text=True,
+                                     check=True).stdout)
+    lo, hi = info["bbox"]["min"], info["bbox"]["max"]
+    rng = random.Random(7)
+    with open(path, "w") as f:
+        for _ in range(n):
+            f.write(" ".join(f"{lo[k] - 0.1 * (hi[k] - lo[k]) + rng.random() * 1.2 * (hi[k] - lo[k]):.9g}"
+                             for k in range(3)) + "\n")
+    return info["faces"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--points", type=int, default=20000)
+    ap.add_argument("--occt-points", type=int, default=500)
+    ap.add_argument("--tolerances", default="1e-4,1e-5")
+    ap.add_argument("--models", nargs="*", default=DEFAULT_MODELS)
+    ap.add_argument("--peer", help="peer_occt_distance (default: BUILD/experiments/peer_occt_distance)")
+    a = ap.parse_args()
+    cli = os.path.join(a.build, "cli", "nurbsgl")
+    peer = a.peer or os.path.join(a.build, "experiments", "peer_occt_distance")
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    for rel in a.models:
+        model = os.path.join(ROOT, rel)
+        if not os.path.exists(model):
+            print(f"{rel}: absent, skipped")
+            continue
+        pts = os.path.join(a.out, os.path.basename(rel) + ".points.txt")
+        faces = write_points(cli, model, a.points, pts)
+        occt_rate = None
+        if os.path.exists(peer):
+            sub = pts + f".first{a.occt_points}"
+            with open(pts) as f, open(sub, "w") as g:
+                g.writelines(f.readlines()[: a.occt_points])
+            out, _, _ = run([peer, "points", model, "--points", sub, "--repeat", "1"])
+            d = json.loads(out)
+            occt_rate = d["points"] / d["seconds"]
+        for tol in a.tolerances.split(","):
+            out, wall, peak = run([cli, "distance", model, "--points", pts, "--tol", tol, "--json"])
+            d = json.loads(out)
+            cpu = d.get("cpu", {})
+            rate = a.points / wall
+            row = {"model": rel, "faces": faces, "tol": tol, "points": a.points, "wall_s": round(wall, 2),
+                   "prepare_s": round(d["prepare_seconds"], 2), "points_per_s": round(rate, 1),
+                   "cpu_share": round(cpu.get("share", float("nan")), 4),
+                   "walk_cut_short": cpu.get("walk_cut_short"), "searched_again": cpu.get("no_material_in_winning_cell"),
+                   "peak_mb": round(peak), "occt_points_per_s": round(occt_rate, 1) if occt_rate else "",
+                   "ratio": round(rate / occt_rate, 1) if occt_rate else ""}
+            rows.append(row)
+            print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
+    with open(os.path.join(a.out, "real_models.csv"), "w", newline="") as f:
+        if rows:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            w.writerows(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
