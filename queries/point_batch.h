@@ -170,6 +170,12 @@ class PointBatch {
   /// closest point when material, else the closest point of the cell's trim pieces; found = false
   /// when the cell holds no material.
   PointDistance material_cell(const glm::dvec3& p, size_t a, int x, int y) const;
+  /// The points whose hull holds the material part of the cell at texel (x, y) (corners: its float
+  /// samples relative to the origin): its material corners and its trim pieces' ends, mapped onto
+  /// its triangles (each triangle's material part is a polygon with those vertices). All four
+  /// corners for a cell without trim data; none for a cell without material.
+  void material_points(const Atlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
+                       std::vector<glm::dvec3>& out) const;
   /// Fills at.trim_* for the trimmed faces of atlas a and uploads them.
   void upload_trim_cells(Atlas& at, size_t a);
   /// glsl/point_batch_trim.frag trimmed_cell_dist2 in double on the uploaded floats (the twin):

@@ -148,6 +148,36 @@ double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, c
   return best;
 }
 
+void PointBatch::material_points(const Atlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
+                                 std::vector<glm::dvec3>& out) const {
+  out.clear();
+  const float header = at.trim_cell[size_t(y) * size_t(m_.atlases[a].plan.width) + size_t(x)];
+  if (!(header > 0.0f)) {
+    out.assign(corners, corners + 4);
+    return;
+  }
+  const float* head = &at.trim_head[4 * size_t(header - 1.0f)];
+  const AtlasPlan& plan = m_.atlases[a].plan;  // (at is not in atlases_ yet while the pyramid is built)
+  const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
+  const FaceCell c{sl.face, x - sl.x, y - sl.y};
+  const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+  const TrimEdges& edges = trim_edges_[size_t(c.face)];
+  for (int k = 0; k < 4; ++k) {
+    const bool material = head[1] == 0.0f && head[2] == 0.0f  // no edge: the reference's side throughout
+                              ? head[3] > 0.5f
+                              : edges.is_material({g.u[size_t(c.i + (k & 1))], g.v[size_t(c.j + (k >> 1))]});
+    if (material) out.push_back(corners[k]);
+  }
+  const size_t first = size_t(head[0]) + size_t(head[1]);
+  for (size_t k = 0; k < size_t(head[2]); ++k) {
+    const float* sg = &at.trim_segs[4 * (first + k)];
+    const glm::dvec2 sa(sg[0], sg[1]), sb(sg[2], sg[3]);
+    const bool lower = sa.x + sb.x >= sa.y + sb.y;
+    out.push_back(on_cell(sa, lower, corners));
+    out.push_back(on_cell(sb, lower, corners));
+  }
+}
+
 PointDistance PointBatch::material_cell(const glm::dvec3& p, size_t a, int x, int y) const {
   PointDistance best;
   best.distance = kInf;

@@ -132,14 +132,19 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
   empty_level(0);
   const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
   for_shares(size_t(h), share_count(size_t(h), 16), [&](size_t, size_t y0, size_t y1) {
+    std::vector<glm::dvec3> hull;
     for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x + 1 < w; ++x) {
         if (!pyramid_cell(at, a, x, y)) continue;
         const glm::dvec3 p[4] = {sample(x, y), sample(x + 1, y), sample(x, y + 1), sample(x + 1, y + 1)};
+        // A cell a trim edge crosses: the box of its material part only (the pass's distance there
+        // is to that part), so a point near the trimmed-away rest does not descend into it.
+        material_points(at, a, x, y, p, hull);
+        if (hull.empty()) continue;
         Box b;
         const glm::dvec3 du = (p[1] - p[0]) + (p[3] - p[2]), dv = (p[2] - p[0]) + (p[3] - p[1]);
         set_axes(b, du, glm::cross(du, dv));
-        fit(b, p);
+        fit(b, hull);
         store(b, at.cpu_obb[0], size_t(y) * size_t(at.w0) + size_t(x));
       }
   });

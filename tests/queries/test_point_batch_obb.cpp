@@ -1,5 +1,6 @@
 // The oriented box pyramid of the batched point projection (point_batch.h, PointBoxes::Oriented):
-// every box holds its cell's four samples (so its two triangles) or its children's boxes, in double
+// every box holds its cell's four samples (so its two triangles), or for a cell a trim edge crosses
+// the material part of its triangles, or its children's boxes, in double
 // for the stored floats; the descent finds the same nearest triangles as over the axis-aligned
 // pyramid, testing far fewer cells.
 #include <doctest/doctest.h>
@@ -10,6 +11,7 @@
 #include "../gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/trim_classify.h"
 #include "queries/point_batch.h"
 #include "queries/prepared_model.h"
 #include "tests/queries/point_batch_fixtures.h"
@@ -52,8 +54,8 @@ TEST_CASE("point batch: oriented boxes hold their cells' samples and their child
   const std::vector<float> samples = m.atlases[0].points.read();
   const int w = m.atlases[0].plan.width;
   const glm::vec3 origin(m.centre);
-  int leaves = 0, thin = 0;
-  double worst = -HUGE_VAL;
+  int leaves = 0, thin = 0, trimmed_cells = 0, smaller = 0;
+  double worst = -HUGE_VAL, worst_material = -HUGE_VAL;
   const int width0 = batch.level_width(0, 0);
   for (size_t t = 0; t < batch.oriented_level(0, 0, 0).size() / 4; ++t) {
     const Obb o = node(batch, 0, t);
@@ -61,13 +63,53 @@ TEST_CASE("point batch: oriented boxes hold their cells' samples and their child
     ++leaves;
     const int x = int(t % size_t(width0)), y = int(t / size_t(width0));
     REQUIRE(x + 1 < w);
+    glm::dvec3 corner[4];
     for (int k = 0; k < 4; ++k) {
       const float* s = &samples[4 * (size_t(y + (k >> 1)) * size_t(w) + size_t(x + (k & 1)))];
-      worst = std::max(worst, outside(o, glm::dvec3(glm::vec3(s[0], s[1], s[2]) - origin)));
+      corner[k] = glm::dvec3(glm::vec3(s[0], s[1], s[2]) - origin);
+    }
+    const auto cell = m.cell_at(0, x, y);
+    REQUIRE(cell.has_value());
+    const nurbs::TrimPolygons& trim = m.trims[size_t(cell->face)];
+    bool crossed = false;
+    if (!trim.loops.empty()) {
+      const nurbs::ParamGrid& g = m.grids[size_t(cell->face)].grid;
+      crossed = queries::BandedTrim(trim).meets_box({g.u[size_t(cell->i)], g.v[size_t(cell->j)]},
+                                                   {g.u[size_t(cell->i) + 1], g.v[size_t(cell->j) + 1]});
+    }
+    if (!crossed) {  // the whole cell: its four samples, exactly
+      for (const glm::dvec3& c : corner) worst = std::max(worst, outside(o, c));
+    } else {
+      // A cell a trim edge crosses holds only its material part: every material point of a 12 x 12
+      // barycentric grid on each triangle (nurbs::is_material, independent of the pass's trim data)
+      // lies in the box, up to the float rounding of the stored trim pieces (1e-6 of the box).
+      ++trimmed_cells;
+      const nurbs::ParamGrid& g = m.grids[size_t(cell->face)].grid;
+      const double u0 = g.u[size_t(cell->i)], du = g.u[size_t(cell->i) + 1] - u0;
+      const double v0 = g.v[size_t(cell->j)], dv = g.v[size_t(cell->j) + 1] - v0;
+      bool outside_some = false;
+      for (int a = 0; a <= 12; ++a)
+        for (int b = 0; a + b <= 12; ++b)
+          for (int tri = 0; tri < 2; ++tri) {
+            const double wa = a / 12.0, wb = b / 12.0, wc = 1.0 - wa - wb;
+            // triangle 0: corners 0, 1, 3 at (0, 0), (1, 0), (1, 1); triangle 1: 0, 3, 2 at (0, 0), (1, 1), (0, 1)
+            const glm::dvec2 st = tri == 0 ? glm::dvec2(wb + wc, wc) : glm::dvec2(wb, wb + wc);
+            const glm::dvec3 pt = tri == 0 ? wa * corner[0] + wb * corner[1] + wc * corner[3]
+                                           : wa * corner[0] + wb * corner[3] + wc * corner[2];
+            const double out = outside(o, pt);
+            if (nurbs::is_material(trim, {u0 + st.x * du, v0 + st.y * dv}))
+              worst_material = std::max(worst_material, out);
+            else
+              outside_some = outside_some || out > 1e-6;
+          }
+      smaller += outside_some;
     }
     thin += o.e.z < 0.1 * std::min(o.e.x, o.e.y);  // as thick as the cell is curved, not as it is wide
   }
   CHECK(worst <= 1e-15);
+  CHECK(worst_material <= 1e-6);
+  CHECK(trimmed_cells > 20);
+  CHECK(smaller > 0);  // some crossed cells' boxes leave trimmed-away parts out
   CHECK(leaves > 100);
   CHECK(thin * 10 >= leaves * 9);
   // Children inside their parents: every corner of every child box.
@@ -88,7 +130,9 @@ TEST_CASE("point batch: oriented boxes hold their cells' samples and their child
     }
   }
   CHECK(worst_child <= 1e-15);
-  MESSAGE(leaves << " cells: samples outside their boxes by at most " << worst << ", children by " << worst_child
+  MESSAGE(leaves << " cells: samples outside their boxes by at most " << worst << ", material points of "
+                 << trimmed_cells << " crossed cells by " << worst_material << " (" << smaller
+                 << " boxes leave trimmed parts out), children by " << worst_child
                  << " (relative); " << thin << " boxes thinner than a tenth of their width");
 }
 
