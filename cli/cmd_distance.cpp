@@ -1,11 +1,15 @@
 // `nurbsgl distance MODEL --point X,Y,Z | --points FILE`: minimum distance from points to a trimmed
 // NURBS model with the bounds of Krishnamurthy et al. §4 (queries/point_distance.h). JSON for
-// --point: distance, bound, point, face, uv, seconds (and point_bound, on_trim_edge, candidates);
-// for --points: {"points", "seconds", "results": [...]} in input order. --points runs the batched
-// projection (queries/point_batch.h: all points in one pass); --per-point keeps one query per point.
+// --point: found, meets_tolerance, query, distance, bound, point, face, uv, seconds (and point_bound,
+// on_trim_edge, candidates); for --points: {"points", "seconds", "not_found", "over_tolerance",
+// "results": [...]} in input order. --points runs the batched projection (queries/point_batch.h: all
+// points in one pass, on grids tightened so that the float terms of its bounds fit the tolerance);
+// --per-point keeps one query per point. The rule: an answer meets the tolerance when it is found
+// and its bound is within --tol x model size; exit 1 naming the counts when one does not.
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -61,11 +65,23 @@ std::vector<glm::dvec3> read_points(const std::string& file) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     out.push_back(parse_point(line, fmt::format("{}: line {}", file, n)));
   }
+  if (out.empty()) throw BadInput(fmt::format("--points {}: no points in the file", file));
   return out;
 }
 
-nlohmann::json result_json(const queries::PointDistance& d, const std::vector<nurbs::TrimmedSurface>& faces) {
-  return {{"distance", d.distance},
+/// The rule every answer is held to: found, and its bound within the requested tolerance T.
+bool meets(const queries::PointDistance& d, double tolerance) {
+  return d.found && d.meets_tolerance && d.bound <= tolerance * (1.0 + 1e-12);
+}
+
+nlohmann::json result_json(const queries::PointDistance& d, const glm::dvec3& query, double tolerance,
+                           const std::vector<nurbs::TrimmedSurface>& faces) {
+  if (!d.found)
+    return {{"found", false}, {"meets_tolerance", false}, {"query", {query.x, query.y, query.z}}, {"distance", nullptr}};
+  return {{"found", true},
+          {"meets_tolerance", meets(d, tolerance)},
+          {"query", {query.x, query.y, query.z}},
+          {"distance", d.distance},
           {"bound", d.bound},
           {"point_bound", d.point_bound},
           {"point", {d.point.x, d.point.y, d.point.z}},
@@ -91,7 +107,7 @@ void run(const GlobalOptions& global, const Options& o) {
   std::optional<queries::PointBatch> batch;
   const bool batched = !o.points.empty() && !o.per_point;
   if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
-    prepared.emplace(queries::prepare_model(*gpu, faces, o.rel_tolerance * size));
+    prepared.emplace(queries::prepare_model(*gpu, faces, queries::batch_grid_tolerance(faces, o.rel_tolerance * size)));
     batch.emplace(*gpu, *prepared, o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented);
   } else {
     query.emplace(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
@@ -112,18 +128,22 @@ void run(const GlobalOptions& global, const Options& o) {
   const auto t2 = std::chrono::steady_clock::now();
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
+  const double tolerance = o.rel_tolerance * size;
+  size_t not_found = 0, over = 0;
+  for (const auto& r : results) not_found += !r.found, over += r.found && !meets(r, tolerance);
   if (o.json) {
     nlohmann::json j;
     if (!o.point.empty()) {
-      j = result_json(results.front(), faces);
+      j = result_json(results.front(), points.front(), tolerance, faces);
       j["seconds"] = query_s;
     } else {
       nlohmann::json arr = nlohmann::json::array();
-      for (const auto& r : results) arr.push_back(result_json(r, faces));
+      for (size_t k = 0; k < results.size(); ++k) arr.push_back(result_json(results[k], points[k], tolerance, faces));
       j = {{"points", points.size()}, {"seconds", query_s}, {"results", arr}};
+      j["not_found"] = not_found, j["over_tolerance"] = over;
     }
     j["prepare_seconds"] = prepare_s;
-    j["tolerance"] = o.rel_tolerance * size;
+    j["tolerance"] = tolerance;
     if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
     if (batched) {
       const queries::PointBatchStats& st = batch->stats();
@@ -142,13 +162,25 @@ void run(const GlobalOptions& global, const Options& o) {
                o.rel_tolerance * size, prepare_s);
     for (size_t k = 0; k < points.size(); ++k) {
       const auto& r = results[k];
+      if (!r.found) {
+        fmt::print("point ({:.6g}, {:.6g}, {:.6g}): no surface point found (every cell trimmed away?)\n", points[k].x,
+                   points[k].y, points[k].z);
+        continue;
+      }
       fmt::print(
           "point ({:.6g}, {:.6g}, {:.6g}): distance {:.9g} +- {:.3g}, closest ({:.9g}, {:.9g}, {:.9g}) within "
           "{:.3g}, face {} (u, v) = ({:.6g}, {:.6g}){}, {} {}\n",
           points[k].x, points[k].y, points[k].z, r.distance, r.bound, r.point.x, r.point.y, r.point.z, r.point_bound,
           r.face, r.uv.x, r.uv.y, r.on_trim_edge ? " on a trim edge" : "", r.candidates,
           batched ? "cells tested" : "candidate cells");
+      if (!meets(r, tolerance)) fmt::print("  its bound {:.3g} is over the tolerance {:.3g}\n", r.bound, tolerance);
     }
+    std::vector<double> d;
+    for (const auto& r : results)
+      if (r.found) d.push_back(r.distance);
+    std::sort(d.begin(), d.end());
+    if (d.size() > 1)
+      fmt::print("distances (model units): min {:.9g}, median {:.9g}, max {:.9g}\n", d.front(), d[d.size() / 2], d.back());
     fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), query_s,
                1e3 * query_s / double(points.size()),
                batched ? fmt::format(", batched; {} searched again on the CPU, {} walks cut short and finished there",
@@ -156,6 +188,11 @@ void run(const GlobalOptions& global, const Options& o) {
                        : "");
   }
   report_profile(*gpu, global);
+  if (not_found > 0 || over > 0)
+    throw CommandFailed(fmt::format(
+        "{} of {} answers not found, {} with a bound over the tolerance {:.3g} (a point far from the model: the "
+        "float slack grows with its distance; a finer --tol or --per-point)",
+        not_found, results.size(), over, tolerance));
 }
 
 }  // namespace cmd_distance_impl

@@ -57,6 +57,20 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
+double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance) {
+  if (faces.empty()) return tolerance;
+  glm::dvec3 lo(kInf), hi(-kInf);
+  double budget = 0.0;
+  for (const nurbs::TrimmedSurface& f : faces) {
+    const nurbs::Box box = nurbs::control_box(f.surface);
+    lo = glm::min(lo, box.min), hi = glm::max(hi, box.max);
+    budget = std::max(budget, float_budget(f.surface));
+  }
+  const double radius = 0.5 * glm::length(hi - lo);
+  const double eps = kFloatSlack * (2.0 * radius + radius);  // slack(p) at |p - centre| = 2 radius
+  return std::max(0.5 * tolerance, tolerance - budget - 2.0 * eps);
+}
+
 PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
   if (m.search != Search::Faithful)
     throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");

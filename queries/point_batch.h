@@ -79,6 +79,11 @@ struct BatchCell {
 /// The boxes of the descent's pyramid: axis-aligned (Krishnamurthy et al. §5.1), or oriented.
 enum class PointBoxes { Aabb, Oriented };
 
+/// The grid tolerance for a batched model whose answers must carry bounds within `tolerance` (T):
+/// T less the float terms of the bound (the largest float budget of the samples and 2 eps for a
+/// point within the model's control box grown by its size), at least T / 2.
+[[nodiscard]] double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
+
 class PointBatch {
  public:
   /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
