@@ -35,6 +35,7 @@ uniform ivec2 u_size;      // size of level 0 (powers of two: level l is max(1, 
 uniform float u_slack;     // relative float slack (times |q| + u_radius)
 uniform float u_radius;    // half the diagonal of the model's box
 uniform int u_two;         // 2: the end-of-walk probe loop runs twice unless the loop budget is spent
+uniform int u_trim_on;     // 1: the material part of the cells a trim edge crosses (point_batch_trim.frag)
 out vec4 o_result;
 
 const float kInf = 1.0 / 0.0;
@@ -119,7 +120,7 @@ void main() {
         vec3 dd = texelFetch(u_samples, c + ivec2(1, 1), 0).xyz - u_origin;
         float t = sqrt(min(point_triangle_dist2(q, a, b, dd), point_triangle_dist2(q, a, dd, cc)));
         float header = texelFetch(u_trim_cell, c, 0).r;  // a trim edge crosses the cell: its material part,
-        if (header > 0.0 && t < best) t = sqrt(trimmed_cell_dist2(q, a, b, cc, dd, int(header) - 1));  // no nearer
+        if (u_trim_on != 0 && header > 0.0 && t < best) t = sqrt(trimmed_cell_dist2(q, a, b, cc, dd, int(header) - 1));
         ++tested;
         if (t < best) {
           best = t;

@@ -180,6 +180,7 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   prog.set("u_radius", float(radius_));
   prog.set("u_two", 2);
   prog.set("u_trim_width", kTrimTextureWidth);
+  prog.set("u_trim_on", trim_on_gpu_ ? 1 : 0);
   for (size_t a = 0; a < atlases_.size(); ++a) {
     prog.set("u_top", atlases_[a].levels - 1);
     prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
@@ -266,8 +267,8 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
   if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
   if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
     ++trimmed;
-    r = material_cell(p, win, best[win].x, best[win].y);
-    if (!r.found) {  // the float pass judged a point within rounding of a trim edge
+    if (trim_on_gpu_) r = material_cell(p, win, best[win].x, best[win].y);
+    if (!trim_on_gpu_ || !r.found) {  // (or the float pass judged a point within rounding of a trim edge)
       ++fallbacks;
       r = search_material(p, within);
     }

@@ -100,6 +100,11 @@ class PointBatch {
   /// is false when no cell is nearer. Fast where many cells are nearly equidistant from the point
   /// (the centre of a sphere, the axis of a cylinder), which the plain query must all visit.
   std::vector<PointDistance> query(std::span<const glm::dvec3> points, std::span<const double> within = {});
+  /// Whether the pass takes the material part of the cells a trim edge crosses (the default), or
+  /// their whole triangles as the paper's corner test does, the CPU then searching again every
+  /// point whose winner lies in a trimmed region (best first, search_material).
+  void set_trim_on_gpu(bool on) { trim_on_gpu_ = on; }
+  [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
   [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
   void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
 
@@ -203,6 +208,7 @@ class PointBatch {
   PointBoxes boxes_ = PointBoxes::Oriented;
   PointBatchStats stats_;
   size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
+  bool trim_on_gpu_ = true;
 };
 
 }  // namespace queries

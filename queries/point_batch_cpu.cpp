@@ -135,7 +135,8 @@ BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) 
         glm::dvec3 wts;
         double t = std::min(glm::length(closest_on_triangle(q, s[0], s[1], s[3], wts) - q),
                             glm::length(closest_on_triangle(q, s[0], s[3], s[2], wts) - q));
-        if (header > 0.0f && t < best.distance) t = trimmed_cell_distance(at, q, s, int(header) - 1);  // no nearer
+        if (trim_on_gpu_ && header > 0.0f && t < best.distance)  // no nearer
+          t = trimmed_cell_distance(at, q, s, int(header) - 1);
         ++best.tested;
         if (t < best.distance) best.distance = t, best.x = cx, best.y = cy;
       }

@@ -179,6 +179,14 @@ TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes r
   CHECK(batch.stats().trimmed >= 12);
   CHECK(fallbacks == 0);
   CHECK(batch.stats().cut == 0);
+  // The paper's corner test in the pass (whole triangles of crossed cells), the CPU searching the
+  // trimmed winners again: the same answers within the pass's slack, from the CPU.
+  batch.set_trim_on_gpu(false);
+  const auto res_cpu = batch.query(points);
+  CHECK(batch.stats().fallbacks >= 12);
+  for (size_t i = 0; i < points.size(); ++i)
+    CHECK(std::abs(res_cpu[i].distance - res[i].distance) <= 2 * batch.slack(points[i]));
+  batch.set_trim_on_gpu(true);
   int edge = 0, same_edge = 0, edge_closer = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     CAPTURE(i);
