@@ -113,6 +113,7 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
 }
 
 void run(const GlobalOptions& global, const Options& o) {
+  check_output(o.obj, "--obj");
   const nurbs::Model model = nurbs::io::read_model(o.path);
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
   const double size = checked_model_size(model, o.path);

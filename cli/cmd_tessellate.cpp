@@ -50,6 +50,7 @@ void run(const TessArgs& a) {
     } catch (const std::invalid_argument& e) {
       throw BadInput(fmt::format("-o: {}", e.what()));
     }
+  check_output(a.output, "-o");
   std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
   if (!a.faces.empty()) {
     std::vector<nurbs::TrimmedSurface> chosen;

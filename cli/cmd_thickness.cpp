@@ -14,6 +14,7 @@
 #include "cli/ray_engine.h"
 #include "cli/thickness_ball.h"
 #include "gpgpu/exr_dump.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/raycast/thickness.h"
@@ -38,8 +39,7 @@ using Thickness = nurbs::ray::SampleThickness;
 void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
                const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays,
                const BallResult* ball) {
-  std::ofstream out(path);
-  if (!out) throw BadInput(fmt::format("--csv: cannot write {}", path));
+  nurbs::io::write_file(path, [&](std::ostream& out) {
   out << "face,u,v,x,y,z,thickness,hit_face" << (ball ? ",ball_thickness,ball_bound" : "") << "\n";
   for (size_t r = 0; r < rays.rays.size(); ++r) {
     const auto [f, k] = rays.source[r];
@@ -50,7 +50,7 @@ void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, c
     if (ball) out << fmt::format(",{:.17g},{:.3g}", ball->samples[r].thickness, ball->samples[r].bound);
     out << "\n";
   }
-  if (!out) throw std::runtime_error(fmt::format("--csv: writing {} failed", path));
+  });
 }
 
 void write_exr_maps(const std::string& dir, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
@@ -78,6 +78,8 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     } catch (const std::invalid_argument& e) {
       throw BadInput(fmt::format("-o: {}", e.what()));
     }
+  check_output(a.output, "-o");
+  check_output(a.csv, "--csv");
   RayEngine engine(model, a.engine, global);
   const nurbs::ray::Scene& scene = engine.scene();
   engine.rays_start_on_surfaces();

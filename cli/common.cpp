@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "nurbs/io/output_file.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
@@ -54,6 +55,15 @@ double checked_model_size(const nurbs::Model& model, const std::string& path) {
   if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
     throw BadInput(fmt::format("{}: {}", path, problems.front()));
   return size;
+}
+
+void check_output(const std::string& path, const std::string& option) {
+  if (path.empty()) return;
+  try {
+    nurbs::io::check_writable(path);
+  } catch (const nurbs::io::WriteError& e) {
+    throw BadInput(option + ": " + e.what());
+  }
 }
 
 }  // namespace cli

@@ -60,4 +60,8 @@ class Progress {
 /// file) when no tolerance can refer to it (nurbs::validate_model_size).
 double checked_model_size(const nurbs::Model& model, const std::string& path);
 
+/// Before a command's work: BadInput (exit 2) naming `option` unless `path` can be written
+/// (nurbs::io::check_writable). Empty `path`: nothing to check.
+void check_output(const std::string& path, const std::string& option);
+
 }  // namespace cli

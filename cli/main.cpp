@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "cli/commands.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/read_error.h"
 
 int main(int argc, char** argv) {
@@ -46,6 +47,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "nurbsgl: {}\n", e.what());
     return cli::kNoGl;
   } catch (const nurbs::io::ReadError& e) {
+    fmt::print(stderr, "nurbsgl: {}\n", e.what());
+    return cli::kBadInput;
+  } catch (const nurbs::io::WriteError& e) {  // an output file (checked before the work where possible)
     fmt::print(stderr, "nurbsgl: {}\n", e.what());
     return cli::kBadInput;
   } catch (const cli::BadInput& e) {

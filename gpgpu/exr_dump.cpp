@@ -8,8 +8,28 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
+#include <system_error>
 
 namespace gpgpu {
+namespace {
+
+/// Writes through `write` into a temporary file beside `path`, renamed to `path` once complete:
+/// a failed dump leaves no partial file and keeps an older one.
+template <class Write>
+void write_via_temporary(const std::filesystem::path& path, Write write) {
+  const std::filesystem::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
+  std::error_code ec;
+  try {
+    write(tmp);
+  } catch (const std::exception& e) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), e.what()));
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), ec.message()));
+}
+
+}  // namespace
 
 void write_exr(const std::filesystem::path& path, const Texture& texture) {
   const int w = texture.width(), h = texture.height();
@@ -19,20 +39,18 @@ void write_exr(const std::filesystem::path& path, const Texture& texture) {
     img.channels.assign(names, names + channels(texture.format()));
     return write_exr(path, img);
   }
-  try {
+  std::vector<uint32_t> u = texture.read_u32();
+  write_via_temporary(path, [&](const std::filesystem::path& tmp) {
     Imf::Header header(w, h);
     header.lineOrder() = Imf::INCREASING_Y;
-    std::vector<uint32_t> u = texture.read_u32();
     header.channels().insert("R", Imf::Channel(Imf::UINT));
     Imf::FrameBuffer fb;
     fb.insert("R",
               Imf::Slice(Imf::UINT, reinterpret_cast<char*>(u.data()), sizeof(uint32_t), sizeof(uint32_t) * size_t(w)));
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(tmp.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(h);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), e.what()));
-  }
+  });
 }
 
 void write_exr(const std::filesystem::path& path, const ExrImage& image) {
@@ -40,7 +58,7 @@ void write_exr(const std::filesystem::path& path, const ExrImage& image) {
   if (n == 0 || image.values.size() != w * size_t(image.height) * n)
     throw std::invalid_argument(fmt::format("write_exr {}: {} values for {} x {} x {} channels", path.string(),
                                             image.values.size(), image.width, image.height, n));
-  try {
+  write_via_temporary(path, [&](const std::filesystem::path& tmp) {
     Imf::Header header(image.width, image.height);
     header.lineOrder() = Imf::INCREASING_Y;
     Imf::FrameBuffer fb;
@@ -50,12 +68,10 @@ void write_exr(const std::filesystem::path& path, const ExrImage& image) {
       fb.insert(image.channels[c],
                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c), sizeof(float) * n, sizeof(float) * n * w));
     }
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(tmp.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(image.height);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), e.what()));
-  }
+  });
 }
 
 ExrImage read_exr(const std::filesystem::path& path) {

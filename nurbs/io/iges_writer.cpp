@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "nurbs/io/output_file.h"
+
 namespace nurbs::io {
 namespace {
 
@@ -234,10 +236,7 @@ std::string write_iges_text(const Model& model, const std::string& file_name) {
 }
 
 void write_iges_file(const std::filesystem::path& path, const Model& model) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error(path.string() + ": cannot open for writing");
-  write_iges(out, model, path.filename().string());
-  if (!out) throw std::runtime_error(path.string() + ": write failed");
+  write_file(path, [&](std::ostream& out) { write_iges(out, model, path.filename().string()); });
 }
 
 }  // namespace nurbs::io

@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "nurbs/io/output_file.h"
+
 namespace nurbs::io {
 namespace {
 
@@ -117,10 +119,7 @@ void write_mesh(std::ostream& out, const TriangleMesh& mesh, MeshFormat format) 
 
 void write_mesh_file(const std::filesystem::path& path, const TriangleMesh& mesh) {
   const MeshFormat format = mesh_format_of(path);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error(path.string() + ": cannot open for writing");
-  write_mesh(out, mesh, format);
-  if (!out) throw std::runtime_error(path.string() + ": write failed");
+  write_file(path, [&](std::ostream& out) { write_mesh(out, mesh, format); });
 }
 
 }  // namespace nurbs::io

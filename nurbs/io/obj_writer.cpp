@@ -6,6 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "nurbs/io/output_file.h"
+
 namespace nurbs::io {
 
 void write_obj(std::ostream& out, const std::vector<SampledGrid>& grids, bool triangles) {
@@ -32,10 +34,7 @@ void write_obj(std::ostream& out, const std::vector<SampledGrid>& grids, bool tr
 }
 
 void write_obj_file(const std::filesystem::path& path, const std::vector<SampledGrid>& grids, bool triangles) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path.string() + ": cannot open for writing");
-  write_obj(out, grids, triangles);
-  if (!out) throw std::runtime_error(path.string() + ": write failed");
+  write_file(path, [&](std::ostream& out) { write_obj(out, grids, triangles); });
 }
 
 }  // namespace nurbs::io
