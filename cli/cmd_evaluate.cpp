@@ -113,7 +113,8 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
 }
 
 void run(const GlobalOptions& global, const Options& o) {
-  check_output(o.obj, "--obj");
+  // --obj is checked before the work, in a --dump folder once that exists.
+  if (global.dump_dir.empty()) check_output(o.obj, "--obj");
   const nurbs::Model model = nurbs::io::read_model(o.path);
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
   const double size = checked_model_size(model, o.path);
@@ -142,6 +143,7 @@ void run(const GlobalOptions& global, const Options& o) {
   // 2. The GPU: batches of faces in atlases (one evaluation pass and one trim fill each), the
   // faces too large for an atlas alone in tiles.
   auto gpu = start_gpu(global);
+  if (!global.dump_dir.empty()) check_output(o.obj, "--obj");
   const queries::TileLimits limits{0, static_cast<long long>(o.tile_mb) << 20};
   const int side = queries::tile_side(gpu->info(), limits);
   std::vector<GpuWork> gpu_work(work.size());
