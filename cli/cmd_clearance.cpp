@@ -267,9 +267,9 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
                   "first (5.4), then the hierarchy over the faces it keeps")
       ->check(CLI::IsMember({"hierarchy", "voxels"}))
       ->capture_default_str();
-  cmd->add_option("--voxels", o->voxels, "Voxels per axis of the voxel first stage")
-      ->check(CLI::Range(1, 512))
-      ->capture_default_str();
+  auto* voxels = cmd->add_option("--voxels", o->voxels, "Voxels per axis of the voxel first stage")
+                     ->check(CLI::Range(1, 512))
+                     ->capture_default_str();
   cmd->add_option("--reduce-block", o->reduce_block,
                   "Texels per pass along each axis of the least-upper-bound reductions: 2 (the paper's log2 passes), "
                   "4 or 8")
@@ -293,7 +293,10 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o] { run(global, *o); });
+  cmd->callback([&global, o, voxels] {
+    if (voxels->count() > 0 && o->first_stage != "voxels") throw BadInput("--voxels needs --first-stage voxels");
+    run(global, *o);
+  });
 }
 
 }  // namespace cli

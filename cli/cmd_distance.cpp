@@ -208,23 +208,32 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--tol", o->rel_tolerance, "K_e of the faces' grids, relative to the model size")
       ->check(relative_tolerance())
       ->capture_default_str();
-  add_search_option(cmd, o->search);
+  auto* search = add_search_option(cmd, o->search);
   cmd->add_flag("--per-point", o->per_point,
                 "With --points: one query per point (the per-point path; --search applies) instead of the batched "
                 "projection (all points in one pass, on faithful grids)");
-  cmd->add_option("--boxes", o->boxes,
+  auto* boxes = cmd->add_option("--boxes", o->boxes,
                   "Batched projection: the box pyramid the points descend, 'oriented' (each box in its cells' "
                   "tangent frame: far fewer cells tested) or 'aabb' (axis-aligned, as Krishnamurthy et al. 5.1)")
       ->check(CLI::IsMember({"oriented", "aabb"}))
       ->capture_default_str();
-  cmd->add_option("--host-cells", o->host_cells,
+  auto* host_cells = cmd->add_option("--host-cells", o->host_cells,
                   "One query at a time: an atlas of at most this many cells is pruned on the CPU from one read-back "
                   "instead of the reduction, threshold and stream-reduction passes (the same cells); 0: on the GPU, "
                   "as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
       ->check(CLI::Range(-1LL, 1LL << 40))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o] { run(global, *o); });
+  cmd->callback([&global, o, search, boxes, host_cells] {
+    // Options of the other path are refused, not ignored: --search and --host-cells steer one query
+    // at a time, --boxes the batched projection.
+    const bool batched = !o->points.empty() && !o->per_point;
+    if (batched && search->count() > 0) throw BadInput("--search applies to one query at a time: add --per-point");
+    if (batched && host_cells->count() > 0)
+      throw BadInput("--host-cells applies to one query at a time: add --per-point");
+    if (!batched && boxes->count() > 0) throw BadInput("--boxes applies to the batched --points projection");
+    run(global, *o);
+  });
 }
 
 }  // namespace cli

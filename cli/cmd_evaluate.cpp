@@ -337,6 +337,7 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
   cmd->callback([&global, o, method, cmd] {
     o->method = methods.at(*method);
     o->tolerance_given = cmd->count("--tolerance") > 0;
+    if (o->spans && !o->json) throw BadInput("--spans: needs --json");
     run(global, *o);
   });
 }

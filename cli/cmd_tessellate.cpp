@@ -211,7 +211,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_flag("--check", a->check,
                 "Measure the deviation (face samples to mesh, mesh samples to faces); exit 1 when above eps in "
                 "guaranteed mode");
-  cmd->add_option("--check-samples", a->check_samples, "For --check: a N x N (u, v) grid per face")
+  auto* check_samples = cmd->add_option("--check-samples", a->check_samples, "For --check: a N x N (u, v) grid per face")
       ->check(CLI::Range(2, 4096))
       ->capture_default_str();
   cmd->add_option("--face", a->faces,
@@ -219,7 +219,12 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
                   "count the chosen faces");
   cmd->add_option("--threads", a->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
-  cmd->callback([a] { run(*a); });
+  cmd->callback([a, check_samples] {
+    // Options that would do nothing are refused.
+    if (a->relative && !a->eps_given) throw BadInput("--relative: needs --eps");
+    if (check_samples->count() > 0 && !a->check) throw BadInput("--check-samples: needs --check");
+    run(*a);
+  });
 }
 
 }  // namespace cli

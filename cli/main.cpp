@@ -10,7 +10,8 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "nurbsgl: geometric queries on trimmed NURBS models with fragment-shader GPGPU.\n"
-      "Exit codes: 0 ok, 1 a check failed, 2 bad command line or input file, 3 no usable OpenGL.",
+      "Exit codes: 0 ok, 1 a check failed, 2 bad command line, input file or unwritable output, 3 no usable "
+      "OpenGL.",
       "nurbsgl"};
   app.require_subcommand(1);
   app.fallthrough();  // global options (--gl, --dump, --profile, --gl-threads) also after the subcommand
