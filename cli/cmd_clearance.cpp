@@ -1,5 +1,6 @@
 // `nurbsgl clearance A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG]`: minimum distance between two
-// models with the bound K_a + K_b (queries/clearance.h). B is first rotated by DEG degrees about
+// models with the bound K_a + K_b (queries/clearance.h), within --tol x the larger model size (found and
+// meets_tolerance in JSON; exit 1 when the bound is over it). B is first rotated by DEG degrees about
 // the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_a, point_b,
 // face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
 // one query per line of FILE (DX DY DZ AX AY AZ DEG: B rotated, then moved), B's hierarchy refitted
@@ -96,8 +97,14 @@ std::vector<glm::dmat4> motions(const Options& o) {
   return out;
 }
 
-nlohmann::json result_json(const queries::Clearance& c, double seconds) {
-  return {{"distance", c.distance},
+/// The rule every answer is held to (as `distance`): found, and its bound within the tolerance T.
+bool meets(const queries::Clearance& c, double tolerance) {
+  return c.found && c.meets_tolerance && c.bound <= tolerance * (1.0 + 1e-12);
+}
+
+nlohmann::json result_json(const queries::Clearance& c, double seconds, double tolerance) {
+  return {{"found", c.found},
+          {"distance", c.distance},
           {"bound", c.bound},
           {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
           {"point_b", {c.point_b.x, c.point_b.y, c.point_b.z}},
@@ -109,7 +116,7 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds) {
           {"pairs_per_level", c.pairs_per_level},
           {"leaf_pairs", c.leaf_pairs},
           {"on_trim_edge", c.on_trim_edge},
-          {"meets_tolerance", c.meets_tolerance},
+          {"meets_tolerance", meets(c, tolerance)},
           {"refine",
            {{"rounds", c.rounds},
             {"cells", c.refined_cells},
@@ -137,6 +144,9 @@ void run(const GlobalOptions& global, const Options& o) {
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
   const double size = std::max(checked_model_size(ma, o.a), checked_model_size(mb, o.b));
   const double tolerance = o.rel_tolerance * size;
+  // An answer's bound is the sum of both models' (K_a + K_b; the refinement of the coarse-to-fine
+  // search goes to the sum of their tolerances): each model is prepared at T / 2, so it is within T.
+  const double grid_tolerance = 0.5 * tolerance;
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
   queries::ClearanceLimits limits;
@@ -152,7 +162,7 @@ void run(const GlobalOptions& global, const Options& o) {
   };
   const bool trimmed = any_trimmed(fa) || any_trimmed(fb);
   queries::PreparedPair pair =
-      queries::prepare_pair(*gpu, std::move(fa), std::move(fb), tolerance, o.search, 1LL << 22,
+      queries::prepare_pair(*gpu, std::move(fa), std::move(fb), grid_tolerance, o.search, 1LL << 22,
                             [&](const std::function<bool()>& geometry_done) {
                               queries::compile_clearance_programs(*gpu, limits, o.search, trimmed, geometry_done);
                             });
@@ -190,13 +200,15 @@ void run(const GlobalOptions& global, const Options& o) {
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   if (!o.motion.empty()) {
     nlohmann::json results = nlohmann::json::array();
+    size_t over = 0;
     const bool progress = frames.size() > 1 && isatty(STDERR_FILENO);
     for (size_t k = 0; k < frames.size(); ++k) {
       const auto f0 = std::chrono::steady_clock::now();
       const queries::Clearance c = query(frames[k]);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
       if (!c.found) throw CommandFailed(fmt::format("frame {}: no pair of surface points found", k + 1));
-      results.push_back(result_json(c, s));
+      results.push_back(result_json(c, s, tolerance));
+      over += !meets(c, tolerance);
       if (voxel) results.back()["first_stage"] = stage;
       if (progress) fmt::print(stderr, "\r[{}/{}] frames", k + 1, frames.size());
       if (!o.json)
@@ -212,6 +224,9 @@ void run(const GlobalOptions& global, const Options& o) {
                                         {"results", results}}
                              .dump(2));
     report_profile(*gpu, global);
+    if (over > 0)
+      throw CommandFailed(fmt::format("{} of {} frames with a bound over the tolerance {:.3g}", over, frames.size(),
+                                      tolerance));
     return;
   }
   const queries::Clearance c = query(frames.front());
@@ -219,7 +234,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
   if (!c.found) throw CommandFailed("no pair of surface points found (every cell trimmed away?)");
   if (o.json) {
-    nlohmann::json j = result_json(c, query_s);
+    nlohmann::json j = result_json(c, query_s, tolerance);
     if (voxel) j["first_stage"] = stage;
     j["prepare_seconds"] = prepare_s;
     j["prepare"] = prepare_json(a, b);
@@ -232,7 +247,8 @@ void run(const GlobalOptions& global, const Options& o) {
         c.distance, c.bound, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
         c.point_b.z);
     fmt::print("prepared in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} levels, {} leaf cell pairs\n",
-               prepare_s, tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+               prepare_s, grid_tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+    if (!meets(c, tolerance)) fmt::print("the bound {:.3g} is over the tolerance {:.3g}\n", c.bound, tolerance);
   }
   if (o.timings) {
     std::string levels;
@@ -242,6 +258,9 @@ void run(const GlobalOptions& global, const Options& o) {
   } else {
     report_profile(*gpu, global);
   }
+  if (!meets(c, tolerance))
+    throw CommandFailed(fmt::format("the bound {:.3g} is over the tolerance {:.3g} (the refinement's budget ran out)",
+                                    c.bound, tolerance));
 }
 
 }  // namespace cmd_clearance_impl
@@ -256,7 +275,9 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("B", o->b, "Second model file (may be the same file)")->required();
   cmd->add_option("--move-b", o->move, "Translate B by DX,DY,DZ (after the rotation)");
   cmd->add_option("--rotate-b", o->rotate, "Rotate B by DEG degrees about the axis AX,AY,AZ through the origin");
-  cmd->add_option("--tol", o->rel_tolerance, "K_e of the grids, relative to the larger model size")
+  cmd->add_option("--tol", o->rel_tolerance,
+                  "The bound every answer must meet, relative to the larger model size (each model prepared at half "
+                  "of it, as the bound is K_a + K_b)")
       ->check(relative_tolerance())
       ->capture_default_str();
   cmd->add_option("--motion", o->motion,
