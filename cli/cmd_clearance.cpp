@@ -41,6 +41,7 @@ struct Options {
   int compact_fanout = queries::ClearanceLimits{}.compact_fanout;
   long long host_pairs = queries::ClearanceLimits{}.host_pairs;
   std::string upper = "auto";
+  long long max_samples = 1LL << 22;  ///< per face grid
   bool json = false, timings = false;
 };
 
@@ -161,11 +162,18 @@ void run(const GlobalOptions& global, const Options& o) {
     return std::any_of(faces.begin(), faces.end(), [](const auto& f) { return !f.loops.empty(); });
   };
   const bool trimmed = any_trimmed(fa) || any_trimmed(fb);
-  queries::PreparedPair pair =
-      queries::prepare_pair(*gpu, std::move(fa), std::move(fb), grid_tolerance, o.search, 1LL << 22,
-                            [&](const std::function<bool()>& geometry_done) {
-                              queries::compile_clearance_programs(*gpu, limits, o.search, trimmed, geometry_done);
-                            });
+  const auto prepare = [&] {
+    try {
+      return queries::prepare_pair(*gpu, std::move(fa), std::move(fb), grid_tolerance, o.search, o.max_samples,
+                                   [&](const std::function<bool()>& geometry_done) {
+                                     queries::compile_clearance_programs(*gpu, limits, o.search, trimmed,
+                                                                         geometry_done);
+                                   });
+    } catch (const queries::GridLimitError& e) {
+      throw BadInput(fmt::format("--tol {:g} --max-samples {}: {}", o.rel_tolerance, o.max_samples, e.what()));
+    }
+  };
+  queries::PreparedPair pair = prepare();
   const queries::PreparedModel &a = pair.a, &b = pair.b;
   gpu->finish();
   if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
@@ -313,6 +321,10 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::IsMember({"auto", "boxes", "samples"}))
       ->capture_default_str();
   cmd->add_flag("--timings", o->timings, "Print the pairs per level and the time per pass on stderr");
+  cmd->add_option("--max-samples", o->max_samples,
+                  "The most grid samples of one face; a face that needs more for --tol is refused (exit 2)")
+      ->check(CLI::Range(4LL, 1LL << 30))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, voxels] {
     if (voxels->count() > 0 && o->first_stage != "voxels") throw BadInput("--voxels needs --first-stage voxels");

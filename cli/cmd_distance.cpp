@@ -37,6 +37,7 @@ struct Options {
   bool per_point = false;
   std::string boxes = "oriented";  ///< the batched projection's pyramid (point_batch.h)
   long long host_cells = -1;       ///< PointDistanceQuery::set_host_cells
+  long long max_samples = 1LL << 22;  ///< per face grid
 };
 
 /// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
@@ -106,12 +107,17 @@ void run(const GlobalOptions& global, const Options& o) {
   std::optional<queries::PreparedModel> prepared;
   std::optional<queries::PointBatch> batch;
   const bool batched = !o.points.empty() && !o.per_point;
-  if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
-    prepared.emplace(queries::prepare_model(*gpu, faces, queries::batch_grid_tolerance(faces, o.rel_tolerance * size)));
-    batch.emplace(*gpu, *prepared, o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented);
-  } else {
-    query.emplace(*gpu, faces, o.rel_tolerance * size, 1LL << 22, o.search);
-    query->set_host_cells(o.host_cells);
+  try {
+    if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
+      prepared.emplace(queries::prepare_model(
+          *gpu, faces, queries::batch_grid_tolerance(faces, o.rel_tolerance * size), o.max_samples));
+      batch.emplace(*gpu, *prepared, o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented);
+    } else {
+      query.emplace(*gpu, faces, o.rel_tolerance * size, o.max_samples, o.search);
+      query->set_host_cells(o.host_cells);
+    }
+  } catch (const queries::GridLimitError& e) {
+    throw BadInput(fmt::format("--tol {:g} --max-samples {}: {}", o.rel_tolerance, o.max_samples, e.what()));
   }
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
@@ -222,6 +228,10 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "instead of the reduction, threshold and stream-reduction passes (the same cells); 0: on the GPU, "
                   "as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
       ->check(CLI::Range(-1LL, 1LL << 40))
+      ->capture_default_str();
+  cmd->add_option("--max-samples", o->max_samples,
+                  "The most grid samples of one face; a face that needs more for --tol is refused (exit 2)")
+      ->check(CLI::Range(4LL, 1LL << 30))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, search, boxes, host_cells] {

@@ -89,7 +89,7 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
     m.bounds.push_back(nurbs::filip_bound(s, search == Search::CoarseToFine && !s.rational() ? 1 : 0));
     const auto t1 = std::chrono::steady_clock::now();
     m.grids.push_back(nurbs::certified_grid(m.bounds.back(), m.grid_tolerance, {max_samples}));
-    if (!m.grids.back().meets_tolerance) throw std::runtime_error(fmt::format("face {}: {}", f, m.grids.back().reason));
+    if (!m.grids.back().meets_tolerance) throw GridLimitError(fmt::format("face {}: {}", f, m.grids.back().reason));
     m.trims.push_back(m.faces[f].loops.empty()
                           ? nurbs::TrimPolygons{}
                           : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));
@@ -149,8 +149,8 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
   gpu.finish();
   m.atlas_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!unpacked.empty())
-    throw std::length_error(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
-                                        unpacked.front(), side));
+    throw GridLimitError(fmt::format("face {}: its grid is larger than an atlas of {}^2; use a larger tolerance",
+                                     unpacked.front(), side));
 }
 
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,

@@ -8,6 +8,7 @@
 #include <functional>
 #include <glm/vec3.hpp>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -21,6 +22,13 @@ namespace queries {
 /// A grid cell of one face: cell (i, j) of faces[face].
 struct FaceCell {
   int face = -1, i = 0, j = 0;
+};
+
+/// A face whose grid cannot meet the tolerance within the sample limit (prepare_geometry), or too
+/// large for an atlas (prepare_atlases): what() names the face. A request to change, not a fault.
+class GridLimitError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 /// How a query reaches its tolerance T.
@@ -57,8 +65,8 @@ struct PreparedModel {
   [[nodiscard]] std::optional<FaceCell> cell_at(size_t a, int x, int y) const;
 };
 
-/// Prepares `faces` for queries at K_e <= `tolerance` (model units). Throws std::runtime_error
-/// naming a face that cannot meet it within `max_samples`, and std::length_error when a face's grid
+/// Prepares `faces` for queries at K_e <= `tolerance` (model units). Throws GridLimitError naming a
+/// face that cannot meet it within `max_samples`, or whose grid
 /// is larger than an atlas of the GPU's size.
 /// The CPU part of prepare_model: bounds, certified grids, trim polygons and centre, no atlases
 /// (what the refinement of refine.h and the CPU twins need).
