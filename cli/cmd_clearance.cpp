@@ -145,9 +145,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
   const double size = std::max(checked_model_size(ma, o.a), checked_model_size(mb, o.b));
   const double tolerance = o.rel_tolerance * size;
-  // An answer's bound is the sum of both models' (K_a + K_b; the refinement of the coarse-to-fine
-  // search goes to the sum of their tolerances): each model is prepared at T / 2, so it is within T.
-  const double grid_tolerance = 0.5 * tolerance;
+  const double grid_tolerance = queries::clearance_model_tolerance(tolerance);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
   queries::ClearanceLimits limits;

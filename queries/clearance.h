@@ -89,6 +89,11 @@ class ClearanceCache {
   std::unique_ptr<Impl> impl;
 };
 
+/// The tolerance each model of a clearance query is prepared at, so that the answer's bound (K_a +
+/// K_b, or the coarse-to-fine refinement's, to the sum of both models' tolerances) is within the
+/// requested tolerance T: the rule of every answer (bound <= T), as a point query's.
+[[nodiscard]] constexpr double clearance_model_tolerance(double tolerance) { return 0.5 * tolerance; }
+
 /// The clearance between model `a` and model `b` moved by `motion_b` (rigid). A model in several
 /// atlases (prepare_model) has a hierarchy per atlas; every atlas pair is searched, the least
 /// upper bound shared between them, and the leaf pairs of all go to the triangle step.

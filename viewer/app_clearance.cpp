@@ -10,7 +10,9 @@
 namespace viewer {
 
 void App::prepare_clearance() {
-  const double tolerance = options_.rel_tolerance * std::max(a_->size, b_->size);
+  // Each model at half the tolerance: the answer's bound (their sum) within it, as `nurbsgl clearance`.
+  const double tolerance =
+      queries::clearance_model_tolerance(options_.rel_tolerance * std::max(a_->size, b_->size));
   const auto t0 = std::chrono::steady_clock::now();
   prep_a_ = std::make_unique<queries::PreparedModel>(
       queries::prepare_model(*gpu_, a_->faces, tolerance, 1LL << 22, queries::Search::CoarseToFine));

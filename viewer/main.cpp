@@ -26,7 +26,7 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", o.screenshot, "With --frames: write the last frame as PNG");
   app.add_option("--move-b", o.move_b, "B's (final) placement: translate by DX,DY,DZ after the rotation");
   app.add_option("--rotate-b", o.rotate_b, "Rotate B by DEG degrees about AX,AY,AZ through the origin");
-  app.add_option("--tol", o.rel_tolerance, "Clearance: K_e of the grids, relative to the larger model size")
+  app.add_option("--tol", o.rel_tolerance, "Clearance: the bound of the answer, relative to the larger model size (each model at half of it)")
       ->check(CLI::Range(1e-9, 0.1))
       ->capture_default_str();
   app.add_option("--eps", o.eps, "Displayed tessellation's eps, relative to the model size")
