@@ -42,6 +42,22 @@ glm::dvec3 on_cell(glm::dvec2 st, bool lower, const glm::dvec3 c[4]) {
   return lower ? c[0] + st.x * (c[1] - c[0]) + st.y * (c[3] - c[1]) : c[0] + st.y * (c[2] - c[0]) + st.x * (c[3] - c[2]);
 }
 
+/// The ends of a stored piece (s0, t0, s1, t1) on its triangle of the cell with corners c
+/// (glsl/point_batch_trim.frag trim_piece).
+void piece_on_cell(const float* piece, const glm::dvec3 c[4], glm::dvec3& a, glm::dvec3& b) {
+  const glm::dvec2 sa(piece[0], piece[1]), sb(piece[2], piece[3]);
+  const bool lower = sa.x + sb.x >= sa.y + sb.y;
+  a = on_cell(sa, lower, c), b = on_cell(sb, lower, c);
+}
+
+/// The side of the reference point of cell (i, j) of grid g, in double: the side the pass starts its
+/// crossing count from, and the whole cell's when no edge crosses it.
+bool reference_side(const TrimEdges& edges, const nurbs::ParamGrid& g, int i, int j) {
+  const double u0 = g.u[size_t(i)], v0 = g.v[size_t(j)];
+  return edges.is_material(
+      {u0 + kTrimRef.x * (g.u[size_t(i) + 1] - u0), v0 + kTrimRef.y * (g.v[size_t(j) + 1] - v0)});
+}
+
 /// Rows of `kTrimTextureWidth` RGBA texels holding `v` (padded with zeros).
 gpgpu::Texture rows_texture(std::vector<float>& v) {
   const size_t texels = std::max<size_t>(v.size() / 4, 1);
@@ -95,7 +111,7 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
         edges.pieces(c.x, c.y, corners, pieces);
         const double u0 = g.u[size_t(c.x)], du = g.u[size_t(c.x) + 1] - u0;
         const double v0 = g.v[size_t(c.y)], dv = g.v[size_t(c.y) + 1] - v0;
-        const bool ref = edges.is_material({u0 + kTrimRef.x * du, v0 + kTrimRef.y * dv});
+        const bool ref = reference_side(edges, g, c.x, c.y);
         part.texels.push_back(size_t(sl.y + c.y) * size_t(plan.width) + size_t(sl.x + c.x));
         part.head.insert(part.head.end(), {float(part.segs.size() / 4), float(crossing.size()), float(pieces.size()),
                                            ref ? 1.0f : 0.0f});
@@ -137,10 +153,9 @@ double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, c
   if (trim_material({w.y, w.y + w.z}, head, at.trim_segs)) best = std::min(best, glm::length(p1 - q));
   const size_t first = size_t(head[0]) + size_t(head[1]);
   for (size_t k = 0; k < size_t(head[2]); ++k) {
-    const float* s = &at.trim_segs[4 * (first + k)];
-    const glm::dvec2 sa(s[0], s[1]), sb(s[2], s[3]);
-    const bool lower = sa.x + sb.x >= sa.y + sb.y;
-    const glm::dvec3 a = on_cell(sa, lower, c), d = on_cell(sb, lower, c) - a;
+    glm::dvec3 a, b;
+    piece_on_cell(&at.trim_segs[4 * (first + k)], c, a, b);
+    const glm::dvec3 d = b - a;
     const double len2 = glm::dot(d, d);
     const double t = len2 > 0.0 ? std::clamp(glm::dot(q - a, d) / len2, 0.0, 1.0) : 0.0;
     best = std::min(best, glm::length(a + t * d - q));
@@ -170,11 +185,9 @@ void PointBatch::material_points(const Atlas& at, size_t a, int x, int y, const 
   }
   const size_t first = size_t(head[0]) + size_t(head[1]);
   for (size_t k = 0; k < size_t(head[2]); ++k) {
-    const float* sg = &at.trim_segs[4 * (first + k)];
-    const glm::dvec2 sa(sg[0], sg[1]), sb(sg[2], sg[3]);
-    const bool lower = sa.x + sb.x >= sa.y + sb.y;
-    out.push_back(on_cell(sa, lower, corners));
-    out.push_back(on_cell(sb, lower, corners));
+    glm::dvec3 pa, pb;
+    piece_on_cell(&at.trim_segs[4 * (first + k)], corners, pa, pb);
+    out.push_back(pa), out.push_back(pb);
   }
 }
 
@@ -188,11 +201,8 @@ PointDistance PointBatch::material_cell(const glm::dvec3& p, size_t a, int x, in
   // on the cell's side, a loop touching it at a vertex).
   const TrimEdges& edges = trim_edges_[size_t(c.face)];
   std::optional<bool> uniform;
-  if (!m_.faces[size_t(c.face)].loops.empty() && !edges.crossed(c.i, c.j)) {
-    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
-    const double u0 = g.u[size_t(c.i)], v0 = g.v[size_t(c.j)];
-    uniform = edges.is_material({u0 + kTrimRef.x * (g.u[size_t(c.i) + 1] - u0), v0 + kTrimRef.y * (g.v[size_t(c.j) + 1] - v0)});
-  }
+  if (!m_.faces[size_t(c.face)].loops.empty() && !edges.crossed(c.i, c.j))
+    uniform = reference_side(edges, m_.grids[size_t(c.face)].grid, c.i, c.j);
   int triangle = -1;  // the material triangle point's triangle, -1: none
   for (int t = 0; t < 2; ++t) {
     const PointDistance rt = cell_result(p, a, x, y, false, t);
