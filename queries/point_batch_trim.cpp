@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -143,6 +144,27 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
   const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
   const double v0 = grid_->v[size_t(j)], v1 = grid_->v[size_t(j) + 1];
   const std::vector<std::pair<int, int>>& edges = it->second;  // grouped by loop (the constructor's order)
+  // The edges by the buckets of a B x B grid over the cell their boxes meet, so that an edge is cut
+  // against the other loops' edges near it only (a planar face's cell may hold thousands of edges
+  // of many loops); a crossing outside the cell or outside the edge cuts nothing it keeps.
+  const int nb = std::clamp(int(std::sqrt(double(edges.size()) / 4.0)), 1, 32);
+  const auto bucket_range = [&](glm::dvec2 p, glm::dvec2 q, int& bx0, int& bx1, int& by0, int& by1) {
+    const double slack = 1e-9;
+    const auto to = [&](double x, double lo, double hi) {
+      return std::clamp(int(std::floor((x - lo) / (hi - lo) * nb)), 0, nb - 1);
+    };
+    bx0 = to(std::min(p.x, q.x) - slack * (u1 - u0), u0, u1), bx1 = to(std::max(p.x, q.x) + slack * (u1 - u0), u0, u1);
+    by0 = to(std::min(p.y, q.y) - slack * (v1 - v0), v0, v1), by1 = to(std::max(p.y, q.y) + slack * (v1 - v0), v0, v1);
+  };
+  std::vector<std::vector<uint32_t>> buckets(size_t(nb) * size_t(nb));
+  for (size_t n = 0; n < edges.size(); ++n) {
+    const auto& loop = trim_->loops[size_t(edges[n].first)];
+    int bx0, bx1, by0, by1;
+    bucket_range(loop[size_t(edges[n].second)], loop[(size_t(edges[n].second) + 1) % loop.size()], bx0, bx1, by0, by1);
+    for (int y = by0; y <= by1; ++y)
+      for (int x = bx0; x <= bx1; ++x) buckets[size_t(y) * size_t(nb) + size_t(x)].push_back(uint32_t(n));
+  }
+  std::vector<uint32_t> seen(edges.size(), 0);  // the last edge n + 1 that tested edge n2
   for (size_t n = 0; n < edges.size(); ++n) {
     const auto [k, e] = edges[n];
     const auto& loop = trim_->loops[size_t(k)];
@@ -160,20 +182,22 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
     const double denom = sd.x - sd.y;
     if (denom != 0.0) cuts.push_back((sa.y - sa.x) / denom);
     const glm::dvec2 ab = b - a;
-    for (size_t n2 = 0; n2 < edges.size(); ++n2) {
-      const auto [k2, e2] = edges[n2];
-      if (k2 == k) {  // skip the rest of this loop's run
-        while (n2 + 1 < edges.size() && edges[n2 + 1].first == k) ++n2;
-        continue;
-      }
-      const auto& loop2 = trim_->loops[size_t(k2)];
-      const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
-      const double det = ab.x * cd.y - ab.y * cd.x;
-      if (det == 0.0) continue;  // parallel
-      const glm::dvec2 ac = c - a;
-      const double l = (ac.x * cd.y - ac.y * cd.x) / det, mu = (ac.x * ab.y - ac.y * ab.x) / det;
-      if (mu >= 0.0 && mu <= 1.0) cuts.push_back(l);
-    }
+    int bx0, bx1, by0, by1;
+    bucket_range(a, b, bx0, bx1, by0, by1);
+    for (int y = by0; y <= by1; ++y)
+      for (int x = bx0; x <= bx1; ++x)
+        for (const uint32_t n2 : buckets[size_t(y) * size_t(nb) + size_t(x)]) {
+          const auto [k2, e2] = edges[n2];
+          if (k2 == k || seen[n2] == n + 1) continue;
+          seen[n2] = uint32_t(n + 1);
+          const auto& loop2 = trim_->loops[size_t(k2)];
+          const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
+          const double det = ab.x * cd.y - ab.y * cd.x;
+          if (det == 0.0) continue;  // parallel
+          const glm::dvec2 ac = c - a;
+          const double l = (ac.x * cd.y - ac.y * cd.x) / det, mu = (ac.x * ab.y - ac.y * ab.x) / det;
+          if (mu >= 0.0 && mu <= 1.0) cuts.push_back(l);
+        }
     std::sort(cuts.begin(), cuts.end());
     const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
     for (size_t c = 0; c + 1 < cuts.size(); ++c) {
