@@ -16,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli/commands.h"
@@ -24,6 +25,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/rigid_motion.h"
 #include "queries/clearance.h"
+#include "queries/face_cull.h"
 #include "queries/voxel_stage.h"
 
 namespace cli {
@@ -43,6 +45,7 @@ struct Options {
   std::string upper = "auto";
   long long max_samples = 1LL << 22;  ///< per face grid
   bool json = false, timings = false;
+  std::string face_cull = "boxes";
 };
 
 /// `count` finite numbers separated by commas or spaces; `what` names the option in errors.
@@ -142,8 +145,13 @@ nlohmann::json prepare_json(const queries::PreparedModel& a, const queries::Prep
 
 void run(const GlobalOptions& global, const Options& o) {
   const std::vector<glm::dmat4> frames = motions(o);
-  const nurbs::Model ma = nurbs::io::read_model(o.a), mb = nurbs::io::read_model(o.b);
-  const double size = std::max(checked_model_size(ma, o.a), checked_model_size(mb, o.b));
+  // B read (and sized) again only when it is another file.
+  const nurbs::Model ma = nurbs::io::read_model(o.a);
+  const std::optional<nurbs::Model> other_b =
+      o.b == o.a ? std::nullopt : std::optional<nurbs::Model>(nurbs::io::read_model(o.b));
+  const nurbs::Model& mb = other_b ? *other_b : ma;
+  const double size_a = checked_model_size(ma, o.a);
+  const double size = other_b ? std::max(size_a, checked_model_size(mb, o.b)) : size_a;
   const double tolerance = o.rel_tolerance * size;
   const double grid_tolerance = queries::clearance_model_tolerance(tolerance);
   auto gpu = start_gpu(global);
@@ -156,6 +164,34 @@ void run(const GlobalOptions& global, const Options& o) {
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
   std::vector<nurbs::TrimmedSurface> fa = nurbs::world_faces(ma), fb = nurbs::world_faces(mb);
+  // Before any grid: the faces that can hold the closest pair (for every frame); the answers
+  // name faces by their index in the model.
+  const size_t faces_a = fa.size(), faces_b = fb.size();
+  std::vector<int> index_a(fa.size()), index_b(fb.size());
+  for (size_t f = 0; f < fa.size(); ++f) index_a[f] = int(f);
+  for (size_t f = 0; f < fb.size(); ++f) index_b[f] = int(f);
+  nlohmann::json cull_json = {{"method", o.face_cull}};
+  // The kept faces' coarse grids as the whole models' (a part's smaller box would make them finer).
+  const double coarse_a = queries::coarse_tolerance(fa, grid_tolerance);
+  const double coarse_b = queries::coarse_tolerance(fb, grid_tolerance);
+  if (o.face_cull == "boxes") {
+    const auto c0 = std::chrono::steady_clock::now();
+    // The margin: far above the spatial error of a sample classified by trim polygons flattened
+    // within 1e-6 of the domain.
+    const queries::FaceCull cull = queries::cull_faces(fa, fb, frames, 1e-4 * size);
+    const auto keep = [](std::vector<nurbs::TrimmedSurface>& faces, std::vector<int>& index,
+                         const std::vector<char>& flags) {
+      std::vector<nurbs::TrimmedSurface> kept;
+      std::vector<int> kept_index;
+      for (size_t f = 0; f < faces.size(); ++f)
+        if (flags[f]) kept.push_back(std::move(faces[f])), kept_index.push_back(index[f]);
+      faces = std::move(kept), index = std::move(kept_index);
+    };
+    keep(fa, index_a, cull.keep_a), keep(fb, index_b, cull.keep_b);
+    cull_json["faces_a"] = fa.size(), cull_json["faces_b"] = fb.size(), cull_json["face_pairs"] = cull.pairs;
+    cull_json["upper"] = cull.upper;
+    cull_json["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+  }
   auto any_trimmed = [](const std::vector<nurbs::TrimmedSurface>& faces) {
     return std::any_of(faces.begin(), faces.end(), [](const auto& f) { return !f.loops.empty(); });
   };
@@ -166,7 +202,8 @@ void run(const GlobalOptions& global, const Options& o) {
                                    [&](const std::function<bool()>& geometry_done) {
                                      queries::compile_clearance_programs(*gpu, limits, o.search, trimmed,
                                                                          geometry_done);
-                                   });
+                                   },
+                                   coarse_a, coarse_b);
     } catch (const queries::GridLimitError& e) {
       throw BadInput(fmt::format("--tol {:g} --max-samples {}: {}", o.rel_tolerance, o.max_samples, e.what()));
     }
@@ -185,7 +222,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const queries::VoxelGrid vb = voxel ? queries::voxelize(b, {o.voxels}) : queries::VoxelGrid{};
   nlohmann::json stage;
   queries::ClearanceCache cache;  // A's hierarchy, built once for every motion (destroyed before gpu)
-  auto query = [&](const glm::dmat4& motion) {
+  auto query_kept = [&](const glm::dmat4& motion) {
     if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, limits, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);
@@ -200,6 +237,12 @@ void run(const GlobalOptions& global, const Options& o) {
              {"faces_b", std::count(vs.faces_b.begin(), vs.faces_b.end(), 1)},
              {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count()}};
     return queries::clearance(*gpu, a, b, motion, &vs.faces_a, &vs.faces_b, limits);
+  };
+  auto query = [&](const glm::dmat4& motion) {
+    queries::Clearance c = query_kept(motion);
+    if (c.face_a >= 0) c.face_a = index_a[size_t(c.face_a)];
+    if (c.face_b >= 0) c.face_b = index_b[size_t(c.face_b)];
+    return c;
   };
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
@@ -226,6 +269,7 @@ void run(const GlobalOptions& global, const Options& o) {
       fmt::print("{}\n", nlohmann::json{{"frames", frames.size()},
                                         {"prepare_seconds", prepare_s},
                                         {"prepare", prepare_json(a, b)},
+                                        {"face_cull", cull_json},
                                         {"tolerance", tolerance},
                                         {"results", results}}
                              .dump(2));
@@ -244,6 +288,7 @@ void run(const GlobalOptions& global, const Options& o) {
     if (voxel) j["first_stage"] = stage;
     j["prepare_seconds"] = prepare_s;
     j["prepare"] = prepare_json(a, b);
+    j["face_cull"] = cull_json;
     j["tolerance"] = tolerance;
     fmt::print("{}\n", j.dump(2));
   } else {
@@ -252,8 +297,9 @@ void run(const GlobalOptions& global, const Options& o) {
         "({:.6g}, {:.6g}, {:.6g})\n",
         c.distance, c.bound, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
         c.point_b.z);
-    fmt::print("prepared in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} levels, {} leaf cell pairs\n",
-               prepare_s, grid_tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+    fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} "
+               "levels, {} leaf cell pairs\n",
+               a.faces.size(), faces_a, b.faces.size(), faces_b, prepare_s, grid_tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
     if (!meets(c, tolerance)) fmt::print("the bound {:.3g} is over the tolerance {:.3g}\n", c.bound, tolerance);
   }
   if (o.timings) {
@@ -322,6 +368,12 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--max-samples", o->max_samples,
                   "The most grid samples of one face; a face that needs more for --tol is refused (exit 2)")
       ->check(CLI::Range(4LL, 1LL << 30))
+      ->capture_default_str();
+  cmd->add_option("--face-cull", o->face_cull,
+                  "boxes: before any grid, leave out the faces whose control boxes lie farther from every face of "
+                  "the other model than an upper bound from material samples (they cannot hold the closest pair); "
+                  "off: prepare every face (the paper)")
+      ->check(CLI::IsMember({"boxes", "off"}))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, voxels] {

@@ -8,7 +8,11 @@ whole process, preparation included), its CPU share (the JSON `cpu` block: walks
 cells without material), its peak resident memory; then OpenCASCADE's projection
 (`peer_occt_distance points`: GeomAPI_ProjectPointOnSurf per face, trims ignored) on the first
 `--occt-points` of the same points, its rate, and the ratio. Writes real_models.csv in OUT and prints
-a table. A benchmark, not a test: nothing fails on a slow figure.
+a table. Then clearance of each model against a copy of itself moved along x by its box width plus
+--gap times its size (separated copies): `nurbsgl clearance --json` as one process (wall, and
+prepare + query) with the face cull on and off, beside OpenCASCADE's BRepExtrema_DistShapeShape
+(`peer_occt_distance shapes`: its first query, reading excluded, and its whole process);
+real_models_clearance.csv. A benchmark, not a test: nothing fails on a slow figure.
 
 Usage: experiments/real_models.py --build BUILD --out OUT [--points N] [--occt-points M] [--models ...]
        [--peer PEER]
@@ -62,6 +66,8 @@ def main():
     ap.add_argument("--occt-points", type=int, default=500)
     ap.add_argument("--tolerances", default="1e-4,1e-5")
     ap.add_argument("--models", nargs="*", default=DEFAULT_MODELS)
+    ap.add_argument("--gap", type=float, default=1.0, help="clearance: the copies' gap, times the model size")
+    ap.add_argument("--clearance-tol", default="1e-5")
     ap.add_argument("--peer", help="peer_occt_distance (default: BUILD/experiments/peer_occt_distance)")
     a = ap.parse_args()
     cli = os.path.join(a.build, "cli", "nurbsgl")
@@ -96,12 +102,47 @@ def main():
                    "ratio": round(rate / occt_rate, 1) if occt_rate else ""}
             rows.append(row)
             print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
-    with open(os.path.join(a.out, "real_models.csv"), "w", newline="") as f:
+    write_csv(os.path.join(a.out, "real_models.csv"), rows)
+    crows = []
+    for rel in a.models:
+        model = os.path.join(ROOT, rel)
+        if not os.path.exists(model):
+            continue
+        info = json.loads(subprocess.run([cli, "info", model, "--json"], capture_output=True, text=True,
+                                         check=True).stdout)
+        lo, hi = info["bbox"]["min"], info["bbox"]["max"]
+        size = sum((hi[k] - lo[k]) ** 2 for k in range(3)) ** 0.5
+        move = f"{hi[0] - lo[0] + a.gap * size:.9g},0,0"
+        row = {"model": rel, "faces": info["faces"], "tol": a.clearance_tol, "move_x": move.split(",")[0]}
+        for cull in ("boxes", "off"):
+            out, wall, peak = run([cli, "clearance", model, model, "--move-b", move, "--tol", a.clearance_tol,
+                                   "--face-cull", cull, "--json"])
+            d = json.loads(out)
+            row[f"distance_{cull}"] = d["distance"]
+            row[f"wall_s_{cull}"] = round(wall, 3)
+            row[f"prepare_query_s_{cull}"] = round(d["prepare_seconds"] + d["seconds"], 3)
+            if cull == "boxes":
+                row["faces_kept"] = f"{d['face_cull']['faces_a']}+{d['face_cull']['faces_b']}"
+        if os.path.exists(peer):
+            out, wall, _ = run([peer, "shapes", model, model, "--move-b", move, "--repeat", "1"])
+            d = json.loads(out)
+            row["occt_distance"] = d["distance"]
+            row["occt_query_s"] = round(d["first_seconds"], 3)
+            row["occt_wall_s"] = round(wall, 3)
+            row["ratio_query"] = round(d["first_seconds"] / row["prepare_query_s_boxes"], 2)
+            row["ratio_wall"] = round(wall / row["wall_s_boxes"], 2)
+        crows.append(row)
+        print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
+    write_csv(os.path.join(a.out, "real_models_clearance.csv"), crows)
+    return 0
+
+
+def write_csv(path, rows):
+    with open(path, "w", newline="") as f:
         if rows:
             w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
             w.writeheader()
             w.writerows(rows)
-    return 0
 
 
 if __name__ == "__main__":

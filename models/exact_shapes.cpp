@@ -109,4 +109,16 @@ nurbs::Surface rational_cylinder(double radius, double height, glm::dvec3 base) 
   return revolve({{radius, 0}, {radius, height}}, {1, 1}, {0, 0, 1, 1}, 1, base);
 }
 
+nurbs::TrimmedSurface cubic_square_with_hole(double hole) {
+  nurbs::TrimmedSurface square;
+  square.surface.degree_u = square.surface.degree_v = 3;
+  square.surface.count_u = square.surface.count_v = 4;
+  square.surface.knots_u = square.surface.knots_v = {0, 0, 0, 0, 2, 2, 2, 2};
+  const double f[4] = {0.0, 0.3, 1.7, 2.0};
+  for (double y : f)
+    for (double x : f) square.surface.points.emplace_back(x, y, 0.0);
+  square.loops.push_back({{rational_circle_2d({1.0, 1.0}, hole, false)}, false});
+  return square;
+}
+
 }  // namespace models

@@ -9,6 +9,7 @@
 
 #include "nurbs/curve.h"
 #include "nurbs/surface.h"
+#include "nurbs/trimmed_surface.h"
 
 namespace models {
 
@@ -38,5 +39,10 @@ namespace models {
 
 /// The bilinear surface over [0, 1]^2 through four corners, P(i, j) = corners[i + 2 j].
 [[nodiscard]] nurbs::Surface bilinear_patch(const std::array<glm::dvec3, 4>& corners);
+
+/// The square [0, 2]^2 of the plane z = 0 parametrized by a cubic each way (x = f(u), y = f(v) on
+/// [0, 2], f(1) = 1: flat, yet its certified grids have many cells, where a bilinear square has
+/// one), with a clockwise circular hole of radius `hole` in (u, v) about (1, 1).
+[[nodiscard]] nurbs::TrimmedSurface cubic_square_with_hole(double hole);
 
 }  // namespace models

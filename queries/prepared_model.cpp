@@ -68,12 +68,14 @@ double coarse_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double 
 }
 
 PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance, long long max_samples,
-                               Search search) {
+                               Search search, double coarse) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   PreparedModel m;
   m.tolerance = tolerance;
   m.search = search;
-  m.grid_tolerance = search == Search::CoarseToFine ? coarse_tolerance(faces, tolerance) : tolerance;
+  m.grid_tolerance = search != Search::CoarseToFine ? tolerance
+                     : coarse > 0.0                  ? std::max(tolerance, coarse)
+                                                     : coarse_tolerance(faces, tolerance);
   m.faces = std::move(faces);
   glm::dvec3 lo(kInf), hi(-kInf);
   for (size_t f = 0; f < m.faces.size(); ++f) {
@@ -155,12 +157,15 @@ void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side) {
 
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
                           double tolerance, Search search, long long max_samples,
-                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile) {
-  auto geometry = [&](std::vector<nurbs::TrimmedSurface>& faces) {
+                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile,
+                          double coarse_a, double coarse_b) {
+  auto geometry = [&](std::vector<nurbs::TrimmedSurface>& faces, double coarse) {
     return std::async(std::launch::async,
-                      [&] { return prepare_geometry(std::move(faces), tolerance, max_samples, search); });
+                      [&faces, &tolerance, &max_samples, &search, coarse] {
+                        return prepare_geometry(std::move(faces), tolerance, max_samples, search, coarse);
+                      });
   };
-  std::future<PreparedModel> geometry_a = geometry(a), geometry_b = geometry(b);
+  std::future<PreparedModel> geometry_a = geometry(a, coarse_a), geometry_b = geometry(b, coarse_b);
   const auto done = [&] {
     using namespace std::chrono_literals;
     return geometry_a.wait_for(0s) == std::future_status::ready && geometry_b.wait_for(0s) == std::future_status::ready;

@@ -70,8 +70,11 @@ struct PreparedModel {
 /// is larger than an atlas of the GPU's size.
 /// The CPU part of prepare_model: bounds, certified grids, trim polygons and centre, no atlases
 /// (what the refinement of refine.h and the CPU twins need).
+/// `coarse` > 0: the coarse grid tolerance of Search::CoarseToFine (at least `tolerance`) instead of
+/// coarse_tolerance(faces, tolerance), e.g. that of the whole model when `faces` are some of it.
 PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                               long long max_samples = 1LL << 22, Search search = Search::Faithful);
+                               long long max_samples = 1LL << 22, Search search = Search::Faithful,
+                               double coarse = 0.0);
 
 /// With Search::CoarseToFine the grids are evaluated at `coarse_tolerance(faces, tolerance)`.
 /// Faces go into atlases of at most `atlas_side`^2 texels (and the GPU's texture size), as many
@@ -93,7 +96,8 @@ struct PreparedPair {
 };
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
                           double tolerance, Search search, long long max_samples = 1LL << 22,
-                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile = {});
+                          const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile = {},
+                          double coarse_a = 0.0, double coarse_b = 0.0);
 
 /// The grid tolerance of the coarse-to-fine search: the larger of T and 5e-4 of the faces' control
 /// box diagonal (grids of a few thousand cells per face on the models at hand).

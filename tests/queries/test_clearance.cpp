@@ -258,16 +258,8 @@ TEST_CASE("clearance: face samples never come from a hole (a sphere over a holed
   // under a sphere of radius 0.2 whose centre is 0.25 above the hole's: the clearance is the rim's.
   gpgpu::Gpu& gpu = test::gpu();
   std::pair<long long, long long> pairs{0, 0};
-  // The square [0, 2]^2 of the plane z = 0 parametrized by a cubic each way (x = f(u), y = f(v),
-  // f(1) = 1): flat, yet its grids have many cells (a bilinear square's K_e is 0: one cell).
-  nurbs::TrimmedSurface square, ball;
-  square.surface.degree_u = square.surface.degree_v = 3;
-  square.surface.count_u = square.surface.count_v = 4;
-  square.surface.knots_u = square.surface.knots_v = {0, 0, 0, 0, 2, 2, 2, 2};
-  const double f[4] = {0.0, 0.3, 1.7, 2.0};
-  for (double y : f)
-    for (double x : f) square.surface.points.emplace_back(x, y, 0.0);
-  square.loops.push_back({{models::rational_circle_2d({1.0, 1.0}, 0.3, false)}, false});
+  const nurbs::TrimmedSurface square = models::cubic_square_with_hole(0.3);
+  nurbs::TrimmedSurface ball;
   ball.surface = models::rational_sphere(0.2);
   const glm::dvec3 centre(1.0, 1.0, 0.25);
   double truth = 1e300;  // the rim's closest point (the plane's points get farther from (1, 1))
