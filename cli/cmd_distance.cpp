@@ -161,6 +161,9 @@ void run(const GlobalOptions& global, const Options& o) {
                   {"no_material_in_winning_cell", st.fallbacks},
                   {"share", st.points > 0 ? double(st.fallbacks + st.cut) / double(st.points) : 0.0}};
       j["trimmed_winners"] = st.trimmed;
+      long long samples = 0;
+      for (const auto& g : prepared->grids) samples += g.grid.samples();
+      j["samples"] = samples;
     }
     fmt::print("{}\n", j.dump(2));
   } else {

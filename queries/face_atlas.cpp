@@ -46,6 +46,68 @@ std::vector<glm::vec2> clip(const std::vector<glm::vec2>& poly, glm::vec2 lo, gl
 
 }  // namespace
 
+namespace {
+
+/// Skyline bottom-left packing into a strip `width` wide and at most `height` high: each grid of
+/// `order` (in that order) goes where its bottom lies lowest (then leftmost); a grid that does not
+/// fit, or would pass `max_samples`, is left in `rest`. The plan's size is what the slots cover.
+AtlasPlan skyline(const std::vector<std::pair<int, int>>& sizes, const std::vector<int>& order, int width, int height,
+                  long long max_samples, std::vector<int>& rest) {
+  struct Segment {
+    int x, y, w;
+  };
+  std::vector<Segment> sky{{0, 0, width}};
+  AtlasPlan plan;
+  long long used = 0;
+  for (int f : order) {
+    const auto [w, h] = sizes[size_t(f)];
+    int best_y = height, best_i = -1;
+    if (w <= width && used + static_cast<long long>(w) * h <= max_samples)
+      for (size_t i = 0; i < sky.size(); ++i) {
+        if (sky[i].x + w > width) break;
+        int y = 0;  // the highest segment under [x, x + w)
+        for (size_t k = i; k < sky.size() && sky[k].x < sky[i].x + w; ++k) y = std::max(y, sky[k].y);
+        if (y + h <= height && y < best_y) best_y = y, best_i = int(i);
+      }
+    if (best_i < 0) {
+      rest.push_back(f);
+      continue;
+    }
+    const int x = sky[size_t(best_i)].x;
+    plan.slots.push_back({f, x, best_y, w, h});
+    plan.width = std::max(plan.width, x + w);
+    plan.height = std::max(plan.height, best_y + h);
+    used += static_cast<long long>(w) * h;
+    // The skyline: [x, x + w) at best_y + h; the segments it covers cut or dropped.
+    std::vector<Segment> next;
+    for (const Segment& g : sky) {
+      if (g.x + g.w <= x || g.x >= x + w) {
+        next.push_back(g);
+        continue;
+      }
+      if (g.x < x) next.push_back({g.x, g.y, x - g.x});
+      if (g.x + g.w > x + w) next.push_back({x + w, g.y, g.x + g.w - (x + w)});
+    }
+    next.push_back({x, best_y + h, w});
+    std::sort(next.begin(), next.end(), [](const Segment& a, const Segment& b) { return a.x < b.x; });
+    sky.clear();
+    for (const Segment& g : next)
+      if (!sky.empty() && sky.back().y == g.y)
+        sky.back().w += g.w;
+      else
+        sky.push_back(g);
+  }
+  return plan;
+}
+
+long long pow2_at_least(int n) {
+  long long p = 1;
+  while (p < n) p *= 2;
+  return p;
+}
+
+}  // namespace
+
 std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
                                     std::vector<int>& unpacked) {
   std::vector<int> order;
@@ -55,33 +117,39 @@ std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& size
     else
       order.push_back(f);
   }
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return sizes[size_t(a)].second > sizes[size_t(b)].second; });
+  // Tallest first, then widest.
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return sizes[size_t(a)].second != sizes[size_t(b)].second ? sizes[size_t(a)].second > sizes[size_t(b)].second
+                                                              : sizes[size_t(a)].first > sizes[size_t(b)].first;
+  });
   std::vector<AtlasPlan> plans;
-  AtlasPlan cur;
-  int shelf_y = 0, shelf_h = 0, x = 0;
-  long long used = 0;
-  for (int f : order) {
-    const auto [w, h] = sizes[size_t(f)];
-    if (x + w > side) {  // next shelf
-      shelf_y += shelf_h;
-      shelf_h = 0;
-      x = 0;
+  while (!order.empty()) {
+    // Strip widths from the widest grid's to the side (each power of two between): the one whose
+    // plan holds every grid left in the fewest texels once padded to powers of two (the point
+    // pyramid's level 0), then in the fewest texels; when none holds them all, the side's.
+    int widest = 1;
+    for (int f : order) widest = std::max(widest, sizes[size_t(f)].first);
+    std::vector<int> widths{widest};
+    for (int w = 1; w < side; w *= 2)
+      if (w > widest) widths.push_back(w);
+    widths.push_back(side);
+    AtlasPlan best;
+    std::vector<int> best_rest;
+    bool found = false;
+    for (int w : widths) {
+      std::vector<int> rest;
+      AtlasPlan plan = skyline(sizes, order, w, side, max_samples, rest);
+      if (!rest.empty()) continue;
+      const auto key = [](const AtlasPlan& p) {
+        return std::pair{pow2_at_least(p.width) * pow2_at_least(p.height), static_cast<long long>(p.width) * p.height};
+      };
+      if (!found || key(plan) < key(best)) best = std::move(plan), best_rest.clear(), found = true;
     }
-    if (shelf_y + h > side || used + static_cast<long long>(w) * h > max_samples) {  // next atlas
-      if (!cur.slots.empty()) plans.push_back(std::move(cur));
-      cur = {};
-      shelf_y = shelf_h = x = 0;
-      used = 0;
-    }
-    cur.slots.push_back({f, x, shelf_y, w, h});
-    x += w;
-    shelf_h = std::max(shelf_h, h);
-    used += static_cast<long long>(w) * h;
-    cur.width = std::max(cur.width, x);
-    cur.height = std::max(cur.height, shelf_y + shelf_h);
+    if (!found) best = skyline(sizes, order, side, side, max_samples, best_rest);
+    if (best.slots.empty()) throw std::logic_error("plan_atlases: a grid that fits packs into no atlas");
+    plans.push_back(std::move(best));
+    order = std::move(best_rest);
   }
-  if (!cur.slots.empty()) plans.push_back(std::move(cur));
   return plans;
 }
 

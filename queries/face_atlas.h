@@ -1,7 +1,7 @@
 #pragma once
 /// \file face_atlas.h
 /// Many faces at once (issue 6, "faces are batched"): the grids of a model's faces packed into one
-/// atlas texture by shelf packing, evaluated in one pass (glsl/surface_eval_atlas.frag, the batched
+/// atlas texture by skyline packing, evaluated in one pass (glsl/surface_eval_atlas.frag, the batched
 /// form of the tabulated method) and trimmed in one even-odd fill, so a model of hundreds of faces
 /// costs a few passes per batch instead of a few per face. Faces whose grid exceeds the tile side
 /// are left to the tiled single-face path (surface_grid.h).
@@ -26,8 +26,11 @@ struct AtlasPlan {
 };
 
 /// Packs grids of the given sizes (samples along u, v) into atlases of at most side x side texels
-/// and at most max_samples texels each (shelves by decreasing height). Grids larger than side in
-/// either direction are not packed (the caller tiles them alone); `unpacked` lists them.
+/// and at most max_samples texels each: skyline bottom-left packing, tallest grids first, into the
+/// strip width (from the widest grid's to the side) that holds them in the fewest texels padded to
+/// powers of two (the point pyramid's size), the side's when no width holds them all (the rest go
+/// on to the next atlas). Grids larger than side in either direction are not packed (the caller
+/// tiles them alone); `unpacked` lists them.
 std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
                                     std::vector<int>& unpacked);
 
