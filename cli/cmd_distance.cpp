@@ -13,6 +13,7 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -109,9 +110,29 @@ void run(const GlobalOptions& global, const Options& o) {
   const bool batched = !o.points.empty() && !o.per_point;
   try {
     if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
-      prepared.emplace(queries::prepare_model(
-          *gpu, faces, queries::batch_grid_tolerance(faces, o.rel_tolerance * size), o.max_samples));
-      batch.emplace(*gpu, *prepared, o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented);
+      const double tolerance = o.rel_tolerance * size;
+      // Refused before the work: a tolerance the pass's float arithmetic cannot certify at any of
+      // the points, and a preparation larger than the memory this machine has free.
+      const queries::BatchFloatFloor floor(faces);
+      double least = std::numeric_limits<double>::infinity();
+      for (const glm::dvec3& p : points) least = std::min(least, floor.at(p));
+      if (least >= tolerance)
+        throw BadInput(fmt::format(
+            "--tol {:g}: the batched pass computes in float, and at these points its bound is at least {:.3g} "
+            "(--tol {:.2g} of the model size {:g}); a larger --tol, or --per-point",
+            o.rel_tolerance, least, least / size, size));
+      const auto boxes = o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented;
+      queries::PreparedModel geometry =
+          queries::prepare_geometry(faces, queries::batch_grid_tolerance(faces, tolerance), o.max_samples);
+      const int side = std::min(gpu->info().max_texture_size, 4096);  // prepare_atlases' atlas side
+      const long long need = queries::estimate_batch_bytes(geometry, side, boxes), free = available_memory();
+      if (free > 0 && need > free)
+        throw BadInput(fmt::format("--tol {:g}: the grids of {} faces need about {:.1f} GB, and this machine has "
+                                   "{:.1f} GB free; a larger --tol",
+                                   o.rel_tolerance, faces.size(), double(need) / 1e9, double(free) / 1e9));
+      queries::prepare_atlases(*gpu, geometry, side);
+      prepared.emplace(std::move(geometry));
+      batch.emplace(*gpu, *prepared, boxes);
     } else {
       query.emplace(*gpu, faces, o.rel_tolerance * size, o.max_samples, o.search);
       query->set_host_cells(o.host_cells);

@@ -1,5 +1,6 @@
 #include "cli/common.h"
 
+#include <fstream>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -64,6 +65,15 @@ void check_output(const std::string& path, const std::string& option) {
   } catch (const nurbs::io::WriteError& e) {
     throw BadInput(option + ": " + e.what());
   }
+}
+
+long long available_memory() {
+  std::ifstream f("/proc/meminfo");
+  std::string key, unit;
+  long long value = 0;
+  while (f >> key >> value >> unit)
+    if (key == "MemAvailable:") return unit == "kB" ? value * 1024 : value;
+  return -1;
 }
 
 }  // namespace cli

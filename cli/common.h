@@ -64,4 +64,8 @@ double checked_model_size(const nurbs::Model& model, const std::string& path);
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.
 void check_output(const std::string& path, const std::string& option);
 
+/// The memory this machine can give a new allocation now (MemAvailable of /proc/meminfo, bytes);
+/// -1 when unknown.
+long long available_memory();
+
 }  // namespace cli

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <exception>
+#include <new>
 
 #include "cli/commands.h"
 #include "nurbs/io/output_file.h"
@@ -59,6 +60,10 @@ int main(int argc, char** argv) {
   } catch (const cli::CommandFailed& e) {
     fmt::print(stderr, "nurbsgl: FAILED: {}\n", e.what());
     return cli::kFailed;
+  } catch (const std::bad_alloc&) {  // what the up-front estimates did not foresee
+    fmt::print(stderr, "nurbsgl: out of memory: the request needs more than this machine has free (a larger --tol, "
+                       "fewer points or faces)\n");
+    return cli::kBadInput;
   } catch (const std::exception& e) {
     fmt::print(stderr, "nurbsgl: error: {}\n", e.what());
     return cli::kFailed;

@@ -71,6 +71,42 @@ double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, dou
   return std::max(0.5 * tolerance, tolerance - budget - 2.0 * eps);
 }
 
+BatchFloatFloor::BatchFloatFloor(const std::vector<nurbs::TrimmedSurface>& faces) {
+  if (faces.empty()) return;
+  glm::dvec3 lo(kInf), hi(-kInf);
+  for (const nurbs::TrimmedSurface& f : faces) {
+    const nurbs::Box box = nurbs::control_box(f.surface);
+    lo = glm::min(lo, box.min), hi = glm::max(hi, box.max);
+    budget = std::max(budget, float_budget(f.surface));
+  }
+  centre = 0.5 * (lo + hi);
+  radius = 0.5 * glm::length(hi - lo);
+}
+
+double BatchFloatFloor::at(const glm::dvec3& p) const {
+  return budget + 2.0 * kFloatSlack * (glm::length(p - centre) + radius);
+}
+
+long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes) {
+  // Per atlas texel: points and normals (RGBA32F) on the GPU, the samples, masks, slot and
+  // trimmed-cell indices again on the CPU, the uploads' staging: about 100 bytes. Per pyramid
+  // texel: oriented boxes 3 RGBA32F on the GPU and on the CPU (96 bytes), axis-aligned 2 (64).
+  // Each with a fifth more (the measured peaks of the shared models at 1e-4 and 1e-5 lie below).
+  constexpr long long kAtlasTexel = 120, kDriver = 160LL << 20;
+  const long long pyramid_texel = boxes == PointBoxes::Oriented ? 115 : 77;
+  std::vector<std::pair<int, int>> sizes;
+  for (const nurbs::CertifiedGrid& cg : m.grids) sizes.emplace_back(int(cg.grid.u.size()), int(cg.grid.v.size()));
+  std::vector<int> unpacked;
+  long long bytes = kDriver;
+  for (const AtlasPlan& plan : plan_atlases(sizes, atlas_side, static_cast<long long>(atlas_side) * atlas_side, unpacked)) {
+    long long w0 = 1, h0 = 1;
+    while (w0 < plan.width) w0 *= 2;
+    while (h0 < plan.height) h0 *= 2;
+    bytes += kAtlasTexel * plan.width * plan.height + pyramid_texel * (w0 * h0 * 4 / 3);
+  }
+  return bytes;
+}
+
 PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
   if (m.search != Search::Faithful)
     throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");

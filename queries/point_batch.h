@@ -84,6 +84,24 @@ enum class PointBoxes { Aabb, Oriented };
 /// point within the model's control box grown by its size), at least T / 2.
 [[nodiscard]] double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
 
+/// The float terms of a batched answer's bound at a point p: the largest float budget of the faces'
+/// samples plus 2 eps, eps = kFloatSlack (|p - centre| + radius) (the centre and half diagonal of
+/// the faces' control box, as PointBatch). No tolerance at or below it can be met at p, whatever
+/// the grids: the float arithmetic of the pass, not the sampling, limits the answer there.
+struct BatchFloatFloor {
+  double budget = 0.0, radius = 0.0;
+  glm::dvec3 centre{0.0};
+  explicit BatchFloatFloor(const std::vector<nurbs::TrimmedSurface>& faces);
+  [[nodiscard]] double at(const glm::dvec3& p) const;
+};
+
+/// Bytes a batched query over `m` (prepared by prepare_geometry, no atlases yet) will hold at its
+/// peak, from the atlas plan that prepare_atlases will make with atlases of `atlas_side`: per atlas
+/// texel its samples, normals, masks and indices (GPU and CPU copies), per texel of the pyramid's
+/// levels (padded to powers of two) its boxes (GPU and CPU), plus the GL driver's own. An estimate
+/// for refusing a request that cannot fit before the work, not a measurement.
+[[nodiscard]] long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes);
+
 class PointBatch {
  public:
   /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
@@ -124,6 +142,7 @@ class PointBatch {
   [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
   [[nodiscard]] int levels(size_t a) const { return atlases_[a].levels; }
   [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].level_width(level); }
+  [[nodiscard]] int level_height(size_t a, int level) const { return atlases_[a].level_height(level); }
 
   /// The part of every bound that does not depend on the point: K_e + float budget (model units).
   [[nodiscard]] double model_bound() const { return model_bound_; }

@@ -79,6 +79,28 @@ TEST_CASE("point batch: the GPU pyramid equals the CPU twin's, level by level, b
   CHECK(nonempty_leaves > 100);
 }
 
+TEST_CASE("point batch: the memory estimate covers the atlases and box pyramids the preparation makes") {
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (uint64_t k = 0; k < 12; ++k) faces.push_back(models::random_trimmed_surface(k + 500));
+  const int side = std::min(gpu.info().max_texture_size, 4096);
+  for (double tol : {1e-2, 2e-3}) {
+    queries::PreparedModel m = queries::prepare_geometry(faces, tol);
+    const long long estimate = queries::estimate_batch_bytes(m, side, queries::PointBoxes::Oriented);
+    queries::prepare_atlases(gpu, m, side);
+    queries::PointBatch batch(gpu, m, queries::PointBoxes::Oriented);
+    long long made = 0;  // the GPU textures alone: atlas points and normals, three box textures per level
+    for (size_t a = 0; a < m.atlases.size(); ++a) {
+      made += 32LL * m.atlases[a].plan.width * m.atlases[a].plan.height;
+      for (int l = 0; l < batch.levels(a); ++l) made += 48LL * batch.level_width(a, l) * batch.level_height(a, l);
+    }
+    CAPTURE(tol);
+    MESSAGE("estimate " << estimate << " bytes, GPU textures made " << made);
+    CHECK(estimate >= made);
+    CHECK(estimate <= 4 * made + (160LL << 20));
+  }
+}
+
 TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the faithful query") {
   gpgpu::Gpu& gpu = test::gpu();
   const auto faces = test::spread_faces(6);
