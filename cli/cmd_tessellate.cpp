@@ -1,6 +1,7 @@
 // `nurbsgl tessellate MODEL --eps E [--relative] ...`: trimmed NURBS faces to a triangle mesh with a
 // guaranteed (or approximate) error, after Balázs, Guthe and Klein (nurbs/tessellation/). No GPU.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
@@ -95,6 +96,21 @@ void run(const TessArgs& a) {
   }
   const bool guaranteed = o.mode == nurbs::tess::TessMode::Guaranteed;
   const bool check_failed = a.check && guaranteed && dev.max() > eps;
+  // Guaranteed mode, always: triangles whose centroid or edge midpoints lie outside their face's
+  // trim, farther than eps from its boundary (nurbs::tess::triangles_outside_trim, cheap); such a
+  // face fails the command, named.
+  std::vector<nurbs::tess::OutsideTrim> outside;
+  double trim_check_seconds = 0.0;
+  if (guaranteed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    outside = nurbs::tess::triangles_outside_trim(faces, r.mesh, eps);
+    trim_check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::vector<std::string> over_eps;
+  for (size_t f = 0; f < outside.size(); ++f)
+    if (outside[f].triangles > 0)
+      over_eps.push_back(fmt::format("face {} (id {}): {} triangles, {:.6g} outside", f, faces[f].face_id,
+                                     outside[f].triangles, outside[f].distance));
 
   if (a.json) {
     nlohmann::json j = {{"model", a.path},
@@ -128,8 +144,34 @@ void run(const TessArgs& a) {
     nlohmann::json failures = nlohmann::json::array();
     for (const auto& f : r.failures) failures.push_back({{"face", f.face}, {"reason", f.reason}});
     j["failures"] = failures;
-    if (a.check)
-      j["check"] = {{"max_deviation", dev.max()},
+    if (guaranteed) {
+      nlohmann::json list = nlohmann::json::array();
+      for (size_t f = 0; f < outside.size(); ++f)
+        if (outside[f].triangles > 0)
+          list.push_back({{"face", f},
+                          {"face_id", faces[f].face_id},
+                          {"triangles", outside[f].triangles},
+                          {"distance", outside[f].distance}});
+      j["trim_check"] = {{"faces_over_eps", list}, {"seconds", trim_check_seconds}};
+    }
+    if (a.check) {
+      // Per face: its triangles and measured deviation.
+      std::vector<long long> triangles(faces.size(), 0);
+      for (const int f : r.mesh.triangle_face)
+        if (f >= 0 && size_t(f) < faces.size()) ++triangles[size_t(f)];
+      nlohmann::json per_face = nlohmann::json::array();
+      for (size_t f = 0; f < faces.size(); ++f) {
+        const double s2m = f < dev.face_surface_to_mesh.size() ? dev.face_surface_to_mesh[f] : 0.0;
+        const double m2s = f < dev.face_mesh_to_surface.size() ? dev.face_mesh_to_surface[f] : 0.0;
+        per_face.push_back({{"face", f},
+                            {"face_id", faces[f].face_id},
+                            {"triangles", triangles[f]},
+                            {"surface_to_mesh", s2m},
+                            {"mesh_to_surface", m2s},
+                            {"max_deviation", std::max(s2m, m2s)}});
+      }
+      j["check"] = {{"faces", per_face},
+                    {"max_deviation", dev.max()},
                     {"surface_to_mesh", dev.surface_to_mesh},
                     {"mesh_to_surface", dev.mesh_to_surface},
                     {"worst_face", dev.worst_face},
@@ -137,6 +179,7 @@ void run(const TessArgs& a) {
                     {"mesh_samples", dev.mesh_samples},
                     {"seconds", dev.seconds},
                     {"within_eps", dev.max() <= eps}};
+    }
     if (!a.output.empty()) j["output"] = a.output;
     fmt::print("{}\n", j.dump(2));
   } else {
@@ -156,6 +199,7 @@ void run(const TessArgs& a) {
                  dev.max() <= eps ? ""
                  : guaranteed     ? "  ABOVE eps"
                                   : "  (above eps: approximate mode)");
+    for (const std::string& f : over_eps) fmt::print("outside trim {}  ABOVE eps\n", f);
     if (!a.output.empty()) fmt::print("written      {}\n", a.output);
     for (const auto& f : r.failures) fmt::print("failed       face {}: {}\n", f.face, f.reason);
   }
@@ -163,6 +207,10 @@ void run(const TessArgs& a) {
     fmt::print(stderr, "nurbsgl: tessellate: {}: face {}: {}\n", a.path, f.face, f.reason);
   if (!r.failures.empty())
     throw CommandFailed(fmt::format("{} of {} faces could not be tessellated", r.failures.size(), r.stats.faces));
+  if (!over_eps.empty())
+    throw CommandFailed(fmt::format("guaranteed mode: {} face(s) with triangles outside their trim by more than eps "
+                                    "{:.6g}: {}",
+                                    over_eps.size(), eps, fmt::join(over_eps, "; ")));
   if (check_failed) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", dev.max(), eps));
 }
 

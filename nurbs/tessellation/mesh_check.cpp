@@ -123,16 +123,24 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   const TriangleBvh mesh_bvh(std::move(tris));
   std::vector<double> worst(size_t(threads), 0.0);
   std::vector<int> worst_face(size_t(threads), -1);
+  // Per thread and face, the face's worst sample (reduced below).
+  std::vector<std::vector<double>> face_worst(size_t(threads), std::vector<double>(faces.size(), 0.0));
   parallel_for((long long)samples.size(), threads, [&](long long k, int t) {
     const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
-    if (d > worst[size_t(t)]) {
-      const int f = samples[size_t(k)].face;
-      worst[size_t(t)] = d, worst_face[size_t(t)] = f >= 0 ? f : -1 - f;
-    }
+    const int f = samples[size_t(k)].face >= 0 ? samples[size_t(k)].face : -1 - samples[size_t(k)].face;
+    face_worst[size_t(t)][size_t(f)] = std::max(face_worst[size_t(t)][size_t(f)], d);
+    if (d > worst[size_t(t)]) worst[size_t(t)] = d, worst_face[size_t(t)] = f;
   });
   for (int t = 0; t < threads; ++t)
     if (worst[size_t(t)] >= r.surface_to_mesh)
       r.surface_to_mesh = worst[size_t(t)], r.worst_face = worst_face[size_t(t)];
+  const auto reduce = [&](std::vector<double>& out) {
+    out.assign(faces.size(), 0.0);
+    for (const auto& per_thread : face_worst)
+      for (size_t f = 0; f < faces.size(); ++f) out[f] = std::max(out[f], per_thread[f]);
+    for (auto& per_thread : face_worst) std::fill(per_thread.begin(), per_thread.end(), 0.0);
+  };
+  reduce(r.face_surface_to_mesh);
   r.surface_samples = (long long)samples.size();
 
   // Mesh to surface: vertices, edge midpoints and centroids.
@@ -209,12 +217,100 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
         newton(mesh.triangle_face[size_t(k)], uvs[i]);
       }
       worst[size_t(t)] = std::max(worst[size_t(t)], d);
+      const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];
+      if (own >= 0 && size_t(own) < faces.size())
+        face_worst[size_t(t)][size_t(own)] = std::max(face_worst[size_t(t)][size_t(own)], d);
     }
   });
   for (double w : worst) r.mesh_to_surface = std::max(r.mesh_to_surface, w);
+  reduce(r.face_mesh_to_surface);
   r.mesh_samples = 7 * nt;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
+                                                double distance) {
+  std::vector<OutsideTrim> out(faces.size());
+  if (mesh.uv.empty() || mesh.triangle_face.empty() || mesh.vertex_face.empty()) return out;
+  std::vector<std::vector<size_t>> of_face(faces.size());
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const int f = mesh.triangle_face[k];
+    if (f >= 0 && size_t(f) < faces.size() && !faces[size_t(f)].loops.empty()) of_face[size_t(f)].push_back(k);
+  }
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (of_face[f].empty()) continue;
+    const Surface& s = faces[f].surface;
+    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+    // Flattened within 1e-5 of the domain: a sample misjudged by it lies that close to a loop, far
+    // below the estimate's threshold.
+    const TrimPolygons trim = flatten_trim(faces[f], 1e-5 * std::max(du.width(), dv.width()));
+    std::vector<std::vector<glm::dvec3>> boundary;  // the face's boundary in space, built when first needed
+    // A sample's distance outside the material: 0 when material; else, when its (u, v) distance to
+    // the loops times the larger first derivative there (a cheap estimate) passes a quarter of
+    // `distance`, the distance of its point in space to the face's boundary.
+    const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
+      if (is_material(trim, p)) return 0.0;
+      double near = 1e300;
+      for (const auto& loop : trim.loops)
+        for (size_t k = 0; k < loop.size(); ++k) {
+          const glm::dvec2 a = loop[k], d = loop[(k + 1) % loop.size()] - a;
+          const double len2 = glm::dot(d, d);
+          const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+          near = std::min(near, glm::distance(a + t * d, p));
+        }
+      const SurfaceDerivatives sd =
+          surface_derivatives(s, std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max));
+      if (near * std::max(glm::length(sd.su), glm::length(sd.sv)) <= 0.25 * distance) return 0.0;
+      if (boundary.empty()) boundary = face_boundary(faces[f], 1e-3 * distance);
+      double best = 1e300;
+      for (const auto& line : boundary)
+        for (size_t k = 0; k + 1 < line.size(); ++k) {
+          const glm::dvec3 a = line[k], d = line[k + 1] - a;
+          const double len2 = glm::dot(d, d);
+          const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, d) / len2, 0.0, 1.0) : 0.0;
+          best = std::min(best, glm::distance(a + t * d, x));
+        }
+      return best;
+    };
+    for (const size_t k : of_face[f]) {
+      const glm::ivec3 t = mesh.triangles[k];
+      if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+          mesh.vertex_face[size_t(t.z)] != int(f))
+        continue;  // a corner shared with another face: its (u, v) is that face's
+      const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
+      const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                       pc = mesh.positions[size_t(t.z)];
+      const double d = std::max({outside((a + b + c) / 3.0, (pa + pb + pc) / 3.0), outside(0.5 * (a + b), 0.5 * (pa + pb)),
+                                 outside(0.5 * (b + c), 0.5 * (pb + pc)), outside(0.5 * (c + a), 0.5 * (pc + pa))});
+      out[f].distance = std::max(out[f].distance, d);
+      out[f].triangles += d > distance;
+    }
+  }
+  return out;
+}
+
+TriangleMesh face_submesh(const TriangleMesh& mesh, int face) {
+  TriangleMesh out;
+  std::vector<int> index(mesh.positions.size(), -1);
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    if (mesh.triangle_face.empty() || mesh.triangle_face[k] != face) continue;
+    glm::ivec3 t = mesh.triangles[k];
+    for (int c = 0; c < 3; ++c) {
+      int& v = index[size_t(t[c])];
+      if (v < 0) {
+        v = int(out.positions.size());
+        out.positions.push_back(mesh.positions[size_t(t[c])]);
+        if (!mesh.uv.empty()) out.uv.push_back(mesh.uv[size_t(t[c])]);
+        if (!mesh.normals.empty()) out.normals.push_back(mesh.normals[size_t(t[c])]);
+        out.vertex_face.push_back(0);
+      }
+      t[c] = v;
+    }
+    out.triangles.push_back(t);
+    out.triangle_face.push_back(0);
+  }
+  return out;
 }
 
 }  // namespace nurbs::tess

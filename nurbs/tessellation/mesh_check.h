@@ -21,6 +21,9 @@ struct Deviation {
   double surface_to_mesh = 0.0;  ///< max over face samples of the distance to the mesh
   double mesh_to_surface = 0.0;  ///< max over mesh samples of the distance to the faces (an upper bound)
   int worst_face = -1;           ///< face of the worst surface sample
+  /// Per face: the largest distance of its samples to the mesh, and of the samples of its triangles
+  /// (mesh.triangle_face; none when the mesh does not carry it) to the faces.
+  std::vector<double> face_surface_to_mesh, face_mesh_to_surface;
   long long surface_samples = 0, mesh_samples = 0;
   double seconds = 0.0;
   [[nodiscard]] double max() const { return surface_to_mesh > mesh_to_surface ? surface_to_mesh : mesh_to_surface; }
@@ -36,5 +39,24 @@ struct Deviation {
 /// between samples can be missed by up to the sample spacing times the slope.
 [[nodiscard]] Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
                                           const DeviationOptions& options = {});
+
+/// Triangles of a face that reach outside its trim, found cheaply (no sampling of the face).
+struct OutsideTrim {
+  int triangles = 0;      ///< triangles with a sample farther than the given distance outside
+  double distance = 0.0;  ///< the farthest such sample's distance to the face's boundary (0: none found)
+};
+
+/// Per face (by mesh.triangle_face, triangles with (u, v) of that face at all three corners): the
+/// triangles whose centroid or an edge midpoint lies outside its material (the trim loops,
+/// flattened within 1e-5 of the domain) and, in space, farther than `distance` from the face's
+/// boundary (its trim curves on the surface, within 1e-3 `distance`). Only samples whose (u, v)
+/// distance to the loops times the larger first derivative there passes distance / 4 are measured
+/// in space, so a mesh within its loops' tolerance costs one point-in-polygon test per sample.
+[[nodiscard]] std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface>& faces,
+                                                              const TriangleMesh& mesh, double distance);
+
+/// The triangles of face `face` of `mesh` (by triangle_face) as a mesh of their own, vertices
+/// renumbered, triangle_face 0: what measure_deviation needs to measure that face alone.
+[[nodiscard]] TriangleMesh face_submesh(const TriangleMesh& mesh, int face);
 
 }  // namespace nurbs::tess

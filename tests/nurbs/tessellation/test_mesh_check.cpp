@@ -8,9 +8,11 @@
 #include <sstream>
 
 #include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/tessellation/mesh_topology.h"
+#include "nurbs/tessellation/tessellate.h"
 #include "nurbs/tessellation/triangle_bvh.h"
 
 namespace {
@@ -80,6 +82,56 @@ TEST_CASE("mesh check: deviation of an exact mesh is 0; a moved vertex and a mis
   CHECK(missing.surface_to_mesh == doctest::Approx(std::sqrt(0.5)).epsilon(1e-9));
   CHECK(missing.mesh_to_surface < 1e-12);
   CHECK(missing.worst_face == 0);
+}
+
+TEST_CASE("mesh check: per-face deviations; a triangle across a concave trim shows on its face alone") {
+  // Face 0: the square [0, 10]^2 trimmed to a U (a notch x in [3, 7], y > 4 cut away), as a planar
+  // face with one outer loop of degree-1 curves; face 1: an untrimmed square beside it.
+  nurbs::TrimmedSurface u_face, other;
+  u_face.surface = models::bilinear_square(10.0);
+  const glm::dvec2 corners[] = {{0, 0}, {10, 0}, {10, 10}, {7, 10}, {7, 4}, {3, 4}, {3, 10}, {0, 10}};
+  nurbs::TrimLoop loop;
+  loop.outer = true;
+  for (size_t k = 0; k < 8; ++k) loop.curves.push_back(models::trim_line(corners[k], corners[(k + 1) % 8]));
+  u_face.loops.push_back(loop);
+  other.surface = models::bilinear_square(10.0);
+  for (auto& p : other.surface.points) p.x += 20.0;
+  const std::vector<nurbs::TrimmedSurface> faces{u_face, other};
+  nurbs::tess::TessellateOptions o;
+  o.eps = 1e-2;
+  nurbs::tess::TessellateResult r = nurbs::tess::tessellate(faces, o);
+  REQUIRE(r.failures.empty());
+  const auto good = nurbs::tess::triangles_outside_trim(faces, r.mesh, o.eps);
+  REQUIRE(good.size() == 2);
+  CHECK(good[0].triangles == 0);
+  CHECK(good[1].triangles == 0);
+  const nurbs::tess::Deviation fine = nurbs::tess::measure_deviation(faces, r.mesh, {16, 0.0, 1});
+  REQUIRE(fine.face_mesh_to_surface.size() == 2);
+  CHECK(fine.face_mesh_to_surface[0] <= o.eps);
+  CHECK(fine.face_surface_to_mesh[1] <= o.eps);
+  // A triangle of face 0 across the notch, its corners on the loop at (3, 10), (7, 10), (5, 4):
+  // its centroid (5, 8) lies 2 outside the material (the notch's sides are 2 away).
+  nurbs::TriangleMesh bad = r.mesh;
+  const int v = int(bad.positions.size());
+  for (const glm::dvec2 uv : {glm::dvec2(3, 10), glm::dvec2(7, 10), glm::dvec2(5, 4)}) {
+    bad.positions.emplace_back(uv.x, uv.y, 0.0);
+    bad.uv.push_back(uv);
+    bad.vertex_face.push_back(0);
+    if (!bad.normals.empty()) bad.normals.emplace_back(0.0, 0.0, 1.0);
+  }
+  bad.triangles.emplace_back(v, v + 1, v + 2);
+  bad.triangle_face.push_back(0);
+  const auto found = nurbs::tess::triangles_outside_trim(faces, bad, o.eps);
+  CHECK(found[0].triangles == 1);
+  CHECK(found[0].distance == doctest::Approx(2.0).epsilon(1e-3));
+  CHECK(found[1].triangles == 0);
+  const nurbs::tess::Deviation measured = nurbs::tess::measure_deviation(faces, bad, {16, 0.0, 1});
+  CHECK(measured.face_mesh_to_surface[0] >= 1.9);
+  CHECK(measured.face_mesh_to_surface[1] <= o.eps);
+  // The face alone, as the check's per-face measurement sees it.
+  const nurbs::TriangleMesh alone = nurbs::tess::face_submesh(bad, 0);
+  CHECK(alone.triangles.size() < bad.triangles.size());
+  CHECK(nurbs::tess::measure_deviation({u_face}, alone, {16, 0.0, 1}).mesh_to_surface >= 1.9);
 }
 
 TEST_CASE("mesh check: open edges after welding") {
