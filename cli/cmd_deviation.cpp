@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "nurbs/io/mesh_reader.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -80,7 +81,7 @@ void run(const DeviationArgs& a) {
                         {"read_seconds", read_seconds},
                         {"parameter_seconds", uv_seconds}};
     if (a.eps_given) j["eps"] = eps, j["within_eps"] = !above;
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
   } else {
     fmt::print("model        {} ({} faces, size {:.6g})\n", a.model, faces.size(), size);
     fmt::print("mesh         {} ({} triangles, {} vertices)\n", a.mesh, mesh.triangles.size(), mesh.positions.size());
@@ -107,7 +108,7 @@ void add_deviation(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_option_function<double>(
          "--eps", [a](double v) { a->eps = v, a->eps_given = true; },
          "Exit 1 when the measured deviation exceeds this (model units unless --relative)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number("a positive distance"));
   cmd->add_flag("--relative", a->relative, "--eps is a fraction of the model size");
   cmd->add_option("--samples", a->samples, "A N x N (u, v) grid of samples per face")
       ->check(CLI::Range(2, 4096))

@@ -186,7 +186,7 @@ void run(const GlobalOptions& global, const Options& o) {
       for (const auto& g : prepared->grids) samples += g.grid.samples();
       j["samples"] = samples;
     }
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
   } else {
     fmt::print("{} faces, model size {:.6g}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
                o.rel_tolerance * size, prepare_s);

@@ -266,7 +266,7 @@ void run(const GlobalOptions& global, const Options& o) {
   }
   if (!o.obj.empty()) nurbs::io::write_obj_file(o.obj, grids);
   if (o.json) {
-    fmt::print("{}\n", nlohmann::json{{"model", o.path},
+    print_json(nlohmann::json{{"model", o.path},
                                       {"model_size", size},
                                       {"tolerance", tolerance},
                                       {"backend", gpu->info().backend},
@@ -277,8 +277,7 @@ void run(const GlobalOptions& global, const Options& o) {
                                       {"gpu_ms", total_ms},
                                       {"batches", batches},
                                       {"faces_alone", alone.size()},
-                                      {"faces", rows}}
-                           .dump(2));
+                                      {"faces", rows}});
   } else {
     fmt::print(
         "{}/{} faces meet the tolerance; {} samples in all, largest grid {}; GPU {:.1f} ms ({} batches, {} "

@@ -26,7 +26,7 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
                        {"float_targets_ok", i.float_targets_ok},
                        {"timer_queries", i.timer_queries},
                        {"software_threads", i.software_threads}};
-      fmt::print("{}\n", j.dump(2));
+      print_json(j);
       return;
     }
     fmt::print("backend            {}\n", i.backend);

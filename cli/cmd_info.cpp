@@ -43,7 +43,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
                      {"gaps_closed", log.gaps_closed},           {"ranges_restricted", log.ranges_restricted},
                      {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings}};
       if (*bounds) j["bounds"] = bounds_report(model, *tolerance, false);
-      fmt::print("{}\n", j.dump(2));
+      print_json(j);
       return;
     }
     fmt::print("{}", nurbs::io::to_text(s, *per_face));

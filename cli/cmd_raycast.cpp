@@ -46,7 +46,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
                         {"face", face},          {"uv", uv}};
     j["t_bicubic"] = t_bicubic;  // the hit on the bicubic patch before the exact step (Fig. 13 accuracy)
     j.update(engine.figures());
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
     return;
   }
   const nlohmann::json f = engine.figures();

@@ -79,7 +79,7 @@ void run(const GlobalOptions& global, const Options& o) {
                      {"min", {{"ok", ok_min}, {"ms", t_min}, {"value", gmin}}},
                      {"argmin", {{"ok", ok_arg}, {"ms", t_arg}, {"index", garg.index}}},
                      {"compaction", {{"ok", ok_cmp}, {"ms", t_cmp}, {"kept", comp.count}, {"levels", comp.levels}}}};
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
   } else {
     fmt::print("GPU self-check on {} ({}, {})\n", gpu->info().renderer, gpu->info().backend, gpu->info().detail);
     fmt::print("  min reduction   {}x{}  {:8.2f} ms  {:8.1f} Mtexel/s  {}\n", n, n, t_min, mtex / t_min,

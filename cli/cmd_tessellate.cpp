@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -181,7 +182,7 @@ void run(const TessArgs& a) {
                     {"within_eps", dev.max() <= eps}};
     }
     if (!a.output.empty()) j["output"] = a.output;
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
   } else {
     fmt::print("model        {} ({} faces, size {:.6g})\n", a.path, r.stats.faces, size);
     fmt::print("eps          {:.6g} ({:.3g} of the size), {} error, {}\n", eps, eps / size, a.mode, a.method);
@@ -226,7 +227,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
          "--eps", [a](double v) { a->eps = v, a->eps_given = true; },
          "Maximum distance between the faces and the mesh, absolute (model units) unless --relative; default "
          "1e-3 of the model size")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number("a positive distance"));
   cmd->add_flag("--relative", a->relative, "--eps is a fraction of the model size");
   cmd->add_option("--mode", a->mode,
                   "guaranteed: the error is proven (trims and cells each within eps/2); approximate: the paper's "

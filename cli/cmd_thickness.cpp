@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "cli/ray_engine.h"
 #include "cli/thickness_ball.h"
 #include "gpgpu/exr_dump.h"
@@ -159,7 +160,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
                        {"hit_face", hits[thinnest].face}};
     }
     j.update(f);
-    fmt::print("{}\n", j.dump(2));
+    print_json(j);
     return;
   }
   fmt::print("model      {} ({} faces, {} bicubic patches, size {:.6g})\n", a.model, scene.faces.size(),
@@ -213,11 +214,11 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option_function<double>(
          "--spacing", [a](double v) { a->spacing = v, a->spacing_given = true; },
          "Sample spacing on the faces, in model units (instead of --samples)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number("a positive distance"));
   cmd->add_option_function<double>(
          "--min-wall", [a](double v) { a->min_wall = v, a->min_wall_given = true; },
          "Count the samples thinner than T (model units)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number("a positive distance"));
   add_ray_engine_options(cmd, a->engine);
   cmd->add_flag("--ball", a->ball.enabled,
                 "Also the rolling-ball thickness: the largest empty ball tangent at each sample (shrinking ball over "
@@ -230,7 +231,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::IsMember({"ray", "ball"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", a->output,
-                  "Write the samples as a PLY mesh coloured by thickness (blue thin, red thick)");
+                  "Write the samples as a PLY mesh coloured by thickness (red thin, yellow, green, blue thick, as the viewer) with the thickness as a float vertex property");
   cmd->add_option("--csv", a->csv, "Write face, u, v, x, y, z, thickness, hit_face per sample");
   cmd->add_option("--exr", a->exr, "Write each face's thickness grid as DIR/face_NNNN_thickness.exr (-1: none)");
   cmd->add_flag("--json", a->json, "One JSON object: rays, hits, thickness min/max/mean/median, figures");

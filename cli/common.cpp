@@ -1,11 +1,12 @@
 #include "cli/common.h"
 
-#include <fstream>
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include "nurbs/io/output_file.h"
 #include "nurbs/model_ops.h"
@@ -74,6 +75,39 @@ long long available_memory() {
   while (f >> key >> value >> unit)
     if (key == "MemAvailable:") return unit == "kB" ? value * 1024 : value;
   return -1;
+}
+
+namespace {
+bool g_json_printed = false;
+}
+
+void print_json(const nlohmann::json& j) {
+  fmt::print("{}\n", j.dump(2));
+  std::fflush(stdout);
+  g_json_printed = true;
+}
+
+bool json_printed() { return g_json_printed; }
+
+std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names) {
+  const auto distance = [](const std::string& a, const std::string& b) {  // Levenshtein
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::vector<std::string> out;
+  for (const std::string& n : names)
+    if (distance(word, n) <= 2 || (word.size() >= 2 && n.rfind(word, 0) == 0)) out.push_back(n);
+  return out;
 }
 
 }  // namespace cli

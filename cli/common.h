@@ -3,8 +3,10 @@
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
 #include <chrono>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "gpgpu/gpu.h"
 #include "nurbs/model.h"
@@ -63,6 +65,15 @@ double checked_model_size(const nurbs::Model& model, const std::string& path);
 /// Before a command's work: BadInput (exit 2) naming `option` unless `path` can be written
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.
 void check_output(const std::string& path, const std::string& option);
+
+/// Prints a command's one JSON object on stdout, and notes that it did: an error raised after it
+/// is reported as text only (stdout keeps one object).
+void print_json(const nlohmann::json& j);
+[[nodiscard]] bool json_printed();
+
+/// The subcommand names closest to `word` (edit distance at most 2, or `word` a prefix), for a
+/// did-you-mean.
+[[nodiscard]] std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names);
 
 /// The memory this machine can give a new allocation now (MemAvailable of /proc/meminfo, bytes);
 /// -1 when unknown.

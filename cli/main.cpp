@@ -1,8 +1,13 @@
 // nurbsgl: geometric queries on trimmed NURBS models with OpenGL fragment-shader GPGPU.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <exception>
 #include <new>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "cli/commands.h"
 #include "nurbs/io/output_file.h"
@@ -40,36 +45,58 @@ int main(int argc, char** argv) {
   cli::add_raycast(app, global);
   cli::add_thickness(app, global);
 
+  // With --json anywhere, an error before the command's object is printed is one JSON object too
+  // ({"error", "exit_code"} on stdout); the text stays on stderr.
+  bool json = false;
+  for (int k = 1; k < argc; ++k) json |= std::string_view(argv[k]) == "--json";
+  const auto fail = [&](int rc, const std::string& text) {
+    fmt::print(stderr, "{}\n", text);
+    if (json && !cli::json_printed()) cli::print_json({{"error", text}, {"exit_code", rc}});
+    return rc;
+  };
+  // A first word that names no command: the commands nearest to it.
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  for (int k = 1; k < argc; ++k) {
+    const std::string_view word(argv[k]);
+    if (word == "--gl" || word == "--dump" || word == "--gl-threads") {
+      ++k;  // its value
+      continue;
+    }
+    if (word.empty() || word[0] == '-') continue;
+    if (std::find(names.begin(), names.end(), word) == names.end()) {
+      const std::vector<std::string> near = cli::closest_names(std::string(word), names);
+      return fail(cli::kBadInput,
+                  fmt::format("nurbsgl: '{}' is not a command{}; `nurbsgl --help` lists them", word,
+                              near.empty() ? "" : fmt::format(" (did you mean {}?)", fmt::join(near, " or "))));
+    }
+    break;
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);  // prints help (rc 0) or the usage error
-    return rc == 0 ? cli::kOk : cli::kBadInput;
+    if (e.get_exit_code() == 0) return app.exit(e), cli::kOk;  // --help
+    if (!json) return app.exit(e), cli::kBadInput;               // the usage error and its hint
+    return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const gpgpu::NoGlError& e) {
-    fmt::print(stderr, "nurbsgl: {}\n", e.what());
-    return cli::kNoGl;
+    return fail(cli::kNoGl, fmt::format("nurbsgl: {}", e.what()));
   } catch (const nurbs::io::ReadError& e) {
-    fmt::print(stderr, "nurbsgl: {}\n", e.what());
-    return cli::kBadInput;
+    return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const nurbs::io::WriteError& e) {  // an output file (checked before the work where possible)
-    fmt::print(stderr, "nurbsgl: {}\n", e.what());
-    return cli::kBadInput;
+    return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const cli::BadInput& e) {
-    fmt::print(stderr, "nurbsgl: {}\n", e.what());
-    return cli::kBadInput;
+    return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const cli::CommandFailed& e) {
-    fmt::print(stderr, "nurbsgl: FAILED: {}\n", e.what());
-    return cli::kFailed;
+    return fail(cli::kFailed, fmt::format("nurbsgl: FAILED: {}", e.what()));
   } catch (const std::bad_alloc&) {  // what the up-front estimates did not foresee
-    fmt::print(stderr, "nurbsgl: out of memory: the request needs more than this machine has free (a larger --tol, "
-                       "fewer points or faces)\n");
-    return cli::kBadInput;
+    return fail(cli::kBadInput,
+                "nurbsgl: out of memory: the request needs more than this machine has free (a larger --tol, fewer "
+                "points or faces)");
   } catch (const std::exception& e) {
-    fmt::print(stderr, "nurbsgl: error: {}\n", e.what());
-    return cli::kFailed;
+    return fail(cli::kFailed, fmt::format("nurbsgl: error: {}", e.what()));
   } catch (...) {
-    fmt::print(stderr, "nurbsgl: error: unknown exception\n");
-    return cli::kFailed;
+    return fail(cli::kFailed, "nurbsgl: error: unknown exception");
   }
   return cli::kOk;
 }

@@ -80,7 +80,7 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
                   "bitonic sort, Karras' nodes: Lemasson et al. §3.2)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
-  cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_option("--dacrt-patches", args.dacrt_patches,
                   "dacrt: test every ray against every patch once a patch set is this small (Figs. 8-9)")
       ->check(CLI::Range(1, 1 << 20))

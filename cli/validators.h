@@ -10,24 +10,42 @@
 
 namespace cli {
 
+/// `text` as a whole as a double: "" when it is one, else the message (naming `what`).
+inline std::string parse_double(const std::string& text, double& v, const std::string& what) {
+  try {
+    size_t used = 0;
+    v = std::stod(text, &used);
+    if (used == text.size()) return "";
+  } catch (const std::exception&) {
+  }
+  return "'" + text + "' is not a number" + (what.empty() ? "" : " (" + what + ")");
+}
+
 /// A tolerance relative to the model size: a finite number in [1e-9, 1]. Below 1e-9 no grid could be
 /// stored within the sample limits, and float GPU samples carry about 1e-7 of the size anyway.
 inline CLI::Validator relative_tolerance() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
         double v = 0;
-        try {
-          size_t used = 0;
-          v = std::stod(text, &used);
-          if (used != text.size()) return "'" + text + "' is not a number";
-        } catch (const std::exception&) {
-          return "'" + text + "' is not a number";
-        }
+        if (std::string e = parse_double(text, v, ""); !e.empty()) return e;
         if (!std::isfinite(v) || v < 1e-9 || v > 1.0)
           return text + " is not a finite number from 1e-9 to 1 (a fraction of the model size)";
         return "";
       },
       "in [1e-9, 1]");
+}
+
+/// A positive finite number (CLI11's PositiveNumber prints its range up to DBL_MAX in 300 digits
+/// and lets NaN pass). `what` says what the number is, for the message.
+inline CLI::Validator positive_number(const std::string& what = "a positive number") {
+  return CLI::Validator(
+      [what](std::string& text) -> std::string {
+        double v = 0;
+        if (std::string e = parse_double(text, v, what); !e.empty()) return e;
+        if (!std::isfinite(v) || !(v > 0.0)) return text + " is not " + what;
+        return "";
+      },
+      "POSITIVE");
 }
 
 /// `--search faithful|coarse-to-fine` (queries::Search): the paper's grids at the tolerance, or

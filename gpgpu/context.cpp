@@ -140,10 +140,10 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     }
     tried += fmt::format("{}{}: {}", tried.empty() ? "" : "; ", backend_name(b), why);
   }
-  throw NoGlError(
-      fmt::format("no usable OpenGL 4.5 core context ({}); choose another backend with --gl "
-                  "egl|egl-device|osmesa|glfw or NURBSGL_GL",
-                  tried));
+  throw NoGlError(fmt::format("no usable OpenGL 4.5 core context ({}); choose another backend with --gl "
+                              "egl|egl-device|osmesa|glfw or NURBSGL_GL",
+                              tried),
+                  tried);
 }
 
 }  // namespace gpgpu

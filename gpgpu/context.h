@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace gpgpu {
@@ -60,6 +61,12 @@ struct ContextInfo {
 class NoGlError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  /// `what` with `tried`: what each backend answered, for a caller with its own advice.
+  NoGlError(const std::string& what, std::string tried) : std::runtime_error(what), tried_(std::move(tried)) {}
+  [[nodiscard]] const std::string& tried() const { return tried_; }
+
+ private:
+  std::string tried_;
 };
 
 class Context;

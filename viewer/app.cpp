@@ -163,8 +163,11 @@ void App::print_scripted_results() {
 int App::run() {
   try {
     start_gl();
-  } catch (const gpgpu::NoGlError& e) {
-    fmt::print(stderr, "nurbsgl-viewer: {}\n", e.what());
+  } catch (const gpgpu::NoGlError& e) {  // the viewer has one backend, a window: no --gl to suggest
+    fmt::print(stderr,
+               "nurbsgl-viewer: no OpenGL 4.5 window ({}); the viewer needs a display (X11 or Wayland; without "
+               "one, xvfb-run -a nurbsgl-viewer ...); the nurbsgl commands run headless\n",
+               e.tried().empty() ? e.what() : e.tried());
     return kNoGl;
   }
   load_models();

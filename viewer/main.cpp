@@ -18,7 +18,8 @@ namespace {
 
 int run(int argc, char** argv) {
   viewer::ViewerOptions o;
-  CLI::App app("nurbsgl-viewer: trimmed NURBS models, clearance, tessellation and thickness on the GPU",
+  CLI::App app("nurbsgl-viewer: trimmed NURBS models, clearance, tessellation and thickness on the GPU.\n"
+               "nurbsgl-viewer [OPTIONS] A [B]: one model, or two for clearance (B defaults to a copy of A)",
                "nurbsgl-viewer");
   app.add_option("MODEL", o.models, "Model file(s): A, and B (default: a copy of A)")->required()->expected(1, 2);
   app.add_option("--frames", o.frames, "Scripted run: N frames of B sliding past A to its placement, then exit")

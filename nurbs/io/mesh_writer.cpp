@@ -53,11 +53,14 @@ void write_obj(std::ostream& out, const TriangleMesh& m) {
 
 void write_ply(std::ostream& out, const TriangleMesh& m) {
   const bool normals = !m.normals.empty(), colors = !m.colors.empty(), faces = !m.triangle_face.empty();
-  out << "ply\nformat binary_little_endian 1.0\ncomment nurbsgl tessellation\n";
+  const bool values = !m.values.empty() && !m.values_name.empty();
+  out << "ply\nformat binary_little_endian 1.0\n";
+  fmt::print(out, "comment nurbsgl {}\n", values ? m.values_name + " samples" : std::string("tessellation"));
   fmt::print(out, "element vertex {}\n", m.positions.size());
   out << "property float x\nproperty float y\nproperty float z\n";
   if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
   if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (values) fmt::print(out, "property float {}\n", m.values_name);
   fmt::print(out, "element face {}\n", m.triangles.size());
   out << "property list uchar int vertex_indices\n";
   if (faces) out << "property int face_id\n";
@@ -68,6 +71,7 @@ void write_ply(std::ostream& out, const TriangleMesh& m) {
       for (int c = 0; c < 3; ++c) put(out, float(m.normals[i][c]));
     if (colors)
       for (int c = 0; c < 3; ++c) put(out, uint8_t(std::clamp(m.colors[i][c], 0.0, 1.0) * 255.0 + 0.5));
+    if (values) put(out, float(m.values[i]));
   }
   for (size_t k = 0; k < m.triangles.size(); ++k) {
     put(out, uint8_t(3));

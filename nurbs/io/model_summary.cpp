@@ -71,7 +71,9 @@ ModelSummary summarize(const Model& model) {
 
 std::string to_text(const ModelSummary& s, bool per_face) {
   std::string out = fmt::format("source: {}\nunit: {} mm\nbodies: {}\n", s.source, s.unit_scale_to_mm, s.bodies);
-  out += fmt::format("faces: {} ({} trimmed, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
+  // "With trim loops" counts every face with a loop, also one on its surface's natural boundary
+  // (every face of a B-rep file): other kernels count as trimmed only faces cut inside it.
+  out += fmt::format("faces: {} ({} with trim loops, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
   out += fmt::format("max degree: {} x {}\ncontrol points: {}\n", s.max_degree_u, s.max_degree_v, s.control_points);
   out += fmt::format("trim loops: {} outer, {} inner, {} curves\n", s.outer_loops, s.inner_loops, s.trim_curves);
   out += fmt::format("control-point box: [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x, s.bbox_min.y,
@@ -86,11 +88,14 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   if (s.skipped_entities.empty()) out += " none";
   for (auto [type, count] : s.skipped_entities) out += fmt::format(" {}x{}", type, count);
   out += '\n';
-  if (per_face)
-    for (const FaceSummary& f : s.face_list)
-      out += fmt::format("face {} (body {}{}{}): degree {}x{}, {}x{} points{}, loops {} outer {} inner, {} curves\n",
-                         f.face_id, f.body, f.name.empty() ? "" : ", ", f.name, f.degree_u, f.degree_v, f.count_u,
-                         f.count_v, f.rational ? ", rational" : "", f.outer_loops, f.inner_loops, f.trim_curves);
+  if (per_face)  // numbered as every command numbers faces (0-based, bodies in order); id: the file's
+    for (size_t k = 0; k < s.face_list.size(); ++k) {
+      const FaceSummary& f = s.face_list[k];
+      out += fmt::format(
+          "face {} (id {}, body {}{}{}): degree {}x{}, {}x{} points{}, loops {} outer {} inner, {} curves\n", k,
+          f.face_id, f.body, f.name.empty() ? "" : ", ", f.name, f.degree_u, f.degree_v, f.count_u, f.count_v,
+          f.rational ? ", rational" : "", f.outer_loops, f.inner_loops, f.trim_curves);
+    }
   return out;
 }
 
@@ -98,8 +103,10 @@ nlohmann::json to_json(const ModelSummary& s) {
   nlohmann::json skipped = nlohmann::json::object();
   for (auto [type, count] : s.skipped_entities) skipped[std::to_string(type)] = count;
   nlohmann::json faces = nlohmann::json::array();
-  for (const FaceSummary& f : s.face_list)
+  for (size_t k = 0; k < s.face_list.size(); ++k) {
+    const FaceSummary& f = s.face_list[k];
     faces.push_back({{"body", f.body},
+                     {"face", k},
                      {"face_id", f.face_id},
                      {"name", f.name},
                      {"degree", {f.degree_u, f.degree_v}},
@@ -108,6 +115,7 @@ nlohmann::json to_json(const ModelSummary& s) {
                      {"outer_loops", f.outer_loops},
                      {"inner_loops", f.inner_loops},
                      {"trim_curves", f.trim_curves}});
+  }
   return {{"source", s.source},
           {"unit_scale_to_mm", s.unit_scale_to_mm},
           {"bodies", s.bodies},

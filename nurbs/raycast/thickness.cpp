@@ -203,14 +203,17 @@ ThicknessRays thickness_rays(const ThicknessSamples& samples) {
 glm::dvec3 thickness_colour(double t, double lo, double hi) {
   if (t < 0) return glm::dvec3(0.5);
   const double x = hi > lo ? std::clamp((t - lo) / (hi - lo), 0.0, 1.0) : 0.0;
-  return glm::clamp(glm::dvec3(std::min(4 * x - 1.5, -4 * x + 4.5), std::min(4 * x - 0.5, -4 * x + 3.5),
-                               std::min(4 * x + 0.5, -4 * x + 2.5)),
-                    0.0, 1.0);
+  // The viewer's ramp (viewer/shaders/viewer_mesh.frag): red, yellow, green, blue.
+  const glm::dvec3 red(0.9, 0.1, 0.1), yellow(0.95, 0.85, 0.1), green(0.2, 0.75, 0.3), blue(0.15, 0.35, 0.9);
+  if (x < 1.0 / 3.0) return glm::mix(red, yellow, 3.0 * x);
+  if (x < 2.0 / 3.0) return glm::mix(yellow, green, 3.0 * x - 1.0);
+  return glm::mix(green, blue, 3.0 * x - 2.0);
 }
 
 TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickness& thickness, double lo, double hi,
                             std::vector<double>* vertex_thickness) {
   TriangleMesh m;
+  m.values_name = "thickness";
   if (vertex_thickness) vertex_thickness->clear();
   for (size_t f = 0; f < samples.faces.size(); ++f) {
     const FaceSamples& g = samples.faces[f];
@@ -223,6 +226,7 @@ TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickne
       m.uv.push_back(g.uv[k]);
       m.vertex_face.push_back(g.face);
       m.colors.push_back(thickness_colour(thickness[f][k], lo, hi));
+      m.values.push_back(thickness[f][k]);
       if (vertex_thickness) vertex_thickness->push_back(thickness[f][k]);
     }
     const bool flip = samples.inward_sign[size_t(g.face)] > 0;  // Su x Sv points inward: reverse the grid's order

@@ -75,7 +75,8 @@ struct ThicknessRays {
 /// is no ray or no hit.
 using SampleThickness = std::vector<std::vector<double>>;
 
-/// Blue (thin, t <= lo) to red (thick, t >= hi) through cyan, green and yellow; grey for t < 0.
+/// Red (thin, t <= lo) through yellow and green to blue (thick, t >= hi), the viewer's ramp; grey
+/// for t < 0.
 [[nodiscard]] glm::dvec3 thickness_colour(double t, double lo, double hi);
 
 /// The sample grids as one mesh: a vertex per material sample (normal = -inward, (u, v), face,

@@ -28,14 +28,18 @@ TEST_CASE("summary of the sample model") {
   CHECK(s.size > 0.9 * std::sqrt(22.0));
   CHECK(s.size <= std::sqrt(22.0));
   const std::string text = nurbs::io::to_text(s, true);
-  CHECK(text.find("faces: 2 (1 trimmed, 1 rational)") != std::string::npos);
+  CHECK(text.find("faces: 2 (1 with trim loops, 1 rational)") != std::string::npos);
   CHECK(text.find("skipped entities: 120x2") != std::string::npos);
   CHECK(text.find("loops 1 outer 1 inner, 5 curves") != std::string::npos);
+  // Faces numbered as every command numbers them (0-based), the file's id beside.
+  CHECK(text.find("face 0 (id " + std::to_string(s.face_list[0].face_id) + ", body 0") != std::string::npos);
+  CHECK(text.find("face 1 (id " + std::to_string(s.face_list[1].face_id) + ", body 0") != std::string::npos);
   const nlohmann::json j = nurbs::io::to_json(s);
   CHECK(j["faces"] == 2);
   CHECK(j["skipped_entities"]["120"] == 2);
   CHECK(j["face_list"].size() == 2);
   CHECK(j["face_list"][0]["rational"] == true);
+  CHECK(j["face_list"][1]["face"] == 1);
   CHECK(j["control_bbox"]["max"][2] == 2.0);
   CHECK(j["size"] == s.size);
 }

@@ -138,11 +138,16 @@ TEST_CASE("thickness: the coloured mesh of the samples faces outward, one vertex
   CHECK(inward == 0);
   for (size_t v = 0; v < per_vertex.size(); ++v) {
     CHECK(per_vertex[v] == doctest::Approx(20.0).epsilon(1e-9));
-    CHECK(glm::length(m.colors[v] - thickness_colour(20.0, 0.0, 40.0)) < 1e-9);  // mid-scale: green
+    CHECK(glm::length(m.colors[v] - thickness_colour(20.0, 0.0, 40.0)) < 1e-9);
   }
-  CHECK(thickness_colour(20.0, 0.0, 40.0) == glm::dvec3(0.5, 1.0, 0.5));
-  CHECK(thickness_colour(0.0, 0.0, 40.0) == glm::dvec3(0.0, 0.0, 0.5));  // thin: dark blue
-  CHECK(thickness_colour(-1.0, 0.0, 40.0) == glm::dvec3(0.5));           // no hit: grey
+  // The values themselves travel with the colours (the PLY's thickness property).
+  CHECK(m.values_name == "thickness");
+  CHECK(m.values == per_vertex);
+  // The viewer's ramp: thin red, yellow, green, thick blue; grey without a hit.
+  CHECK(glm::length(thickness_colour(0.0, 0.0, 40.0) - glm::dvec3(0.9, 0.1, 0.1)) < 1e-12);
+  CHECK(glm::length(thickness_colour(20.0, 0.0, 40.0) - glm::dvec3(0.575, 0.8, 0.2)) < 1e-12);
+  CHECK(glm::length(thickness_colour(40.0, 0.0, 40.0) - glm::dvec3(0.15, 0.35, 0.9)) < 1e-12);
+  CHECK(thickness_colour(-1.0, 0.0, 40.0) == glm::dvec3(0.5));
 }
 
 TEST_CASE("thickness: the summary the CLI reports (min, upper median, mean, max; -1 when empty)") {

@@ -172,6 +172,17 @@ TEST_CASE("mesh check: mesh writers (OBJ, PLY, STL layouts, format from the exte
   CHECK(header.find("property float nx\n") != std::string::npos);
   // Vertices: 4 x 6 floats; faces: 2 x (1 + 3 x 4 + face_id 4) bytes.
   CHECK(ply.str().size() == header.size() + 4 * 6 * 4 + 2 * (1 + 12 + 4));
+  CHECK(header.find("comment nurbsgl tessellation\n") != std::string::npos);
+  // A per-vertex scalar (the thickness samples' values) is a float property of its name.
+  m.values = {1.0, 2.0, 3.0, -1.0};
+  m.values_name = "thickness";
+  std::ostringstream with_values;
+  nurbs::io::write_mesh(with_values, m, nurbs::io::MeshFormat::Ply);
+  const std::string header2 = with_values.str().substr(0, with_values.str().find("end_header\n") + 11);
+  CHECK(header2.find("property float nz\nproperty float thickness\nelement face 2\n") != std::string::npos);
+  CHECK(header2.find("comment nurbsgl thickness samples\n") != std::string::npos);
+  CHECK(with_values.str().size() == header2.size() + 4 * 7 * 4 + 2 * (1 + 12 + 4));
+  m.values.clear();
   nurbs::io::write_mesh(obj, m, nurbs::io::MeshFormat::Obj);
   CHECK(obj.str().find("f 1//1 2//2 3//3\n") != std::string::npos);
   CHECK(obj.str().find("g face_0\n") != std::string::npos);
