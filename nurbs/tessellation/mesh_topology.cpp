@@ -40,9 +40,11 @@ std::vector<int> weld_vertices(const std::vector<glm::dvec3>& positions, double 
   return id;
 }
 
-EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance) {
+namespace {
+
+/// Edge counts with vertex i taken as vertex id[i].
+EdgeCounts count_edges_of(const TriangleMesh& mesh, const std::vector<int>& id) {
   EdgeCounts r;
-  const std::vector<int> id = weld_vertices(mesh.positions, weld_tolerance);
   for (size_t i = 0; i < id.size(); ++i) r.welded_vertices += id[i] == int(i) ? 1 : 0;
   std::map<std::pair<int, int>, int> uses;
   for (const glm::ivec3& t : mesh.triangles) {
@@ -59,6 +61,57 @@ EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance) {
     if (n >= 3) ++r.nonmanifold;
   }
   return r;
+}
+
+}  // namespace
+
+EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance) {
+  return count_edges_of(mesh, weld_vertices(mesh.positions, weld_tolerance));
+}
+
+EdgeCounts count_edges_as_indexed(const TriangleMesh& mesh) {
+  std::vector<int> id(mesh.positions.size());
+  for (size_t i = 0; i < id.size(); ++i) id[i] = int(i);
+  return count_edges_of(mesh, id);
+}
+
+TriangleMesh weld_mesh(const TriangleMesh& m, double tol, long long* collapsed) {
+  const std::vector<int> id = weld_vertices(m.positions, tol);
+  TriangleMesh out;
+  out.values_name = m.values_name;
+  std::vector<int> index(m.positions.size(), -1);
+  for (size_t i = 0; i < id.size(); ++i) {
+    if (id[i] != int(i)) continue;  // a representative: the first of its group
+    index[i] = int(out.positions.size());
+    out.positions.push_back(m.positions[i]);
+    if (!m.normals.empty()) out.normals.emplace_back(0.0);
+    if (!m.uv.empty()) out.uv.push_back(m.uv[i]);
+    if (!m.vertex_face.empty()) out.vertex_face.push_back(m.vertex_face[i]);
+    if (!m.colors.empty()) out.colors.push_back(m.colors[i]);
+    if (!m.values.empty()) out.values.push_back(m.values[i]);
+  }
+  if (!m.normals.empty()) {  // the group's normals averaged (a crease's vertex gets their mean)
+    for (size_t i = 0; i < id.size(); ++i) out.normals[size_t(index[size_t(id[i])])] += m.normals[i];
+    for (size_t i = 0; i < id.size(); ++i)
+      if (id[i] == int(i)) {
+        glm::dvec3& n = out.normals[size_t(index[i])];
+        const double len = glm::length(n);
+        n = len > 0.0 ? n / len : m.normals[i];
+      }
+  }
+  long long dropped = 0;
+  for (size_t k = 0; k < m.triangles.size(); ++k) {
+    const glm::ivec3 t = m.triangles[k];
+    const glm::ivec3 w(index[size_t(id[size_t(t.x)])], index[size_t(id[size_t(t.y)])], index[size_t(id[size_t(t.z)])]);
+    if (w.x == w.y || w.y == w.z || w.z == w.x) {
+      ++dropped;
+      continue;
+    }
+    out.triangles.push_back(w);
+    if (!m.triangle_face.empty()) out.triangle_face.push_back(m.triangle_face[k]);
+  }
+  if (collapsed) *collapsed = dropped;
+  return out;
 }
 
 }  // namespace nurbs::tess

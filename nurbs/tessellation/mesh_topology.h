@@ -25,4 +25,13 @@ struct EdgeCounts {
 /// tolerance across a cell border are welded too, by a neighbour search) and counts edges.
 [[nodiscard]] EdgeCounts count_edges(const TriangleMesh& mesh, double weld_tolerance);
 
+/// Edge counts of the mesh as indexed (as written to a file: no weld).
+[[nodiscard]] EdgeCounts count_edges_as_indexed(const TriangleMesh& mesh);
+
+/// The mesh with vertices within `tol` made one (weld_vertices): the first of each group keeps its
+/// position, (u, v), face, colour and value; the group's normals are averaged; triangles whose
+/// corners merge are dropped (`collapsed` counts them). What a watertight mesh is written as, so
+/// that the file itself shares its boundary vertices.
+[[nodiscard]] TriangleMesh weld_mesh(const TriangleMesh& mesh, double tol, long long* collapsed = nullptr);
+
 }  // namespace nurbs::tess

@@ -156,6 +156,27 @@ TEST_CASE("mesh check: open edges after welding") {
   CHECK(nurbs::tess::count_edges(tet, 1e-9).open == 3);
   // A weld tolerance below the offsets keeps the faces apart: every edge is open.
   CHECK(nurbs::tess::count_edges(tet, 1e-13).open == 9);
+  // As indexed (as a file holds it) the separate triangles are open; welded into one mesh, closed.
+  tet.triangles.push_back({9, 10, 11});
+  tet.normals.assign(12, glm::dvec3(0.0, 0.0, 1.0));
+  tet.normals[0] = glm::dvec3(1.0, 0.0, 0.0);  // vertex p[0] of the first triangle: the group's normal is the mean
+  CHECK(nurbs::tess::count_edges_as_indexed(tet).open == 12);
+  long long collapsed = -1;
+  const nurbs::TriangleMesh welded = nurbs::tess::weld_mesh(tet, 1e-9, &collapsed);
+  CHECK(welded.positions.size() == 4);
+  CHECK(welded.triangles.size() == 4);
+  CHECK(collapsed == 0);
+  const nurbs::tess::EdgeCounts w = nurbs::tess::count_edges_as_indexed(welded);
+  CHECK(w.edges == 6);
+  CHECK(w.open == 0);
+  CHECK(glm::length(welded.normals[0] - glm::normalize(glm::dvec3(1.0, 0.0, 2.0))) < 1e-12);  // 1 of 3 was +x
+  // A weld that merges two corners of a triangle drops it.
+  nurbs::TriangleMesh thin;
+  thin.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1e-10, 0}, {0, 1, 0}};
+  thin.triangles = {{0, 1, 2}, {0, 1, 3}};
+  const nurbs::TriangleMesh fixed = nurbs::tess::weld_mesh(thin, 1e-9, &collapsed);
+  CHECK(collapsed == 1);
+  CHECK(fixed.triangles.size() == 1);
 }
 
 TEST_CASE("mesh check: mesh writers (OBJ, PLY, STL layouts, format from the extension)") {
