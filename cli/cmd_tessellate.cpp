@@ -137,6 +137,8 @@ void run(const TessArgs& a) {
                         {"open_edges", edges.open},
                         {"edges", edges.edges},
                         {"cells", r.stats.cells},
+                        {"degenerate_triangles", r.stats.degenerate_triangles},
+                        {"collapsed_triangles", r.stats.collapsed_triangles},
                         {"watertight",
                          {{"enabled", a.watertight},
                           {"collapsed_triangles", collapsed},
