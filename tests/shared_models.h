@@ -23,12 +23,14 @@ inline std::filesystem::path shared_models_dir() { return std::filesystem::path(
 /// True when the shared model folder exists.
 inline bool shared_models_present() { return std::filesystem::is_directory(shared_models_dir()); }
 
-/// Every IGES file (.igs, .iges) under shared_models_dir(), sorted.
+/// Every IGES file (.igs, .iges) under shared_models_dir(), sorted. A folder without one fails the
+/// calling test case (a loop over no files would pass having checked nothing).
 inline std::vector<std::filesystem::path> shared_iges_files() {
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::recursive_directory_iterator(shared_models_dir()))
     if (e.path().extension() == ".igs" || e.path().extension() == ".iges") files.push_back(e.path());
   std::sort(files.begin(), files.end());
+  REQUIRE_MESSAGE(!files.empty(), "no IGES file under " << shared_models_dir().string());
   return files;
 }
 

@@ -358,4 +358,8 @@ TEST_CASE("point batch: a point equidistant from a whole sphere (its centre) sti
     CHECK(std::abs(r[i].distance - twin.distance) <= 1e-9);
   }
   MESSAGE("sphere centre: " << batch.stats().cut << " of 3 walks cut short on the GPU, searched again on the CPU");
+  // llvmpipe ends the centre's walk (its loop budget): the cut must be seen, else the answers above
+  // came from a walk that happened to finish and the CPU path went untested. GPUs without the
+  // budget finish every walk.
+  if (gpu.info().renderer.find("llvmpipe") != std::string::npos) CHECK(batch.stats().cut >= 1);
 }

@@ -93,10 +93,11 @@ TEST_CASE("point distance: many faces at once equal the best face, trimmed regio
   for (uint64_t seed = 0; seed < 16; ++seed) {
     faces.push_back(models::random_trimmed_surface(seed));
     for (auto& p : faces.back().surface.points) p += glm::dvec3(3.0 * double(seed % 4), 3.0 * double(seed / 4), 0.0);
+    if (seed % 4 == 1) faces.back().loops.clear();  // (random_trimmed_surface gave every one of these seeds loops)
   }
   queries::PointDistanceQuery q(gpu, faces, 5e-3);
   models::Random rng(11);
-  int trimmed_winners = 0;
+  int trimmed_winners = 0, untrimmed_twins = 0;
   for (int k = 0; k < 12; ++k) {
     const glm::dvec3 p(rng.uniform(-1, 11), rng.uniform(-1, 11), rng.uniform(-2, 2));
     const queries::PointDistance d = q.query(p);
@@ -112,9 +113,11 @@ TEST_CASE("point distance: many faces at once equal the best face, trimmed regio
       const auto b = nurbs::filip_bound(faces[i].surface);
       const auto twin = queries::point_distance_cpu(faces[i].surface, b, q.grids()[i].grid, p);
       CHECK(d.distance <= twin.distance + 1e-12);
+      ++untrimmed_twins;
     }
   }
   CHECK(trimmed_winners > 0);
+  CHECK(untrimmed_twins == 12 * 4);  // four untrimmed faces, every query
   MESSAGE(q.atlases() << " atlas(es) for " << faces.size() << " faces; " << trimmed_winners
                       << " of 12 winners on trimmed faces");
 }
