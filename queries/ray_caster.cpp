@@ -51,6 +51,7 @@ RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOp
   scene_ = nurbs::ray::build_scene(std::move(faces), o);
   if (gpu) {
     gpu_caster_ = std::make_unique<GpuRaycaster>(*gpu, scene_, options.bvh_build);
+    gpu_caster_->set_threads(options.threads);  // its hits finished in double on the CPU
     figures_.bvh_gpu_seconds = gpu_caster_->build_stats().seconds;
     figures_.bvh_gpu_passes = gpu_caster_->build_stats().passes;
   } else {

@@ -247,10 +247,11 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
 std::vector<Hit> GpuRaycaster::cast(std::span<const Ray> rays, double t_min) {
   const std::vector<RawRayHit> raw = cast_raw(rays, t_min);
   const auto t1 = std::chrono::steady_clock::now();
-  // Independent rays: one contiguous share per hardware thread (at least 128 rays each), so the
-  // result does not depend on the thread count.
+  // Independent rays: one contiguous share per thread (at least 128 rays each, at most one per
+  // hardware thread or set_threads' count), so the result does not depend on the thread count.
   std::vector<Hit> out(rays.size());
-  const size_t threads = share_count(rays.size(), 128);
+  const size_t threads =
+      threads_ > 0 ? std::min(share_count(rays.size(), 128), size_t(threads_)) : share_count(rays.size(), 128);
   std::vector<long long> fallbacks(threads, 0);
   for_shares(rays.size(), threads, [&](size_t t, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) out[i] = finish(rays[i], raw[i], t_min, fallbacks[t]);

@@ -90,6 +90,8 @@ class GpuRaycaster {
   /// Rays per pass (default 1024 x 1024).
   [[nodiscard]] size_t rays_per_pass() const { return rays_per_pass_; }
   void set_rays_per_pass(size_t n) { rays_per_pass_ = n < 16 ? 16 : n; }
+  /// CPU threads of cast()'s finishing in double (0: one per hardware thread).
+  void set_threads(int n) { threads_ = n < 0 ? 0 : n; }
 
   /// Rays that start on a surface (thickness, Lemasson et al. §3.2) meet their own face at |t| up
   /// to the bicubic tolerance (x size, over the cosine): the twin drops that hit after its exact
@@ -98,6 +100,7 @@ class GpuRaycaster {
   /// ray's own face), at the price of walls thinner than g. Default 0: the twin's answers.
   void set_near_guard(double g) { near_guard_ = g; }
   [[nodiscard]] double near_guard() const { return near_guard_; }
+
   /// Walk steps after which the pass gives a ray up as cut (it then goes to the CPU); 0 = the
   /// guard 4 x nodes + 16, which only an endless walk reaches. Tests lower it to force the cut
   /// path that llvmpipe's loop limit takes on scenes of ~10^5 overlapping patches.
@@ -126,6 +129,7 @@ class GpuRaycaster {
   std::vector<int> leaf_patch_;  ///< BvhBuild::Gpu: scene patch of the pass's leaf k (empty: the same)
   size_t rays_per_pass_ = size_t(1) << 20;
   double near_guard_ = 0.0;
+  int threads_ = 0;  ///< set_threads
   int max_steps_ = 0;
 };
 

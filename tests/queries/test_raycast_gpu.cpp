@@ -299,6 +299,12 @@ TEST_CASE("raycast gpu: hits after the CPU finishing equal the twin's, with the 
     CHECK(st.rays == 2000);
     CHECK(st.fallbacks <= 20);  // rays whose pass answer the exact step or trim test overturns: ~1 %
     CHECK(st.box_tests > 0);
+    // The finishing on one CPU thread (raycast --threads 1) gives the same hits.
+    caster.set_threads(1);
+    const auto one = caster.cast(rays, 0.0);
+    int same = 0;
+    for (size_t k = 0; k < rays.size(); ++k) same += one[k].face == hits[k].face && one[k].t == hits[k].t;
+    CHECK(same == int(rays.size()));
   }
 }
 
