@@ -143,6 +143,16 @@ void run(const GlobalOptions& global, const Options& o) {
   gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
   if (batched) {
+    // Long work shows on stderr: the preparation once it took a second, then a batch of many points
+    // pass by pass (passes of at least 65536 points: llvmpipe spreads a pass's 64 x 64 tiles over
+    // its threads, and a pass of 4096 points is one tile, one thread: 2x slower in all).
+    const double prepared_s = std::chrono::duration<double>(t1 - t0).count();
+    if (prepared_s >= 1.0)
+      fmt::print(stderr, "distance: {} faces prepared in {:.1f} s; {} points\n", faces.size(), prepared_s,
+                 points.size());
+    Progress progress("distance", "points");
+    batch->set_points_per_pass(std::max<size_t>(65536, (points.size() + 7) / 8));
+    batch->set_progress([&](size_t done, size_t total) { progress.update((long long)done, (long long)total); });
     results = batch->query(points);
   } else {
     const bool progress = points.size() > 100 && isatty(STDERR_FILENO);

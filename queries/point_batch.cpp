@@ -320,16 +320,20 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
     PointBatchStats total;
     std::vector<PointDistance> out;
     out.reserve(points.size());
+    const auto progress = std::move(progress_);  // the parts report none of their own
+    progress_ = nullptr;
     for (size_t s = 0; s < points.size(); s += points_per_pass_) {
       const size_t count = std::min(points_per_pass_, points.size() - s);
       const auto part = query(points.subspan(s, count), within.empty() ? within : within.subspan(s, count));
       out.insert(out.end(), part.begin(), part.end());
+      if (progress) progress(s + count, points.size());
       total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
       total.trimmed += stats_.trimmed;
       total.cut += stats_.cut;
       total.gpu_seconds += stats_.gpu_seconds, total.cpu_seconds += stats_.cpu_seconds;
     }
     stats_ = total;
+    progress_ = progress;
     return out;
   }
   stats_ = {};

@@ -40,6 +40,7 @@
 /// same points test 5 (the prototype's count over 2000 points; 401 box tests -> 114).
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <glm/vec3.hpp>
 #include <span>
 #include <vector>
@@ -125,6 +126,8 @@ class PointBatch {
   [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
   [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
   void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
+  /// Called with (points done, points) after each pass of a query of several passes.
+  void set_progress(std::function<void(size_t, size_t)> f) { progress_ = std::move(f); }
 
   /// CPU twin in double: the same pyramid built on the CPU from the read-back samples, the same
   /// descent, the same finishing. The test oracle of query().
@@ -227,6 +230,7 @@ class PointBatch {
   PointBoxes boxes_ = PointBoxes::Oriented;
   PointBatchStats stats_;
   size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
+  std::function<void(size_t, size_t)> progress_;
   bool trim_on_gpu_ = true;
 };
 
