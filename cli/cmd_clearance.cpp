@@ -107,7 +107,7 @@ bool meets(const queries::Clearance& c, double tolerance) {
 }
 
 nlohmann::json result_json(const queries::Clearance& c, double seconds, double tolerance) {
-  return {{"found", c.found},
+  nlohmann::json j = {{"found", c.found},
           {"distance", c.distance},
           {"bound", c.bound},
           {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
@@ -120,12 +120,17 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds, double t
           {"pairs_per_level", c.pairs_per_level},
           {"leaf_pairs", c.leaf_pairs},
           {"on_trim_edge", c.on_trim_edge},
+          {"intersecting", c.intersecting},
           {"meets_tolerance", meets(c, tolerance)},
           {"refine",
            {{"rounds", c.rounds},
             {"cells", c.refined_cells},
             {"most_pairs", c.most_pairs},
             {"seconds", c.refine_seconds}}}};
+  if (c.intersecting)  // a point of both models: the surfaces meet (or touch) there
+    j["intersection"] = {{"point", {c.intersection.x, c.intersection.y, c.intersection.z}},
+                         {"residual", c.intersection_residual}};
+  return j;
 }
 
 long long samples(const queries::PreparedModel& m) {
@@ -261,8 +266,8 @@ void run(const GlobalOptions& global, const Options& o) {
       if (voxel) results.back()["first_stage"] = stage;
       if (progress) fmt::print(stderr, "\r[{}/{}] frames", k + 1, frames.size());
       if (!o.json)
-        fmt::print("frame {}: clearance {:.9g} +- {:.3g} (faces {}, {}) in {:.1f} ms\n", k + 1, c.distance, c.bound,
-                   c.face_a, c.face_b, 1e3 * s);
+        fmt::print("frame {}: clearance {:.9g} +- {:.3g} (faces {}, {}){} in {:.1f} ms\n", k + 1, c.distance, c.bound,
+                   c.face_a, c.face_b, c.intersecting ? ", intersecting" : "", 1e3 * s);
     }
     if (progress) fmt::print(stderr, "\n");
     if (o.json)
@@ -299,6 +304,9 @@ void run(const GlobalOptions& global, const Options& o) {
     fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} "
                "levels, {} leaf cell pairs\n",
                a.faces.size(), faces_a, b.faces.size(), faces_b, prepare_s, grid_tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+    if (c.intersecting)
+      fmt::print("the models intersect: faces {} and {} meet at ({:.9g}, {:.9g}, {:.9g})\n", c.face_a, c.face_b,
+                 c.intersection.x, c.intersection.y, c.intersection.z);
     if (!meets(c, tolerance)) fmt::print("the bound {:.3g} is over the tolerance {:.3g}\n", c.bound, tolerance);
   }
   if (o.timings) {

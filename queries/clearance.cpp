@@ -21,6 +21,7 @@
 #include "gpgpu/reduce.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "queries/intersection.h"
 #include "queries/material_distance.h"
 #include "queries/parallel.h"
 #include "queries/refine.h"
@@ -364,6 +365,25 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   gpgpu::compile_compact(gpu, limits.compact_fanout, true);
 }
 
+namespace {
+
+/// Clearance::intersecting: a common point sought from the closest pair when the distance is
+/// within its bound of zero (Newton on both faces, intersection.h): two surface points within a
+/// thousandth of the query's tolerance (above the coordinates' double rounding).
+Clearance with_intersection(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b, Clearance r) {
+  if (!r.found || r.face_a < 0 || r.face_b < 0 || r.distance > r.bound) return r;
+  const auto fa = size_t(r.face_a), fb = size_t(r.face_b);
+  const double tol = 1e-3 * (a.tolerance + b.tolerance) + 1e-14 * (glm::length(r.point_a) + glm::length(r.point_b));
+  if (const auto x = find_intersection(a.faces[fa], a.trims[fa], r.uv_a, b.faces[fb], b.trims[fb], r.uv_b, motion_b, tol)) {
+    r.intersecting = true;
+    r.intersection = x->point;
+    r.intersection_residual = x->residual;
+  }
+  return r;
+}
+
+}  // namespace
+
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
                     const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,
                     ClearanceCache* cache) {
@@ -412,7 +432,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
     r.rounds = f.rounds;
     r.refined_cells = f.cells;
     r.most_pairs = f.most_pairs;
-    return r;
+    return with_intersection(a, b, motion_b, std::move(r));
   }
   // The leaf pairs in contiguous shares over the hardware threads, merged in share order with a
   // strict "<" (the sequential loop's answer: the first pair of least distance).
@@ -519,7 +539,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   }
   // Theorem 1 over the material parts: every candidate pair's triangles within K of their surfaces.
   r.bound = ka + kb;
-  return r;
+  return with_intersection(a, b, motion_b, std::move(r));
 }
 
 }  // namespace queries

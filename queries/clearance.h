@@ -48,6 +48,12 @@ struct Clearance {
   long long refined_cells = 0;  ///< cells evaluated on the CPU
   long long most_pairs = 0;     ///< largest candidate set of a round
   double refine_seconds = 0.0;  ///< time of the CPU refinement
+  /// Whether the models meet: a common point of faces face_a and face_b (B moved), found from the
+  /// closest pair when the distance is within its bound of zero (intersection.h); false when none
+  /// was found (surfaces farther apart than the bound never meet).
+  bool intersecting = false;
+  glm::dvec3 intersection{0.0};        ///< that point
+  double intersection_residual = 0.0;  ///< the distance of the two surface points it joins
 };
 
 /// Texture budget of the faithful descent: a level of more surviving pairs than `chunk_pairs` (or
