@@ -135,7 +135,9 @@ void App::scripted_frame(int k) {
 }
 
 void App::print_scripted_results() {
-  if (clearance_) fmt::print("clearance {:.9g} +- {:.3g}\n", clearance_->distance, clearance_->bound);
+  if (clearance_)
+    fmt::print("clearance {:.9g} +- {:.3g}{}\n", clearance_->distance, clearance_->bound,
+               clearance_->intersecting ? " (intersecting)" : "");
   // B's placement as `nurbsgl clearance` options, every digit of the doubles: the CLI rerun at it
   // builds the same motion bit for bit.
   if (mode_ == Mode::Clearance && has_b()) fmt::print("placement {}\n", placement_.cli_arguments(17));

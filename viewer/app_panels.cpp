@@ -100,6 +100,9 @@ void App::panel_clearance() {
     ImGui::Text("clearance %.9g +- %.3g", c.distance, c.bound);
     ImGui::Text("proven in [%.9g, %.9g]%s", c.distance - c.bound, c.distance, c.meets_tolerance ? "" : " (above T)");
     ImGui::Text("faces %d (A) and %d (B)%s", c.face_a, c.face_b, c.on_trim_edge ? ", on a trim edge" : "");
+    if (c.intersecting)
+      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "the models intersect at (%.6g, %.6g, %.6g)", c.intersection.x,
+                         c.intersection.y, c.intersection.z);
     ImGui::Text("query %.1f ms, %d refinement rounds", query_ms_, c.rounds);
     ImGui::Text("models prepared in %.2f s (K_e <= %.3g)", prepare_s_, prep_a_->tolerance);
   } else if (!clearance_error_.empty()) {
