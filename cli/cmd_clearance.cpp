@@ -156,8 +156,10 @@ void run(const GlobalOptions& global, const Options& o) {
       o.b == o.a ? std::nullopt : std::optional<nurbs::Model>(nurbs::io::read_model(o.b));
   const nurbs::Model& mb = other_b ? *other_b : ma;
   const double size_a = checked_model_size(ma, o.a);
-  const double size = other_b ? std::max(size_a, checked_model_size(mb, o.b)) : size_a;
+  const double size =  // in A's unit
+      other_b ? std::max(size_a, checked_model_size(mb, o.b) * mb.unit_scale_to_mm / ma.unit_scale_to_mm) : size_a;
   const double tolerance = o.rel_tolerance * size;
+  const std::string unit = unit_name(ma);  // of every distance printed (B is scaled into it below)
   const double grid_tolerance = queries::clearance_model_tolerance(tolerance);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
@@ -169,6 +171,10 @@ void run(const GlobalOptions& global, const Options& o) {
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
   std::vector<nurbs::TrimmedSurface> fa = nurbs::world_faces(ma), fb = nurbs::world_faces(mb);
+  // B in A's unit (a file in inches against one in millimetres): the answer and --move-b are in A's.
+  if (const double k = mb.unit_scale_to_mm / ma.unit_scale_to_mm; k != 1.0)
+    for (nurbs::TrimmedSurface& f : fb)
+      for (glm::dvec3& p : f.surface.points) p *= k;
   // Before any grid: the faces that can hold the closest pair (for every frame); the answers
   // name faces by their index in the model.
   const size_t faces_a = fa.size(), faces_b = fb.size();
@@ -276,6 +282,7 @@ void run(const GlobalOptions& global, const Options& o) {
                                         {"prepare", prepare_json(a, b)},
                                         {"face_cull", cull_json},
                                         {"tolerance", tolerance},
+                                        {"unit", unit},
                                         {"results", results}});
     report_profile(*gpu, global);
     if (over > 0)
@@ -294,12 +301,13 @@ void run(const GlobalOptions& global, const Options& o) {
     j["prepare"] = prepare_json(a, b);
     j["face_cull"] = cull_json;
     j["tolerance"] = tolerance;
+    j["unit"] = unit;
     print_json(j);
   } else {
     fmt::print(
-        "clearance {:.9g} +- {:.3g} between face {} of A at ({:.6g}, {:.6g}, {:.6g}) and face {} of B at "
+        "clearance {:.9g} +- {:.3g} {} between face {} of A at ({:.6g}, {:.6g}, {:.6g}) and face {} of B at "
         "({:.6g}, {:.6g}, {:.6g})\n",
-        c.distance, c.bound, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
+        c.distance, c.bound, unit, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
         c.point_b.z);
     fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} "
                "levels, {} leaf cell pairs\n",

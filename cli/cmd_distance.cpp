@@ -100,6 +100,7 @@ void run(const GlobalOptions& global, const Options& o) {
       o.point.empty() ? read_points(o.points) : std::vector{parse_point(o.point, "--point")};
   const nurbs::Model model = nurbs::io::read_model(o.path);
   const double size = checked_model_size(model, o.path);
+  const std::string unit = unit_name(model);  // of every distance printed
   const auto faces = nurbs::world_faces(model);
   auto gpu = start_gpu(global);
   const auto t0 = std::chrono::steady_clock::now();
@@ -181,6 +182,7 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     j["prepare_seconds"] = prepare_s;
     j["tolerance"] = tolerance;
+    j["unit"] = unit;
     if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
     if (batched) {
       const queries::PointBatchStats& st = batch->stats();
@@ -198,8 +200,8 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     print_json(j);
   } else {
-    fmt::print("{} faces, model size {:.6g}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
-               o.rel_tolerance * size, prepare_s);
+    fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
+               unit, o.rel_tolerance * size, prepare_s);
     for (size_t k = 0; k < points.size(); ++k) {
       const auto& r = results[k];
       if (!r.found) {
@@ -220,7 +222,7 @@ void run(const GlobalOptions& global, const Options& o) {
       if (r.found) d.push_back(r.distance);
     std::sort(d.begin(), d.end());
     if (d.size() > 1)
-      fmt::print("distances (model units): min {:.9g}, median {:.9g}, max {:.9g}\n", d.front(), d[d.size() / 2], d.back());
+      fmt::print("distances ({}): min {:.9g}, median {:.9g}, max {:.9g}\n", unit, d.front(), d[d.size() / 2], d.back());
     fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), query_s,
                1e3 * query_s / double(points.size()),
                batched ? fmt::format(", batched; {} searched again on the CPU, {} walks cut short and finished there",

@@ -75,6 +75,10 @@ void print_json(const nlohmann::json& j);
 /// did-you-mean.
 [[nodiscard]] std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names);
 
+/// The model's length unit as text ("mm", "in", "m", ...; "x 2.5 mm" for another scale), from the
+/// file's unit (Model::unit_scale_to_mm): what the distances a command prints are in.
+[[nodiscard]] std::string unit_name(const nurbs::Model& model);
+
 /// The memory this machine can give a new allocation now (MemAvailable of /proc/meminfo, bytes);
 /// -1 when unknown.
 long long available_memory();
