@@ -32,19 +32,27 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   const double bound = engine.scene().options.exact_residual * engine.scene().size;
 
   if (a.json) {
-    nlohmann::json t = nlohmann::json::array(), face = nlohmann::json::array(), uv = nlohmann::json::array(),
-                   t_bicubic = nlohmann::json::array();
-    for (const auto& h : hits) {
-      t.push_back(h.face >= 0 ? h.t : -1.0);
-      t_bicubic.push_back(h.face >= 0 ? h.t_bicubic : -1.0);
-      face.push_back(h.face);
-      uv.push_back(h.face >= 0 ? nlohmann::json::array({h.uv.x, h.uv.y}) : nlohmann::json::array({0.0, 0.0}));
+    // One object per ray in input order, as distance gives one per point: the ray echoed, hit, and
+    // for a hit t (along the unit direction), the face, (u, v), the point and t_bicubic (the hit on
+    // the bicubic patches before the exact step, Fig. 13 accuracy).
+    nlohmann::json results = nlohmann::json::array();
+    for (size_t k = 0; k < hits.size(); ++k) {
+      const auto& h = hits[k];
+      const auto& r = rays[k];
+      nlohmann::json one = {{"ray", k},
+                            {"origin", {r.origin.x, r.origin.y, r.origin.z}},
+                            {"direction", {r.direction.x, r.direction.y, r.direction.z}},
+                            {"hit", h.face >= 0}};
+      if (h.face >= 0) {
+        one["t"] = h.t, one["t_bicubic"] = h.t_bicubic, one["face"] = h.face;
+        one["uv"] = {h.uv.x, h.uv.y}, one["point"] = {h.point.x, h.point.y, h.point.z};
+      } else {
+        one["t"] = nullptr, one["face"] = -1;
+      }
+      results.push_back(one);
     }
-    nlohmann::json j = {{"model", a.model},      {"rays", rays.size()},
-                        {"hits", hit_count},     {"seconds", engine.cast_seconds()},
-                        {"hit_residual", bound}, {"t", t},
-                        {"face", face},          {"uv", uv}};
-    j["t_bicubic"] = t_bicubic;  // the hit on the bicubic patch before the exact step (Fig. 13 accuracy)
+    nlohmann::json j = {{"model", a.model},   {"rays", rays.size()},      {"hits", hit_count},
+                        {"seconds", engine.cast_seconds()}, {"hit_residual", bound}, {"results", results}};
     j.update(engine.figures());
     print_json(j);
     return;

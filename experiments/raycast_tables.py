@@ -113,6 +113,9 @@ def main():
             if j is None:
                 continue
             key = method if device == "cpu" else "gpu"
+            # Per-ray fields as lists (-1 for a miss) from the one object per ray.
+            j["t"] = [r["t"] if r["hit"] else -1.0 for r in j["results"]]
+            j["t_bicubic"] = [r["t_bicubic"] if r["hit"] else -1.0 for r in j["results"]]
             ours[key] = j
             gpu = j.get("gpu") or {}
             rows.append({"model": name, "method": method, "device": device, "rays": j["rays"],
