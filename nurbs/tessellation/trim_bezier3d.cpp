@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <unordered_map>
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/knot_vector.h"
@@ -166,21 +167,32 @@ std::vector<double> knot_line_crossings(const BezierSegment<2>& seg, const std::
 HomogeneousCurve lift_by_collocation(const BezierPatch& patch, const Curve2& piece) {
   const int du = patch.surface.degree_u, dv = patch.surface.degree_v, n = piece.degree * (du + dv);
   const HomogeneousCurve c = to_homogeneous(piece);
-  Eigen::MatrixXd A(n + 1, n + 1), rhs(n + 1, 4);
+  Eigen::MatrixXd rhs(n + 1, 4);
   for (int k = 0; k <= n; ++k) {
     const double s = double(k) / n;
     const V4 h = casteljau(c.points, s);
     const V4 q = std::pow(h.w, du + dv) * patch_point_w(patch, h.x / h.w, h.y / h.w);
-    const auto b = bernstein(n, s);
-    for (int i = 0; i <= n; ++i) A(k, i) = b[size_t(i)];
     for (int d = 0; d < 4; ++d) rhs(k, d) = q[d];
   }
   // Rows of A sum to 1, so translating the samples translates the solution: solving for the
   // centred samples keeps the rounding relative to the curve's extent, not its distance from 0.
   const Eigen::RowVector4d mean = rhs.colwise().mean();
   rhs.rowwise() -= mean;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  Eigen::MatrixXd x = svd.solve(rhs);
+  // A (Bernstein polynomials of degree n at n + 1 equally spaced parameters) depends on n alone:
+  // its SVD solve of the identity once per degree and thread, then one product per piece (the
+  // SVD of every piece was a tenth of a B-rep model's tessellation).
+  thread_local std::unordered_map<int, Eigen::MatrixXd> inverses;
+  auto it = inverses.find(n);
+  if (it == inverses.end()) {
+    Eigen::MatrixXd A(n + 1, n + 1);
+    for (int k = 0; k <= n; ++k) {
+      const auto b = bernstein(n, double(k) / n);
+      for (int i = 0; i <= n; ++i) A(k, i) = b[size_t(i)];
+    }
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    it = inverses.emplace(n, svd.solve(Eigen::MatrixXd::Identity(n + 1, n + 1))).first;
+  }
+  Eigen::MatrixXd x = it->second * rhs;
   x.rowwise() += mean;
   std::vector<V4> pts(size_t(n + 1));
   for (int i = 0; i <= n; ++i) pts[size_t(i)] = V4(x(i, 0), x(i, 1), x(i, 2), x(i, 3));
