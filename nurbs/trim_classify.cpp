@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "nurbs/bezier_extraction.h"
 #include "nurbs/curve_eval.h"
@@ -166,6 +167,18 @@ bool is_material(const TrimPolygons& trim, glm::dvec2 uv) {
 
 bool is_material(const TrimmedSurface& face, glm::dvec2 uv, double tolerance) {
   return is_material(flatten_trim(face, tolerance), uv);
+}
+
+double distance_to_loops(const TrimPolygons& trim, glm::dvec2 p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& loop : trim.loops)
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const glm::dvec2 a = loop[k], d = loop[(k + 1) % loop.size()] - a;
+      const double len2 = glm::dot(d, d);
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, glm::distance(a + t * d, p));
+    }
+  return best;
 }
 
 }  // namespace nurbs

@@ -45,6 +45,9 @@ struct TrimPolygons {
 /// tolerance of a trim curve may go either way.
 [[nodiscard]] bool is_material(const TrimPolygons& trim, glm::dvec2 uv);
 
+/// Distance in (u, v) from p to the nearest edge of the flattened loops (+inf without loops).
+[[nodiscard]] double distance_to_loops(const TrimPolygons& trim, glm::dvec2 p);
+
 /// Convenience: flatten_trim + is_material for one point (flatten once for many points instead).
 [[nodiscard]] bool is_material(const TrimmedSurface& face, glm::dvec2 uv, double tolerance);
 

@@ -15,19 +15,6 @@ namespace queries {
 
 namespace {
 
-/// Distance from p to the nearest edge of the closed polygons.
-double polygon_distance(const nurbs::TrimPolygons& trim, glm::dvec2 p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& loop : trim.loops)
-    for (size_t k = 0; k < loop.size(); ++k) {
-      const glm::dvec2 a = loop[k], d = loop[(k + 1) % loop.size()] - a;
-      const double len2 = glm::dot(d, d);
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
-      best = std::min(best, glm::distance(a + t * d, p));
-    }
-  return best;
-}
-
 /// A face's material sample points (world coordinates, before any motion): the centres of an
 /// n x n split of its domain that its trim polygons (flattened coarsely, within 1e-3 of the domain)
 /// say are material and that lie farther than 4 times that from them, so that the true trim curves
@@ -41,7 +28,7 @@ std::vector<glm::dvec3> material_samples(const nurbs::TrimmedSurface& f, int n) 
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const glm::dvec2 uv(du.min + du.width() * (i + 0.5) / n, dv.min + dv.width() * (j + 0.5) / n);
-      if (!f.loops.empty() && (!nurbs::is_material(trim, uv) || polygon_distance(trim, uv) <= 4.0 * tol)) continue;
+      if (!f.loops.empty() && (!nurbs::is_material(trim, uv) || nurbs::distance_to_loops(trim, uv) <= 4.0 * tol)) continue;
       out.push_back(nurbs::surface_point(f.surface, uv.x, uv.y));
     }
   return out;

@@ -59,16 +59,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance) {
   if (faces.empty()) return tolerance;
-  glm::dvec3 lo(kInf), hi(-kInf);
-  double budget = 0.0;
-  for (const nurbs::TrimmedSurface& f : faces) {
-    const nurbs::Box box = nurbs::control_box(f.surface);
-    lo = glm::min(lo, box.min), hi = glm::max(hi, box.max);
-    budget = std::max(budget, float_budget(f.surface));
-  }
-  const double radius = 0.5 * glm::length(hi - lo);
-  const double eps = kFloatSlack * (2.0 * radius + radius);  // slack(p) at |p - centre| = 2 radius
-  return std::max(0.5 * tolerance, tolerance - budget - 2.0 * eps);
+  const BatchFloatFloor floor(faces);
+  // The float terms at a point 2 radii from the centre (the model's box grown by its size).
+  return std::max(0.5 * tolerance, tolerance - floor.budget - 2.0 * kFloatSlack * 3.0 * floor.radius);
 }
 
 BatchFloatFloor::BatchFloatFloor(const std::vector<nurbs::TrimmedSurface>& faces) {
@@ -99,9 +92,7 @@ long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxe
   std::vector<int> unpacked;
   long long bytes = kDriver;
   for (const AtlasPlan& plan : plan_atlases(sizes, atlas_side, static_cast<long long>(atlas_side) * atlas_side, unpacked)) {
-    long long w0 = 1, h0 = 1;
-    while (w0 < plan.width) w0 *= 2;
-    while (h0 < plan.height) h0 *= 2;
+    const long long w0 = pow2_at_least(plan.width), h0 = pow2_at_least(plan.height);  // the pyramid's level 0
     bytes += kAtlasTexel * plan.width * plan.height + pyramid_texel * (w0 * h0 * 4 / 3);
   }
   return bytes;

@@ -251,14 +251,7 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
     // `distance`, the distance of its point in space to the face's boundary.
     const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
       if (is_material(trim, p)) return 0.0;
-      double near = 1e300;
-      for (const auto& loop : trim.loops)
-        for (size_t k = 0; k < loop.size(); ++k) {
-          const glm::dvec2 a = loop[k], d = loop[(k + 1) % loop.size()] - a;
-          const double len2 = glm::dot(d, d);
-          const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
-          near = std::min(near, glm::distance(a + t * d, p));
-        }
+      const double near = distance_to_loops(trim, p);
       const SurfaceDerivatives sd =
           surface_derivatives(s, std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max));
       if (near * std::max(glm::length(sd.su), glm::length(sd.sv)) <= 0.25 * distance) return 0.0;
