@@ -5,6 +5,8 @@
 // face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
 // one query per line of FILE (DX DY DZ AX AY AZ DEG: B rotated, then moved), B's hierarchy refitted
 // each time (the paper's Fig. 16): JSON {"frames", "prepare_seconds", "tolerance", "results": [...]}.
+// `engine` (JSON: requested, used, cpu_queries, gpu_queries): small models run on the CPU alone
+// (queries::clearance_cpu, no GL context), others on the GPU (--engine).
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -13,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <glm/gtc/matrix_transform.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -26,6 +29,7 @@
 #include "nurbs/rigid_motion.h"
 #include "queries/clearance.h"
 #include "queries/face_cull.h"
+#include "queries/refine.h"
 #include "queries/voxel_stage.h"
 
 namespace cli {
@@ -46,6 +50,7 @@ struct Options {
   long long max_samples = 1LL << 22;  ///< per face grid
   bool json = false, timings = false;
   std::string face_cull = "boxes";
+  std::string engine = "auto";
 };
 
 /// `count` finite numbers separated by commas or spaces; `what` names the option in errors.
@@ -126,6 +131,7 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds, double t
            {{"rounds", c.rounds},
             {"cells", c.refined_cells},
             {"most_pairs", c.most_pairs},
+            {"start_pairs", c.start_pairs},
             {"seconds", c.refine_seconds}}}};
   if (c.intersecting)  // a point of both models: the surfaces meet (or touch) there
     j["intersection"] = {{"point", {c.intersection.x, c.intersection.y, c.intersection.z}},
@@ -161,7 +167,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const double tolerance = o.rel_tolerance * size;
   const std::string unit = unit_name(ma);  // of every distance printed (B is scaled into it below)
   const double grid_tolerance = queries::clearance_model_tolerance(tolerance);
-  auto gpu = start_gpu(global);
+  std::unique_ptr<gpgpu::Gpu> gpu;  // started only for the GPU search
   const auto t0 = std::chrono::steady_clock::now();
   queries::ClearanceLimits limits;
   limits.reduce_block = o.reduce_block;
@@ -207,33 +213,92 @@ void run(const GlobalOptions& global, const Options& o) {
     return std::any_of(faces.begin(), faces.end(), [](const auto& f) { return !f.loops.empty(); });
   };
   const bool trimmed = any_trimmed(fa) || any_trimmed(fb);
-  const auto prepare = [&] {
-    try {
-      return queries::prepare_pair(*gpu, std::move(fa), std::move(fb), grid_tolerance, o.search, o.max_samples,
+  // The search on the CPU alone (coarse grids, the cell pairs within an upper bound refined in
+  // double) where the models are small enough that the GPU's set-up would cost more: tried per
+  // query once the coarse grids exist, before any GL context; over its budget the GPU takes over.
+  const bool voxel = o.first_stage == "voxels";
+  const bool cpu_possible = o.search == queries::Search::CoarseToFine && !voxel;
+  if (o.engine == "cpu" && !cpu_possible)
+    throw BadInput("--engine cpu needs --search coarse-to-fine and --first-stage hierarchy");
+  const auto grid_limit = [&](const queries::GridLimitError& e) {
+    return BadInput(fmt::format("--tol {:g} --max-samples {}: {}", o.rel_tolerance, o.max_samples, e.what()));
+  };
+  queries::PreparedPair pair;
+  bool try_cpu = false;
+  try {
+    if (o.engine != "gpu" && cpu_possible) {
+      auto geometry = [&](std::vector<nurbs::TrimmedSurface>& faces, double coarse) {
+        return std::async(std::launch::async, [&faces, &grid_tolerance, &o, coarse] {
+          return queries::prepare_geometry(std::move(faces), grid_tolerance, o.max_samples, o.search, coarse);
+        });
+      };
+      auto ga = geometry(fa, coarse_a), gb = geometry(fb, coarse_b);
+      pair.a = ga.get(), pair.b = gb.get();
+      // One query of models whose kept faces' coarse grids hold few cell pairs (a motion sequence
+      // reuses A's hierarchy on the GPU from one motion to the next).
+      try_cpu = o.engine == "cpu" || (frames.size() == 1 && queries::grid_cell_count(pair.a) *
+                                                                queries::grid_cell_count(pair.b) <=
+                                                            queries::kCpuClearanceStartPairs);
+    } else {
+      gpu = start_gpu(global);
+      pair = queries::prepare_pair(*gpu, std::move(fa), std::move(fb), grid_tolerance, o.search, o.max_samples,
                                    [&](const std::function<bool()>& geometry_done) {
                                      queries::compile_clearance_programs(*gpu, limits, o.search, trimmed,
                                                                          geometry_done);
                                    },
                                    coarse_a, coarse_b);
-    } catch (const queries::GridLimitError& e) {
-      throw BadInput(fmt::format("--tol {:g} --max-samples {}: {}", o.rel_tolerance, o.max_samples, e.what()));
+    }
+  } catch (const queries::GridLimitError& e) {
+    throw grid_limit(e);
+  }
+  // The GPU's set-up, once, when a query needs it.
+  bool gpu_ready = false;
+  const auto ensure_gpu = [&] {
+    if (gpu_ready) return;
+    gpu_ready = true;
+    if (!gpu) {
+      gpu = start_gpu(global);
+      queries::compile_clearance_programs(*gpu, limits, o.search, trimmed);
+      try {
+        queries::prepare_atlases(*gpu, pair.a);
+        queries::prepare_atlases(*gpu, pair.b);
+      } catch (const queries::GridLimitError& e) {
+        throw grid_limit(e);
+      }
+    }
+    gpu->finish();
+    if (o.timings) {  // the passes of the queries alone, each synchronised (Table 2 of the paper)
+      gpu->profiler().reset();
+      gpu->profiler().set_enabled(true);
+      gpu->profiler().set_sync(true);
     }
   };
-  queries::PreparedPair pair = prepare();
+  if (!try_cpu) ensure_gpu();
   const queries::PreparedModel &a = pair.a, &b = pair.b;
-  gpu->finish();
-  if (o.timings) {  // the passes of the query alone, each synchronised (Table 2 of the paper)
-    gpu->profiler().reset();
-    gpu->profiler().set_enabled(true);
-    gpu->profiler().set_sync(true);
-  }
+  long long cpu_frames = 0, gpu_frames = 0;
+  const auto engine_json = [&] {
+    return nlohmann::json{{"requested", o.engine},
+                          {"used", cpu_frames > 0 && gpu_frames > 0 ? "cpu and gpu" : cpu_frames > 0 ? "cpu" : "gpu"},
+                          {"cpu_queries", cpu_frames},
+                          {"gpu_queries", gpu_frames}};
+  };
   // §5.4: the voxel grids once per model; per query the voxel pairs keep the faces that take part.
-  const bool voxel = o.first_stage == "voxels";
   const queries::VoxelGrid va = voxel ? queries::voxelize(a, {o.voxels}) : queries::VoxelGrid{};
   const queries::VoxelGrid vb = voxel ? queries::voxelize(b, {o.voxels}) : queries::VoxelGrid{};
   nlohmann::json stage;
   queries::ClearanceCache cache;  // A's hierarchy, built once for every motion (destroyed before gpu)
   auto query_kept = [&](const glm::dmat4& motion) {
+    // On the CPU the cell pairs start from those within the face cull's upper bound for this motion.
+    if (try_cpu) {
+      const double upper = queries::cull_faces(a.faces, b.faces, {&motion, 1}, 1e-4 * size).upper;
+      const long long budget = o.engine == "cpu" ? -1 : queries::kCpuClearanceStartPairs;
+      if (auto c = queries::clearance_cpu(a, b, motion, upper, budget)) {
+        ++cpu_frames;
+        return *c;
+      }
+      ensure_gpu();
+    }
+    ++gpu_frames;
     if (!voxel) return queries::clearance(*gpu, a, b, motion, nullptr, nullptr, limits, &cache);
     const auto v0 = std::chrono::steady_clock::now();
     const queries::VoxelStage vs = queries::voxel_stage(*gpu, va, vb, motion);
@@ -255,7 +320,7 @@ void run(const GlobalOptions& global, const Options& o) {
     if (c.face_b >= 0) c.face_b = index_b[size_t(c.face_b)];
     return c;
   };
-  gpu->finish();
+  if (gpu) gpu->finish();
   const auto t1 = std::chrono::steady_clock::now();
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   if (!o.motion.empty()) {
@@ -281,10 +346,11 @@ void run(const GlobalOptions& global, const Options& o) {
                                         {"prepare_seconds", prepare_s},
                                         {"prepare", prepare_json(a, b)},
                                         {"face_cull", cull_json},
+                                        {"engine", engine_json()},
                                         {"tolerance", tolerance},
                                         {"unit", unit},
                                         {"results", results}});
-    report_profile(*gpu, global);
+    if (gpu) report_profile(*gpu, global);
     if (over > 0)
       throw CommandFailed(fmt::format("{} of {} frames with a bound over the tolerance {:.3g}", over, frames.size(),
                                       tolerance));
@@ -300,6 +366,7 @@ void run(const GlobalOptions& global, const Options& o) {
     j["prepare_seconds"] = prepare_s;
     j["prepare"] = prepare_json(a, b);
     j["face_cull"] = cull_json;
+    j["engine"] = engine_json();
     j["tolerance"] = tolerance;
     j["unit"] = unit;
     print_json(j);
@@ -309,9 +376,15 @@ void run(const GlobalOptions& global, const Options& o) {
         "({:.6g}, {:.6g}, {:.6g})\n",
         c.distance, c.bound, unit, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
         c.point_b.z);
-    fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, {} "
-               "levels, {} leaf cell pairs\n",
-               a.faces.size(), faces_a, b.faces.size(), faces_b, prepare_s, grid_tolerance, query_s, c.pairs_per_level.size(), c.leaf_pairs);
+    if (cpu_frames > 0)
+      fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (coarse grids); query {:.3f} s on the CPU, "
+                 "{} cells refined in {} rounds\n",
+                 a.faces.size(), faces_a, b.faces.size(), faces_b, prepare_s, query_s, c.refined_cells, c.rounds);
+    else
+      fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (grids with K_e <= {:.3g}); query {:.3f} s, "
+                 "{} levels, {} leaf cell pairs\n",
+                 a.faces.size(), faces_a, b.faces.size(), faces_b, prepare_s, grid_tolerance, query_s,
+                 c.pairs_per_level.size(), c.leaf_pairs);
     if (c.intersecting)
       fmt::print("the models intersect: faces {} and {} meet at ({:.9g}, {:.9g}, {:.9g})\n", c.face_a, c.face_b,
                  c.intersection.x, c.intersection.y, c.intersection.z);
@@ -325,8 +398,9 @@ void run(const GlobalOptions& global, const Options& o) {
     fmt::print(stderr,
                "pairs per level:{}\n{}cpu refinement: {} rounds, {} cells, {:.3f} ms\nquery: {:.3f} ms in all (GPU "
                "passes, CPU refinement, read-backs)\n",
-               levels, gpu->profiler().table(), c.rounds, c.refined_cells, 1e3 * c.refine_seconds, 1e3 * query_s);
-  } else {
+               levels, gpu ? gpu->profiler().table() : std::string("no GPU passes (the search ran on the CPU)\n"),
+               c.rounds, c.refined_cells, 1e3 * c.refine_seconds, 1e3 * query_s);
+  } else if (gpu) {
     report_profile(*gpu, global);
   }
   if (!meets(c, tolerance))
@@ -362,22 +436,22 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   auto* voxels = cmd->add_option("--voxels", o->voxels, "Voxels per axis of the voxel first stage")
                      ->check(CLI::Range(1, 512))
                      ->capture_default_str();
-  cmd->add_option("--reduce-block", o->reduce_block,
+  auto* reduce_block_opt = cmd->add_option("--reduce-block", o->reduce_block,
                   "Texels per pass along each axis of the least-upper-bound reductions: 2 (the paper's log2 passes), "
                   "4 or 8")
       ->check(CLI::IsMember({2, 4, 8}))
       ->capture_default_str();
-  cmd->add_option("--compact-fanout", o->compact_fanout,
+  auto* fanout_opt = cmd->add_option("--compact-fanout", o->compact_fanout,
                   "Texels each level of the stream reduction's count pyramid sums: 4 (one pass per factor 4) or 16")
       ->check(CLI::IsMember({4, 16}))
       ->capture_default_str();
-  cmd->add_option("--host-pairs", o->host_pairs,
+  auto* host_pairs_opt = cmd->add_option("--host-pairs", o->host_pairs,
                   "A descent level of at most this many child box pairs is pruned on the CPU from one read-back "
                   "instead of the reduction and stream-reduction passes (the same pairs survive); 0: every level "
                   "on the GPU, as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
       ->check(CLI::Range(-1LL, 1LL << 40))
       ->capture_default_str();
-  cmd->add_option("--gpu-upper", o->upper,
+  auto* upper_opt = cmd->add_option("--gpu-upper", o->upper,
                   "Least upper bound of each level of the descent: boxes (the paper's farthest box points), "
                   "samples (also a face sample per node: far fewer pairs survive; the same answer) or auto "
                   "(samples with coarse-to-fine, boxes with faithful)")
@@ -395,9 +469,22 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
                   "off: prepare every face (the paper)")
       ->check(CLI::IsMember({"boxes", "off"}))
       ->capture_default_str();
+  cmd->add_option("--engine", o->engine,
+                  "auto: one query whose kept faces' coarse grids hold at most 2^22 cell pairs runs on the CPU "
+                  "alone, in double (the GPU's set-up would cost more), others on the GPU, as does any option of "
+                  "the GPU descent; gpu: always the GPU descent; cpu: always the CPU (coarse-to-fine, hierarchy "
+                  "first stage)")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o, voxels] {
+  cmd->callback([&global, o, voxels, reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt] {
     if (voxels->count() > 0 && o->first_stage != "voxels") throw BadInput("--voxels needs --first-stage voxels");
+    // The options of the GPU descent ask for it: auto runs on the GPU, cpu is refused.
+    for (const CLI::Option* g : {reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt})
+      if (g->count() > 0) {
+        if (o->engine == "cpu") throw BadInput(fmt::format("{} sets the GPU descent; not with --engine cpu", g->get_name()));
+        if (o->engine == "auto") o->engine = "gpu";
+      }
     run(global, *o);
   });
 }

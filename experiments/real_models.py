@@ -10,8 +10,9 @@ cells without material), its peak resident memory; then OpenCASCADE's projection
 `--occt-points` of the same points, its rate, and the ratio. Writes real_models.csv in OUT and prints
 a table. Then clearance of each model against a copy of itself moved along x by its box width plus
 --gap times its size (separated copies): `nurbsgl clearance --json` as one process (wall, and
-prepare + query) with the face cull on and off, beside OpenCASCADE's BRepExtrema_DistShapeShape
-(`peer_occt_distance shapes`: its first query, reading excluded, and its whole process);
+prepare + query) by default (the engine it chose), on the GPU, and on the GPU without the face cull,
+beside OpenCASCADE's BRepExtrema_DistShapeShape (`peer_occt_distance shapes`: its first query,
+reading excluded, and its whole process);
 real_models_clearance.csv. A benchmark, not a test: nothing fails on a slow figure.
 
 Usage: experiments/real_models.py --build BUILD --out OUT [--points N] [--occt-points M] [--models ...]
@@ -114,14 +115,18 @@ def main():
         size = sum((hi[k] - lo[k]) ** 2 for k in range(3)) ** 0.5
         move = f"{hi[0] - lo[0] + a.gap * size:.9g},0,0"
         row = {"model": rel, "faces": info["faces"], "tol": a.clearance_tol, "move_x": move.split(",")[0]}
-        for cull in ("boxes", "off"):
+        # auto (the CPU alone for small models, else the GPU), the GPU descent with the face cull, and
+        # without it (the paper's preparation of every face).
+        for name, extra in (("auto", []), ("gpu", ["--engine", "gpu"]), ("gpu_all_faces", ["--engine", "gpu",
+                                                                                          "--face-cull", "off"])):
             out, wall, peak = run([cli, "clearance", model, model, "--move-b", move, "--tol", a.clearance_tol,
-                                   "--face-cull", cull, "--json"])
+                                   "--json"] + extra)
             d = json.loads(out)
-            row[f"distance_{cull}"] = d["distance"]
-            row[f"wall_s_{cull}"] = round(wall, 3)
-            row[f"prepare_query_s_{cull}"] = round(d["prepare_seconds"] + d["seconds"], 3)
-            if cull == "boxes":
+            row[f"distance_{name}"] = d["distance"]
+            row[f"engine_{name}"] = d["engine"]["used"]
+            row[f"wall_s_{name}"] = round(wall, 3)
+            row[f"prepare_query_s_{name}"] = round(d["prepare_seconds"] + d["seconds"], 3)
+            if name == "auto":
                 row["faces_kept"] = f"{d['face_cull']['faces_a']}+{d['face_cull']['faces_b']}"
         if os.path.exists(peer):
             out, wall, _ = run([peer, "shapes", model, model, "--move-b", move, "--repeat", "1"])
@@ -129,8 +134,8 @@ def main():
             row["occt_distance"] = d["distance"]
             row["occt_query_s"] = round(d["first_seconds"], 3)
             row["occt_wall_s"] = round(wall, 3)
-            row["ratio_query"] = round(d["first_seconds"] / row["prepare_query_s_boxes"], 2)
-            row["ratio_wall"] = round(wall / row["wall_s_boxes"], 2)
+            row["ratio_query"] = round(d["first_seconds"] / row["prepare_query_s_auto"], 2)
+            row["ratio_wall"] = round(wall / row["wall_s_auto"], 2)
         crows.append(row)
         print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
     write_csv(os.path.join(a.out, "real_models_clearance.csv"), crows)

@@ -367,6 +367,22 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
 
 namespace {
 
+/// r with the answer of a refinement.
+Clearance with_refined(Clearance r, const Refined& f) {
+  r.found = f.found;
+  r.distance = f.distance;
+  r.bound = f.bound;
+  r.point_a = f.point_a, r.point_b = f.point_b;
+  r.uv_a = f.uv_a, r.uv_b = f.uv_b;
+  r.face_a = f.face_a, r.face_b = f.face_b;
+  r.on_trim_edge = f.on_trim_edge;
+  r.meets_tolerance = f.meets_tolerance;
+  r.rounds = f.rounds;
+  r.refined_cells = f.cells;
+  r.most_pairs = f.most_pairs;
+  return r;
+}
+
 /// Clearance::intersecting: a common point sought from the closest pair when the distance is
 /// within its bound of zero (Newton on both faces, intersection.h): two surface points within a
 /// thousandth of the query's tolerance (above the coordinates' double rounding).
@@ -383,6 +399,19 @@ Clearance with_intersection(const PreparedModel& a, const PreparedModel& b, cons
 }
 
 }  // namespace
+
+std::optional<Clearance> clearance_cpu(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                                       double upper, long long max_start_pairs) {
+  if (a.search != Search::CoarseToFine || b.search != Search::CoarseToFine)
+    throw std::invalid_argument("clearance_cpu: the models must be prepared with Search::CoarseToFine");
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::optional<Refined> f = refine_all_pairs(a, b, motion_b, a.tolerance + b.tolerance, upper, max_start_pairs);
+  if (!f) return std::nullopt;
+  Clearance r;
+  r.refine_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.start_pairs = f->start_pairs;
+  return with_intersection(a, b, motion_b, with_refined(std::move(r), *f));
+}
 
 Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
                     const std::vector<char>* faces_a, const std::vector<char>* faces_b, const ClearanceLimits& limits,
@@ -421,18 +450,7 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
     const auto t0 = std::chrono::steady_clock::now();
     const Refined f = refine_pairs(a, b, motion_b, leaves, a.tolerance + b.tolerance);
     r.refine_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.found = f.found;
-    r.distance = f.distance;
-    r.bound = f.bound;
-    r.point_a = f.point_a, r.point_b = f.point_b;
-    r.uv_a = f.uv_a, r.uv_b = f.uv_b;
-    r.face_a = f.face_a, r.face_b = f.face_b;
-    r.on_trim_edge = f.on_trim_edge;
-    r.meets_tolerance = f.meets_tolerance;
-    r.rounds = f.rounds;
-    r.refined_cells = f.cells;
-    r.most_pairs = f.most_pairs;
-    return with_intersection(a, b, motion_b, std::move(r));
+    return with_intersection(a, b, motion_b, with_refined(std::move(r), f));
   }
   // The leaf pairs in contiguous shares over the hardware threads, merged in share order with a
   // strict "<" (the sequential loop's answer: the first pair of least distance).

@@ -24,7 +24,9 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -48,6 +50,7 @@ struct Clearance {
   long long refined_cells = 0;  ///< cells evaluated on the CPU
   long long most_pairs = 0;     ///< largest candidate set of a round
   double refine_seconds = 0.0;  ///< time of the CPU refinement
+  long long start_pairs = 0;    ///< clearance_cpu: the cell pairs of its first round
   /// Whether the models meet: a common point of faces face_a and face_b (B moved), found from the
   /// closest pair when the distance is within its bound of zero (intersection.h); false when none
   /// was found (surfaces farther apart than the bound never meet).
@@ -109,6 +112,22 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
                     const glm::dmat4& motion_b = glm::dmat4(1.0), const std::vector<char>* faces_a = nullptr,
                     const std::vector<char>* faces_b = nullptr, const ClearanceLimits& limits = {},
                     ClearanceCache* cache = nullptr);
+
+/// The clearance of the coarse-to-fine search (Search::CoarseToFine, prepare_geometry: no atlases)
+/// without the GPU: the grid cell pairs within an upper bound (`upper`, or one from material
+/// corners) refined in double (refine_all_pairs). The same answer and bound as clearance() with the
+/// GPU descent; for small models, where the GPU's set-up (a GL context, its programs, the atlases)
+/// costs more than the whole search (beyond the paper). nullopt when the first round would test
+/// more than `max_start_pairs` cell pairs (< 0: no limit): the GPU descent prunes those faster.
+std::optional<Clearance> clearance_cpu(const PreparedModel& a, const PreparedModel& b,
+                                       const glm::dmat4& motion_b = glm::dmat4(1.0),
+                                       double upper = std::numeric_limits<double>::infinity(),
+                                       long long max_start_pairs = -1);
+
+/// The CLI's automatic choice of clearance_cpu: one query of models whose grids hold at most this
+/// many cell pairs (grid_cell_count(a) x grid_cell_count(b)), also its budget of first-round pairs:
+/// about 40 ms of box tests on two cores, within the GPU's set-up.
+inline constexpr long long kCpuClearanceStartPairs = 1LL << 22;
 
 /// Compiles (or loads from Mesa's shader cache) every program that preparing the models' atlases
 /// and a query with `limits` use, ahead of their first use: the CLI does it on the GL thread while

@@ -149,6 +149,8 @@ class Cells {
   /// Whether a cell's corner is trimmed or a trim edge crosses it: an answer there may lie on the
   /// trim edge (Refined::on_trim_edge).
   [[nodiscard]] bool on_trim_edge(const Cell& c) const { return c.material != 15u || trim_crosses(c); }
+  /// Whether material may lie in the cell: a material corner, or a trim edge crossing it.
+  [[nodiscard]] bool may_hold_material(const Cell& c) const { return c.material != 0u || trim_crosses(c); }
 
  private:
   /// Index + 1 of the cell of grid cell c (0: none yet); a face's table is made when it first appears.
@@ -298,17 +300,11 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
   return r;
 }
 
-Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
-                     const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance, RefineLimits limits) {
-  Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
-  std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  std::vector<FaceCell> xs, ys;
-  xs.reserve(start.size()), ys.reserve(start.size());
-  for (const auto& [x, y] : start) xs.push_back(x), ys.push_back(y);
-  const std::vector<uint32_t> ia = ca.add_grid_cells(xs), ib = cb.add_grid_cells(ys);
-  for (size_t n = 0; n < start.size(); ++n) pairs.emplace_back(ia[n], ib[n]);
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+namespace {
+
+/// The pair search of refine_pairs from the cell pairs `pairs` (indices into ca.all, cb.all).
+Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint32_t>> pairs, double tolerance,
+                     const RefineLimits& limits) {
   Refined r;
   r.distance = kInf;
   double lower = kInf;
@@ -450,6 +446,88 @@ Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::
   r.found = true;
   r.bound = r.distance - std::min(lower, r.distance);
   r.on_trim_edge = ca.on_trim_edge(ca.all[best.first]) || cb.on_trim_edge(cb.all[best.second]);
+  return r;
+}
+
+}  // namespace
+
+Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                     const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance, RefineLimits limits) {
+  Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  std::vector<FaceCell> xs, ys;
+  xs.reserve(start.size()), ys.reserve(start.size());
+  for (const auto& [x, y] : start) xs.push_back(x), ys.push_back(y);
+  const std::vector<uint32_t> ia = ca.add_grid_cells(xs), ib = cb.add_grid_cells(ys);
+  for (size_t n = 0; n < start.size(); ++n) pairs.emplace_back(ia[n], ib[n]);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return search_pairs(ca, cb, std::move(pairs), tolerance, limits);
+}
+
+long long grid_cell_count(const PreparedModel& m) {
+  long long n = 0;
+  for (const nurbs::CertifiedGrid& g : m.grids) n += static_cast<long long>(g.grid.cells_u()) * g.grid.cells_v();
+  return n;
+}
+
+std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                                        double tolerance, double upper, long long max_start_pairs, RefineLimits limits) {
+  Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
+  // Every grid cell that holds material (a material corner, or a trim edge crossing it).
+  auto cells_of = [](const PreparedModel& m, Cells& cells) {
+    std::vector<FaceCell> all;
+    for (size_t f = 0; f < m.grids.size(); ++f)
+      for (int j = 0; j < m.grids[f].grid.cells_v(); ++j)
+        for (int i = 0; i < m.grids[f].grid.cells_u(); ++i) all.push_back({int(f), i, j});
+    std::vector<uint32_t> index = cells.add_grid_cells(all), kept;
+    for (uint32_t k : index)
+      if (cells.may_hold_material(cells.all[k])) kept.push_back(k);
+    return kept;
+  };
+  std::vector<uint32_t> xs = cells_of(a, ca), ys = cells_of(b, cb);
+  // A first upper bound from two material corners: A's nearest to the centre of B's cells, B's
+  // nearest to that, and back.
+  auto nearest = [](const Cells& cells, const std::vector<uint32_t>& index, const glm::dvec3& to) {
+    double best = kInf;
+    glm::dvec3 at = to;
+    for (uint32_t k : index)
+      for (int c = 0; c < 4; ++c)
+        if (cells.all[k].material & (1u << c))
+          if (const double d = glm::length(cells.all[k].corner[c] - to); d < best) best = d, at = cells.all[k].corner[c];
+    return std::pair{best, at};
+  };
+  glm::dvec3 centre(0.0);
+  for (uint32_t y : ys) centre += 0.5 * (cb.all[y].lo + cb.all[y].hi) / double(ys.size());
+  glm::dvec3 pa = nearest(ca, xs, centre).second;
+  for (int round = 0; round < 2; ++round) {
+    const auto [d, pb] = nearest(cb, ys, pa);
+    upper = std::min(upper, d);
+    pa = nearest(ca, xs, pb).second;
+  }
+  // The cells of each side within the upper bound of the other side's box, then their pairs whose
+  // boxes lie within it.
+  auto near_box = [&](const Cells& cells, std::vector<uint32_t>& index, const Cells& other,
+                      const std::vector<uint32_t>& other_index) {
+    Cell box;
+    box.lo = glm::dvec3(kInf), box.hi = glm::dvec3(-kInf);
+    for (uint32_t k : other_index) box.lo = glm::min(box.lo, other.all[k].lo), box.hi = glm::max(box.hi, other.all[k].hi);
+    std::erase_if(index, [&](uint32_t k) { return box_box(cells.all[k], box) > upper; });
+  };
+  near_box(ca, xs, cb, ys);
+  near_box(cb, ys, ca, xs);
+  if (max_start_pairs >= 0 && static_cast<long long>(xs.size()) * static_cast<long long>(ys.size()) > max_start_pairs)
+    return std::nullopt;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> rows(share_count(xs.size(), 64));
+  for_shares(xs.size(), rows.size(), [&](size_t share, size_t begin, size_t end) {
+    for (size_t n = begin; n < end; ++n)
+      for (uint32_t y : ys)
+        if (box_box(ca.all[xs[n]], cb.all[y]) <= upper) rows[share].emplace_back(xs[n], y);
+  });
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (const auto& row : rows) pairs.insert(pairs.end(), row.begin(), row.end());
+  Refined r = search_pairs(ca, cb, std::move(pairs), tolerance, limits);
+  r.start_pairs = static_cast<long long>(xs.size()) * static_cast<long long>(ys.size());
   return r;
 }
 

@@ -25,6 +25,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct Refined {
   int rounds = 0;               ///< subdivision rounds
   long long cells = 0;          ///< cells evaluated (four corners each, shared with the parent)
   long long most_pairs = 0;     ///< the largest set of candidates in a round
+  long long start_pairs = 0;    ///< refine_all_pairs: the cell pairs its first round tested
 };
 
 struct RefineLimits {
@@ -60,5 +62,20 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
 Refined refine_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
                      const std::vector<std::pair<FaceCell, FaceCell>>& start, double tolerance,
                      RefineLimits limits = {});
+
+/// The cells of every face's grid of m (its coarse grid with Search::CoarseToFine).
+[[nodiscard]] long long grid_cell_count(const PreparedModel& m);
+
+/// The whole search of refine_pairs without a GPU descent before it: every grid cell of a and of b
+/// (b moved by motion_b) that may hold material; an upper bound U, the least of `upper` (a known
+/// bound on the clearance, e.g. FaceCull::upper; +inf: none) and the distance of two material
+/// corners; the cells of each side within U of the other side's box; their pairs whose boxes lie
+/// within U, refined to tolerance T. The same answer and bound as the GPU descent followed by
+/// refine_pairs (the descent only prunes pairs that cannot hold the closest pair). Its first round
+/// costs a box test per pair of the kept cells (Refined::start_pairs): nullopt, before that round,
+/// when they number more than `max_start_pairs` (< 0: no limit).
+std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
+                                        double tolerance, double upper, long long max_start_pairs = -1,
+                                        RefineLimits limits = {});
 
 }  // namespace queries

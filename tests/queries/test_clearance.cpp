@@ -366,3 +366,55 @@ TEST_CASE("clearance: compile_clearance_programs compiles every program that pre
       CHECK(gpu.program_count() == compiled);
     }
 }
+
+TEST_CASE("clearance: the CPU search (clearance_cpu) proves the GPU descent's answer on spheres, random pairs and a "
+          "holed plane" * test::sweep()) {
+  gpgpu::Gpu& gpu = test::gpu();
+  const double tol = 1e-3;
+  auto both = [&](const nurbs::TrimmedSurface& x, const nurbs::TrimmedSurface& y, const glm::dmat4& motion) {
+    const auto a = queries::prepare_model(gpu, {x}, tol, 1LL << 22, queries::Search::CoarseToFine);
+    const auto b = queries::prepare_model(gpu, {y}, tol, 1LL << 22, queries::Search::CoarseToFine);
+    const queries::Clearance g = queries::clearance(gpu, a, b, motion);
+    // Every pair, then only those within an upper bound (the GPU's answer, grown): the same search.
+    const queries::Clearance c = queries::clearance_cpu(a, b, motion).value();
+    const queries::Clearance u = queries::clearance_cpu(a, b, motion, 1.01 * g.distance + 1e-9).value();
+    // Over a budget of start pairs: no answer (the caller takes the GPU descent).
+    CHECK_FALSE(queries::clearance_cpu(a, b, motion, 1.01 * g.distance + 1e-9, u.start_pairs - 1).has_value());
+    CHECK(u.start_pairs <= c.start_pairs);
+    REQUIRE(g.found);
+    REQUIRE(c.found);
+    REQUIRE(u.found);
+    CHECK(c.meets_tolerance);
+    CHECK(c.bound <= 2 * tol);
+    CHECK(std::abs(c.distance - g.distance) <= c.bound + g.bound + 1e-12);
+    CHECK(std::abs(u.distance - c.distance) <= u.bound + c.bound);
+    CHECK(std::abs(glm::length(c.point_a - c.point_b) - c.distance) < 1e-12);
+    CHECK(c.pairs_per_level.empty());  // no GPU descent
+    return c;
+  };
+  nurbs::TrimmedSurface s1, s2;
+  s1.surface = models::rational_sphere(1.0);
+  s2.surface = models::rational_sphere(2.0);
+  for (double gap : {0.02, 1.5}) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(-1, 0.4, 2));
+    const queries::Clearance c = both(s1, s2, glm::translate(glm::dmat4(1.0), (3.0 + gap) * dir));
+    CAPTURE(gap);
+    test::check_proven(c.found, c.meets_tolerance, c.distance, c.bound, 2 * tol, gap, 1e-12);
+  }
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    nurbs::TrimmedSurface fa, fb;
+    fa.surface = models::random_surface(seed + 310, 2, 1 + int(seed % 3), seed % 2 == 1);
+    fb.surface = models::random_surface(seed + 710, 1 + int(seed % 3), 2, false);
+    CAPTURE(seed);
+    both(fa, fb, glm::translate(glm::dmat4(1.0), glm::dvec3(-0.2, 0.4, 2.2)));
+  }
+  // A trimmed face: the clearance is the hole's rim's, never a point in the hole (0.05).
+  nurbs::TrimmedSurface ball;
+  ball.surface = models::rational_sphere(0.2);
+  const queries::Clearance c = both(models::cubic_square_with_hole(0.3), ball,
+                                    glm::translate(glm::dmat4(1.0), glm::dvec3(1.0, 1.0, 0.25)));
+  CHECK(c.distance > 0.1);
+  // Search::Faithful models have no coarse grids to refine.
+  const auto f = queries::prepare_model(gpu, {s1}, tol);
+  CHECK_THROWS_AS((void)queries::clearance_cpu(f, f), std::invalid_argument);
+}
