@@ -2,7 +2,7 @@
 /// \file bounds_report.h
 /// `nurbsgl info --bounds`: per face, how tight the Filip bound is (bound / sampled second
 /// derivatives on the certified grid) and what the knot-aligned grid costs against the former
-/// uniform grid at the same tolerance (issue 6). Text table or JSON; no GPU.
+/// uniform grid at the same tolerance. Text table or JSON; no GPU.
 #include <nlohmann/json.hpp>
 #include <string>
 

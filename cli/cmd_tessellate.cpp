@@ -43,7 +43,7 @@ nlohmann::json stats_json(const nurbs::tess::TessellateStats& s) {
 void run(const TessArgs& a) {
   const nurbs::Model model = nurbs::io::read_model(a.path);
   const double size = checked_model_size(model, a.path);
-  // Without --eps: 1e-3 of the model size, the reference setting.
+  // Without --eps: 1e-3 of the model size, the reference setting of the experiments.
   const double eps = a.eps_given ? (a.relative ? a.eps * size : a.eps) : 1e-3 * size;
   if (!(eps > 0) || !std::isfinite(eps)) throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));
   std::string out_error;

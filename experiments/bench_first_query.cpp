@@ -1,10 +1,10 @@
-// Benchmark of the first clearance query with evaluation (issue 8, Table 1 configuration), not a
+// Benchmark of the first clearance query with evaluation (Table 1 configuration), not a
 // test: it prints figures. The paper pair (models/paper_surfaces.h: 199 x 33 against 100 x 105,
 // B at the "above" position of experiments/distance_tables.py) at a tolerance relative to the larger
 // model (default 1e-5), coarse-to-fine or faithful:
 //  - cold: the first pair of the process, as `nurbsgl clearance` runs it (every GL program compiled
 //    or loaded from Mesa's shader cache and run for the first time inside the figure);
-//  - warm: then `--repeat` fresh pairs in the same process, as in a session that has run a query
+//  - warm: then `--repeat` fresh pairs in the same process, as in a process that has run a query
 //    before: each one prepared from scratch (Filip bounds, certified grids, evaluation, trim masks,
 //    growth) with a fresh cache of A's hierarchy, then its first query and a second one;
 //  - with --compile-beside, the cold pair's programs compile while its geometry threads work, as
@@ -89,7 +89,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"First clearance query with evaluation on the paper pair (issue 8, Table 1), cold and warm"};
+  CLI::App app{"First clearance query with evaluation on the paper pair (Table 1), cold and warm"};
   std::string backend = "auto", search = "coarse-to-fine";
   double rel = 1e-5;
   int repeat = 9, threads = -1;

@@ -1,4 +1,4 @@
-// Benchmark of the batched point projection (issue 8; queries/point_batch.h), not a test: it prints
+// Benchmark of the batched point projection (queries/point_batch.h), not a test: it prints
 // figures. On the generated 100 x 105 surface (models/paper_surfaces.h), untrimmed and trimmed, at a
 // tolerance relative to the model size (default 1e-5): the one-time preparation (certified grid,
 // atlas, box pyramid), then N random points (fixed seed) in one batch, in the model's box grown by a
@@ -198,7 +198,7 @@ void run(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& face, const char* name, d
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Batched point projection (issue 8) on the generated 100 x 105 surface, untrimmed and trimmed"};
+  CLI::App app{"Batched point projection on the generated 100 x 105 surface, untrimmed and trimmed"};
   std::string backend = "auto";
   double rel = 1e-5;
   int count = 200000, faithful = 20;

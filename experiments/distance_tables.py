@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Distance experiments of Krishnamurthy et al. (issue 8, "Experiments"), OpenCASCADE beside each.
+"""Distance experiments of Krishnamurthy et al. ("Experiments"), OpenCASCADE beside each.
 
 Every experiment drives the CLI (`nurbsgl clearance` / `nurbsgl distance`, the stable contract) and the
 OCCT peer (`peer_occt_distance`, BRepExtrema_DistShapeShape and GeomAPI_ProjectPointOnSurf) in the same

@@ -1,4 +1,4 @@
-// Trim classification vs OpenCASCADE (issue 7; built only with -DNURBSGL_PEER_BENCH=ON, as
+// Trim classification vs OpenCASCADE (built only with -DNURBSGL_PEER_BENCH=ON, as
 // scripts/bench.sh does). For every IGES file under the shared models, each nurbsgl face is matched
 // to the OCCT face nearest to a few of its material points (not by order), then an N x N grid of cell
 // centres over the face's whole (u, v) domain is classified twice:

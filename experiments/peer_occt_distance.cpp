@@ -1,4 +1,4 @@
-// OpenCASCADE peer of the distance experiments (issue 8, experiments/distance_tables.py): the same
+// OpenCASCADE peer of the distance experiments (experiments/distance_tables.py): the same
 // IGES files, the same rigid motion of B, the same machine; prints JSON, asserts nothing.
 //  shapes A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG] | [--motion FILE] [--repeat N]:
 //      BRepExtrema_DistShapeShape between A and B moved (rotated by DEG degrees about the axis
@@ -8,7 +8,7 @@
 //      initialised once on the face's surface and its UV bounds (trims ignored), min over faces.
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
-//      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast` (issue 10).
+//      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
 // Reads the models with nurbs-free OCCT code only (IGESControl_Reader), so it is an independent peer.
 #include <fmt/format.h>
 

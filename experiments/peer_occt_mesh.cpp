@@ -1,4 +1,4 @@
-// OpenCASCADE peer of the tessellation experiments (issue 9, experiments/tessellation_tables.py):
+// OpenCASCADE peer of the tessellation experiments (experiments/tessellation_tables.py):
 // BRepMesh_IncrementalMesh of an IGES model at a given linear deflection, timed, and the mesh
 // written (.stl binary, .ply, .obj) for `nurbsgl deviation` to measure exactly as it measures ours.
 //  peer_occt_mesh MODEL --deflection D [--angular A] [--relative] [--parallel] [--repeat N] [-o OUT]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Ray casting and thickness experiments of Lemasson et al. (issue 10), OpenCASCADE beside ours.
+"""Ray casting and thickness experiments of Lemasson et al., OpenCASCADE beside ours.
 
 Every figure comes from the CLI (`nurbsgl raycast --json`, `nurbsgl thickness --json`, the stable
 contract) and the OCCT peer (`peer_occt_distance rays`: IntCurvesFace_ShapeIntersector, PerformNearest)
@@ -13,7 +13,7 @@ in the same run on the same machine. Per model:
             |t - t_occt| on the rays both hit (OCCT is the independent reference).
   accuracy  Fig. 13: |t_bicubic - t| (the hit on the bicubic patches, what the paper reports, against
             the hit moved onto the exact NURBS face in double) and |t - t_occt|; the fraction of
-            samples within 1e-3 mm (the issue's goal: 99 %; the paper reached 55 %).
+            samples within 1e-3 mm (the goal: 99 %; the paper reached 55 %).
   thickness `nurbsgl thickness --samples S`: rays per second, min / median thickness.
   dacrt     Figs. 8-9: DACRT's rays per second and tests per ray over its two brute-force thresholds
             (patch set, ray set) on the first model.

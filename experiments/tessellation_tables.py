@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Tessellation experiments of Balazs, Guthe and Klein 2004 (issue 9), OpenCASCADE beside ours.
+"""Tessellation experiments of Balazs, Guthe and Klein 2004, OpenCASCADE beside ours.
 
 Every figure comes from the CLI (`nurbsgl tessellate --json`, `nurbsgl deviation --json`, the stable
 contract) and the OCCT peer (`peer_occt_mesh`, BRepMesh_IncrementalMesh) in the same run on the same
@@ -15,7 +15,7 @@ machine. Per model, at eps = EPS x model size (default 1e-3):
            deviation` the same way, lies within --match of D (the last mesh not above D is kept).
 
 Writes table2.csv, table3.csv, table4.csv, occt.csv, a PNG per table and summary.txt (also on stdout),
-with a verdict per model on the issue's targets: >= 2x fewer triangles than the quadtree, no more
+with a verdict per model on the targets: >= 2x fewer triangles than the quadtree, no more
 triangles than OCCT at equal measured deviation, the bearing (occt_bearing.iges) under 1 s.
 Benchmarks, not tests: nothing fails on a slow figure; a command that fails is reported and skipped.
 """
@@ -297,7 +297,7 @@ def plots(out, t2, t3, t4, oc):
 
 def summary(a, results, t2, t3, t4, oc):
     eps_of = {r["name"]: j["eps"] for r in results for j in [r["runs"].get("kd_g") or r["runs"].get("kd_g_net")] if j}
-    L = [f"Tessellation experiments (issue 9): eps = {a.eps:g} x model size, check {a.check_samples}^2 samples "
+    L = [f"Tessellation experiments: eps = {a.eps:g} x model size, check {a.check_samples}^2 samples "
          f"per face, OCCT angular deflection {a.angular:g} rad{', parallel' if a.occt_parallel else ''}; "
          f"{os.cpu_count()} CPU cores (shared: times are indicative)", ""]
     L.append("Table 2 (trim curves)")
@@ -344,7 +344,7 @@ def summary(a, results, t2, t3, t4, oc):
                      f"{r['same_occt_deviation']:.3g} with {r['same_occt_triangles']} triangles "
                      f"({r['same_occt_triangles'] / max(1, r['ours_triangles']):.2f}x ours), {r['same_occt_s']:.3f} s"
                      f"{'' if r['same_matched'] else ', NO MATCH'}")
-    L += ["", "Targets of the issue (yes / NO / n/a)"]
+    L += ["", "Targets (yes / NO / n/a)"]
     L.append(f"  {'model':<28}{'>=2x fewer than quadtree':>25}{'<= OCCT triangles':>28}{'within eps':>12}"
              f"{'bearing < 1 s':>15}")
     t4m, ocm = {r["model"]: r for r in t4}, {r["model"]: r for r in oc}

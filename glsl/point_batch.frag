@@ -1,4 +1,4 @@
-// Batched point projection (issue 8, beyond the paper): one fragment per query point descends the
+// Batched point projection (beyond the paper): one fragment per query point descends the
 // box pyramid of an atlas of evaluated faces (Krishnamurthy et al. §5.1 hierarchies, stored as mip
 // levels of one texture; level 0 = the box of each cell's four samples, ungrown) depth first, the
 // four children of a node visited nearest first (their point-box minimum distance, Eqs. 9-12), a

@@ -1,4 +1,4 @@
-// GPU ray caster of Lemasson et al. (issue 10), one fragment per ray, in float: the Morton BVH of
+// GPU ray caster of Lemasson et al., one fragment per ray, in float: the Morton BVH of
 // bicubic patches (§3.2) walked without a stack (Hapala et al. 2011: parent pointers, three states,
 // near child by box centre along the ray), pruned by the best t so far + u_slack; at each leaf the
 // ray / patch Newton iteration (§3.3, lib_raycast_newton.glsl) from up to 4 starts, and a converged

@@ -1,4 +1,4 @@
-// Batched surface evaluation (issue 6): the grids of many faces packed into one atlas and evaluated
+// Batched surface evaluation: the grids of many faces packed into one atlas and evaluated
 // in one pass, as surface_eval_tabulated.frag does for one face. Texel (x, y) belongs to the face
 // slot u_slot_of[x, y] (-1: no face); its slot record gives the grid's corner in the atlas, where
 // its basis tables and control points start in the shared arrays, and its origin.

@@ -30,7 +30,7 @@ class Random {
 /// grid; weights in [0.2, 5] when `rational`.
 [[nodiscard]] nurbs::Surface random_surface(std::uint64_t seed, int degree_u, int degree_v, bool rational);
 
-/// A harder random surface for the certified grids (issue 6): degrees as given (1-11), clamped knots
+/// A harder random surface for the certified grids: degrees as given (1-11), clamped knots
 /// on [0, w] whose interior knots repeat 1 to `degree` times (at `degree`, the surface is only C^0
 /// there: piecewise Bézier as in VDA-FS and CATIA data), including a run of tiny spans; when
 /// `weight_ratio` > 1 the surface is rational with weights log-uniform in [1, weight_ratio].

@@ -1,7 +1,7 @@
 #pragma once
 /// \file certified_grid.h
 /// Knot-aligned, piecewise-uniform parameter grids whose every cell is within a tolerance of the
-/// surface (issue 6): the grid on which Krishnamurthy et al. §2.2 evaluate a surface, with the Filip
+/// surface: the grid on which Krishnamurthy et al. §2.2 evaluate a surface, with the Filip
 /// bound of Eq. (4) (nurbs/filip_bound.h) applied per cell instead of once with one step.
 ///
 /// Why knot-aligned. Eq. (4) needs the surface C^1 inside a cell. Across a knot line of full

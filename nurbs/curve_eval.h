@@ -20,8 +20,8 @@ template <int D>
 template <int D>
 [[nodiscard]] glm::vec<D, double> curve_point(const Curve<D>& curve, double u);
 
-/// C(u) and its derivatives wrt u: result[k] = d^k C / du^k for k = 0..order (any order; the brief
-/// needs <= 2). Homogeneous derivatives by A3.2, Euclidean ones by A4.2:
+/// C(u) and its derivatives wrt u: result[k] = d^k C / du^k for k = 0..order (any order; the
+/// queries use <= 2). Homogeneous derivatives by A3.2, Euclidean ones by A4.2:
 /// C^(k) = (A^(k) - sum_{i=1..k} C(k,i) w^(i) C^(k-i)) / w.
 template <int D>
 [[nodiscard]] std::vector<glm::vec<D, double>> curve_derivatives(const Curve<D>& curve, double u, int order);

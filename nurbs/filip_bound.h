@@ -107,7 +107,7 @@ struct AdaptiveRefinement {
   double min_gain = 0.8;  ///< stop when splitting the worst piece lowers its score by less than 20 %
 };
 
-/// Bounds of one Bézier patch, refined adaptively (issue 6, "tight rational bounds"): the piece
+/// Bounds of one Bézier patch, refined adaptively ("tight rational bounds"): the piece
 /// whose bound is largest (score: K_e of one cell the size of the patch) is split 2 x 2 while that
 /// lowers its score by at least 1 - min_gain and the piece budget lasts; the result is the field-wise
 /// max over the pieces, a true bound over the whole patch since each piece's is over the piece. The

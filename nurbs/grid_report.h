@@ -1,6 +1,6 @@
 #pragma once
 /// \file grid_report.h
-/// What the grid of one face achieves for a tolerance (issue 6): the certified knot-aligned grid
+/// What the grid of one face achieves for a tolerance: the certified knot-aligned grid
 /// (certified_grid.h), how tight its bound is against sampled second derivatives, and, for
 /// comparison, the former uniform grid of the same tolerance (one step over the whole domain,
 /// K_e = +infinity where it crosses a C^0 knot line).

@@ -1,6 +1,6 @@
 #pragma once
 /// \file face_atlas.h
-/// Many faces at once (issue 6, "faces are batched"): the grids of a model's faces packed into one
+/// Many faces at once ("faces are batched"): the grids of a model's faces packed into one
 /// atlas texture by skyline packing, evaluated in one pass (glsl/surface_eval_atlas.frag, the batched
 /// form of the tabulated method) and trimmed in one even-odd fill, so a model of hundreds of faces
 /// costs a few passes per batch instead of a few per face. Faces whose grid exceeds the tile side

@@ -1,6 +1,6 @@
 #pragma once
 /// \file point_batch.h
-/// Batched point projection (issue 8, beyond the paper): many query points at once against a
+/// Batched point projection (beyond the paper): many query points at once against a
 /// prepared model, one fragment per point (glsl/point_batch.frag). Per atlas of the model:
 ///  1. once: the box of every cell's four float samples (glsl/aabb_leaf.frag, ungrown) merged 2x2
 ///     up to one root (glsl/aabb_merge.frag), the levels stored as mip levels of one texture

@@ -34,7 +34,7 @@ class GridLimitError : public std::runtime_error {
 /// How a query reaches its tolerance T.
 ///  - Faithful (the paper): every face on a grid with K_e <= T everywhere; the GPU search ends at
 ///    cells that already meet T.
-///  - CoarseToFine (beyond the paper, issue 8): every face on a coarse grid (K_e <= the coarse
+///  - CoarseToFine (beyond the paper): every face on a coarse grid (K_e <= the coarse
 ///    tolerance); the GPU search over it returns the candidate cells (lower bound <= the least upper
 ///    bound) and only those are subdivided, in double on the CPU (queries/refine.h), pruned again
 ///    against the improving upper bound, until every surviving cell meets T. Same guarantee.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file ray_caster.h
-/// Ray casting of a model, as the CLI, the viewer and the experiments use it (issue 10): the scene
+/// Ray casting of a model, as the CLI, the viewer and the experiments use it: the scene
 /// built once (Lemasson et al. §3.1-3.2: bicubic patches, trims, BVH), then batches of rays cast
 /// by the BVH or DACRT method on the CPU (double, every core; nurbs/raycast/) or by the fragment-
 /// shader pass (raycast_gpu.h, BVH only), in chunks, with progress and the paper's figures (tests

@@ -1,6 +1,6 @@
 #pragma once
 /// \file raycast_gpu.h
-/// The GPU ray caster of Lemasson et al. (issue 10, §3.2-3.4): one fragment per ray
+/// The GPU ray caster of Lemasson et al. (§3.2-3.4): one fragment per ray
 /// (glsl/raycast.frag) walks the scene's Morton BVH without a stack, intersects the bicubic patches
 /// of the reached leaves by the two-plane Newton iteration and tests hits against the faces' cubic
 /// trims, all in float, relative to the scene centre. The double-precision twin and test oracle is

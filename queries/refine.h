@@ -1,6 +1,6 @@
 #pragma once
 /// \file refine.h
-/// The coarse-to-fine search (issue 8, beyond the paper; Search::CoarseToFine in prepared_model.h).
+/// The coarse-to-fine search (beyond the paper; Search::CoarseToFine in prepared_model.h).
 /// The GPU search over coarse grids (point_distance.h, clearance.h) returns the cells, or cell
 /// pairs, whose lower bound is within its least upper bound. Here, in double on the CPU, those
 /// cells are subdivided and pruned again until the answer is proven within the tolerance T:

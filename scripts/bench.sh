@@ -19,5 +19,5 @@ scripts/setup.sh build-bench -DNURBSGL_PEER_BENCH=ON
 for backend in egl osmesa; do build-bench/experiments/bench_gpgpu --gl "$backend"; echo; done
 build-bench/experiments/bench_peer_occt --gl egl
 echo
-# Trim classification vs OpenCASCADE's BRepClass_FaceClassifier on every shared IGES model (issue 7).
+# Trim classification vs OpenCASCADE's BRepClass_FaceClassifier on every shared IGES model.
 build-bench/experiments/peer_occt_classify --csv build-bench/peer_occt_classify.csv

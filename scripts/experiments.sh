@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Paper-reproduction distance experiments of issue 8 (Krishnamurthy et al.: Tables 1, 2, 3, 5, Figs. 12
+# Paper-reproduction distance experiments (Krishnamurthy et al.: Tables 1, 2, 3, 5, Figs. 12
 # and 16, batched points), each beside OpenCASCADE in the same run: CSV, PNG and a summary on stdout.
 # Benchmarks, not tests (never in CI). Builds only nurbsgl and the OCCT peer, in a build with the peer
 # enabled (BUILD_DIR, default build-bench, configured here if new; the base packages come from

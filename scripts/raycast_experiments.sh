@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Ray casting and thickness experiments of issue 10 (Lemasson et al.: rays per second of the BVH and
+# Ray casting and thickness experiments (Lemasson et al.: rays per second of the BVH and
 # DACRT methods, tests per ray (Fig. 7), memory (Fig. 11), the accuracy histogram (Fig. 13)) with
 # OpenCASCADE's IntCurvesFace_ShapeIntersector on the same rays in the same run: CSV, PNG and a
 # summary on stdout. Benchmarks, not tests (never in CI). Needs ../shared/models.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Paper-reproduction tessellation experiments of issue 9 (Balazs, Guthe and Klein 2004: Tables 2, 3, 4)
+# Paper-reproduction tessellation experiments (Balazs, Guthe and Klein 2004: Tables 2, 3, 4)
 # with OpenCASCADE's BRepMesh at equal measured deviation, in the same run: CSV, PNG and a summary on
 # stdout. Benchmarks, not tests (never in CI). Builds only nurbsgl, the generated models and the OCCT
 # peer, in a build with the peer enabled (BUILD_DIR, default build-bench, configured here if new; the

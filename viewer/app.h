@@ -1,6 +1,6 @@
 #pragma once
 /// \file app.h
-/// The desktop viewer of issue 11: one GLFW window whose GL context is the gpgpu::Gpu's (the
+/// The desktop viewer: one GLFW window whose GL context is the gpgpu::Gpu's (the
 /// queries run in it between frames), Dear ImGui panels, four modes (view, clearance,
 /// tessellation, thickness) and scripted runs (a motion of B, or input replayed from --events) that
 /// write a screenshot and print the readout and B's placement.

@@ -1,4 +1,4 @@
-// `nurbsgl-viewer MODEL [MODEL2]`: the desktop viewer of issue 11 (viewer/app.h). With
+// `nurbsgl-viewer MODEL [MODEL2]`: the desktop viewer (viewer/app.h). With
 // `--frames N --screenshot FILE.png` it runs a scripted motion of B for N frames, writes the last
 // frame as PNG, prints that frame's readout "clearance D +- B" (as `nurbsgl clearance`) and exits.
 // `--events FILE` replays scripted mouse and key input instead (viewer/input_script.h) and prints B's

@@ -1,6 +1,6 @@
 #pragma once
 /// \file ball_thickness.h
-/// Rolling-ball wall thickness beside the ray thickness (issue 10, beyond Lemasson et al.): at a
+/// Rolling-ball wall thickness beside the ray thickness (beyond Lemasson et al.): at a
 /// surface sample p with unit inward normal n, the diameter of the largest ball tangent to the
 /// surface at p on the material side with no surface point inside it. A ray along n measures the
 /// chord to the opposite wall; the ball also feels walls beside the ray (a wedge, a rib meeting a

@@ -1,6 +1,6 @@
 #pragma once
 /// \file watertight.h
-/// Beyond the paper (issue 9): a watertight mesh across faces. Balázs, Guthe and Klein (WSCG 2004)
+/// Beyond the paper: a watertight mesh across faces. Balázs, Guthe and Klein (WSCG 2004)
 /// approximate each face's trim loops on their own (§5), so the two faces of a B-rep edge get
 /// different polyline vertices along it and the merged mesh has cracks (up to eps) and open edges.
 /// Two steps close them:

@@ -1,5 +1,5 @@
 #pragma once
-// One headless context per test program (STYLE.md): created on first use from NURBSGL_GL, so ctest
+// One headless context per test program: created on first use from NURBSGL_GL, so ctest
 // runs this program once per backend (egl, osmesa, glfw under xvfb).
 #include <random>
 #include <vector>

@@ -1,4 +1,4 @@
-// Mip levels (issue 8, "hierarchy levels"): a pyramid built level by level inside one texture, each
+// Mip levels ("hierarchy levels"): a pyramid built level by level inside one texture, each
 // pass reading the finer level while it renders the coarser one, then read whole through one
 // sampler with texelFetch(sampler, p, lod); and the passes the runner must refuse.
 #include <doctest/doctest.h>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file grid_check.h
-/// Independent check of a certified grid (issue 6): dense samples of the surface, in double, inside
+/// Independent check of a certified grid: dense samples of the surface, in double, inside
 /// a cell, against the grid's two triangles (split along the (i, j)-(i+1, j+1) diagonal) and the
 /// bilinear interpolant of its four corners. Filip's argument bounds both by the cell's K (per
 /// coordinate) and K_e (Euclidean norm).

@@ -1,4 +1,4 @@
-// Certified knot-aligned grids (issue 6): on random surfaces with C^0 and repeated knots, degrees
+// Certified knot-aligned grids: on random surfaces with C^0 and repeated knots, degrees
 // 1-11, polynomial and rational with weight ratios up to 10^3, the chosen grid meets the tolerance
 // with a finite K_e, and dense samples of cell interiors never deviate from the grid triangles by
 // more than the cell's K (per coordinate) and K_e (Euclidean). The adaptive bound is compared with

@@ -17,7 +17,7 @@ TEST_CASE("rational quarter circle has radius 1 and the right derivatives") {
   for (int s = 0; s <= 100; ++s) {
     const double u = s / 100.0;
     const auto d = nurbs::curve_derivatives(c, u, 2);
-    // 1e-12: the brief's closed-form tolerance; roundoff is ~1e-16.
+    // 1e-12: the closed-form tolerance of the tests; roundoff is ~1e-16.
     CHECK(std::abs(glm::length(d[0]) - 1.0) < 1e-12);
     // |C|^2 = 1 implies C . C' = 0 and C . C'' + |C'|^2 = 0.
     CHECK(std::abs(glm::dot(d[0], d[1])) < 1e-12);
@@ -51,7 +51,7 @@ TEST_CASE("sphere, torus and cylinder match their closed forms") {
   for (int i = 0; i <= 40; ++i) {
     for (int j = 0; j <= 40; ++j) {
       const double u = i / 40.0, v = j / 40.0;
-      // 1e-12 absolute on radii of 1-3: the brief's closed-form tolerance (roundoff ~1e-15).
+      // 1e-12 absolute on radii of 1-3: the closed-form tolerance of the tests (roundoff ~1e-15).
       const glm::dvec3 ps = nurbs::surface_point(sphere, u, v);
       CHECK(std::abs(glm::length(ps - centre) - 2.0) < 1e-12);
       const glm::dvec3 pt = nurbs::surface_point(torus, u, v) - centre;

@@ -1,5 +1,5 @@
 // Knot insertion (A5.1), degree elevation (A5.9), clamping and Bézier extraction leave the geometry
-// unchanged. Sampled comparison at 1e-12 relative to the control-net size (the brief's tolerance;
+// unchanged. Sampled comparison at 1e-12 relative to the control-net size (the closed-form tolerance of the tests;
 // each algorithm is a short chain of convex combinations, so roundoff is ~1e-15).
 #include <doctest/doctest.h>
 

@@ -1,4 +1,4 @@
-// Batched evaluation (issue 6): many faces' grids packed into one atlas, evaluated in one pass and
+// Batched evaluation: many faces' grids packed into one atlas, evaluated in one pass and
 // trimmed in one fill, against the CPU twins of each face (points in double, winding-number masks).
 #include <doctest/doctest.h>
 

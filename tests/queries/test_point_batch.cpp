@@ -1,4 +1,4 @@
-// Batched point projection (issue 8, beyond the paper): the GPU pyramid and descent against their
+// Batched point projection (beyond the paper): the GPU pyramid and descent against their
 // CPU twin in double (same boxes bit for bit, same cells within the float slack), and the results
 // against the faithful per-point query (Krishnamurthy et al. §3.1-3.2, §4) on randomized points:
 // |d - d_ref| <= bound + bound_ref, closest points within sqrt(4 K d + K^2) of each other; trimmed

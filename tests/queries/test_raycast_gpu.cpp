@@ -1,4 +1,4 @@
-// GPU ray caster of Lemasson et al. (issue 10, §3.2-3.4) against its double-precision CPU twin
+// GPU ray caster of Lemasson et al. (§3.2-3.4) against its double-precision CPU twin
 // nurbs::ray::cast_ray (Trim::Cubics, Traversal::Stackless) on random trimmed faces, an exact
 // rational sphere and a plane with a circular hole: the raw float pass (same face, t within the
 // float budget, the twin's box and patch test counts) and the hits after the CPU finishing (the
@@ -288,7 +288,7 @@ TEST_CASE("raycast gpu: hits after the CPU finishing equal the twin's, with the 
     for (size_t k = 0; k < rays.size(); ++k) {
       const Hit h = nurbs::ray::cast_ray(scene, rays[k], 0.0);
       found += h.face >= 0;
-      // The same root of the exact face refined from nearby starts: 1e-9 size (the issue's bound).
+      // The same root of the exact face refined from nearby starts: 1e-9 size (the required bound).
       differ += hits[k].face != h.face || (h.face >= 0 && std::abs(hits[k].t - h.t) > 1e-9 * scene.size);
     }
     MESSAGE("finished: " << found << " hits of " << rays.size() << " rays, " << differ << " differ, " << st.fallbacks

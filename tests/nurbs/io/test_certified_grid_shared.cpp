@@ -1,4 +1,4 @@
-// Certified grids on real CAD faces (issue 6): every face of every IGES file in the shared model
+// Certified grids on real CAD faces: every face of every IGES file in the shared model
 // folder, at tolerances 1e-4 and 1e-5 of the model size, gets a knot-aligned grid with a finite
 // K_e within the tolerance, and dense samples (double) of its cells never deviate from the grid
 // triangles by more than the cell's K_e. Skipped (reported as such) without ../shared.

@@ -1,4 +1,4 @@
-// Hostile and extreme IGES input (issue 6): files of a few KB that used to make the reader run for
+// Hostile and extreme IGES input: files of a few KB that used to make the reader run for
 // minutes or hand on non-finite geometry. Each is built in memory from the small sample model and
 // must be refused with a message naming the entity, or read with its work bounded by a count the
 // message states.

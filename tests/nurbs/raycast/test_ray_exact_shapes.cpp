@@ -53,7 +53,7 @@ TEST_CASE("raycast: rational sphere, rays from outside hit at the analytic dista
     if (h.face == 0) worst = std::max(worst, std::abs(h.t - expected));
   }
   CHECK(hits == 300);
-  // The issue's bound: 1e-9 x model size after the final Newton step on the exact surface.
+  // The required bound: 1e-9 x model size after the final Newton step on the exact surface.
   CHECK(worst <= 1e-9 * scene.size);
   MESSAGE("sphere: " << scene.patches.size() << " patches, worst |t - t_exact| = " << worst);
 }

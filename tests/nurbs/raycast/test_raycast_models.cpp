@@ -59,7 +59,7 @@ TEST_CASE("raycast: rays onto every face of every shared IGES model" * test::nee
         const glm::dvec3 n = surface_normal(scene.faces[f].surface, uv.x, uv.y);
         if (glm::length(n) < 0.5) continue;  // degenerate point (a pole): no normal to shoot along
         const Hit h = cast_ray(scene, {p + near * n, -n}, 0.0, Traversal::Stackless, &ts);
-        // The issue's bound: 1e-9 x model size after the exact step (the hit is the same point of f).
+        // The required bound: 1e-9 x model size after the exact step (the hit is the same point of f).
         if (h.face >= 0) worst_bicubic = std::max(worst_bicubic, std::abs(h.t_bicubic - h.t));
         if (h.face >= 0 && h.t < near - 1e-9 * scene.size)
           ++occluded;
@@ -96,7 +96,7 @@ TEST_CASE("raycast: rays onto every face of every shared IGES model" * test::nee
     CHECK(unconverged == 0);
     CHECK(worst_err <= scene.options.tolerance * scene.size);
     CHECK(dense_err <= scene.options.tolerance * scene.size);  // the bicubic tolerance itself
-    // The issue: bicubic hits within 1e-5 size of the exact hit (near-normal rays: about the patch error).
+    // Required: bicubic hits within 1e-5 size of the exact hit (near-normal rays: about the patch error).
     CHECK(worst_bicubic <= 1e-5 * scene.size);
     MESSAGE(file.filename().string() << ": " << scene.faces.size() << " faces, " << scene.patches.size()
                                      << " patches (max " << max_patches << "/face), sampled error "

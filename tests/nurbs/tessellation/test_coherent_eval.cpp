@@ -46,7 +46,7 @@ double model_size(const Surface& s) {
 }
 
 /// Checks coherent results against the library's per-point evaluation: points to 1e-12 of the model
-/// size (the brief's tolerance; both sum the same terms, roundoff ~1e-15), normals to 1e-13 times
+/// size (the closed-form tolerance of the tests; both sum the same terms, roundoff ~1e-15), normals to 1e-13 times
 /// the condition |Su||Sv| / |Su x Sv| of the normalisation (roundoff of Su, Sv ~1e-15 relative).
 void check_against_library(const Surface& s, const std::vector<glm::dvec2>& uv, const std::vector<glm::dvec3>& pos,
                            const std::vector<glm::dvec3>& nrm) {

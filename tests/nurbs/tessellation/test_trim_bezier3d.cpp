@@ -51,7 +51,7 @@ TEST_CASE("trim: a line on one bicubic patch lifts exactly, by collocation and b
     REQUIRE(pieces.size() == 1);
     CHECK(pieces[0].lifted_degree == 6);  // d2d (du + dv) = 1 * (3 + 3)
     CHECK(pieces[0].xyz.degree == 6);
-    // 1e-9 relative to the 100 mm model: the brief's exactness bar (rounding is ~1e-13 here).
+    // 1e-9 relative to the 100 mm model: the exactness bar of the tests (rounding is ~1e-13 here).
     CHECK(random_param_error(s, pieces) <= 1e-9 * 100.0);
     CHECK(lift_error(s, pieces[0]) <= 1e-9 * 100.0);
   }

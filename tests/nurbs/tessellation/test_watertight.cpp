@@ -276,8 +276,7 @@ TEST_CASE("watertight: closed models lose their open edges" * test::needs_shared
                               << open << " (" << r.stats.shared_vertices << " loop vertices shared, "
                               << r.stats.t_junction_splits << " T-junction splits, " << counts.nonmanifold
                               << " non-manifold edges)");
-    // vase: 584 -> 0, component8: 0 (30 before its B-rep edges were read), bearing: 3316 -> 194
-    // (2026-12-01); the bearing's rest are gaps of the model itself (e.g. face 86's edge v = 1 is up
+    // vase: 584 -> 0, component8: 0, bearing: 3316 -> 194; the bearing's rest are gaps of the model itself (e.g. face 86's edge v = 1 is up
     // to 64 eps from every other face's surface), not cracks.
     CHECK(open * 10 <= plain);
     if (std::string(name).find("generated/") != std::string::npos) {
