@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -22,6 +24,7 @@
 #include "cli/validators.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
+#include "queries/batch_cache.h"
 #include "queries/point_batch.h"
 #include "queries/point_distance.h"
 
@@ -39,6 +42,7 @@ struct Options {
   std::string boxes = "oriented";  ///< the batched projection's pyramid (point_batch.h)
   long long host_cells = -1;       ///< PointDistanceQuery::set_host_cells
   long long max_samples = 1LL << 22;  ///< per face grid
+  bool no_cache = false;              ///< the batched preparation neither read from nor written to disk
 };
 
 /// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
@@ -108,6 +112,8 @@ void run(const GlobalOptions& global, const Options& o) {
   std::optional<queries::PointDistanceQuery> query;
   std::optional<queries::PreparedModel> prepared;
   std::optional<queries::PointBatch> batch;
+  nlohmann::json cache_json;  // the batched preparation's disk cache
+  std::future<std::pair<std::string, double>> cache_write;
   const bool batched = !o.points.empty() && !o.per_point;
   try {
     if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
@@ -131,9 +137,40 @@ void run(const GlobalOptions& global, const Options& o) {
         throw BadInput(fmt::format("--tol {:g}: the grids of {} faces need about {:.1f} GB, and this machine has "
                                    "{:.1f} GB free; a larger --tol",
                                    o.rel_tolerance, faces.size(), double(need) / 1e9, double(free) / 1e9));
-      queries::prepare_atlases(*gpu, geometry, side);
-      prepared.emplace(std::move(geometry));
-      batch.emplace(*gpu, *prepared, boxes);
+      // The atlases and the pyramid from the disk cache when an earlier run made them (oriented
+      // boxes; not with --dump, which wants the passes' textures), else built and stored there.
+      const std::filesystem::path dir = queries::batch_cache_directory();
+      const bool use_cache = !o.no_cache && boxes == queries::PointBoxes::Oriented && global.dump_dir.empty() &&
+                             !dir.empty();
+      cache_json = {{"used", use_cache}, {"hit", false}};
+      std::string key;
+      std::filesystem::path file;
+      std::optional<queries::PointBatchState> state;
+      if (use_cache) {
+        const auto c0 = std::chrono::steady_clock::now();
+        key = queries::batch_cache_key(o.path, geometry.tolerance, o.max_samples, side, gpu->info().renderer);
+        file = queries::batch_cache_file(dir, key);
+        state = queries::load_batch_state(file, key);
+        if (state && !queries::state_matches(geometry, *state)) state.reset();
+        cache_json["file"] = file.string();
+        cache_json["hit"] = state.has_value();
+        cache_json["read_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+      }
+      if (state) {
+        queries::restore_atlases(geometry, *state);
+        prepared.emplace(std::move(geometry));
+        batch.emplace(*gpu, *prepared, std::move(*state));
+      } else {
+        queries::prepare_atlases(*gpu, geometry, side);
+        prepared.emplace(std::move(geometry));
+        batch.emplace(*gpu, *prepared, boxes);
+        if (use_cache)  // written on another thread while the points are answered
+          cache_write = std::async(std::launch::async, [state = batch->export_state(), file, key] {
+            const auto c0 = std::chrono::steady_clock::now();
+            std::string why = queries::save_batch_state(file, key, state);
+            return std::pair{why, std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count()};
+          });
+      }
     } else {
       query.emplace(*gpu, faces, o.rel_tolerance * size, o.max_samples, o.search);
       query->set_host_cells(o.host_cells);
@@ -164,6 +201,11 @@ void run(const GlobalOptions& global, const Options& o) {
     if (progress) fmt::print(stderr, "\n");
   }
   const auto t2 = std::chrono::steady_clock::now();
+  if (cache_write.valid()) {
+    const auto [why, seconds] = cache_write.get();
+    if (!why.empty()) fmt::print(stderr, "distance: the preparation is not cached: {}\n", why);
+    cache_json["write_seconds"] = seconds;
+  }
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
   const double tolerance = o.rel_tolerance * size;
@@ -194,14 +236,16 @@ void run(const GlobalOptions& global, const Options& o) {
                   {"no_material_in_winning_cell", st.fallbacks},
                   {"share", st.points > 0 ? double(st.fallbacks + st.cut) / double(st.points) : 0.0}};
       j["trimmed_winners"] = st.trimmed;
+      j["cache"] = cache_json;
       long long samples = 0;
       for (const auto& g : prepared->grids) samples += g.grid.samples();
       j["samples"] = samples;
     }
     print_json(j);
   } else {
-    fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s\n", faces.size(), size,
-               unit, o.rel_tolerance * size, prepare_s);
+    fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", faces.size(),
+               size, unit, o.rel_tolerance * size, prepare_s,
+               cache_json.value("hit", false) ? " (atlases and pyramid from the cache)" : "");
     for (size_t k = 0; k < points.size(); ++k) {
       const auto& r = results[k];
       if (!r.found) {
@@ -269,8 +313,11 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "The most grid samples of one face; a face that needs more for --tol is refused (exit 2)")
       ->check(CLI::Range(4LL, 1LL << 30))
       ->capture_default_str();
+  auto* no_cache = cmd->add_flag("--no-cache", o->no_cache,
+                                 "Batched projection: neither read the atlases and pyramid from the preparation "
+                                 "cache ($XDG_CACHE_HOME/nurbsgl, else ~/.cache/nurbsgl) nor store them there");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o, search, boxes, host_cells] {
+  cmd->callback([&global, o, search, boxes, host_cells, no_cache] {
     // Options of the other path are refused, not ignored: --search and --host-cells steer one query
     // at a time, --boxes the batched projection.
     const bool batched = !o->points.empty() && !o->per_point;
@@ -278,6 +325,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
     if (batched && host_cells->count() > 0)
       throw BadInput("--host-cells applies to one query at a time: add --per-point");
     if (!batched && boxes->count() > 0) throw BadInput("--boxes applies to the batched --points projection");
+    if (!batched && no_cache->count() > 0) throw BadInput("--no-cache applies to the batched --points projection");
     run(global, *o);
   });
 }

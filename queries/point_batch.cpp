@@ -98,9 +98,8 @@ long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxe
   return bytes;
 }
 
-PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
-  if (m.search != Search::Faithful)
-    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
+void PointBatch::init_model() {
+  const PreparedModel& m = m_;
   glm::dvec3 lo(kInf), hi(-kInf);
   double k = 0.0, budget = 0.0;
   for (size_t f = 0; f < m.faces.size(); ++f) {
@@ -115,6 +114,12 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
   for (size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].loops.empty()) trim_edges_[f] = TrimEdges(m.trims[f], m.grids[f].grid);
   radius_ = m.faces.empty() ? 0.0 : 0.5 * glm::length(hi - lo);
+}
+
+PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
+  if (m.search != Search::Faithful)
+    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
+  init_model();
   for (const FaceAtlas& fa : m.atlases) {
     // Level 0 padded to powers of two, so that every level halves exactly (mip sizes round down).
     const int w0 = pow2_at_least(fa.plan.width), h0 = pow2_at_least(fa.plan.height);
@@ -370,6 +375,81 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
 
 std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
   return (hi ? atlases_[a].hi : atlases_[a].lo).read_level(level);
+}
+
+PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state)
+    : gpu_(gpu), m_(m), boxes_(PointBoxes::Oriented) {
+  if (m.search != Search::Faithful)
+    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
+  if (state.atlases.size() != m.atlases.size()) throw std::invalid_argument("PointBatch: the state is of another model");
+  init_model();
+  for (PointBatchState::Atlas& sa : state.atlases) {
+    Atlas at;
+    at.w0 = sa.w0, at.h0 = sa.h0, at.levels = sa.levels;
+    at.samples = std::move(sa.samples), at.slot_of = std::move(sa.slot_of), at.mask = std::move(sa.mask);
+    at.crossed = std::move(sa.crossed), at.trim_cell = std::move(sa.trim_cell);
+    at.trim_head = std::move(sa.trim_head), at.trim_segs = std::move(sa.trim_segs);
+    const size_t texels = size_t(sa.plan.width) * size_t(sa.plan.height);
+    if (at.samples.size() != 4 * texels || at.slot_of.size() != texels || at.mask.size() != texels ||
+        at.crossed.size() != texels || at.trim_cell.size() != texels || sa.obb.size() != size_t(at.levels))
+      throw std::invalid_argument("PointBatch: the state's arrays do not match its atlas");
+    upload_trim_textures(at, sa.plan);
+    // Every texel empty (e < 0), then the stored boxes.
+    at.cpu_obb.assign(size_t(at.levels), {});
+    for (int l = 0; l < at.levels; ++l) {
+      const size_t n = size_t(at.level_width(l)) * size_t(at.level_height(l));
+      auto& out = at.cpu_obb[size_t(l)];
+      const float none[3][4] = {{0, 0, 0, -1}, {1, 0, 0, -1}, {0, 0, 1, -1}};
+      for (size_t k = 0; k < 3; ++k) {
+        out[k].resize(4 * n);
+        for (size_t i = 0; i < n; ++i) std::copy(none[k], none[k] + 4, &out[k][4 * i]);
+      }
+      const PointBatchState::Level& in = sa.obb[size_t(l)];
+      for (size_t k = 0; k < 3; ++k)
+        if (in.boxes[k].size() != 4 * in.texels.size()) throw std::invalid_argument("PointBatch: a bad state level");
+      for (size_t t = 0; t < in.texels.size(); ++t) {
+        if (in.texels[t] >= n) throw std::invalid_argument("PointBatch: a state texel outside its level");
+        for (size_t k = 0; k < 3; ++k)
+          std::copy(&in.boxes[k][4 * t], &in.boxes[k][4 * t] + 4, &out[k][4 * size_t(in.texels[t])]);
+      }
+    }
+    upload_oriented_pyramid(at);
+    atlases_.push_back(std::move(at));
+  }
+}
+
+PointBatchState PointBatch::export_state() const {
+  if (boxes_ != PointBoxes::Oriented) throw std::logic_error("PointBatch::export_state: oriented boxes only");
+  PointBatchState s;
+  for (size_t a = 0; a < atlases_.size(); ++a) {
+    const Atlas& at = atlases_[a];
+    PointBatchState::Atlas& sa = s.atlases.emplace_back();
+    sa.plan = m_.atlases[a].plan;
+    sa.w0 = at.w0, sa.h0 = at.h0, sa.levels = at.levels;
+    sa.samples = at.samples, sa.slot_of = at.slot_of, sa.mask = at.mask, sa.crossed = at.crossed;
+    sa.trim_cell = at.trim_cell, sa.trim_head = at.trim_head, sa.trim_segs = at.trim_segs;
+    for (int l = 0; l < at.levels; ++l) {
+      const auto& level = at.cpu_obb[size_t(l)];
+      PointBatchState::Level& out = sa.obb.emplace_back();
+      for (size_t i = 0; 4 * i < level[0].size(); ++i)
+        if (level[0][4 * i + 3] >= 0.0f) {  // e0 >= 0: a box
+          out.texels.push_back(uint32_t(i));
+          for (size_t k = 0; k < 3; ++k) out.boxes[k].insert(out.boxes[k].end(), &level[k][4 * i], &level[k][4 * i] + 4);
+        }
+    }
+  }
+  return s;
+}
+
+void restore_atlases(PreparedModel& m, const PointBatchState& state) {
+  m.atlases.clear();
+  for (const PointBatchState::Atlas& sa : state.atlases) {
+    FaceAtlas fa;
+    fa.plan = sa.plan;
+    fa.points = gpgpu::Texture(sa.plan.width, sa.plan.height, gpgpu::Format::RGBA32F);
+    fa.points.upload(sa.samples);
+    m.atlases.push_back(std::move(fa));
+  }
 }
 
 }  // namespace queries

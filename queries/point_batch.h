@@ -103,8 +103,36 @@ struct BatchFloatFloor {
 /// for refusing a request that cannot fit before the work, not a measurement.
 [[nodiscard]] long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes);
 
+/// What a PointBatch builds from a prepared model (oriented boxes), to keep between processes
+/// (batch_cache.h): per atlas its plan, the read-back samples, slot indices, masks and crossed
+/// cells, the trimmed cells' data, and the oriented pyramid with its empty texels left out.
+struct PointBatchState {
+  struct Level {
+    std::vector<uint32_t> texels;            ///< the non-empty texels, ascending
+    std::array<std::vector<float>, 3> boxes;  ///< their 4 floats per texture
+  };
+  struct Atlas {
+    AtlasPlan plan;
+    int w0 = 1, h0 = 1, levels = 1;
+    std::vector<float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
+    std::vector<Level> obb;
+  };
+  std::vector<Atlas> atlases;
+};
+
+/// A model from prepare_geometry with the atlases of `state` restored (plans and samples, uploaded;
+/// their normals, masks and slot textures left empty): what PointBatch(gpu, m, state) needs.
+void restore_atlases(PreparedModel& m, const PointBatchState& state);
+
 class PointBatch {
  public:
+  /// From a state exported by an earlier PointBatch over the same model (same faces, grids and
+  /// atlas plans; PointBoxes::Oriented): the same pyramid and trimmed cells, uploaded, none built.
+  /// `m` has its atlases from restore_atlases.
+  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state);
+  /// This batch's state (PointBoxes::Oriented only, else std::logic_error).
+  [[nodiscard]] PointBatchState export_state() const;
+
   /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
   /// samples, masks and slot indices back once. `m` (Search::Faithful, else std::invalid_argument)
   /// must outlive this object.
@@ -181,6 +209,12 @@ class PointBatch {
     std::vector<std::array<std::vector<float>, 3>> cpu_obb;  ///< the same values per level, 4 floats per texel
   };
   void build_cpu_pyramid(Atlas& at);
+  /// The parts of the constructor that depend on the model alone (bound, trim edges, radius).
+  void init_model();
+  /// Uploads at.trim_cell, trim_head and trim_segs (padding the last two to whole rows).
+  static void upload_trim_textures(Atlas& at, const AtlasPlan& plan);
+  /// Uploads at.cpu_obb into at.obb.
+  static void upload_oriented_pyramid(Atlas& at);
   /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
   /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
   [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;

@@ -136,6 +136,10 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
   if (at.trim_head.size() / 4 >= (size_t(1) << 24) || at.trim_segs.size() / 4 >= (size_t(1) << 24))
     throw std::length_error(fmt::format("PointBatch: {} trimmed cells, {} trim segments in one atlas (at most 2^24)",
                                         at.trim_head.size() / 4, at.trim_segs.size() / 4));
+  upload_trim_textures(at, plan);
+}
+
+void PointBatch::upload_trim_textures(Atlas& at, const AtlasPlan& plan) {
   at.trim_cell_tex = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R32F);
   at.trim_cell_tex.upload(at.trim_cell);
   at.trim_head_tex = rows_texture(at.trim_head);

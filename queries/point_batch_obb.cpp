@@ -177,9 +177,13 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
         }
     });
   }
+  upload_oriented_pyramid(at);
+}
+
+void PointBatch::upload_oriented_pyramid(Atlas& at) {
   for (int k = 0; k < 3; ++k) {
-    at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, levels);
-    for (int l = 0; l < levels; ++l) at.obb[size_t(k)].upload_level(l, at.cpu_obb[size_t(l)][size_t(k)]);
+    at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, at.levels);
+    for (int l = 0; l < at.levels; ++l) at.obb[size_t(k)].upload_level(l, at.cpu_obb[size_t(l)][size_t(k)]);
   }
 }
 
