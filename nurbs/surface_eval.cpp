@@ -22,8 +22,13 @@ void homogeneous_derivatives(const Surface& s, double u, double v, int order, gl
   v = std::clamp(v, dv.min, dv.max);
   const size_t wu = static_cast<size_t>(p) + 1, wv = static_cast<size_t>(q) + 1;
   SmallBuffer<double, 24> nu((static_cast<size_t>(order) + 1) * wu), nv((static_cast<size_t>(order) + 1) * wv);
-  basis_function_derivatives(s.knots_u, p, su, u, order, nu.data());
-  basis_function_derivatives(s.knots_v, q, sv, v, order, nv.data());
+  if (order == 0) {  // the same values without the derivative tables (A2.2)
+    basis_functions(s.knots_u, p, su, u, nu.data());
+    basis_functions(s.knots_v, q, sv, v, nv.data());
+  } else {
+    basis_function_derivatives(s.knots_u, p, su, u, order, nu.data());
+    basis_function_derivatives(s.knots_v, q, sv, v, order, nv.data());
+  }
   // temp[k][i] = sum_l Nv^(l)_j P^w_{i,j}: contract v first, then u (A3.6 ordering).
   SmallBuffer<glm::dvec4, 8> temp(wu);
   for (int l = 0; l <= order; ++l) {

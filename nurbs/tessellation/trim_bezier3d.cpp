@@ -284,17 +284,38 @@ glm::dvec2 piece_uv(const Surface& surface, const Curve2& piece, double t) {
   return {std::clamp(uv.x, du.min, du.max), std::clamp(uv.y, dv.min, dv.max)};
 }
 
-double lift_error(const Surface& surface, const TrimCurve3& piece, int samples) {
-  double err = 0.0;
+namespace {
+
+/// The parameters lift_error checks: both ends and `samples` offsets by 1/pi from the collocation
+/// nodes i / d3d (which they never meet).
+double check_parameter(const TrimCurve3& piece, int k, int samples) {
+  const double s = k == 0 ? 0.0 : (k > samples ? 1.0 : (k - 1 + 1.0 / M_PI) / samples);
+  return piece.range.min + s * piece.range.width();
+}
+
+/// S(uv(t)) at the check parameters of `piece`: the direct evaluation every lifted form of the
+/// piece is measured against.
+std::vector<glm::dvec3> direct_samples(const Surface& surface, const TrimCurve3& piece, int samples) {
+  std::vector<glm::dvec3> out;
+  out.reserve(size_t(samples) + 2);
   for (int k = 0; k <= samples + 1; ++k) {
-    // Offsets by 1/pi never meet the collocation nodes i / d3d; k = 0 and samples + 1 are the ends.
-    const double s = k == 0 ? 0.0 : (k > samples ? 1.0 : (k - 1 + 1.0 / M_PI) / samples);
-    const double t = piece.range.min + s * piece.range.width();
-    const glm::dvec3 direct =
-        surface_point(surface, piece_uv(surface, piece.uv, t).x, piece_uv(surface, piece.uv, t).y);
-    err = std::max(err, glm::length(bezier_point3(piece.xyz, t) - direct));
+    const glm::dvec2 uv = piece_uv(surface, piece.uv, check_parameter(piece, k, samples));
+    out.push_back(surface_point(surface, uv.x, uv.y));
   }
+  return out;
+}
+
+double lift_error(const std::vector<glm::dvec3>& direct, const TrimCurve3& piece, int samples) {
+  double err = 0.0;
+  for (int k = 0; k <= samples + 1; ++k)
+    err = std::max(err, glm::length(bezier_point3(piece.xyz, check_parameter(piece, k, samples)) - direct[size_t(k)]));
   return err;
+}
+
+}  // namespace
+
+double lift_error(const Surface& surface, const TrimCurve3& piece, int samples) {
+  return lift_error(direct_samples(surface, piece, samples), piece, samples);
 }
 
 std::vector<TrimCurve3> convert_trim_curve(const Surface& surface, const std::vector<BezierPatch>& patches,
@@ -328,19 +349,21 @@ std::vector<TrimCurve3> convert_trim_curve(const Surface& surface, const std::ve
       piece.lifted_degree = piece.uv.degree * (patch.surface.degree_u + patch.surface.degree_v);
       const bool collocate = opt.method == LiftMethod::Collocation ||
                              (opt.method == LiftMethod::Auto && piece.lifted_degree <= opt.max_degree);
+      // The surface along the piece, evaluated once for every lifted form's check.
+      const std::vector<glm::dvec3> direct = direct_samples(surface, piece, opt.check_samples);
       if (collocate) {
         piece.xyz = lift_by_collocation(patch, piece.uv);
-        piece.error = lift_error(surface, piece, opt.check_samples);
+        piece.error = lift_error(direct, piece, opt.check_samples);
       }
       if (!collocate || (opt.method == LiftMethod::Auto && !(piece.error <= tol))) {
         piece.xyz = lift_by_composition(patch, piece.uv);
         piece.composed = true;
-        piece.error = lift_error(surface, piece, opt.check_samples);
+        piece.error = lift_error(direct, piece, opt.check_samples);
       }
       if (opt.reduce) {
         TrimCurve3 reduced = piece;
         reduced.xyz = reduce_degree_lossless(piece.xyz, opt.rel_tol);
-        reduced.error = lift_error(surface, reduced, opt.check_samples);
+        reduced.error = lift_error(direct, reduced, opt.check_samples);
         if (reduced.error <= std::max(2.0 * piece.error, tol)) piece = std::move(reduced);
       }
       out.push_back(std::move(piece));
