@@ -400,6 +400,49 @@ Clearance with_intersection(const PreparedModel& a, const PreparedModel& b, cons
 
 }  // namespace
 
+HierarchyLevels clearance_hierarchy(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm::dmat4& motion,
+                                    const glm::dvec3& origin) {
+  const Hierarchy h = build(gpu, m, atlas, motion, origin, nullptr, false);
+  HierarchyLevels out;
+  for (size_t l = 0; l < h.lo.size(); ++l) {
+    out.size.emplace_back(h.lo[l].width(), h.lo[l].height());
+    out.lo.push_back(h.lo[l].read());
+    out.hi.push_back(h.hi[l].read());
+  }
+  return out;
+}
+
+std::vector<glm::vec2> clearance_pair_bounds(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,
+                                             const glm::dmat4& motion_b, int la, int lb,
+                                             const std::vector<glm::ivec4>& pairs) {
+  const Hierarchy ha = build(gpu, a, 0, glm::dmat4(1.0), a.centre, nullptr, false);
+  const Hierarchy hb = build(gpu, b, 0, motion_b, a.centre, nullptr, false);
+  std::vector<float> records;
+  for (const glm::ivec4& p : pairs) records.insert(records.end(), {float(p.x), float(p.y), float(p.z), float(p.w)});
+  const gpgpu::Layout2D in_layout = gpgpu::layout_pow2(std::max<int64_t>(1, int64_t(pairs.size())), 4096);
+  records.resize(size_t(in_layout.width) * size_t(in_layout.height) * 4, 0.0f);
+  gpgpu::Texture in_pairs(in_layout.width, in_layout.height, gpgpu::Format::RGBA32F);
+  in_pairs.upload(records);
+  const gpgpu::Layout2D out = gpgpu::layout_pow2(std::max<int64_t>(1, 16 * int64_t(pairs.size())), 4096);
+  gpgpu::Texture minmax(out.width, out.height, gpgpu::Format::RGBA32F), recs(out.width, out.height, gpgpu::Format::RGBA32F);
+  gpgpu::Program& prog = pairs_program(gpu, false);
+  prog.set("u_pair_count", int(pairs.size()));
+  prog.set("u_pair_offset", 0);
+  prog.set("u_out_width", out.width);
+  prog.set("u_descend", 0, 0);
+  const gpgpu::Input in[] = {{"u_pairs", &in_pairs},
+                             {"u_lo_a", &ha.lo[size_t(la)]},
+                             {"u_hi_a", &ha.hi[size_t(la)]},
+                             {"u_lo_b", &hb.lo[size_t(lb)]},
+                             {"u_hi_b", &hb.hi[size_t(lb)]}};
+  gpgpu::Texture* targets[] = {&minmax, &recs};
+  gpu.run("aabb_pairs_minmax", prog, in, targets);
+  const std::vector<float> v = minmax.read();
+  std::vector<glm::vec2> result;
+  for (size_t k = 0; k < pairs.size(); ++k) result.emplace_back(v[4 * 16 * k], v[4 * 16 * k + 1]);
+  return result;
+}
+
 std::optional<Clearance> clearance_cpu(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
                                        double upper, long long max_start_pairs) {
   if (a.search != Search::CoarseToFine || b.search != Search::CoarseToFine)

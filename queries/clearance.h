@@ -23,6 +23,7 @@
 #include <functional>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
 #include <memory>
@@ -141,6 +142,25 @@ inline constexpr long long kCpuClearanceStartPairs = 1LL << 22;
 void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits = {},
                                 Search search = Search::CoarseToFine, bool trimmed = true,
                                 const std::function<bool()>& geometry_done = {});
+
+/// The box hierarchy of atlas `atlas` of m moved by `motion`, as the descent builds it
+/// (glsl/aabb_leaf.frag, then aabb_merge.frag up to one root), read back for tests to hold against
+/// twins: per level its size and the lo, hi corners (RGBA floats per node; an empty node lo = +inf,
+/// hi = -inf), relative to `origin`.
+struct HierarchyLevels {
+  std::vector<glm::ivec2> size;
+  std::vector<std::vector<float>> lo, hi;
+};
+HierarchyLevels clearance_hierarchy(gpgpu::Gpu& gpu, const PreparedModel& m, size_t atlas, const glm::dmat4& motion,
+                                    const glm::dvec3& origin);
+
+/// glsl/aabb_pairs_minmax.frag (boxes only) on the node pairs (xa, ya, xb, yb) of level `la` of A's
+/// hierarchy (atlas 0, unmoved) and level `lb` of B's (atlas 0, moved by motion_b), both relative to
+/// A's centre, each pair as given (no descent): per pair the (minimum, maximum) distance of its two
+/// boxes (Eqs. 13-20), +inf for an empty one.
+std::vector<glm::vec2> clearance_pair_bounds(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel& b,
+                                             const glm::dmat4& motion_b, int la, int lb,
+                                             const std::vector<glm::ivec4>& pairs);
 
 /// Closest points of two triangles in double (0 distance and a common point when they intersect).
 double triangle_distance(const glm::dvec3 a[3], const glm::dvec3 b[3], glm::dvec3& pa, glm::dvec3& pb, glm::dvec3& wa,

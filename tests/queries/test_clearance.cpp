@@ -3,7 +3,9 @@
 // rigid motion applied in the leaf pass against the same model moved beforehand.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -12,8 +14,10 @@
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
 #include "queries/clearance.h"
 #include "queries/prepared_model.h"
+#include "queries/voxel_stage.h"
 #include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 
@@ -417,4 +421,126 @@ TEST_CASE("clearance: the CPU search (clearance_cpu) proves the GPU descent's an
   // Search::Faithful models have no coarse grids to refine.
   const auto f = queries::prepare_model(gpu, {s1}, tol);
   CHECK_THROWS_AS((void)queries::clearance_cpu(f, f), std::invalid_argument);
+}
+
+TEST_CASE("clearance kernels: leaf boxes hold the moved surface, merges equal their children's, pair bounds the twin's") {
+  // glsl/aabb_leaf.frag, aabb_merge.frag and aabb_pairs_minmax.frag one at a time against their
+  // twins: every leaf box holds the exact surface over its cell under the rigid motion (the Filip
+  // bound's claim, sampled densely in double); every merged node is its children's box, bit for bit;
+  // every pair's (min, max) distance that of queries::box_box_minmax in double on the same boxes.
+  gpgpu::Gpu& gpu = test::gpu();
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (uint64_t seed = 0; seed < 3; ++seed) faces.push_back(models::random_trimmed_surface(seed + 40));
+  nurbs::TrimmedSurface ball;
+  ball.surface = models::rational_sphere(0.7);
+  for (auto& p : ball.surface.points) p += glm::dvec3(1.5, -0.5, 0.3);
+  faces.push_back(ball);
+  const queries::PreparedModel m = queries::prepare_model(gpu, faces, 2e-3);
+  REQUIRE(m.atlases.size() == 1);
+  const glm::dmat4 motion = glm::translate(glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 2, 3)), glm::dvec3(4, -1, 2));
+  const glm::dvec3 origin = m.centre;
+  const queries::HierarchyLevels h = queries::clearance_hierarchy(gpu, m, 0, motion, origin);
+  REQUIRE(h.size.size() > 2);
+  // Leaves: 3 x 3 surface points of every cell (its corners among them), moved, inside the box
+  // within the float rounding of its corners; a cell all of whose corners are material is not empty.
+  const auto& lo0 = h.lo[0];
+  const auto& hi0 = h.hi[0];
+  long long cells = 0, checked = 0, loose = 0;
+  double worst = 0.0;  // the largest excursion beyond a box, relative to the coordinates
+  for (int y = 0; y < h.size[0].y; ++y)
+    for (int x = 0; x < h.size[0].x; ++x) {
+      const auto c = m.cell_at(0, x, y);
+      const size_t t = size_t(y) * size_t(h.size[0].x) + size_t(x);
+      const bool empty = lo0[4 * t] > hi0[4 * t];
+      if (!c) {
+        CHECK(empty);
+        continue;
+      }
+      const auto& f = m.faces[size_t(c->face)];
+      const auto& g = m.grids[size_t(c->face)].grid;
+      const double u0 = g.u[size_t(c->i)], u1 = g.u[size_t(c->i) + 1], v0 = g.v[size_t(c->j)], v1 = g.v[size_t(c->j) + 1];
+      bool all_material = true;
+      for (int k = 0; k < 4; ++k)
+        all_material = all_material && (f.loops.empty() || nurbs::is_material(m.trims[size_t(c->face)],
+                                                                                  {k & 1 ? u1 : u0, k & 2 ? v1 : v0}));
+      if (all_material) CHECK_MESSAGE(!empty, "cell (" << x << ", " << y << ") of face " << c->face);
+      if (empty) continue;
+      ++cells;
+      // Not larger than the corners' box grown by K_e and the float budget (and float rounding).
+      glm::dvec3 clo(1e300), chi(-1e300);
+      for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 q = glm::dvec3(motion * glm::dvec4(nurbs::surface_point(f.surface, k & 1 ? u1 : u0,
+                                                                                  k & 2 ? v1 : v0), 1.0)) - origin;
+        clo = glm::min(clo, q), chi = glm::max(chi, q);
+      }
+      const double grow = m.grids[size_t(c->face)].k_e + queries::float_budget(f.surface);
+      for (int k = 0; k < 3; ++k)
+        loose += double(hi0[4 * t + size_t(k)]) - double(lo0[4 * t + size_t(k)]) >
+                 chi[k] - clo[k] + 2.0 * grow + 1e-5 * (glm::length(chi) + glm::length(origin) + 1.0);
+      for (int a = 0; a <= 2; ++a)
+        for (int b = 0; b <= 2; ++b) {
+          const double u = u0 + 0.5 * a * (u1 - u0), v = v0 + 0.5 * b * (v1 - v0);
+          const glm::dvec3 p = glm::dvec3(motion * glm::dvec4(nurbs::surface_point(f.surface, u, v), 1.0)) - origin;
+          for (int k = 0; k < 3; ++k) {
+            const double scale = 1e-6 * (std::abs(p[k]) + glm::length(origin) + 1.0);
+            worst = std::max({worst, (double(lo0[4 * t + size_t(k)]) - p[k]) / scale,
+                              (p[k] - double(hi0[4 * t + size_t(k)])) / scale});
+          }
+          ++checked;
+        }
+    }
+  MESSAGE(cells << " leaf boxes, " << checked << " surface points, worst excursion " << worst << " x 1e-6");
+  CHECK(cells > 100);
+  CHECK(worst <= 1.0);
+  CHECK(loose == 0);
+  // Merges: each node the box of its (up to four) children, exactly.
+  long long mismatched = 0;
+  for (size_t l = 1; l < h.size.size(); ++l)
+    for (int y = 0; y < h.size[l].y; ++y)
+      for (int x = 0; x < h.size[l].x; ++x) {
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        for (int k = 0; k < 4; ++k) {
+          const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
+          if (cx >= h.size[l - 1].x || cy >= h.size[l - 1].y) continue;
+          const size_t ct = size_t(cy) * size_t(h.size[l - 1].x) + size_t(cx);
+          lo = glm::min(lo, glm::vec3(h.lo[l - 1][4 * ct], h.lo[l - 1][4 * ct + 1], h.lo[l - 1][4 * ct + 2]));
+          hi = glm::max(hi, glm::vec3(h.hi[l - 1][4 * ct], h.hi[l - 1][4 * ct + 1], h.hi[l - 1][4 * ct + 2]));
+        }
+        const size_t t = size_t(y) * size_t(h.size[l].x) + size_t(x);
+        mismatched += lo != glm::vec3(h.lo[l][4 * t], h.lo[l][4 * t + 1], h.lo[l][4 * t + 2]) ||
+                      hi != glm::vec3(h.hi[l][4 * t], h.hi[l][4 * t + 1], h.hi[l][4 * t + 2]);
+      }
+  CHECK(mismatched == 0);
+  // Pairs: A unmoved against B = the same model moved, at a middle level of each (empty nodes too).
+  const int la = int(h.size.size()) / 2, lb = int(h.size.size()) / 2 - 1;
+  const queries::HierarchyLevels ha = queries::clearance_hierarchy(gpu, m, 0, glm::dmat4(1.0), origin);
+  std::vector<glm::ivec4> pairs;
+  for (int ya = 0; ya < ha.size[size_t(la)].y; ++ya)
+    for (int xa = 0; xa < ha.size[size_t(la)].x; ++xa)
+      for (int yb = 0; yb < h.size[size_t(lb)].y; yb += 2)
+        for (int xb = 0; xb < h.size[size_t(lb)].x; xb += 3) pairs.emplace_back(xa, ya, xb, yb);
+  REQUIRE(pairs.size() > 50);
+  const std::vector<glm::vec2> bounds = queries::clearance_pair_bounds(gpu, m, m, motion, la, lb, pairs);
+  REQUIRE(bounds.size() == pairs.size());
+  long long off = 0, empties = 0;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const size_t ta = size_t(pairs[k].y) * size_t(ha.size[size_t(la)].x) + size_t(pairs[k].x);
+    const size_t tb = size_t(pairs[k].w) * size_t(h.size[size_t(lb)].x) + size_t(pairs[k].z);
+    const auto box = [](const queries::HierarchyLevels& hh, int l, size_t t, bool upper) {
+      const auto& v = upper ? hh.hi[size_t(l)] : hh.lo[size_t(l)];
+      return glm::dvec3(v[4 * t], v[4 * t + 1], v[4 * t + 2]);
+    };
+    const glm::dvec3 lo1 = box(ha, la, ta, false), hi1 = box(ha, la, ta, true);
+    const glm::dvec3 lo2 = box(h, lb, tb, false), hi2 = box(h, lb, tb, true);
+    if (glm::any(glm::greaterThan(lo1, hi1)) || glm::any(glm::greaterThan(lo2, hi2))) {
+      ++empties;
+      off += !(std::isinf(bounds[k].x) && std::isinf(bounds[k].y));
+      continue;
+    }
+    const auto [dmin, dmax] = queries::box_box_minmax(lo1, hi1, lo2, hi2);
+    const double scale = 1e-6 * (dmax + 1.0);
+    off += std::abs(double(bounds[k].x) - dmin) > scale || std::abs(double(bounds[k].y) - dmax) > scale;
+  }
+  MESSAGE(pairs.size() << " pairs, " << empties << " with an empty box");
+  CHECK(off == 0);
 }
