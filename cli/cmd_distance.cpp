@@ -245,7 +245,7 @@ void run(const GlobalOptions& global, const Options& o) {
   } else {
     fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", faces.size(),
                size, unit, o.rel_tolerance * size, prepare_s,
-               cache_json.value("hit", false) ? " (atlases and pyramid from the cache)" : "");
+               cache_json.is_object() && cache_json.value("hit", false) ? " (atlases and pyramid from the cache)" : "");
     for (size_t k = 0; k < points.size(); ++k) {
       const auto& r = results[k];
       if (!r.found) {
