@@ -6,6 +6,7 @@
 #include <glm/common.hpp>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 
 #include "gpgpu/array_texture.h"
 #include "gpgpu/polygon_fill.h"
@@ -108,15 +109,20 @@ long long pow2_at_least(int n) {
 
 }  // namespace
 
-std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
-                                    std::vector<int>& unpacked) {
+std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& grid_sizes, int side, long long max_samples,
+                                    std::vector<int>& unpacked, int align) {
   std::vector<int> order;
-  for (int f = 0; f < int(sizes.size()); ++f) {
-    if (sizes[size_t(f)].first > side || sizes[size_t(f)].second > side)
+  for (int f = 0; f < int(grid_sizes.size()); ++f) {
+    if (grid_sizes[size_t(f)].first > side || grid_sizes[size_t(f)].second > side)
       unpacked.push_back(f);
     else
       order.push_back(f);
   }
+  // Packed padded to multiples of `align` (so every position is one too), slots of the grids' sizes.
+  align = std::max(align, 1);
+  std::vector<std::pair<int, int>> sizes = grid_sizes;
+  for (auto& [w, h] : sizes)
+    w = std::min(side, (w + align - 1) / align * align), h = std::min(side, (h + align - 1) / align * align);
   // Tallest first, then widest.
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return sizes[size_t(a)].second != sizes[size_t(b)].second ? sizes[size_t(a)].second > sizes[size_t(b)].second
@@ -147,6 +153,7 @@ std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& size
     }
     if (!found) best = skyline(sizes, order, side, side, max_samples, best_rest);
     if (best.slots.empty()) throw std::logic_error("plan_atlases: a grid that fits packs into no atlas");
+    for (AtlasSlot& sl : best.slots) std::tie(sl.width, sl.height) = grid_sizes[size_t(sl.face)];
     plans.push_back(std::move(best));
     order = std::move(best_rest);
   }

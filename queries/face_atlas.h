@@ -31,8 +31,16 @@ struct AtlasPlan {
 /// powers of two (the point pyramid's size), the side's when no width holds them all (the rest go
 /// on to the next atlas). Grids larger than side in either direction are not packed (the caller
 /// tiles them alone); `unpacked` lists them.
+///
+/// Every slot starts at a multiple of `align` texels, its grid padded to a multiple of it (up to the
+/// side): the nodes of the box pyramids and hierarchies built over an atlas (2^l x 2^l texels at
+/// level l) then hold one face's cells up to level log2(align), where nodes that straddle a slot
+/// edge would merge the boxes of faces far apart in space, and a point would descend into them. The
+/// price is texels: thin strips and tiny grids pad most, and a taller atlas may double the padded
+/// pyramid (experiments/real_models.py prints the time and peak memory per model).
+inline constexpr int kSlotAlign = 16;
 std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
-                                    std::vector<int>& unpacked);
+                                    std::vector<int>& unpacked, int align = kSlotAlign);
 
 /// An evaluated atlas: points (x, y, z, w) and unit normals of every slot, RGBA32F, zero outside
 /// the slots; and the trim mask (R8, 1 = material) on the same texels.

@@ -52,6 +52,8 @@ TEST_CASE("face atlas: packing keeps slots apart, within the side and the sample
       CHECK(s.height == sizes[size_t(s.face)].second);
       CHECK(s.x + s.width <= plan.width);
       CHECK(s.y + s.height <= plan.height);
+      CHECK(s.x % queries::kSlotAlign == 0);  // aligned: pyramid nodes below that size hold one face
+      CHECK(s.y % queries::kSlotAlign == 0);
       used += static_cast<long long>(s.width) * s.height;
       for (size_t b = 0; b < a; ++b) {
         const auto& t = plan.slots[b];
