@@ -69,13 +69,14 @@ std::vector<std::vector<glm::dvec3>> face_boundary(const TrimmedSurface& f, doub
   return lines;
 }
 
-void parallel_for(long long n, int threads, const std::function<void(long long, int)>& body) {
+/// body(k, thread) for k in [0, n) on `threads` threads, `chunk` consecutive k at a time.
+void parallel_for(long long n, int threads, const std::function<void(long long, int)>& body, long long chunk = 256) {
   std::atomic<long long> next{0};
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t)
     pool.emplace_back([&, t] {
-      for (long long i; (i = next.fetch_add(256)) < n;)
-        for (long long k = i; k < std::min(n, i + 256); ++k) body(k, t);
+      for (long long i; (i = next.fetch_add(chunk)) < n;)
+        for (long long k = i; k < std::min(n, i + chunk); ++k) body(k, t);
     });
   for (auto& th : pool) th.join();
 }
@@ -238,8 +239,11 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
     const int f = mesh.triangle_face[k];
     if (f >= 0 && size_t(f) < faces.size() && !faces[size_t(f)].loops.empty()) of_face[size_t(f)].push_back(k);
   }
-  for (size_t f = 0; f < faces.size(); ++f) {
-    if (of_face[f].empty()) continue;
+  // One face at a time on every hardware thread (each writes its own out[f]).
+  const int threads = std::max(1, int(std::thread::hardware_concurrency()));
+  parallel_for((long long)faces.size(), threads, [&](long long face, int) {
+    const auto f = size_t(face);
+    if (of_face[f].empty()) return;
     const Surface& s = faces[f].surface;
     const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
     // Flattened within 1e-5 of the domain: a sample misjudged by it lies that close to a loop, far
@@ -279,7 +283,7 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
       out[f].distance = std::max(out[f].distance, d);
       out[f].triangles += d > distance;
     }
-  }
+  }, 1);
   return out;
 }
 
