@@ -43,6 +43,7 @@ struct Options {
   long long host_cells = -1;       ///< PointDistanceQuery::set_host_cells
   long long max_samples = 1LL << 22;  ///< per face grid
   bool no_cache = false;              ///< the batched preparation neither read from nor written to disk
+  std::string engine = "auto";        ///< where the batched descent runs (queries::BatchEngine)
 };
 
 /// "x,y,z" or "x y z" (commas or spaces) as a point; `where` names the source in errors.
@@ -115,6 +116,10 @@ void run(const GlobalOptions& global, const Options& o) {
   nlohmann::json cache_json;  // the batched preparation's disk cache
   std::future<std::pair<std::string, double>> cache_write;
   const bool batched = !o.points.empty() && !o.per_point;
+  // auto: the descent in double on the CPU where the GL rasterizes on the CPU (the float pass there
+  // runs on the same cores, slower than the twin); on the GPU otherwise.
+  const std::string engine_used =
+      o.engine != "auto" ? o.engine : (gpu->info().software_renderer() ? "cpu" : "gpu");
   try {
     if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
       const double tolerance = o.rel_tolerance * size;
@@ -191,6 +196,7 @@ void run(const GlobalOptions& global, const Options& o) {
     Progress progress("distance", "points");
     batch->set_points_per_pass(std::max<size_t>(65536, (points.size() + 7) / 8));
     batch->set_progress([&](size_t done, size_t total) { progress.update((long long)done, (long long)total); });
+    batch->set_engine(engine_used == "cpu" ? queries::BatchEngine::Cpu : queries::BatchEngine::Gpu);
     results = batch->query(points);
   } else {
     const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
@@ -229,6 +235,7 @@ void run(const GlobalOptions& global, const Options& o) {
     if (batched) {
       const queries::PointBatchStats& st = batch->stats();
       j["fallbacks"] = st.fallbacks, j["boxes"] = o.boxes;
+      j["engine"] = {{"requested", o.engine}, {"used", engine_used}, {"renderer", gpu->info().renderer}};
       // The points whose answer the CPU searched for, by reason (the rest: the GPU pass's cell,
       // finished in double), and those resolved inside a cell a trim edge crosses.
       j["cpu"] = {{"points", st.fallbacks + st.cut},
@@ -269,8 +276,10 @@ void run(const GlobalOptions& global, const Options& o) {
       fmt::print("distances ({}): min {:.9g}, median {:.9g}, max {:.9g}\n", unit, d.front(), d[d.size() / 2], d.back());
     fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), query_s,
                1e3 * query_s / double(points.size()),
-               batched ? fmt::format(", batched; {} searched again on the CPU, {} walks cut short and finished there",
-                                     batch->stats().fallbacks, batch->stats().cut)
+               batched ? fmt::format(", batched, descent on the {}; {} searched again on the CPU, {} walks cut short and "
+                                     "finished there",
+                                     engine_used == "cpu" ? "CPU in double" : "GPU", batch->stats().fallbacks,
+                                     batch->stats().cut)
                        : "");
   }
   report_profile(*gpu, global);
@@ -316,8 +325,14 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   auto* no_cache = cmd->add_flag("--no-cache", o->no_cache,
                                  "Batched projection: neither read the atlases and pyramid from the preparation "
                                  "cache ($XDG_CACHE_HOME/nurbsgl, else ~/.cache/nurbsgl) nor store them there");
+  auto* engine = cmd->add_option("--engine", o->engine,
+                  "Batched projection: where the points descend the pyramid. gpu: the float pass; cpu: its twin in "
+                  "double on every core (the same cells, bound and answers within it); auto: cpu when the GL "
+                  "renderer rasterizes on the CPU (llvmpipe), gpu otherwise")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o, search, boxes, host_cells, no_cache] {
+  cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine] {
     // Options of the other path are refused, not ignored: --search and --host-cells steer one query
     // at a time, --boxes the batched projection.
     const bool batched = !o->points.empty() && !o->per_point;
@@ -326,6 +341,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
       throw BadInput("--host-cells applies to one query at a time: add --per-point");
     if (!batched && boxes->count() > 0) throw BadInput("--boxes applies to the batched --points projection");
     if (!batched && no_cache->count() > 0) throw BadInput("--no-cache applies to the batched --points projection");
+    if (!batched && engine->count() > 0) throw BadInput("--engine applies to the batched --points projection");
     run(global, *o);
   });
 }

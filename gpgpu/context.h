@@ -54,6 +54,13 @@ struct ContextInfo {
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
   bool debug_output = false;      ///< KHR_debug messages go to stderr and check_error (gl_debug.h)
   std::string software_threads;   ///< LP_NUM_THREADS when the context started; empty = llvmpipe's default
+  /// Whether the renderer rasterizes on the CPU (Mesa's llvmpipe, softpipe or swrast, SwiftShader):
+  /// its "GPU" passes run on the same cores as the host code.
+  [[nodiscard]] bool software_renderer() const {
+    for (const char* name : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
+      if (renderer.find(name) != std::string::npos) return true;
+    return false;
+  }
 };
 
 /// Raised when no backend could start: one line naming each backend tried and why, and how to

@@ -216,7 +216,8 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   for (size_t a = 0; a < atlases_.size(); ++a) {
     prog.set("u_top", atlases_[a].levels - 1);
     prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
-    const Atlas& at = atlases_[a];
+    Atlas& at = atlases_[a];
+    ensure_uploaded(at, a);
     const gpgpu::Input in_aabb[] = {{"u_points", pts.get()},         {"u_lo", &at.lo},
                                     {"u_hi", &at.hi},                 {"u_samples", &m_.atlases[a].points},
                                     {"u_trim_cell", &at.trim_cell_tex}, {"u_trim_head", &at.trim_head_tex},
@@ -334,35 +335,46 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   }
   stats_ = {};
   stats_.points = static_cast<long long>(points.size());
+  const bool on_gpu = engine_ == BatchEngine::Gpu;
   const auto t0 = std::chrono::steady_clock::now();
-  const auto cells = descend_gpu(points, within);
-  stats_.gpu_seconds = seconds_since(t0);
+  std::vector<std::vector<BatchCell>> cells;
+  if (on_gpu) cells = descend_gpu(points, within);
+  stats_.gpu_seconds = on_gpu ? seconds_since(t0) : 0.0;
   const auto t1 = std::chrono::steady_clock::now();
-  // The searches of points whose winner is trimmed, and the points whose walk was cut, read the
-  // CPU pyramids: built before the threads.
+  // The searches of points whose winner is trimmed, the points whose walk was cut and the CPU
+  // engine read the CPU pyramids: built before the threads.
   bool any_cut = false;
   for (const auto& per_atlas : cells)
     for (const BatchCell& c : per_atlas) any_cut |= c.cut;
   bool trimmed = false;
   for (size_t f = 0; f < m_.faces.size(); ++f) trimmed |= !m_.faces[f].loops.empty();
-  if (boxes_ == PointBoxes::Aabb && (any_cut || trimmed))
+  if (boxes_ == PointBoxes::Aabb && (!on_gpu || any_cut || trimmed))
     for (Atlas& at : atlases_) build_cpu_pyramid(at);
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
-  const size_t threads = share_count(points.size(), 128);
+  const size_t threads = share_count(points.size(), on_gpu ? 128 : 16);
   std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0);
   for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
     std::vector<BatchCell> best(atlases_.size());
     for (size_t i = begin; i < end; ++i) {
-      bool was_cut = false;
-      for (size_t a = 0; a < atlases_.size(); ++a) {
-        best[a] = cells[a][i];
-        if (best[a].cut)  // the twin's walk
-          best[a] = descend_cpu(a, points[i], within.empty() ? 0.0 : within[i]), was_cut = true;
+      const double wanted = within.empty() ? 0.0 : within[i];
+      if (on_gpu) {
+        bool was_cut = false;
+        for (size_t a = 0; a < atlases_.size(); ++a) {
+          best[a] = cells[a][i];
+          if (best[a].cut)  // the twin's walk
+            best[a] = descend_cpu(a, points[i], wanted), was_cut = true;
+        }
+        cut[t] += was_cut;
+      } else {  // the twin's walk in every atlas, pruned by the best cell of the atlases before
+        double w = wanted;
+        for (size_t a = 0; a < atlases_.size(); ++a) {
+          best[a] = descend_cpu(a, points[i], w);
+          if (best[a].x >= 0) w = best[a].distance;
+        }
       }
-      cut[t] += was_cut;
-      out[i] = finish(points[i], best, fallbacks[t], in_trim[t], within.empty() ? 0.0 : within[i]);
+      out[i] = finish(points[i], best, fallbacks[t], in_trim[t], wanted);
       tested[t] += out[i].candidates;
     }
   });
@@ -371,6 +383,13 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
         stats_.cut += cut[t];
   stats_.cpu_seconds = seconds_since(t1);
   return out;
+}
+
+void PointBatch::ensure_uploaded(Atlas& at, size_t a) {
+  if (at.uploaded) return;
+  upload_trim_textures(at, m_.atlases[a].plan);
+  if (boxes_ == PointBoxes::Oriented) upload_oriented_pyramid(at);
+  at.uploaded = true;
 }
 
 std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
@@ -393,27 +412,21 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState 
     if (at.samples.size() != 4 * texels || at.slot_of.size() != texels || at.mask.size() != texels ||
         at.crossed.size() != texels || at.trim_cell.size() != texels || sa.obb.size() != size_t(at.levels))
       throw std::invalid_argument("PointBatch: the state's arrays do not match its atlas");
-    upload_trim_textures(at, sa.plan);
-    // Every texel empty (e < 0), then the stored boxes.
     at.cpu_obb.assign(size_t(at.levels), {});
     for (int l = 0; l < at.levels; ++l) {
       const size_t n = size_t(at.level_width(l)) * size_t(at.level_height(l));
-      auto& out = at.cpu_obb[size_t(l)];
-      const float none[3][4] = {{0, 0, 0, -1}, {1, 0, 0, -1}, {0, 0, 1, -1}};
-      for (size_t k = 0; k < 3; ++k) {
-        out[k].resize(4 * n);
-        for (size_t i = 0; i < n; ++i) std::copy(none[k], none[k] + 4, &out[k][4 * i]);
-      }
-      const PointBatchState::Level& in = sa.obb[size_t(l)];
+      PointBatchState::Level& in = sa.obb[size_t(l)];
+      Atlas::ObbLevel& out = at.cpu_obb[size_t(l)];
       for (size_t k = 0; k < 3; ++k)
         if (in.boxes[k].size() != 4 * in.texels.size()) throw std::invalid_argument("PointBatch: a bad state level");
+      out.index.assign(n, -1);
       for (size_t t = 0; t < in.texels.size(); ++t) {
-        if (in.texels[t] >= n) throw std::invalid_argument("PointBatch: a state texel outside its level");
-        for (size_t k = 0; k < 3; ++k)
-          std::copy(&in.boxes[k][4 * t], &in.boxes[k][4 * t] + 4, &out[k][4 * size_t(in.texels[t])]);
+        if (in.texels[t] >= n || (t > 0 && in.texels[t] <= in.texels[t - 1]))
+          throw std::invalid_argument("PointBatch: a state texel outside its level or out of order");
+        out.index[in.texels[t]] = int32_t(t);
       }
+      out.texels = std::move(in.texels), out.boxes = std::move(in.boxes);
     }
-    upload_oriented_pyramid(at);
     atlases_.push_back(std::move(at));
   }
 }
@@ -429,13 +442,8 @@ PointBatchState PointBatch::export_state() const {
     sa.samples = at.samples, sa.slot_of = at.slot_of, sa.mask = at.mask, sa.crossed = at.crossed;
     sa.trim_cell = at.trim_cell, sa.trim_head = at.trim_head, sa.trim_segs = at.trim_segs;
     for (int l = 0; l < at.levels; ++l) {
-      const auto& level = at.cpu_obb[size_t(l)];
-      PointBatchState::Level& out = sa.obb.emplace_back();
-      for (size_t i = 0; 4 * i < level[0].size(); ++i)
-        if (level[0][4 * i + 3] >= 0.0f) {  // e0 >= 0: a box
-          out.texels.push_back(uint32_t(i));
-          for (size_t k = 0; k < 3; ++k) out.boxes[k].insert(out.boxes[k].end(), &level[k][4 * i], &level[k][4 * i] + 4);
-        }
+      const Atlas::ObbLevel& level = at.cpu_obb[size_t(l)];
+      sa.obb.push_back({level.texels, level.boxes});
     }
   }
   return s;

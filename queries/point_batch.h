@@ -64,7 +64,7 @@ struct PointBatchStats {
   long long fallbacks = 0;     ///< points searched again on the CPU: the winning cell holds no material in double
   long long trimmed = 0;       ///< points whose winning cell a trim edge crosses (its material part, on the GPU)
   long long cut = 0;           ///< points whose GPU walk was cut short, descended again by the CPU twin
-  double gpu_seconds = 0.0;    ///< upload, descent passes and read-back
+  double gpu_seconds = 0.0;    ///< upload, descent passes and read-back (0 with BatchEngine::Cpu)
   double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
 };
 
@@ -79,6 +79,12 @@ struct BatchCell {
 
 /// The boxes of the descent's pyramid: axis-aligned (Krishnamurthy et al. §5.1), or oriented.
 enum class PointBoxes { Aabb, Oriented };
+
+/// Where step 2 runs: the GPU pass (glsl/point_batch.frag), or its twin in double (descend_cpu) on
+/// every hardware thread, each point's best distance over the atlases so far pruning the next
+/// atlas's descent. The same pyramid, cells and finishing, the same bound: the CPU engine is for
+/// a GL whose renderer is the CPU itself (llvmpipe), where the float pass is not faster.
+enum class BatchEngine { Gpu, Cpu };
 
 /// The grid tolerance for a batched model whose answers must carry bounds within `tolerance` (T):
 /// T less the float terms of the bound (the largest float budget of the samples and 2 eps for a
@@ -151,6 +157,8 @@ class PointBatch {
   /// their whole triangles as the paper's corner test does, the CPU then searching again every
   /// point whose winner lies in a trimmed region (best first, search_material).
   void set_trim_on_gpu(bool on) { trim_on_gpu_ = on; }
+  void set_engine(BatchEngine e) { engine_ = e; }
+  [[nodiscard]] BatchEngine engine() const { return engine_; }
   [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
   [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
   void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
@@ -183,9 +191,7 @@ class PointBatch {
   [[nodiscard]] PointBoxes boxes() const { return boxes_; }
   /// Level `level` of atlas `a`'s oriented pyramid as uploaded: texture k = 0, 1, 2 holds per texel
   /// (centre, e0), (axis a0, e1), (axis a2 = normal, e2); a1 = a2 x a0; e0 < 0: empty.
-  [[nodiscard]] const std::vector<float>& oriented_level(size_t a, int level, int k) const {
-    return atlases_[a].cpu_obb[size_t(level)][size_t(k)];
-  }
+  [[nodiscard]] std::vector<float> oriented_level(size_t a, int level, int k) const;
 
  private:
   struct Atlas {
@@ -206,14 +212,28 @@ class PointBatch {
     /// (s0, t0, s1, t1) in unit-cell coordinates, a cell's crossing segments then its pieces.
     std::vector<float> trim_cell, trim_head, trim_segs;
     gpgpu::Texture trim_cell_tex, trim_head_tex, trim_segs_tex;
-    std::vector<std::array<std::vector<float>, 3>> cpu_obb;  ///< the same values per level, 4 floats per texel
+    /// The oriented pyramid on the CPU, per level only its boxes (most texels of the padded levels
+    /// are empty): the texels that hold one, ascending, the box index of every texel (-1: empty),
+    /// and per box the uploaded texels' 3 x 4 floats.
+    struct ObbLevel {
+      std::vector<int32_t> index;
+      std::vector<uint32_t> texels;
+      std::array<std::vector<float>, 3> boxes;
+    };
+    std::vector<ObbLevel> cpu_obb;
+    bool uploaded = false;  ///< the trim textures and the oriented pyramid are on the GPU (ensure_uploaded)
   };
+  /// Uploads what the GPU pass of atlas `at` reads and only it does (the trim textures, the oriented
+  /// pyramid), on the first pass: the CPU engine never does.
+  void ensure_uploaded(Atlas& at, size_t a);
+  /// Texture k of a sparse oriented level expanded to its n texels (empty boxes elsewhere).
+  static std::vector<float> expand_level(const Atlas::ObbLevel& level, int k, size_t n);
   void build_cpu_pyramid(Atlas& at);
   /// The parts of the constructor that depend on the model alone (bound, trim edges, radius).
   void init_model();
   /// Uploads at.trim_cell, trim_head and trim_segs (padding the last two to whole rows).
   static void upload_trim_textures(Atlas& at, const AtlasPlan& plan);
-  /// Uploads at.cpu_obb into at.obb.
+  /// Uploads at.cpu_obb into at.obb, level by level expanded to every texel.
   static void upload_oriented_pyramid(Atlas& at);
   /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
   /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
@@ -266,6 +286,7 @@ class PointBatch {
   size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
   std::function<void(size_t, size_t)> progress_;
   bool trim_on_gpu_ = true;
+  BatchEngine engine_ = BatchEngine::Gpu;
 };
 
 }  // namespace queries

@@ -136,7 +136,6 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
   if (at.trim_head.size() / 4 >= (size_t(1) << 24) || at.trim_segs.size() / 4 >= (size_t(1) << 24))
     throw std::length_error(fmt::format("PointBatch: {} trimmed cells, {} trim segments in one atlas (at most 2^24)",
                                         at.trim_head.size() / 4, at.trim_segs.size() / 4));
-  upload_trim_textures(at, plan);
 }
 
 void PointBatch::upload_trim_textures(Atlas& at, const AtlasPlan& plan) {
@@ -152,13 +151,21 @@ double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, c
   double best = kInf;
   glm::dvec3 w;
   const glm::dvec3 p0 = closest_on_triangle(q, c[0], c[1], c[3], w);  // triangle (0, 1, 3): (s, t) = (w1 + w2, w2)
-  if (trim_material({w.y + w.z, w.z}, head, at.trim_segs)) best = glm::length(p0 - q);
+  const double d0 = glm::length(p0 - q);
+  if (trim_material({w.y + w.z, w.z}, head, at.trim_segs)) best = d0;
   const glm::dvec3 p1 = closest_on_triangle(q, c[0], c[3], c[2], w);  // triangle (0, 3, 2): (s, t) = (w1, w1 + w2)
-  if (trim_material({w.y, w.y + w.z}, head, at.trim_segs)) best = std::min(best, glm::length(p1 - q));
+  const double d1 = glm::length(p1 - q);
+  if (trim_material({w.y, w.y + w.z}, head, at.trim_segs)) best = std::min(best, d1);
+  // A piece lies on its triangle, no nearer than the triangle's closest point: the pieces of a
+  // triangle as near as `best` or farther cannot lower it (the pass reads them all).
+  const bool skip0 = d0 >= best, skip1 = d1 >= best;
+  if (skip0 && skip1) return best;
   const size_t first = size_t(head[0]) + size_t(head[1]);
   for (size_t k = 0; k < size_t(head[2]); ++k) {
+    const float* piece = &at.trim_segs[4 * (first + k)];
+    if (piece[0] + piece[2] >= piece[1] + piece[3] ? skip0 : skip1) continue;  // (piece_on_cell's triangle)
     glm::dvec3 a, b;
-    piece_on_cell(&at.trim_segs[4 * (first + k)], c, a, b);
+    piece_on_cell(piece, c, a, b);
     const glm::dvec3 d = b - a;
     const double len2 = glm::dot(d, d);
     const double t = len2 > 0.0 ? std::clamp(glm::dot(q - a, d) / len2, 0.0, 1.0) : 0.0;

@@ -47,9 +47,11 @@ double PointBatch::node_distance(const Atlas& at, const glm::dvec3& q, int level
     const size_t i = (size_t(y) * size_t(at.level_width(level)) + size_t(x)) * 3;
     return box_distance(q, &at.cpu_lo[size_t(level)][i], &at.cpu_hi[size_t(level)][i]);
   }
-  const size_t i = (size_t(y) * size_t(at.level_width(level)) + size_t(x)) * 4;
   const auto& l = at.cpu_obb[size_t(level)];
-  const float *c = &l[0][i], *t = &l[1][i], *n = &l[2][i];
+  const int32_t box = l.index[size_t(y) * size_t(at.level_width(level)) + size_t(x)];
+  if (box < 0) return kInf;
+  const size_t i = 4 * size_t(box);
+  const float *c = &l.boxes[0][i], *t = &l.boxes[1][i], *n = &l.boxes[2][i];
   if (c[3] < 0.0f) return kInf;
   const glm::dvec3 a0(t[0], t[1], t[2]), a2(n[0], n[1], n[2]), d = q - glm::dvec3(c[0], c[1], c[2]);
   const glm::dvec3 local(std::abs(glm::dot(d, a0)), std::abs(glm::dot(d, glm::cross(a2, a0))),

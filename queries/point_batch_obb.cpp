@@ -118,20 +118,47 @@ Box load(const std::array<std::vector<float>, 3>& in, size_t i) {
 
 }  // namespace
 
+/// Texture k of a sparse level expanded to its n texels: the stored boxes, every other texel an
+/// empty Box (what the GPU pass reads).
+std::vector<float> PointBatch::expand_level(const Atlas::ObbLevel& level, int k, size_t n) {
+  const Box none;
+  std::array<std::vector<float>, 3> one;
+  for (auto& v : one) v.resize(4);
+  store(none, one, 0);
+  std::vector<float> out(4 * n);
+  for (size_t i = 0; i < n; ++i) std::copy_n(one[size_t(k)].begin(), 4, out.begin() + ptrdiff_t(4 * i));
+  for (size_t b = 0; b < level.texels.size(); ++b)
+    std::copy_n(level.boxes[size_t(k)].begin() + ptrdiff_t(4 * b), 4, out.begin() + ptrdiff_t(4 * size_t(level.texels[b])));
+  return out;
+}
+
 void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
   const int w = m_.atlases[a].plan.width, levels = at.levels;
   auto sample = [&](int x, int y) { return float_sample(at, a, x, y); };
   at.cpu_obb.assign(size_t(levels), {});
-  const auto empty_level = [&](int l) {  // every texel an empty Box
-    auto& out = at.cpu_obb[size_t(l)];
-    const size_t n = size_t(at.level_width(l)) * size_t(at.level_height(l));
-    for (auto& v : out) v.resize(n * 4);
-    const Box none;
-    for (size_t i = 0; i < n; ++i) store(none, out, i);
+  // A level's boxes come share by share (rows of texels, ascending), each share's (texel, box) in
+  // texel order; joined in share order the texels ascend.
+  struct Share {
+    std::vector<uint32_t> texels;
+    std::array<std::vector<float>, 3> boxes;
+    void add(uint32_t texel, const Box& b) {
+      texels.push_back(texel);
+      for (auto& v : boxes) v.resize(v.size() + 4);
+      store(b, boxes, texels.size() - 1);
+    }
   };
-  empty_level(0);
+  const auto join = [&](int l, std::vector<Share>& shares) {
+    Atlas::ObbLevel& out = at.cpu_obb[size_t(l)];
+    out.index.assign(size_t(at.level_width(l)) * size_t(at.level_height(l)), -1);
+    for (Share& sh : shares) {
+      for (const uint32_t t : sh.texels) out.index[t] = int32_t(out.texels.size()), out.texels.push_back(t);
+      for (size_t k = 0; k < 3; ++k) out.boxes[k].insert(out.boxes[k].end(), sh.boxes[k].begin(), sh.boxes[k].end());
+      sh = {};
+    }
+  };
   const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
-  for_shares(size_t(h), share_count(size_t(h), 16), [&](size_t, size_t y0, size_t y1) {
+  std::vector<Share> shares(share_count(size_t(h), 16));
+  for_shares(size_t(h), shares.size(), [&](size_t s, size_t y0, size_t y1) {
     std::vector<glm::dvec3> hull;
     for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x + 1 < w; ++x) {
@@ -145,46 +172,63 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
         const glm::dvec3 du = (p[1] - p[0]) + (p[3] - p[2]), dv = (p[2] - p[0]) + (p[3] - p[1]);
         set_axes(b, du, glm::cross(du, dv));
         fit(b, hull);
-        store(b, at.cpu_obb[0], size_t(y) * size_t(at.w0) + size_t(x));
+        shares[s].add(uint32_t(size_t(y) * size_t(at.w0) + size_t(x)), b);
       }
   });
+  join(0, shares);
   for (int l = 1; l < levels; ++l) {
-    const int fw = at.level_width(l - 1), fh = at.level_height(l - 1), lw = at.level_width(l), lh = at.level_height(l);
-    empty_level(l);
-    const auto& fine = at.cpu_obb[size_t(l - 1)];
-    auto& out = at.cpu_obb[size_t(l)];
-    for_shares(size_t(lh), share_count(size_t(lh), 4), [&](size_t, size_t y0, size_t y1) {
-      for (int y = int(y0); y < int(y1); ++y)
-        for (int x = 0; x < lw; ++x) {
-          glm::dvec3 t(0.0), n(0.0);
-          Box kids[4];
-          const Box* children[4];
-          int count = 0;
-          for (int k = 0; k < 4; ++k) {
-            const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
-            if (cx >= fw || cy >= fh) continue;
-            kids[count] = load(fine, size_t(cy) * size_t(fw) + size_t(cx));
-            if (kids[count].e.x < 0.0) continue;
-            t += kids[count].a0, n += kids[count].a2;
-            children[count] = &kids[count];
-            ++count;
-          }
-          if (count == 0) continue;
-          Box b;
-          set_axes(b, t, n);
-          fit_boxes(b, children, count);
-          store(b, out, size_t(y) * size_t(lw) + size_t(x));
+    const int fw = at.level_width(l - 1), lw = at.level_width(l);
+    const Atlas::ObbLevel& fine = at.cpu_obb[size_t(l - 1)];
+    // The parents of the finer level's boxes, ascending (rows of two fine rows each).
+    std::vector<uint32_t> parents;
+    for (const uint32_t t : fine.texels) {
+      const uint32_t x = t % uint32_t(fw), y = t / uint32_t(fw);
+      parents.push_back((y / 2) * uint32_t(lw) + x / 2);
+    }
+    std::sort(parents.begin(), parents.end());
+    parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+    shares.assign(share_count(parents.size(), 256), {});
+    for_shares(parents.size(), shares.size(), [&](size_t s, size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        const int x = int(parents[i] % uint32_t(lw)), y = int(parents[i] / uint32_t(lw));
+        glm::dvec3 t(0.0), n(0.0);
+        Box kids[4];
+        const Box* children[4];
+        int count = 0;
+        for (int k = 0; k < 4; ++k) {
+          const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
+          if (cx >= fw || cy >= at.level_height(l - 1)) continue;
+          const int32_t j = fine.index[size_t(cy) * size_t(fw) + size_t(cx)];
+          if (j < 0) continue;
+          kids[count] = load(fine.boxes, size_t(j));
+          if (kids[count].e.x < 0.0) continue;
+          t += kids[count].a0, n += kids[count].a2;
+          children[count] = &kids[count];
+          ++count;
         }
+        if (count == 0) continue;
+        Box b;
+        set_axes(b, t, n);
+        fit_boxes(b, children, count);
+        shares[s].add(parents[i], b);
+      }
     });
+    join(l, shares);
   }
-  upload_oriented_pyramid(at);
 }
 
 void PointBatch::upload_oriented_pyramid(Atlas& at) {
-  for (int k = 0; k < 3; ++k) {
-    at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, at.levels);
-    for (int l = 0; l < at.levels; ++l) at.obb[size_t(k)].upload_level(l, at.cpu_obb[size_t(l)][size_t(k)]);
-  }
+  for (int k = 0; k < 3; ++k) at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, at.levels);
+  for (int l = 0; l < at.levels; ++l)
+    for (int k = 0; k < 3; ++k) {
+      std::vector<float> level = expand_level(at.cpu_obb[size_t(l)], k, size_t(at.level_width(l)) * size_t(at.level_height(l)));
+      at.obb[size_t(k)].upload_level(l, level);
+    }
+}
+
+std::vector<float> PointBatch::oriented_level(size_t a, int level, int k) const {
+  const Atlas& at = atlases_[a];
+  return expand_level(at.cpu_obb[size_t(level)], k, size_t(at.level_width(level)) * size_t(at.level_height(level)));
 }
 
 }  // namespace queries

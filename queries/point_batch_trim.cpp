@@ -139,6 +139,31 @@ TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& gr
 
 void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<TrimPiece>& out) const {
   if (trim_ == nullptr) return;
+  // (s, t) in the unit cell -> the piece's triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t >= s.
+  for (const UnitPiece& pc : unit_pieces(i, j)) {
+    const auto on = [&](glm::dvec2 st) {
+      return pc.lower ? corners[0] + st.x * (corners[1] - corners[0]) + st.y * (corners[3] - corners[1])
+                      : corners[0] + st.y * (corners[2] - corners[0]) + st.x * (corners[3] - corners[2]);
+    };
+    out.push_back({on(pc.st0), on(pc.st1), pc.uv0, pc.uv1, pc.lower ? 0 : 1});
+  }
+}
+
+const std::vector<TrimEdges::UnitPiece>& TrimEdges::unit_pieces(int i, int j) const {
+  const int64_t key = int64_t(j) * grid_->cells_u() + i;
+  PieceCache& cache = *piece_cache_;
+  {
+    std::shared_lock lock(cache.mutex);
+    const auto it = cache.cells.find(key);
+    if (it != cache.cells.end()) return it->second;  // (a node's value never moves)
+  }
+  std::vector<UnitPiece> computed;
+  compute_unit_pieces(i, j, computed);
+  std::unique_lock lock(cache.mutex);
+  return cache.cells.try_emplace(key, std::move(computed)).first->second;
+}
+
+void TrimEdges::compute_unit_pieces(int i, int j, std::vector<UnitPiece>& out) const {
   const auto it = cells_.find(int64_t(j) * grid_->cells_u() + i);
   if (it == cells_.end()) return;
   const double u0 = grid_->u[size_t(i)], u1 = grid_->u[size_t(i) + 1];
@@ -206,14 +231,8 @@ void TrimEdges::pieces(int i, int j, const glm::dvec3 corners[4], std::vector<Tr
       const glm::dvec2 mid = a + 0.5 * (m0 + m1) * ab;
       if (!banded_.is_material(mid + side) && !banded_.is_material(mid - side)) continue;
       const glm::dvec2 st0 = sa + m0 * sd, st1 = sa + m1 * sd, st_mid = 0.5 * (st0 + st1);
-      const bool lower = st_mid.x >= st_mid.y;
-      // (s, t) in the unit cell -> the piece's triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t >= s.
-      const auto on = [&](glm::dvec2 st) {
-        return lower ? corners[0] + st.x * (corners[1] - corners[0]) + st.y * (corners[3] - corners[1])
-                     : corners[0] + st.y * (corners[2] - corners[0]) + st.x * (corners[3] - corners[2]);
-      };
       const auto uv = [&](glm::dvec2 st) { return glm::dvec2(u0 + st.x * (u1 - u0), v0 + st.y * (v1 - v0)); };
-      out.push_back({on(st0), on(st1), uv(st0), uv(st1), lower ? 0 : 1});
+      out.push_back({st0, st1, uv(st0), uv(st1), st_mid.x >= st_mid.y});
     }
   }
 }

@@ -10,6 +10,9 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 #include <glm/vec3.hpp>
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -87,11 +90,26 @@ class TrimEdges {
   [[nodiscard]] bool is_material(glm::dvec2 uv) const { return banded_.is_material(uv); }
 
  private:
+  /// A piece in unit-cell coordinates (s, t) and in (u, v), on triangle (0, 1, 3) (lower) or (0, 3, 2).
+  struct UnitPiece {
+    glm::dvec2 st0, st1, uv0, uv1;
+    bool lower;
+  };
+  /// The pieces of cell (i, j) in unit-cell coordinates, computed once per cell and kept (the
+  /// batched finishing and the material boxes ask for the same cells again and again); safe to
+  /// call from several threads.
+  const std::vector<UnitPiece>& unit_pieces(int i, int j) const;
+  void compute_unit_pieces(int i, int j, std::vector<UnitPiece>& out) const;
+  struct PieceCache {
+    std::shared_mutex mutex;
+    std::unordered_map<int64_t, std::vector<UnitPiece>> cells;
+  };
   const nurbs::TrimPolygons* trim_ = nullptr;
   const nurbs::ParamGrid* grid_ = nullptr;
   double side_step_ = 0.0;
   BandedTrim banded_;
   std::unordered_map<int64_t, std::vector<std::pair<int, int>>> cells_;  ///< cell -> (loop, edge)
+  std::shared_ptr<PieceCache> piece_cache_ = std::make_shared<PieceCache>();  ///< (copies share the trim too)
 };
 
 }  // namespace queries

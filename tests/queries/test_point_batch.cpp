@@ -174,6 +174,46 @@ TEST_CASE("point batch: GPU descent = CPU twin; results within the bounds of the
                         << " CPU fallbacks in the batch");
 }
 
+TEST_CASE("point batch: the CPU engine answers as the GPU pass over several atlases, no GPU pass run") {
+  gpgpu::Gpu& gpu = test::gpu();
+  const auto faces = test::spread_faces(6);  // trimmed and untrimmed faces
+  const double tol = 2e-3;
+  queries::PreparedModel m = queries::prepare_geometry(faces, tol);
+  int side = 2;  // the largest grid's side: several atlases, each pruned by the ones before
+  for (const auto& g : m.grids) side = std::max({side, int(g.grid.u.size()), int(g.grid.v.size())});
+  queries::prepare_atlases(gpu, m, side);
+  REQUIRE(m.atlases.size() >= 2);
+  queries::PointBatch batch(gpu, m);
+  const auto points = test::random_points(faces, 400, 17);
+  const auto on_gpu = batch.query(points);
+  CHECK(batch.stats().gpu_seconds > 0.0);
+  batch.set_engine(queries::BatchEngine::Cpu);
+  const auto on_cpu = batch.query(points);
+  CHECK(batch.stats().gpu_seconds == 0.0);
+  REQUIRE(on_cpu.size() == points.size());
+  int same_face = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(on_cpu[i].found);
+    CHECK(std::abs(on_cpu[i].distance - on_gpu[i].distance) <= 2 * batch.slack(points[i]));
+    CHECK(on_cpu[i].bound == on_gpu[i].bound);
+    // The engine's answer is the twin's, point by point.
+    CHECK(on_cpu[i].distance == batch.query_cpu(points[i]).distance);
+    same_face += on_cpu[i].face == on_gpu[i].face;
+  }
+  CHECK(same_face * 10 >= int(points.size()) * 9);
+  // A restored batch on the CPU engine never uploads its pyramid, and answers the same.
+  queries::PreparedModel restored = queries::prepare_geometry(faces, tol);
+  queries::PointBatchState state = batch.export_state();
+  queries::restore_atlases(restored, state);
+  queries::PointBatch again(gpu, restored, std::move(state));
+  again.set_engine(queries::BatchEngine::Cpu);
+  const auto got = again.query(points);
+  int differ = 0;
+  for (size_t i = 0; i < points.size(); ++i) differ += got[i].distance != on_cpu[i].distance;
+  CHECK(differ == 0);
+}
+
 TEST_CASE("point batch: the trimmed 100 x 105 surface, winners material, holes resolved on the GPU") {
   gpgpu::Gpu& gpu = test::gpu();
   const std::vector<nurbs::TrimmedSurface> faces{models::trimmed_wavy_surface_100x105()};

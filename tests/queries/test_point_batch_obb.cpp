@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <map>
 
 #include "../gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
@@ -23,9 +24,21 @@ struct Obb {
   bool empty;
 };
 
-Obb node(const queries::PointBatch& b, int level, size_t texel) {
-  const float *c = &b.oriented_level(0, level, 0)[4 * texel], *t = &b.oriented_level(0, level, 1)[4 * texel],
-              *n = &b.oriented_level(0, level, 2)[4 * texel];
+/// Atlas 0's oriented levels as uploaded (every texel), expanded once per level.
+struct Levels {
+  const queries::PointBatch& b;
+  std::map<int, std::array<std::vector<float>, 3>> cache;
+  const std::array<std::vector<float>, 3>& operator()(int level) {
+    auto [it, fresh] = cache.try_emplace(level);
+    if (fresh)
+      for (int k = 0; k < 3; ++k) it->second[size_t(k)] = b.oriented_level(0, level, k);
+    return it->second;
+  }
+};
+
+Obb node(Levels& levels, int level, size_t texel) {
+  const auto& l = levels(level);
+  const float *c = &l[0][4 * texel], *t = &l[1][4 * texel], *n = &l[2][4 * texel];
   Obb o;
   o.c = {c[0], c[1], c[2]};
   o.a[0] = {t[0], t[1], t[2]};
@@ -57,8 +70,9 @@ TEST_CASE("point batch: oriented boxes hold their cells' samples and their child
   int leaves = 0, thin = 0, trimmed_cells = 0, smaller = 0;
   double worst = -HUGE_VAL, worst_material = -HUGE_VAL;
   const int width0 = batch.level_width(0, 0);
-  for (size_t t = 0; t < batch.oriented_level(0, 0, 0).size() / 4; ++t) {
-    const Obb o = node(batch, 0, t);
+  Levels levels{batch, {}};
+  for (size_t t = 0; t < levels(0)[0].size() / 4; ++t) {
+    const Obb o = node(levels, 0, t);
     if (o.empty) continue;
     ++leaves;
     const int x = int(t % size_t(width0)), y = int(t / size_t(width0));
@@ -116,12 +130,12 @@ TEST_CASE("point batch: oriented boxes hold their cells' samples and their child
   double worst_child = -HUGE_VAL;
   for (int l = 1; l < batch.levels(0); ++l) {
     const int pw = batch.level_width(0, l), cw = batch.level_width(0, l - 1);
-    const size_t ct = batch.oriented_level(0, l - 1, 0).size() / 4;
+    const size_t ct = levels(l - 1)[0].size() / 4;
     for (size_t t = 0; t < ct; ++t) {
-      const Obb c = node(batch, l - 1, t);
+      const Obb c = node(levels, l - 1, t);
       if (c.empty) continue;
       const int x = int(t % size_t(cw)) / 2, y = int(t / size_t(cw)) / 2;
-      const Obb p = node(batch, l, size_t(y) * size_t(pw) + size_t(x));
+      const Obb p = node(levels, l, size_t(y) * size_t(pw) + size_t(x));
       REQUIRE(!p.empty);
       for (int k = 0; k < 8; ++k)
         worst_child = std::max(
