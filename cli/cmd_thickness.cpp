@@ -178,13 +178,13 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     const nlohmann::json b = ball_json(*ball, hits, a.min_wall_given ? a.min_wall : 0.0);
     fmt::print(
         "ball       min {:.6g}, median {:.6g}, mean {:.6g}, max {:.6g} (+- {:.2g}); thinner than the ray at {} "
-        "samples; {} rounds, {} point queries ({} walks cut, searched on the CPU), {} unconverged; {:.3f} s (+ {:.3f} "
-        "s "
-        "preparing the point query)\n",
+        "samples; {} rounds, {} point queries ({} walks cut, searched on the CPU), {} unconverged; descent on the {}; "
+        "{:.3f} s (+ {:.3f} s preparing the point query)\n",
         b["thickness"]["min"].get<double>(), b["thickness"]["median"].get<double>(),
         b["thickness"]["mean"].get<double>(), b["thickness"]["max"].get<double>(), b["bound"].get<double>(),
         b["thinner_than_ray"].get<long long>(), b["rounds"].get<int>(), b["queries"].get<long long>(),
-        b["walks_cut"].get<long long>(), b["unconverged"].get<long long>(), ball->seconds, ball->prepare_seconds);
+        b["walks_cut"].get<long long>(), b["unconverged"].get<long long>(),
+        ball->engine == "cpu" ? "CPU in double" : "GPU", ball->seconds, ball->prepare_seconds);
     if (a.min_wall_given)
       fmt::print("ball below {} samples thinner than {:.6g}\n", b["below_min_wall"].get<long long>(), a.min_wall);
   }
@@ -227,6 +227,11 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
                   "--ball: the point query's grid bound K_e, relative to the model size")
       ->check(CLI::Range(1e-7, 1e-2))
       ->capture_default_str();
+  auto* ball_engine = cmd->add_option("--ball-engine", a->ball.engine,
+                  "--ball: where the batched point query descends, as distance --engine: gpu (the float pass), cpu "
+                  "(its twin in double on every core), auto (cpu when the GL renderer is llvmpipe)")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->capture_default_str();
   cmd->add_option("--colour", a->colour, "-o: colour the mesh by the ray or the ball thickness (--ball)")
       ->check(CLI::IsMember({"ray", "ball"}))
       ->capture_default_str();
@@ -235,7 +240,10 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--csv", a->csv, "Write face, u, v, x, y, z, thickness, hit_face per sample");
   cmd->add_option("--exr", a->exr, "Write each face's thickness grid as DIR/face_NNNN_thickness.exr (-1: none)");
   cmd->add_flag("--json", a->json, "One JSON object: rays, hits, thickness min/max/mean/median, figures");
-  cmd->callback([&global, a] { run(global, *a); });
+  cmd->callback([&global, a, ball_engine] {
+    if (ball_engine->count() > 0 && !a->ball.enabled) throw BadInput("--ball-engine needs --ball");
+    run(global, *a);
+  });
 }
 
 }  // namespace cli

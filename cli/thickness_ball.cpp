@@ -32,6 +32,9 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
   out.tolerance = args.tolerance * size;
   const queries::PreparedModel prepared = queries::prepare_model(*gpu, nurbs::world_faces(model), out.tolerance);
   queries::PointBatch batch(*gpu, prepared);
+  // auto: the descent in double on the CPU where the GL rasterizes on the CPU (as distance --engine).
+  out.engine = args.engine != "auto" ? args.engine : (gpu->info().software_renderer() ? "cpu" : "gpu");
+  batch.set_engine(out.engine == "cpu" ? queries::BatchEngine::Cpu : queries::BatchEngine::Gpu);
   gpu->finish();
   out.prepare_seconds = since(t0);
   const auto t1 = std::chrono::steady_clock::now();
@@ -83,6 +86,7 @@ nlohmann::json ball_json(const BallResult& r, const std::vector<nurbs::ray::Hit>
                       {"unconverged", r.figures.unconverged},
                       {"query_tolerance", r.tolerance},
                       {"walks_cut", r.walks_cut},
+                      {"engine", r.engine},
                       {"cells_tested", r.cells_tested},
                       {"seconds",
                        {{"prepare", r.prepare_seconds},

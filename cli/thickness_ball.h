@@ -4,6 +4,7 @@
 /// samples, the closest points by the batched point query of Krishnamurthy et al.
 /// (queries/point_batch.h) on the GPU, its bounds carried into each ball's.
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "cli/common.h"
@@ -25,12 +26,14 @@ inline nlohmann::json summary_json(const nurbs::ray::ThicknessSummary& s) {
 struct BallArgs {
   bool enabled = false;
   double tolerance = 1e-5;  ///< the point query's grids (K_e), relative to the model size
+  std::string engine = "auto";  ///< where the batched descent runs: auto, gpu, cpu (distance --engine)
 };
 
 struct BallResult {
   std::vector<nurbs::ray::BallThickness> samples;  ///< per thickness ray, in ThicknessRays order
   nurbs::ray::BallFigures figures;
   double prepare_seconds = 0.0, seconds = 0.0, tolerance = 0.0;
+  std::string engine;  ///< the engine used: gpu or cpu
   long long walks_cut = 0;                      ///< queries whose GPU walk ran out of loop budget (searched on the CPU)
   long long cells_tested = 0;                   ///< over all rounds
   double gpu_seconds = 0.0, cpu_seconds = 0.0;  ///< the point queries' GPU passes and CPU finishing
