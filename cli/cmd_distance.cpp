@@ -223,9 +223,7 @@ void run(const GlobalOptions& global, const Options& o) {
       j = result_json(results.front(), points.front(), tolerance, faces);
       j["seconds"] = query_s;
     } else {
-      nlohmann::json arr = nlohmann::json::array();
-      for (size_t k = 0; k < results.size(); ++k) arr.push_back(result_json(results[k], points[k], tolerance, faces));
-      j = {{"points", points.size()}, {"seconds", query_s}, {"results", arr}};
+      j = {{"points", points.size()}, {"seconds", query_s}};
       j["not_found"] = not_found, j["over_tolerance"] = over;
     }
     j["prepare_seconds"] = prepare_s;
@@ -248,7 +246,11 @@ void run(const GlobalOptions& global, const Options& o) {
       for (const auto& g : prepared->grids) samples += g.grid.samples();
       j["samples"] = samples;
     }
-    print_json(j);
+    if (o.point.empty())
+      print_json_streamed(std::move(j), "results", results.size(),
+                          [&](size_t k) { return result_json(results[k], points[k], tolerance, faces); });
+    else
+      print_json(j);
   } else {
     fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", faces.size(),
                size, unit, o.rel_tolerance * size, prepare_s,

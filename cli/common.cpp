@@ -99,6 +99,40 @@ void print_json(const nlohmann::json& j) {
   g_json_printed = true;
 }
 
+void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
+                         const std::function<nlohmann::json(size_t)>& element) {
+  // The array's place in the object's text (keys sorted, as dump has them), found by a marker.
+  const std::string marker = "\x01nurbsgl-streamed-array\x01";
+  j[key] = marker;
+  const std::string text = j.dump(2);
+  const std::string quoted = nlohmann::json(marker).dump();
+  const size_t at = text.find(quoted);
+  if (at == std::string::npos) throw std::logic_error("print_json_streamed: the marker is not in the text");
+  std::string out = text.substr(0, at);
+  if (count == 0) {
+    out += "[]";
+  } else {
+    // The array at depth 1: elements indented by 4, their members by 6, as dump(2) writes them.
+    out += "[\n";
+    for (size_t k = 0; k < count; ++k) {
+      const std::string e = element(k).dump(2);
+      out += "    ";
+      for (const char c : e) {
+        out += c;
+        if (c == '\n') out += "    ";
+      }
+      out += k + 1 < count ? ",\n" : "\n";
+      if (out.size() > (1u << 20)) std::fwrite(out.data(), 1, out.size(), stdout), out.clear();
+    }
+    out += "  ]";
+  }
+  out += text.substr(at + quoted.size());
+  out += "\n";
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  std::fflush(stdout);
+  g_json_printed = true;
+}
+
 bool json_printed() { return g_json_printed; }
 
 std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names) {

@@ -2,6 +2,7 @@
 /// \file common.h
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -69,6 +70,11 @@ void check_output(const std::string& path, const std::string& option);
 /// Prints a command's one JSON object on stdout, and notes that it did: an error raised after it
 /// is reported as text only (stdout keeps one object).
 void print_json(const nlohmann::json& j);
+/// print_json of j with j[key] the array of element(0) .. element(count - 1), each built and written
+/// in turn (the same text as one tree holding them all, without holding them: a batch of 20,000
+/// answers as one tree costs more than the query).
+void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
+                         const std::function<nlohmann::json(size_t)>& element);
 [[nodiscard]] bool json_printed();
 
 /// The subcommand names closest to `word` (edit distance at most 2, or `word` a prefix), for a

@@ -4,8 +4,10 @@
 //      BRepExtrema_DistShapeShape between A and B moved (rotated by DEG degrees about the axis
 //      through the origin, then moved, as `nurbsgl clearance`); per motion the median of N runs.
 //      --witness FILE: how far given closest points (nurbsgl's) lie from OCCT's A and B faces.
-//  points MODEL --points FILE [--repeat N]: GeomAPI_ProjectPointOnSurf, one projector per face
-//      initialised once on the face's surface and its UV bounds (trims ignored), min over faces.
+//  points MODEL --points FILE [--repeat N] [--trimmed M]: GeomAPI_ProjectPointOnSurf, one projector per face
+//      initialised once on the face's surface and its UV bounds (trims ignored), min over faces;
+//      --trimmed M: also BRepExtrema_DistShapeShape from each of the first M points to the shape
+//      (the exact distance to the trimmed faces), with the shape's tolerance.
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
 //      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
@@ -173,7 +175,7 @@ int shapes(const std::string& a_path, const std::string& b_path, const std::stri
   return 0;
 }
 
-int points(const std::string& model, const std::string& file, int repeat) {
+int points(const std::string& model, const std::string& file, int repeat, int trimmed) {
   std::vector<gp_Pnt> input;
   std::ifstream f(file);
   if (!f) throw std::runtime_error("--points " + file + ": cannot open the file");
@@ -216,9 +218,19 @@ int points(const std::string& model, const std::string& file, int repeat) {
     }
     times.push_back(seconds_since(t1));
   }
-  const nlohmann::json out{
+  nlohmann::json out{
       {"occt", OCC_VERSION_COMPLETE}, {"read_seconds", read_s},   {"init_seconds", init_s}, {"points", input.size()},
       {"faces", projectors.size()},   {"seconds", median(times)}, {"repeat", repeat},       {"results", results}};
+  if (trimmed > 0) {  // the exact distance to the trimmed faces (BRepExtrema), first points only
+    nlohmann::json d = nlohmann::json::array();
+    const auto t2 = Clock::now();
+    for (size_t i = 0; i < input.size() && i < size_t(trimmed); ++i) {
+      const double g = gap(input[i], shape);
+      d.push_back(std::isfinite(g) ? nlohmann::json(g) : nlohmann::json(nullptr));
+    }
+    out["trimmed"] = {{"points", d.size()}, {"seconds", seconds_since(t2)}, {"distances", d},
+                      {"tolerance", shape_tolerance(shape)}};
+  }
   fmt::print("{}\n", out.dump(1));
   return 0;
 }
@@ -282,7 +294,7 @@ int main(int argc, char** argv) {
   CLI::App app{"OpenCASCADE peer of nurbsgl distance, clearance and ray casting (JSON on stdout)"};
   app.require_subcommand(1);
   std::string a, b, move, rotate, motion, witness, model, file;
-  int repeat = 5;
+  int repeat = 5, trimmed = 0;
   auto* s = app.add_subcommand("shapes", "BRepExtrema_DistShapeShape between A and B moved");
   s->add_option("A", a, "First IGES model")->required();
   s->add_option("B", b, "Second IGES model")->required();
@@ -296,6 +308,9 @@ int main(int argc, char** argv) {
   p->add_option("MODEL", model, "IGES model")->required();
   p->add_option("--points", file, "x y z per line")->required();
   p->add_option("--repeat", repeat, "Runs over all points; the median is reported")->check(CLI::PositiveNumber);
+  p->add_option("--trimmed", trimmed,
+                "Also the exact distance to the trimmed faces (BRepExtrema_DistShapeShape) of the first N points")
+      ->check(CLI::NonNegativeNumber);
   auto* r = app.add_subcommand("rays", "IntCurvesFace_ShapeIntersector: nearest hit of every ray");
   r->add_option("MODEL", model, "IGES model")->required();
   r->add_option("--rays", file, "ox oy oz dx dy dz per line")->required();
@@ -304,7 +319,7 @@ int main(int argc, char** argv) {
   Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the reader's chatter
   try {
     if (r->parsed()) return rays(model, file, repeat);
-    return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat);
+    return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat, trimmed);
   } catch (const std::exception& e) {
     fmt::print(stderr, "peer_occt_distance: {}\n", e.what());
     return 2;

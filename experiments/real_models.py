@@ -7,7 +7,9 @@ a fifth (fixed seed), `nurbsgl distance --points --json` as one process (points 
 whole process, preparation included), its CPU share (the JSON `cpu` block: walks cut short, winning
 cells without material), its peak resident memory; then OpenCASCADE's projection
 (`peer_occt_distance points`: GeomAPI_ProjectPointOnSurf per face, trims ignored) on the first
-`--occt-points` of the same points, its rate, and the ratio. Writes real_models.csv in OUT and prints
+`--occt-points` of the same points, its rate, and the ratio; then our answers for the first
+`--check-points` against OpenCASCADE's exact distance to the trimmed faces (BRepExtrema_DistShapeShape
+from a vertex): how many differ by more than our bound plus the shape's tolerance. Writes real_models.csv in OUT and prints
 a table. Then clearance of each model against a copy of itself moved along x by its box width plus
 --gap times its size (separated copies): `nurbsgl clearance --json` as one process (wall, and
 prepare + query) by default (the engine it chose), on the GPU, and on the GPU without the face cull,
@@ -65,6 +67,8 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--points", type=int, default=20000)
     ap.add_argument("--occt-points", type=int, default=500)
+    ap.add_argument("--check-points", type=int, default=100,
+                    help="our answers checked against OpenCASCADE's exact distance to the trimmed faces")
     ap.add_argument("--tolerances", default="1e-4,1e-5")
     ap.add_argument("--models", nargs="*", default=DEFAULT_MODELS)
     ap.add_argument("--gap", type=float, default=1.0, help="clearance: the copies' gap, times the model size")
@@ -82,14 +86,16 @@ def main():
             continue
         pts = os.path.join(a.out, os.path.basename(rel) + ".points.txt")
         faces = write_points(cli, model, a.points, pts)
-        occt_rate = None
+        occt_rate, occt_trimmed = None, None
         if os.path.exists(peer):
             sub = pts + f".first{a.occt_points}"
             with open(pts) as f, open(sub, "w") as g:
                 g.writelines(f.readlines()[: a.occt_points])
-            out, _, _ = run([peer, "points", model, "--points", sub, "--repeat", "1"])
+            out, _, _ = run([peer, "points", model, "--points", sub, "--repeat", "1", "--trimmed",
+                             str(a.check_points)])
             d = json.loads(out)
             occt_rate = d["points"] / d["seconds"]
+            occt_trimmed = d["trimmed"]
         for tol in a.tolerances.split(","):
             out, wall, peak = run([cli, "distance", model, "--points", pts, "--tol", tol, "--json"])
             d = json.loads(out)
@@ -100,7 +106,22 @@ def main():
                    "cpu_share": round(cpu.get("share", float("nan")), 4),
                    "walk_cut_short": cpu.get("walk_cut_short"), "searched_again": cpu.get("no_material_in_winning_cell"),
                    "peak_mb": round(peak), "occt_points_per_s": round(occt_rate, 1) if occt_rate else "",
-                   "ratio": round(rate / occt_rate, 1) if occt_rate else ""}
+                   "ratio": round(rate / occt_rate, 1) if occt_rate else "",
+                   "engine": d.get("engine", {}).get("used", "")}
+            if occt_trimmed:
+                # Our answers against OpenCASCADE's exact distance to the trimmed faces: outside when
+                # they differ by more than our bound plus the shape's tolerance.
+                checked, outside, worst = 0, 0, 0.0
+                for r, ref in zip(d["results"], occt_trimmed["distances"]):
+                    if ref is None or not r.get("found"):
+                        continue
+                    checked += 1
+                    err = abs(r["distance"] - ref)
+                    outside += err > r["bound"] + occt_trimmed["tolerance"]
+                    worst = max(worst, err / r["bound"])
+                row.update({"occt_checked": checked, "outside_bound": outside,
+                            "worst_error_per_bound": round(worst, 3),
+                            "occt_trimmed_points_per_s": round(occt_trimmed["points"] / occt_trimmed["seconds"], 1)})
             rows.append(row)
             print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
     write_csv(os.path.join(a.out, "real_models.csv"), rows)
