@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRep_Builder.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
@@ -33,6 +34,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -222,10 +224,15 @@ int points(const std::string& model, const std::string& file, int repeat, int tr
       {"occt", OCC_VERSION_COMPLETE}, {"read_seconds", read_s},   {"init_seconds", init_s}, {"points", input.size()},
       {"faces", projectors.size()},   {"seconds", median(times)}, {"repeat", repeat},       {"results", results}};
   if (trimmed > 0) {  // the exact distance to the trimmed faces (BRepExtrema), first points only
+    // To the faces, not to the solids they bound (a point inside a solid is at 0 from it).
+    TopoDS_Compound faces;
+    BRep_Builder builder;
+    builder.MakeCompound(faces);
+    for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) builder.Add(faces, e.Current());
     nlohmann::json d = nlohmann::json::array();
     const auto t2 = Clock::now();
     for (size_t i = 0; i < input.size() && i < size_t(trimmed); ++i) {
-      const double g = gap(input[i], shape);
+      const double g = gap(input[i], faces);
       d.push_back(std::isfinite(g) ? nlohmann::json(g) : nlohmann::json(nullptr));
     }
     out["trimmed"] = {{"points", d.size()}, {"seconds", seconds_since(t2)}, {"distances", d},
