@@ -169,10 +169,11 @@ void run(const GlobalOptions& global, const Options& o) {
         queries::prepare_atlases(*gpu, geometry, side);
         prepared.emplace(std::move(geometry));
         batch.emplace(*gpu, *prepared, boxes);
-        if (use_cache)  // written on another thread while the points are answered
-          cache_write = std::async(std::launch::async, [state = batch->export_state(), file, key] {
+        if (use_cache)  // exported and written on another thread while the points are answered (the
+                        // query reads the batch's atlases and pyramid, never changes them)
+          cache_write = std::async(std::launch::async, [&b = *batch, file, key] {
             const auto c0 = std::chrono::steady_clock::now();
-            std::string why = queries::save_batch_state(file, key, state);
+            std::string why = queries::save_batch_state(file, key, b.export_state());
             return std::pair{why, std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count()};
           });
       }

@@ -16,7 +16,7 @@ namespace queries {
 namespace {
 
 /// Bumped whenever the stored arrays or the way PointBatch builds them change.
-constexpr uint32_t kFormat = 1;
+constexpr uint32_t kFormat = 2;
 constexpr char kMagic[8] = {'N', 'G', 'L', 'B', 'A', 'T', 'C', 'H'};
 
 uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ULL) {
@@ -101,6 +101,44 @@ void trim_directory(const std::filesystem::path& dir, std::uintmax_t max_bytes) 
   }
 }
 
+
+/// The per-texel arrays of an atlas (components per texel) and their values outside every slot.
+struct TexelArray {
+  std::vector<float> PointBatchState::Atlas::*member;
+  size_t components;
+  float outside;
+};
+constexpr TexelArray kTexelArrays[] = {{&PointBatchState::Atlas::samples, 4, 0.0f},
+                                       {&PointBatchState::Atlas::slot_of, 1, -1.0f},
+                                       {&PointBatchState::Atlas::mask, 1, 0.0f},
+                                       {&PointBatchState::Atlas::crossed, 1, 0.0f},
+                                       {&PointBatchState::Atlas::trim_cell, 1, 0.0f}};
+
+/// Calls f(texel) for every texel inside a slot, slot by slot, row by row.
+template <class F>
+void for_slot_texels(const AtlasPlan& plan, F&& f) {
+  for (const AtlasSlot& sl : plan.slots)
+    for (int j = 0; j < sl.height; ++j)
+      for (int i = 0; i < sl.width; ++i) f(size_t(sl.y + j) * size_t(plan.width) + size_t(sl.x + i));
+}
+
+/// Whether every texel outside the slots holds the arrays' outside values (what the atlas
+/// evaluation and the trim fill leave there): then only the slots' texels are stored.
+bool padding_is_empty(const PointBatchState::Atlas& at) {
+  const size_t texels = size_t(at.plan.width) * size_t(at.plan.height);
+  std::vector<char> inside(texels, 0);
+  for_slot_texels(at.plan, [&](size_t t) { inside[t] = 1; });
+  for (const TexelArray& a : kTexelArrays) {
+    const std::vector<float>& v = at.*a.member;
+    if (v.size() != texels * a.components) return false;
+    for (size_t t = 0; t < texels; ++t)
+      if (!inside[t])
+        for (size_t c = 0; c < a.components; ++c)
+          if (v[t * a.components + c] != a.outside) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::filesystem::path batch_cache_directory() {
@@ -162,8 +200,37 @@ std::optional<PointBatchState> load_batch_state(const std::filesystem::path& fil
         return std::nullopt;
     }
     if (!r.value(at.w0) || !r.value(at.h0) || !r.value(at.levels) || at.levels < 1 || at.levels > 32) return std::nullopt;
-    for (std::vector<float>* v : {&at.samples, &at.slot_of, &at.mask, &at.crossed, &at.trim_cell, &at.trim_head,
-                                  &at.trim_segs})
+    uint8_t sparse = 0;
+    if (!r.value(sparse) || sparse > 1) return std::nullopt;
+    if (sparse) {  // the slots' texels only, the rest the outside values
+      long long inside = 0;
+      for (const AtlasSlot& sl : at.plan.slots) {
+        if (sl.x < 0 || sl.y < 0 || sl.width < 0 || sl.height < 0 || sl.x + sl.width > at.plan.width ||
+            sl.y + sl.height > at.plan.height)
+          return std::nullopt;
+        inside += static_cast<long long>(sl.width) * sl.height;
+      }
+      // (no damaged size asks for much more memory than the file holds: atlases pad by 64 at most)
+      const long long texels = static_cast<long long>(at.plan.width) * at.plan.height;
+      if (at.plan.width < 0 || at.plan.height < 0 || texels > 256 * inside + 65536 ||
+          uint64_t(inside) * 32 > r.left())
+        return std::nullopt;
+      for (const TexelArray& a : kTexelArrays) {
+        std::vector<float> compact;
+        if (!r.array(compact) || compact.size() != size_t(inside) * a.components) return std::nullopt;
+        std::vector<float>& v = at.*a.member;
+        v.assign(size_t(texels) * a.components, a.outside);
+        size_t k = 0;
+        for_slot_texels(at.plan, [&](size_t t) {
+          std::copy_n(compact.begin() + ptrdiff_t(k), a.components, v.begin() + ptrdiff_t(t * a.components));
+          k += a.components;
+        });
+      }
+    } else {
+      for (const TexelArray& a : kTexelArrays)
+        if (!r.array(at.*a.member)) return std::nullopt;
+    }
+    for (std::vector<float>* v : {&at.trim_head, &at.trim_segs})
       if (!r.array(*v)) return std::nullopt;
     for (int l = 0; l < at.levels; ++l) {
       PointBatchState::Level& level = at.obb.emplace_back();
@@ -195,9 +262,22 @@ std::string save_batch_state(const std::filesystem::path& file, const std::strin
       w.value(at.plan.width), w.value(at.plan.height), w.value(uint64_t(at.plan.slots.size()));
       for (const AtlasSlot& sl : at.plan.slots) w.value(sl.face), w.value(sl.x), w.value(sl.y), w.value(sl.width), w.value(sl.height);
       w.value(at.w0), w.value(at.h0), w.value(at.levels);
-      for (const std::vector<float>* v : {&at.samples, &at.slot_of, &at.mask, &at.crossed, &at.trim_cell,
-                                          &at.trim_head, &at.trim_segs})
-        w.array(*v);
+      const bool sparse = padding_is_empty(at);
+      w.value(uint8_t(sparse));
+      for (const TexelArray& a : kTexelArrays) {
+        const std::vector<float>& v = at.*a.member;
+        if (!sparse) {
+          w.array(v);
+          continue;
+        }
+        std::vector<float> compact;
+        for_slot_texels(at.plan, [&](size_t t) {
+          compact.insert(compact.end(), v.begin() + ptrdiff_t(t * a.components),
+                         v.begin() + ptrdiff_t((t + 1) * a.components));
+        });
+        w.array(compact);
+      }
+      for (const std::vector<float>* v : {&at.trim_head, &at.trim_segs}) w.array(*v);
       for (const PointBatchState::Level& level : at.obb) {
         w.array(level.texels);
         for (const auto& b : level.boxes) w.array(b);

@@ -42,7 +42,23 @@ TEST_CASE("batch cache: a restored batch answers as the batch it was exported fr
 
   const auto dir = temp_dir();
   const auto file = dir / "state.batch";
-  REQUIRE(queries::save_batch_state(file, "key one", built.export_state()).empty());
+  const queries::PointBatchState exported = built.export_state();
+  REQUIRE(queries::save_batch_state(file, "key one", exported).empty());
+  {
+    // The per-texel arrays are stored for the slots' texels only: the file holds less than the
+    // padded atlases would, and no more than the slots, the pyramid and the trim data.
+    long long slot_texels = 0, atlas_texels = 0, other = 0;
+    for (const auto& at : exported.atlases) {
+      atlas_texels += static_cast<long long>(at.plan.width) * at.plan.height;
+      for (const auto& sl : at.plan.slots) slot_texels += static_cast<long long>(sl.width) * sl.height;
+      other += static_cast<long long>(4 * (at.trim_head.size() + at.trim_segs.size()));
+      for (const auto& level : at.obb) other += static_cast<long long>(4 * level.texels.size() + 4 * 12 * level.texels.size());
+    }
+    const auto bytes = static_cast<long long>(std::filesystem::file_size(file));
+    MESSAGE("cache file " << bytes << " bytes; " << slot_texels << " slot texels of " << atlas_texels);
+    REQUIRE(slot_texels < atlas_texels);
+    CHECK(bytes <= 32 * slot_texels + other + 4096);
+  }
   CHECK_FALSE(queries::load_batch_state(file, "key two").has_value());  // another model or tolerance
   std::optional<queries::PointBatchState> state = queries::load_batch_state(file, "key one");
   REQUIRE(state.has_value());
