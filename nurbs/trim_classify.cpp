@@ -181,4 +181,76 @@ double distance_to_loops(const TrimPolygons& trim, glm::dvec2 p) {
   return best;
 }
 
+BandedTrim::BandedTrim(const TrimPolygons& trim) : trim_(&trim) {
+  for (const auto& poly : trim.loops) {
+    Loop l;
+    double lo = 1e300, hi = -1e300;
+    for (const glm::dvec2& q : poly) lo = std::min(lo, q.y), hi = std::max(hi, q.y);
+    const int bands = std::clamp(int(poly.size() / 4), 1, 4096);
+    l.v0 = lo;
+    l.height = hi > lo ? (hi - lo) / bands : 1.0;
+    l.bands.resize(size_t(bands));
+    for (size_t e = 0; e < poly.size(); ++e) {
+      const double a = poly[e].y, b = poly[(e + 1) % poly.size()].y;
+      for (size_t k = band(l, std::min(a, b)); k <= band(l, std::max(a, b)); ++k) l.bands[k].push_back(int(e));
+    }
+    loops_.push_back(std::move(l));
+  }
+}
+
+size_t BandedTrim::band(const Loop& l, double v) {
+  // Monotone in v (clamped below and above): an edge is listed in every band from that of its
+  // lowest to that of its highest v, so every band of a v within its range lists it.
+  return !(v > l.v0) ? 0 : std::min(size_t((v - l.v0) / l.height), l.bands.size() - 1);
+}
+
+int BandedTrim::winding(size_t k, glm::dvec2 p) const {
+  const Loop& l = loops_[k];
+  if (p.y < l.v0 || l.bands.empty()) return 0;
+  const size_t b = band(l, p.y);
+  const auto& poly = trim_->loops[k];
+  int wn = 0;
+  // The arithmetic of nurbs::winding_number, on the edges whose v range may hold p.y.
+  for (int e : l.bands[b]) {
+    const glm::dvec2 a = poly[size_t(e)], c = poly[(size_t(e) + 1) % poly.size()];
+    const double side = (c.x - a.x) * (p.y - a.y) - (p.x - a.x) * (c.y - a.y);
+    if (a.y <= p.y) {
+      if (c.y > p.y && side > 0) ++wn;
+    } else if (c.y <= p.y && side < 0) {
+      --wn;
+    }
+  }
+  return wn;
+}
+
+bool BandedTrim::is_material(glm::dvec2 uv) const {
+  // The rules of is_material.
+  const TrimPolygons& t = *trim_;
+  if (uv.x < t.domain_u.min || uv.x > t.domain_u.max || uv.y < t.domain_v.min || uv.y > t.domain_v.max) return false;
+  bool any_outer = false, in_outer = false;
+  for (size_t k = 0; k < t.loops.size(); ++k) {
+    const bool inside = winding(k, uv) != 0;
+    if (t.outer[k]) {
+      any_outer = true;
+      in_outer = in_outer || inside;
+    } else if (inside) {
+      return false;
+    }
+  }
+  return any_outer ? in_outer : true;
+}
+
+bool BandedTrim::meets_box(glm::dvec2 lo, glm::dvec2 hi) const {
+  for (size_t k = 0; k < loops_.size(); ++k) {
+    const Loop& l = loops_[k];
+    const auto& poly = trim_->loops[k];
+    if (l.bands.empty()) continue;
+    // An edge meeting the box has a point with v in [lo.y, hi.y]: listed in that point's band.
+    for (size_t b = band(l, lo.y), last = band(l, hi.y); b <= last; ++b)
+      for (int e : l.bands[b])
+        if (segment_meets_box(poly[size_t(e)], poly[(size_t(e) + 1) % poly.size()], lo, hi)) return true;
+  }
+  return false;
+}
+
 }  // namespace nurbs

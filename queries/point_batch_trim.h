@@ -29,28 +29,8 @@ struct TrimEdgeHit {
   glm::dvec2 uv{0.0};
 };
 
-/// nurbs::is_material with the same answer, bit for bit, in far fewer steps: each loop's edges
-/// sorted into horizontal bands of its box, so a winding number (Sunday's rule counts only the
-/// edges whose half-open v range holds the point) reads only the point's band. The batched
-/// projection and the coarse-to-fine refinement (refine.cpp: material tests and cell crossings) use it.
-class BandedTrim {
- public:
-  BandedTrim() = default;
-  explicit BandedTrim(const nurbs::TrimPolygons& trim);  ///< `trim` must outlive this
-  [[nodiscard]] bool is_material(glm::dvec2 uv) const;
-  /// Whether an edge of the loops meets the closed box [lo, hi] (reads only the bands of its v range).
-  [[nodiscard]] bool meets_box(glm::dvec2 lo, glm::dvec2 hi) const;
+using nurbs::BandedTrim;  ///< (the batched projection and the refinement use it)
 
- private:
-  struct Loop {
-    double v0 = 0.0, height = 1.0;
-    std::vector<std::vector<int>> bands;  ///< edge indices per band
-  };
-  [[nodiscard]] int winding(size_t k, glm::dvec2 p) const;
-  [[nodiscard]] static size_t band(const Loop& l, double v);
-  const nurbs::TrimPolygons* trim_ = nullptr;
-  std::vector<Loop> loops_;
-};
 
 /// A piece of a trim edge inside one triangle of a grid cell, where it is straight (TrimEdges::pieces).
 struct TrimPiece {

@@ -249,12 +249,13 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
     // Flattened within 1e-5 of the domain: a sample misjudged by it lies that close to a loop, far
     // below the estimate's threshold.
     const TrimPolygons trim = flatten_trim(faces[f], 1e-5 * std::max(du.width(), dv.width()));
+    const BandedTrim banded(trim);
     std::vector<std::vector<glm::dvec3>> boundary;  // the face's boundary in space, built when first needed
     // A sample's distance outside the material: 0 when material; else, when its (u, v) distance to
     // the loops times the larger first derivative there (a cheap estimate) passes a quarter of
     // `distance`, the distance of its point in space to the face's boundary.
     const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
-      if (is_material(trim, p)) return 0.0;
+      if (banded.is_material(p)) return 0.0;
       const double near = distance_to_loops(trim, p);
       const SurfaceDerivatives sd =
           surface_derivatives(s, std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max));
