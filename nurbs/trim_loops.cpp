@@ -173,6 +173,44 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {
   return repairs;
 }
 
+int reorder_trim_curves(TrimmedSurface& face, double tolerance) {
+  int rebuilt = 0;
+  for (TrimLoop& loop : face.loops) {
+    const size_t n = loop.curves.size();
+    bool chained = true;
+    for (size_t c = 0; c < n && chained; ++c)
+      chained = glm::length(end_point(loop.curves[c]) - start_point(loop.curves[(c + 1) % n])) <= tolerance;
+    if (chained || n < 2) continue;
+    std::vector<Curve2> chain{loop.curves.front()};
+    std::vector<char> used(n, 0);
+    used[0] = 1;
+    bool ok = true;
+    while (chain.size() < n && ok) {
+      const glm::dvec2 at = end_point(chain.back());
+      size_t best = n;
+      bool flip = false;
+      double nearest = tolerance;
+      for (size_t c = 1; c < n; ++c) {
+        if (used[c]) continue;
+        const double to_start = glm::length(start_point(loop.curves[c]) - at);
+        const double to_end = glm::length(end_point(loop.curves[c]) - at);
+        if (to_start <= nearest) nearest = to_start, best = c, flip = false;
+        if (to_end < nearest) nearest = to_end, best = c, flip = true;
+      }
+      if (best == n) {
+        ok = false;
+        break;
+      }
+      used[best] = 1;
+      chain.push_back(flip ? reversed(loop.curves[best]) : loop.curves[best]);
+    }
+    if (!ok || glm::length(end_point(chain.back()) - start_point(chain.front())) > tolerance) continue;
+    loop.curves = std::move(chain);
+    ++rebuilt;
+  }
+  return rebuilt;
+}
+
 int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance) {
   return orient_trim_loops(face, flatten_trim(face, flatten_tolerance));
 }

@@ -31,6 +31,14 @@ namespace nurbs {
 /// checker, and gaps <= min_gap (rounding of joined end points) are left untouched and uncounted.
 int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap = 0.0);
 
+/// Chains the curves of each loop end to start again where the file lists them out of order or
+/// with some reversed (an edge used against its direction, as B-rep files record in a flag a writer
+/// may drop): a loop with a gap over `tolerance` between consecutive curves is rebuilt from its
+/// first curve, each next curve the remaining one whose start or end (then reversed) lies nearest
+/// the chain's end. Kept only when every joint and the closing one are then within `tolerance`;
+/// otherwise the loop is left for the checker. Returns the number of loops rebuilt.
+int reorder_trim_curves(TrimmedSurface& face, double tolerance);
+
 /// Reverses loops whose flattened signed area has the wrong sign for their role (outer must be > 0,
 /// inner < 0): curve order reversed and each curve reparametrised backwards. Returns how many loops
 /// were reversed.

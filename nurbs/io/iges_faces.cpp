@@ -113,6 +113,7 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
 void IgesFaces::finish(TrimmedSurface& f, double model_size) {
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
+    log_.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
     log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
     // Loops going round a closed surface jump by its period at the seam: trim_seams.h.
     log_.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);

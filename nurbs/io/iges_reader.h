@@ -44,6 +44,7 @@ struct IgesReadOptions {
 struct IgesReadLog {
   IgesGlobal global;
   int reoriented_loops = 0;    ///< loops reversed to get outer CCW / inner CW
+  int reordered_loops = 0;     ///< loops whose curves were chained again (out of order or reversed)
   int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only
   int gaps_closed = 0;         ///< trim-curve gaps closed (see kTrimGapRepair)
   int ranges_restricted = 0;   ///< 126/128 cut to a declared parameter range inside their domain

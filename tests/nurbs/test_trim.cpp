@@ -249,3 +249,44 @@ TEST_CASE("junctions that meet up to rounding are one vertex, not a self-crossin
   f.loops[0].curves[1] = trim_line(b + glm::dvec2(0, 1e-3), c);
   CHECK(contains(nurbs::check_trim_loops(f, 1e-9, kFlat), "face 3: loop 0 does not close"));
 }
+
+TEST_CASE("loops listed out of order or with a reversed curve are chained again, real gaps are not") {
+  nurbs::TrimmedSurface plane;
+  plane.surface = models::bilinear_square(10.0);
+  const glm::dvec2 a(1, 1), b(9, 1), c(9, 9), d(1, 9);
+  using models::trim_line;
+  nurbs::Curve2 bulge;  // a curved side, so a reversed curve is not the same line
+  bulge.degree = 2, bulge.knots = {0, 0, 0, 1, 1, 1}, bulge.points = {d, {-1, 5}, a};
+  const std::vector<nurbs::TrimLoop> broken{
+      {{trim_line(a, b), trim_line(c, b), trim_line(c, d), bulge}, true},                      // one reversed
+      {{trim_line(a, b), trim_line(c, d), trim_line(b, c), bulge}, true},                      // out of order
+      {{trim_line(a, b), nurbs::reversed(bulge), trim_line(c, d), trim_line(c, b)}, true}};  // both
+  const nurbs::TrimLoop right{{trim_line(a, b), trim_line(b, c), trim_line(c, d), bulge}, true};
+  for (const nurbs::TrimLoop& loop : broken) {
+    nurbs::TrimmedSurface face = plane;
+    face.loops = {loop};
+    CHECK_FALSE(nurbs::check_trim_loops(face, 1e-6, 1e-4).empty());  // gaps between the curves
+    CHECK(nurbs::reorder_trim_curves(face, 1e-6) == 1);
+    CHECK(nurbs::check_trim_loops(face, 1e-6, 1e-4).empty());
+    REQUIRE(face.loops[0].curves.size() == 4);
+    // The same loop as drawn right (up to where it starts): the same material everywhere.
+    nurbs::TrimmedSurface expected = plane;
+    expected.loops = {right};
+    models::Random rng(3);
+    int differ = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const glm::dvec2 p(rng.uniform(0, 10), rng.uniform(0, 10));
+      differ += nurbs::is_material(face, p, 1e-5) != nurbs::is_material(expected, p, 1e-5);
+    }
+    CHECK(differ == 0);
+  }
+  // A loop with a real gap (a side missing) is left as it is, for the checker to name.
+  nurbs::TrimmedSurface open = plane;
+  open.loops = {{{trim_line(a, b), trim_line(b, c), trim_line(c, d)}, true}};
+  CHECK(nurbs::reorder_trim_curves(open, 1e-6) == 0);
+  CHECK(open.loops[0].curves.size() == 3);
+  // A chained loop is left alone.
+  nurbs::TrimmedSurface fine = plane;
+  fine.loops = {right};
+  CHECK(nurbs::reorder_trim_curves(fine, 1e-6) == 0);
+}

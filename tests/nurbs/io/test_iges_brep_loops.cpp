@@ -271,10 +271,12 @@ TEST_CASE("141 curves only in model space (143 bounded surface, boundary TYPE 0)
     CHECK(log.reoriented_loops == 0);
     CHECK(first_loop_area(f) == doctest::Approx(1.0).epsilon(1e-9));
   }
-  SUBCASE("SENSE 1 there: the loop does not close") {
+  SUBCASE("SENSE 1 there (a writer's wrong flag): the curve is chained again, reversed") {
     bounded("1");
-    (void)nurbs::io::read_iges_text(e.text(), "bounded", {}, &log);
-    CHECK(!log.trim_problems.empty());
+    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "bounded", {}, &log);
+    CHECK(log.reordered_loops == 1);
+    CHECK(log.trim_problems.empty());
+    CHECK(first_loop_area(only_face(m)) == doctest::Approx(1.0).epsilon(1e-9));
   }
 }
 
