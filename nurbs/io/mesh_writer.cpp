@@ -57,7 +57,9 @@ void write_ply(std::ostream& out, const TriangleMesh& m) {
   out << "ply\nformat binary_little_endian 1.0\n";
   fmt::print(out, "comment nurbsgl {}\n", values ? m.values_name + " samples" : std::string("tessellation"));
   fmt::print(out, "element vertex {}\n", m.positions.size());
-  out << "property float x\nproperty float y\nproperty float z\n";
+  // Positions in double: a needle of a tessellation (an edge far shorter than a float step of
+  // the coordinates) keeps its area; normals and values need no more than float.
+  out << "property double x\nproperty double y\nproperty double z\n";
   if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
   if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (values) fmt::print(out, "property float {}\n", m.values_name);
@@ -66,7 +68,7 @@ void write_ply(std::ostream& out, const TriangleMesh& m) {
   if (faces) out << "property int face_id\n";
   out << "end_header\n";
   for (size_t i = 0; i < m.positions.size(); ++i) {
-    for (int c = 0; c < 3; ++c) put(out, float(m.positions[i][c]));
+    for (int c = 0; c < 3; ++c) put(out, m.positions[i][c]);
     if (normals)
       for (int c = 0; c < 3; ++c) put(out, float(m.normals[i][c]));
     if (colors)
@@ -84,8 +86,16 @@ void write_stl(std::ostream& out, const TriangleMesh& m) {
   std::string header = "nurbsgl tessellation";
   header.resize(80, ' ');
   out.write(header.data(), 80);
-  put(out, uint32_t(m.triangles.size()));
+  // STL holds float corners: a facet whose corners round to fewer than three points covers
+  // nothing there (a needle of the tessellation) and is left out.
+  const auto collapsed = [&](const glm::ivec3& t) {
+    const glm::vec3 a(m.positions[size_t(t.x)]), b(m.positions[size_t(t.y)]), c(m.positions[size_t(t.z)]);
+    return a == b || b == c || c == a;
+  };
+  const auto kept = std::count_if(m.triangles.begin(), m.triangles.end(), [&](const glm::ivec3& t) { return !collapsed(t); });
+  put(out, uint32_t(kept));
   for (const glm::ivec3& t : m.triangles) {
+    if (collapsed(t)) continue;
     const glm::dvec3 a = m.positions[size_t(t.x)], b = m.positions[size_t(t.y)], c = m.positions[size_t(t.z)];
     const glm::dvec3 n = glm::cross(b - a, c - a);
     const double len = glm::length(n);

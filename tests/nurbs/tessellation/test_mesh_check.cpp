@@ -9,6 +9,7 @@
 
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
+#include "nurbs/io/mesh_reader.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/tessellation/mesh_topology.h"
@@ -191,8 +192,9 @@ TEST_CASE("mesh check: mesh writers (OBJ, PLY, STL layouts, format from the exte
   CHECK(header.find("element vertex 4\n") != std::string::npos);
   CHECK(header.find("element face 2\n") != std::string::npos);
   CHECK(header.find("property float nx\n") != std::string::npos);
-  // Vertices: 4 x 6 floats; faces: 2 x (1 + 3 x 4 + face_id 4) bytes.
-  CHECK(ply.str().size() == header.size() + 4 * 6 * 4 + 2 * (1 + 12 + 4));
+  CHECK(header.find("property double x\nproperty double y\nproperty double z\n") != std::string::npos);
+  // Vertices: 4 x (3 doubles + 3 floats); faces: 2 x (1 + 3 x 4 + face_id 4) bytes.
+  CHECK(ply.str().size() == header.size() + 4 * (3 * 8 + 3 * 4) + 2 * (1 + 12 + 4));
   CHECK(header.find("comment nurbsgl tessellation\n") != std::string::npos);
   // A per-vertex scalar (the thickness samples' values) is a float property of its name.
   m.values = {1.0, 2.0, 3.0, -1.0};
@@ -202,8 +204,24 @@ TEST_CASE("mesh check: mesh writers (OBJ, PLY, STL layouts, format from the exte
   const std::string header2 = with_values.str().substr(0, with_values.str().find("end_header\n") + 11);
   CHECK(header2.find("property float nz\nproperty float thickness\nelement face 2\n") != std::string::npos);
   CHECK(header2.find("comment nurbsgl thickness samples\n") != std::string::npos);
-  CHECK(with_values.str().size() == header2.size() + 4 * 7 * 4 + 2 * (1 + 12 + 4));
+  CHECK(with_values.str().size() == header2.size() + 4 * (3 * 8 + 4 * 4) + 2 * (1 + 12 + 4));
   m.values.clear();
+  {
+    // A needle: corner 3 a billionth from corner 1, distinct in double, one point in float. The
+    // PLY keeps its area (positions in double); the STL leaves the facet out.
+    nurbs::TriangleMesh needle;
+    needle.positions = {{100, 100, 100}, {101, 100, 100}, {100, 100 + 1e-9, 100}, {100, 101, 100}};
+    needle.triangles = {{0, 1, 2}, {0, 1, 3}};
+    std::ostringstream p2, s2;
+    nurbs::io::write_mesh(p2, needle, nurbs::io::MeshFormat::Ply);
+    std::istringstream back(p2.str());
+    const nurbs::TriangleMesh read = nurbs::io::read_mesh(back, nurbs::io::MeshFormat::Ply, "needle.ply");
+    REQUIRE(read.positions.size() == 4);
+    CHECK(read.positions[2] != read.positions[0]);
+    CHECK(read.positions[2].y == 100 + 1e-9);
+    nurbs::io::write_mesh(s2, needle, nurbs::io::MeshFormat::Stl);
+    CHECK(s2.str().size() == 84 + 50 * 1);
+  }
   nurbs::io::write_mesh(obj, m, nurbs::io::MeshFormat::Obj);
   CHECK(obj.str().find("f 1//1 2//2 3//3\n") != std::string::npos);
   CHECK(obj.str().find("g face_0\n") != std::string::npos);
