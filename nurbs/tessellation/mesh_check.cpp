@@ -288,6 +288,50 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
   return out;
 }
 
+std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
+                                               double distance) {
+  std::vector<OutsideTrim> out(faces.size());
+  if (mesh.uv.empty() || mesh.triangle_face.empty() || mesh.vertex_face.empty()) return out;
+  std::vector<std::vector<size_t>> of_face(faces.size());
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const int f = mesh.triangle_face[k];
+    if (f >= 0 && size_t(f) < faces.size()) of_face[size_t(f)].push_back(k);
+  }
+  const int threads = std::max(1, int(std::thread::hardware_concurrency()));
+  parallel_for((long long)faces.size(), threads, [&](long long face, int) {
+    const auto f = size_t(face);
+    const Surface& s = faces[f].surface;
+    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+    glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
+    const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
+      p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
+      double d = glm::distance(surface_point(s, p.x, p.y), x);
+      // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
+      // one side's (u, v), and the interpolated one then lies across the surface).
+      for (int k = -1; k < 3 && d > distance; ++k) {
+        const glm::dvec2 q = project_point(s, x, k < 0 ? p : corner[k], 20);
+        d = std::min(d, glm::distance(surface_point(s, q.x, q.y), x));
+      }
+      return d;
+    };
+    for (const size_t k : of_face[f]) {
+      const glm::ivec3 t = mesh.triangles[k];
+      if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+          mesh.vertex_face[size_t(t.z)] != int(f))
+        continue;  // a corner shared with another face: its (u, v) is that face's
+      const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
+      const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                       pc = mesh.positions[size_t(t.z)];
+      corner[0] = a, corner[1] = b, corner[2] = c;
+      const double d = std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
+                                 off(0.5 * (b + c), 0.5 * (pb + pc)), off(0.5 * (c + a), 0.5 * (pc + pa))});
+      out[f].distance = std::max(out[f].distance, d);
+      out[f].triangles += d > distance;
+    }
+  }, 1);
+  return out;
+}
+
 TriangleMesh face_submesh(const TriangleMesh& mesh, int face) {
   TriangleMesh out;
   std::vector<int> index(mesh.positions.size(), -1);

@@ -55,6 +55,16 @@ struct OutsideTrim {
 [[nodiscard]] std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface>& faces,
                                                               const TriangleMesh& mesh, double distance);
 
+/// Per face (triangles with (u, v) of that face at all three corners): the triangles whose centroid
+/// or an edge midpoint lies farther than `distance` from the face's surface, measured from the
+/// surface point at the sample's interpolated (u, v) and, where that is over `distance`, from the
+/// point Newton reaches from there (project_point: a surface point, so the figure is an upper
+/// bound of the sample's distance to the untrimmed surface). Catches triangles that leave the
+/// surface (a wrong cell bound, a triangle across a seam or pole) at one evaluation per sample;
+/// parts of the face the mesh misses are not seen (measure_deviation's surface samples see them).
+[[nodiscard]] std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>& faces,
+                                                             const TriangleMesh& mesh, double distance);
+
 /// The triangles of face `face` of `mesh` (by triangle_face) as a mesh of their own, vertices
 /// renumbered, triangle_face 0: what measure_deviation needs to measure that face alone.
 [[nodiscard]] TriangleMesh face_submesh(const TriangleMesh& mesh, int face);

@@ -135,6 +135,35 @@ TEST_CASE("mesh check: per-face deviations; a triangle across a concave trim sho
   CHECK(nurbs::tess::measure_deviation({u_face}, alone, {16, 0.0, 1}).mesh_to_surface >= 1.9);
 }
 
+TEST_CASE("mesh check: triangles off their surface are found by their face, a good mesh passes") {
+  // A sphere and a torus, tessellated within eps: no sample of any triangle off its surface. Then one
+  // vertex of the torus lifted 5 eps along its normal: the triangles around it, on face 1 alone.
+  std::vector<nurbs::TrimmedSurface> faces(2);
+  faces[0].surface = models::rational_sphere(3.0);
+  faces[1].surface = models::rational_torus(8.0, 2.0);
+  nurbs::tess::TessellateOptions o;
+  o.eps = 1e-2;
+  const nurbs::tess::TessellateResult r = nurbs::tess::tessellate(faces, o);
+  REQUIRE(r.failures.empty());
+  const auto good = nurbs::tess::triangles_off_surface(faces, r.mesh, o.eps);
+  REQUIRE(good.size() == 2);
+  CHECK(good[0].triangles == 0);
+  CHECK(good[1].triangles == 0);
+  CHECK(good[1].distance <= o.eps);
+  CHECK(good[1].distance > 0.0);
+  nurbs::TriangleMesh bad = r.mesh;
+  size_t v = 0;
+  while (v < bad.positions.size() && bad.vertex_face[v] != 1) ++v;
+  REQUIRE(v < bad.positions.size());
+  REQUIRE(!bad.normals.empty());
+  bad.positions[v] += 5.0 * o.eps * glm::normalize(bad.normals[v]);
+  const auto found = nurbs::tess::triangles_off_surface(faces, bad, o.eps);
+  CHECK(found[0].triangles == 0);
+  CHECK(found[1].triangles >= 1);
+  CHECK(found[1].distance > o.eps);
+  CHECK(found[1].distance < 5.0 * o.eps);  // samples at the centroids and midpoints, not the vertex
+}
+
 TEST_CASE("mesh check: open edges after welding") {
   nurbs::TriangleMesh square = square_mesh();
   auto e = nurbs::tess::count_edges(square, 1e-9);
