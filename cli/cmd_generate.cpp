@@ -21,7 +21,7 @@ nurbs::Model single_face(const std::string& name, nurbs::TrimmedSurface face) {
   m.source = "nurbsgl generate " + name;
   face.face_id = 0;
   face.name = name;
-  m.bodies.push_back(nurbs::Body{name, {std::move(face)}, glm::dmat4(1.0)});
+  m.bodies.push_back(nurbs::Body{name, {std::move(face)}, glm::dmat4(1.0), {}});
   return m;
 }
 

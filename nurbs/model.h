@@ -15,6 +15,9 @@ struct Body {
   std::string name;
   std::vector<TrimmedSurface> faces;
   glm::dmat4 transform{1.0};  ///< rigid: rotation + translation, applied to every face
+  /// Where an assembly places it: the chain of usage occurrences from the top ("A/B"), empty when
+  /// the file has no assembly structure.
+  std::string instance;
 };
 
 struct Model {
@@ -25,6 +28,7 @@ struct Model {
   /// this are meant to be one point; OpenCASCADE writes its largest edge tolerance); 0 = not given.
   double resolution = 0.0;
   std::map<int, int> skipped_entities;  ///< IGES entity type -> count, for entities not read
+  std::map<std::string, int> skipped_types;  ///< STEP entity type -> count, for geometry not read
 };
 
 }  // namespace nurbs

@@ -92,7 +92,7 @@ std::vector<double> bezier_knots(int degree) {
 Model read_bpt_text(const std::string& text, const std::string& name) {
   LineReader r(text, name);
   const int count = as_int(r.numbers(1, "patch count")[0], 1, kMaxPatches, "patch count", r);
-  Body body{"patches", {}, glm::dmat4(1.0)};
+  Body body{"patches", {}, glm::dmat4(1.0), {}};
   for (int k = 0; k < count; ++k) {
     const std::string patch = fmt::format("patch {}", k + 1);
     const auto deg = r.numbers(2, patch + " degrees");

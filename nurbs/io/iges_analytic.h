@@ -22,6 +22,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 
+#include "nurbs/io/analytic_nurbs.h"
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/trimmed_surface.h"
 
@@ -29,28 +30,6 @@ namespace nurbs::io {
 
 /// True for the surface types this file converts (120, 122, 190, 192, 194, 196, 198).
 bool is_analytic_surface_type(int type);
-
-/// The map of one direction from the IGES parameter x to the NURBS parameter. Linear: offset +
-/// scale x. Angular: the angle a = scale x (radians) on rational quadratic arcs, `arcs` equal arcs
-/// of `sweep` / arcs radians from `start`, knot k at start + k sweep / arcs: exact, closed form
-/// (an arc with middle weight cos(h / 2), h its sweep, reaches the angle h / 2 + 2 atan(sigma
-/// tan(h / 4)) at its parameter (sigma + 1) / 2, The NURBS Book §7.3).
-struct ParameterAxis {
-  bool angular = false;
-  double scale = 1.0;
-  double offset = 0.0;
-  double start = 0.0;  ///< angular: first angle (radians) = first knot
-  double sweep = 0.0;  ///< angular: total angle (radians) > 0
-  int arcs = 0;        ///< angular: number of arcs, each at most 90 degrees
-  [[nodiscard]] double operator()(double x) const;
-};
-
-/// An analytic surface as NURBS with its map (IGES u, v) -> (s, t), monotone in each direction.
-struct AnalyticSurface {
-  Surface surface;
-  ParameterAxis u, v;
-  [[nodiscard]] glm::dvec2 map(glm::dvec2 uv) const { return {u(uv.x), v(uv.y)}; }
-};
 
 /// The analytic surface `de` mapped by parent * (its own transform chain), covering the IGES
 /// parameter box [box_min, box_max] (192-198, 190: the face's trims; 120: the angles; 122 and the

@@ -110,24 +110,26 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   return f;
 }
 
-void IgesFaces::finish(TrimmedSurface& f, double model_size) {
+void IgesFaces::finish(TrimmedSurface& f, double model_size) { finish_trim_loops(f, model_size, log_); }
+
+void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
-    log_.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
-    log_.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
+    log.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
+    log.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
     // Loops going round a closed surface jump by its period at the seam: trim_seams.h.
-    log_.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
+    log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
-    log_.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
+    log.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
     for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons))
-      log_.trim_problems.push_back(std::move(problem));
-    log_.reoriented_loops += orient_trim_loops(f, polygons);
+      log.trim_problems.push_back(std::move(problem));
+    log.reoriented_loops += orient_trim_loops(f, polygons);
   }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
   if (!has_outer && !f.loops.empty()) {
     f.loops.insert(f.loops.begin(), domain_loop(f.surface));
-    ++log_.domain_loops_added;
+    ++log.domain_loops_added;
   }
 }
 

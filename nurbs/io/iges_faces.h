@@ -53,4 +53,7 @@ class IgesFaces {
   std::unordered_map<int, int> list_sizes_;  // 502/504 entry counts, parsed once
 };
 
+/// IgesFaces::finish for faces of any reader: the same repairs, checks and orientation, counted in `log`.
+void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log);
+
 }  // namespace nurbs::io

@@ -122,18 +122,18 @@ std::vector<Body> ModelBuilder::build() {
       shells.emplace_back(void_shell, p.integer(5 + 2 * k, 0, 1, "orientation flag VOF") == 0);
     }
     p.check_trailing(3 + 2 * n);
-    Body body{e.label.empty() ? fmt::format("solid D{}", e.de) : e.label, {}, glm::dmat4(1.0)};
+    Body body{e.label.empty() ? fmt::format("solid D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
     for (auto [s, r] : shells) add_shell(body, s, g_.transform(e.de), r);
     bodies.push_back(std::move(body));
   }
   for (const IgesDirectoryEntry& e : file_.entries) {
     if (e.type != 514 || used_[index(e.de)]) continue;
-    Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0)};
+    Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
     add_shell(body, e.de, glm::dmat4(1.0));
     bodies.push_back(std::move(body));
   }
   // Faces outside shells; a bare 128 is a face when no face uses it and it is not physically dependent.
-  Body loose{"faces", {}, glm::dmat4(1.0)};
+  Body loose{"faces", {}, glm::dmat4(1.0), {}};
   for (const IgesDirectoryEntry& e : file_.entries) {
     if (used_[index(e.de)]) continue;
     const bool independent = e.subordinate() != 1 && e.subordinate() != 3;

@@ -34,9 +34,11 @@ ModelSummary summarize(const Model& model) {
   s.unit_scale_to_mm = model.unit_scale_to_mm;
   s.bodies = static_cast<int>(model.bodies.size());
   s.skipped_entities = model.skipped_entities;
+  s.skipped_types = model.skipped_types;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = model.bodies[b];
+    s.body_list.push_back({body.name, body.instance, static_cast<int>(body.faces.size())});
     for (const TrimmedSurface& f : body.faces) {
       FaceSummary fs = summarize_face(f);
       fs.body = static_cast<int>(b);
@@ -85,9 +87,16 @@ std::string to_text(const ModelSummary& s, bool per_face) {
       "control-point box diagonal {:.6g} bounds it above)\n",
       s.size, s.control_size);
   out += "skipped entities:";
-  if (s.skipped_entities.empty()) out += " none";
+  if (s.skipped_entities.empty() && s.skipped_types.empty()) out += " none";
   for (auto [type, count] : s.skipped_entities) out += fmt::format(" {}x{}", type, count);
+  for (const auto& [type, count] : s.skipped_types) out += fmt::format(" {}x{}", type, count);
   out += '\n';
+  if (s.body_list.size() > 1 || (s.body_list.size() == 1 && !s.body_list.front().instance.empty()))
+    for (size_t b = 0; b < s.body_list.size(); ++b) {
+      const BodySummary& body = s.body_list[b];
+      out += fmt::format("body {}: {}, {} faces{}{}\n", b, body.name, body.faces, body.instance.empty() ? "" : ", instance ",
+                         body.instance);
+    }
   if (per_face)  // numbered as every command numbers faces (0-based, bodies in order); id: the file's
     for (size_t k = 0; k < s.face_list.size(); ++k) {
       const FaceSummary& f = s.face_list[k];
@@ -102,6 +111,9 @@ std::string to_text(const ModelSummary& s, bool per_face) {
 nlohmann::json to_json(const ModelSummary& s) {
   nlohmann::json skipped = nlohmann::json::object();
   for (auto [type, count] : s.skipped_entities) skipped[std::to_string(type)] = count;
+  for (const auto& [type, count] : s.skipped_types) skipped[type] = count;
+  nlohmann::json bodies = nlohmann::json::array();
+  for (const BodySummary& b : s.body_list) bodies.push_back({{"name", b.name}, {"instance", b.instance}, {"faces", b.faces}});
   nlohmann::json faces = nlohmann::json::array();
   for (size_t k = 0; k < s.face_list.size(); ++k) {
     const FaceSummary& f = s.face_list[k];
@@ -119,6 +131,7 @@ nlohmann::json to_json(const ModelSummary& s) {
   return {{"source", s.source},
           {"unit_scale_to_mm", s.unit_scale_to_mm},
           {"bodies", s.bodies},
+          {"body_list", bodies},
           {"faces", s.faces},
           {"trimmed_faces", s.trimmed_faces},
           {"rational_faces", s.rational_faces},

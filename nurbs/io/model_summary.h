@@ -23,6 +23,12 @@ struct FaceSummary {
   int outer_loops = 0, inner_loops = 0, trim_curves = 0;
 };
 
+struct BodySummary {
+  std::string name;
+  std::string instance;  ///< Body::instance: where an assembly places it
+  int faces = 0;
+};
+
 struct ModelSummary {
   std::string source;
   double unit_scale_to_mm = 1.0;
@@ -45,6 +51,8 @@ struct ModelSummary {
   /// Diagonal of the control-point box: an upper bound of the true box diagonal.
   double control_size = 0.0;
   std::map<int, int> skipped_entities;
+  std::map<std::string, int> skipped_types;  ///< STEP entity types not read
+  std::vector<BodySummary> body_list;
   std::vector<FaceSummary> face_list;
 };
 
@@ -58,7 +66,8 @@ FaceSummary summarize_face(const TrimmedSurface& face);
 std::string to_text(const ModelSummary& s, bool per_face = false);
 
 /// JSON object with the same facts ("faces" is the count, "face_list" the per-face array,
-/// "skipped_entities" maps type numbers (as strings) to counts).
+/// "skipped_entities" maps IGES type numbers (as strings) and STEP type names to counts,
+/// "body_list" names each body, its faces and where an assembly places it).
 nlohmann::json to_json(const ModelSummary& s);
 
 }  // namespace nurbs::io

@@ -8,9 +8,10 @@
 
 namespace nurbs::io {
 
-/// .igs / .iges (any case): IGES 5.3 (iges_reader.h); .bpt: Bézier patches (bpt_reader.h).
+/// .igs / .iges (any case): IGES 5.3 (iges_reader.h); .stp / .step: STEP (step_reader.h); .bpt:
+/// Bézier patches (bpt_reader.h).
 /// Throws ReadError naming the file for a missing file, an unknown extension or malformed content.
-/// `log` (optional) receives what the IGES reader repaired and found (empty for .bpt).
+/// `log` (optional) receives what the IGES or STEP reader repaired and found (empty for .bpt).
 Model read_model(const std::filesystem::path& path, IgesReadLog* log = nullptr);
 
 }  // namespace nurbs::io

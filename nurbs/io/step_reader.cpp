@@ -1,0 +1,1284 @@
+// STEP B-rep geometry to nurbs::Model: the instances of a parsed Part 21 file (step_file.h) read as
+// ISO 10303-42 geometry and topology, placed by the assembly structure of AP203 / AP214 / AP242.
+#include "nurbs/io/step_reader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/homogeneous.h"
+#include "nurbs/io/analytic_nurbs.h"
+#include "nurbs/io/iges_faces.h"
+#include "nurbs/io/read_error.h"
+#include "nurbs/io/step_file.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/project_curve.h"
+#include "nurbs/restrict.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/validate.h"
+
+namespace nurbs::io {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+// Reference chains (a trimmed curve of a trimmed curve ..., assemblies in assemblies) deeper than
+// this are refused: CAD files nest a handful of levels.
+constexpr int kMaxDepth = 32;
+// Placed instances of solids in all: an assembly naming a sub-assembly twice at every level would
+// otherwise multiply without bound.
+constexpr size_t kMaxInstances = 100'000;
+
+using Kind = StepValue::Kind;
+
+struct Frame {
+  glm::dvec3 o{0.0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+};
+
+double control_box_diagonal(const Curve3& c) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const glm::dvec3& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  return glm::length(hi - lo);
+}
+
+glm::dmat4 frame_matrix(const Frame& f) {
+  glm::dmat4 m(1.0);
+  m[0] = glm::dvec4(f.x, 0.0);
+  m[1] = glm::dvec4(f.y, 0.0);
+  m[2] = glm::dvec4(f.z, 0.0);
+  m[3] = glm::dvec4(f.o, 1.0);
+  return m;
+}
+
+double wrap_near(double a, double ref) {
+  return a + 2 * kPi * std::round((ref - a) / (2 * kPi));
+}
+
+// An analytic surface by its STEP parameters ("natural" (u, v): angles in radians, lengths in file
+// units, curve parameters), with the inverse map from a point on it.
+struct Analytic {
+  enum Type { Plane, Cylinder, Cone, Sphere, Torus, Revolution, Extrusion } type = Plane;
+  Frame f;
+  double r = 0.0, r2 = 0.0, tan_angle = 0.0;
+  Curve3 curve;           // revolution: profile; extrusion: directrix
+  Curve3 flat;            // extrusion: the directrix projected along dir
+  double accept = 0.0;    // a curve point this near a point of the surface is its parameter
+  double phi0 = 0.0;      // revolution: angle of the profile about the axis
+  glm::dvec3 dir{0.0};    // extrusion: unit direction
+  Interval t_range{0, 1};
+
+  [[nodiscard]] bool u_angular() const { return type != Plane && type != Extrusion; }
+  [[nodiscard]] bool v_angular() const { return type == Torus || type == Sphere; }
+  [[nodiscard]] bool v_periodic() const { return type == Torus; }
+
+  [[nodiscard]] glm::dvec3 point(glm::dvec2 uv) const {
+    const double cu = std::cos(uv.x), su = std::sin(uv.x);
+    switch (type) {
+      case Plane: return f.o + uv.x * f.x + uv.y * f.y;
+      case Cylinder: return f.o + r * (cu * f.x + su * f.y) + uv.y * f.z;
+      case Cone: return f.o + (r + uv.y * tan_angle) * (cu * f.x + su * f.y) + uv.y * f.z;
+      case Sphere: return f.o + r * std::cos(uv.y) * (cu * f.x + su * f.y) + r * std::sin(uv.y) * f.z;
+      case Torus: return f.o + (r + r2 * std::cos(uv.y)) * (cu * f.x + su * f.y) + r2 * std::sin(uv.y) * f.z;
+      case Revolution: {
+        const glm::dvec3 d = curve_point(curve, uv.y) - f.o;
+        const glm::dvec3 along = glm::dot(d, f.z) * f.z, rr = d - along;
+        return f.o + along + cu * rr + su * glm::cross(f.z, rr);
+      }
+      case Extrusion: return curve_point(curve, uv.x) + uv.y * dir;
+    }
+    return {};
+  }
+
+  // Newton's method on (C(t) - p) . C'(t) = 0 from t, clamped to the range.
+  static double newton_t(const Curve3& c, glm::dvec3 p, Interval range, double t) {
+    for (int it = 0; it < 30; ++it) {
+      const auto d = curve_derivatives(c, t, 2);
+      const glm::dvec3 e = d[0] - p;
+      const double f1 = glm::dot(e, d[1]), f2 = glm::dot(d[1], d[1]) + glm::dot(e, d[2]);
+      if (!(std::abs(f2) > 0)) break;
+      const double nt = std::clamp(t - f1 / f2, range.min, range.max);
+      const bool done = std::abs(nt - t) < 1e-15 * (1 + range.width());
+      t = nt;
+      if (done) break;
+    }
+    return t;
+  }
+
+  // Parameter t of the curve point nearest p: Newton from `start` when it lands within `accept` of
+  // p, else from the nearest of 16 samples per knot span.
+  static double nearest_t(const Curve3& c, glm::dvec3 p, Interval range, std::optional<double> start = std::nullopt,
+                          double accept = 0.0) {
+    if (start && std::isfinite(*start)) {
+      const double t = newton_t(c, p, range, std::clamp(*start, range.min, range.max));
+      if (glm::length(curve_point(c, t) - p) <= accept) return t;
+    }
+    double best = range.min, best_d = std::numeric_limits<double>::infinity();
+    const int n = 16 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
+    for (int i = 0; i <= n; ++i) {
+      const double t = range.min + range.width() * i / n;
+      const double d = glm::length(curve_point(c, t) - p);
+      if (d < best_d) best_d = d, best = t;
+    }
+    return newton_t(c, p, range, best);
+  }
+
+  // Natural (u, v) of p; angles taken on the branch nearest `prev` (when given). NaN u on the axis.
+  [[nodiscard]] glm::dvec2 natural(glm::dvec3 p, const std::optional<glm::dvec2>& prev) const {
+    const glm::dvec3 d = p - f.o;
+    const double x = glm::dot(d, f.x), y = glm::dot(d, f.y), z = glm::dot(d, f.z);
+    glm::dvec2 uv;
+    const double rho = std::hypot(x, y);
+    switch (type) {
+      case Plane: return {x, y};
+      case Extrusion: {
+        // The directrix point whose line along dir passes nearest p: nearest in the plane normal to dir.
+        const double t = nearest_t(flat, p - glm::dot(p, dir) * dir, t_range, prev ? std::optional(prev->x) : std::nullopt,
+                                   accept);
+        return {t, glm::dot(p - curve_point(curve, t), dir)};
+      }
+      case Cylinder:
+      case Cone: uv = {std::atan2(y, x), z}; break;
+      case Sphere: uv = {std::atan2(y, x), std::atan2(z, rho)}; break;
+      case Torus: uv = {std::atan2(y, x), std::atan2(z, rho - r)}; break;
+      case Revolution: {
+        const double u = std::atan2(y, x) - phi0;
+        // Turn p back by u into the profile's half-plane, then the nearest profile point.
+        const glm::dvec3 along = z * f.z, rr = d - along;
+        const glm::dvec3 back = f.o + along + std::cos(-u) * rr + std::sin(-u) * glm::cross(f.z, rr);
+        uv = {u, nearest_t(curve, back, t_range, prev ? std::optional(prev->y) : std::nullopt, accept)};
+        break;
+      }
+    }
+    if (rho <= 1e-12 * (glm::length(d) + r)) uv.x = std::numeric_limits<double>::quiet_NaN();
+    if (prev) {
+      if (std::isfinite(uv.x) && std::isfinite(prev->x)) uv.x = wrap_near(uv.x, prev->x);
+      if (v_periodic() && std::isfinite(prev->y)) uv.y = wrap_near(uv.y, prev->y);
+    }
+    return uv;
+  }
+
+  // Exact NURBS over [lo, hi] of the natural parameters, with the map natural -> NURBS parameters.
+  [[nodiscard]] AnalyticSurface build(glm::dvec2 lo, glm::dvec2 hi) const {
+    AnalyticSurface out;
+    const double du = hi.x - lo.x, dv = hi.y - lo.y;
+    switch (type) {
+      case Plane: out.surface = plane_patch(f.o, f.x, f.y, lo, hi); return out;
+      case Cylinder:
+      case Cone: {
+        const Curve3 profile = segment(point({0.0, lo.y}), point({0.0, hi.y}), lo.y, hi.y);
+        out.surface = revolve(profile, f.o, f.z, lo.x, du, true);
+        out.u = angular_axis(1.0, lo.x, hi.x);
+        return out;
+      }
+      case Sphere: {
+        out.surface = revolve(circle_arc(f.o, f.x, f.z, r, lo.y, dv), f.o, f.z, lo.x, du, true);
+        out.u = angular_axis(1.0, lo.x, hi.x);
+        out.v = angular_axis(1.0, lo.y, hi.y);
+        return out;
+      }
+      case Torus: {
+        out.surface = revolve(circle_arc(f.o + r * f.x, f.x, f.z, r2, lo.y, dv), f.o, f.z, lo.x, du, true);
+        out.u = angular_axis(1.0, lo.x, hi.x);
+        out.v = angular_axis(1.0, lo.y, hi.y);
+        return out;
+      }
+      case Revolution: {
+        out.surface = revolve(curve, f.o, f.z, lo.x, du, true);
+        out.u = angular_axis(1.0, lo.x, hi.x);
+        return out;
+      }
+      case Extrusion: {
+        out.surface = extrude(curve, lo.y * dir, hi.y * dir, lo.y, hi.y);
+        return out;
+      }
+    }
+    return out;
+  }
+};
+
+// A face's surface: B-spline (projected trims) or analytic (closed-form trims).
+struct FaceSurface {
+  std::optional<Surface> bspline;
+  Analytic analytic;
+};
+
+// Parameters of points of a face's surface, for its edges: `natural` gives them on the branch of
+// each periodic direction nearest `prev` (NaN u on an axis), `point` maps back.
+struct Chart {
+  std::function<glm::dvec2(glm::dvec3, const std::optional<glm::dvec2>&)> natural;
+  std::function<glm::dvec3(glm::dvec2)> point;
+  glm::dvec2 period{0.0};  ///< 0 = not periodic
+};
+
+Chart analytic_chart(const Analytic& a) {
+  Chart c;
+  c.natural = [&a](glm::dvec3 p, const std::optional<glm::dvec2>& prev) { return a.natural(p, prev); };
+  c.point = [&a](glm::dvec2 uv) { return a.point(uv); };
+  c.period = {a.u_angular() ? 2 * kPi : 0.0, a.v_periodic() ? 2 * kPi : 0.0};
+  return c;
+}
+
+// A B-spline surface is periodic along a direction whose two boundary curves coincide.
+Chart bspline_chart(const Surface& s, double accept) {
+  const Interval u = surface_domain_u(s), v = surface_domain_v(s);
+  const double size = control_box(s).diagonal();
+  auto closed = [&](bool along_u) {
+    for (int i = 0; i <= 8; ++i) {
+      const double t = along_u ? v.min + v.width() * i / 8 : u.min + u.width() * i / 8;
+      const glm::dvec3 a = along_u ? surface_point(s, u.min, t) : surface_point(s, t, v.min);
+      const glm::dvec3 b = along_u ? surface_point(s, u.max, t) : surface_point(s, t, v.max);
+      if (glm::length(a - b) > 1e-9 * size) return false;
+    }
+    return true;
+  };
+  Chart c;
+  c.period = {closed(true) ? u.width() : 0.0, closed(false) ? v.width() : 0.0};
+  c.point = [&s](glm::dvec2 uv) {
+    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+    auto wrap = [](double x, Interval d) { return x < d.min || x > d.max ? d.min + std::fmod(std::fmod(x - d.min, d.width()) + d.width(), d.width()) : x; };
+    return surface_point(s, wrap(uv.x, du), wrap(uv.y, dv));
+  };
+  const glm::dvec2 period = c.period;
+  c.natural = [&s, u, v, period, accept](glm::dvec3 p, const std::optional<glm::dvec2>& prev) {
+    // Newton clamps to the domain: on a periodic direction a start on one side of the seam cannot
+    // reach a point just across it, so a start near the seam is also tried on its other side.
+    glm::dvec2 best{0.0};
+    double best_d = std::numeric_limits<double>::infinity();
+    auto attempt = [&](glm::dvec2 start) {
+      const std::array<glm::dvec2, 2> sides = {start, glm::dvec2(start.x <= u.min + 0.5 * u.width() ? u.max : u.min,
+                                                                   start.y <= v.min + 0.5 * v.width() ? v.max : v.min)};
+      for (int k = 0; k < 4; ++k) {
+        const bool flip_u = k & 1, flip_v = k & 2;
+        if ((flip_u && !(period.x > 0 && std::min(start.x - u.min, u.max - start.x) < 0.05 * u.width())) ||
+            (flip_v && !(period.y > 0 && std::min(start.y - v.min, v.max - start.y) < 0.05 * v.width())))
+          continue;
+        const glm::dvec2 st(flip_u ? sides[1].x : start.x, flip_v ? sides[1].y : start.y);
+        const glm::dvec2 uv = closest_parameter(s, p, st);
+        const double d = glm::length(surface_point(s, uv.x, uv.y) - p);
+        if (d < best_d) best_d = d, best = uv;
+      }
+    };
+    if (prev) {
+      glm::dvec2 start = *prev;  // brought into the domain
+      if (period.x > 0) start.x = u.min + std::fmod(std::fmod(start.x - u.min, period.x) + period.x, period.x);
+      if (period.y > 0) start.y = v.min + std::fmod(std::fmod(start.y - v.min, period.y) + period.y, period.y);
+      attempt(start);
+    }
+    if (!(best_d <= accept)) attempt(closest_parameter(s, p));
+    if (!(best_d <= accept)) {
+      // A start on a collapsed boundary (a pole, where Newton's Jacobian is singular): from inside.
+      const glm::dvec2 in(std::clamp(best.x, u.min + 0.01 * u.width(), u.max - 0.01 * u.width()),
+                          std::clamp(best.y, v.min + 0.01 * v.width(), v.max - 0.01 * v.width()));
+      attempt(in);
+    }
+    glm::dvec2 uv = best;
+    if (prev) {
+      if (period.x > 0) uv.x += period.x * std::round((prev->x - uv.x) / period.x);
+      if (period.y > 0) uv.y += period.y * std::round((prev->y - uv.y) / period.y);
+    }
+    return uv;
+  };
+  return c;
+}
+
+struct Box2 {
+  glm::dvec2 lo{std::numeric_limits<double>::max()}, hi{std::numeric_limits<double>::lowest()};
+  void add(glm::dvec2 q) { lo = glm::min(lo, q), hi = glm::max(hi, q); }
+  [[nodiscard]] glm::dvec2 centre() const { return 0.5 * (lo + hi); }
+};
+
+// Marks the loop with the largest parameter box as the outer one.
+void mark_outer(TrimmedSurface& f) {
+  double best = -1.0;
+  TrimLoop* outer = nullptr;
+  for (TrimLoop& l : f.loops) {
+    Box2 b;
+    for (const Curve2& c : l.curves)
+      for (const glm::dvec2& q : c.points) b.add(q);
+    const double area = (b.hi.x - b.lo.x) * (b.hi.y - b.lo.y);
+    if (area > best) best = area, outer = &l;
+  }
+  if (outer) outer->outer = true;
+}
+
+struct Instance {
+  glm::dmat4 m{1.0};
+  std::string path;
+};
+
+class StepReader {
+ public:
+  StepReader(const StepFile& f, IgesReadLog& log) : f_(f), log_(log) {}
+
+  Model read();
+
+ private:
+  // ---- access -------------------------------------------------------------------------------------
+  [[noreturn]] void fail(const StepEntity& e, const std::string& problem) const {
+    throw ReadError(f_.name, fmt::format("line {}: #{} ({})", e.line, e.id, e.type_name()), problem);
+  }
+  const StepEntity& entity(long id, const StepEntity& from) {
+    const StepEntity* e = f_.find(id);
+    if (!e) fail(from, fmt::format("refers to #{}, which is not defined", id));
+    visited_.insert(id);
+    return *e;
+  }
+  const StepRecord& record(const StepEntity& e, const std::string& type) const {
+    const StepRecord* r = e.record(type);
+    if (!r) fail(e, fmt::format("is not a {}", type));
+    return *r;
+  }
+  const StepValue& param(const StepEntity& e, const StepRecord& r, size_t i, const char* what) const {
+    if (i >= r.params.size())
+      fail(e, fmt::format("{} has {} parameters; parameter {} ({}) is missing", r.type, r.params.size(), i + 1, what));
+    return r.params[i];
+  }
+  double real(const StepEntity& e, const StepValue& v, const char* what) const {
+    const StepValue* x = &v;
+    if (x->kind == Kind::Typed && x->items.size() == 1) x = &x->items.front();
+    if (x->kind != Kind::Real && x->kind != Kind::Integer) fail(e, fmt::format("{} is not a number", what));
+    if (!(std::abs(x->number) <= kMaxCoordinate)) fail(e, fmt::format("{} {} is beyond {:g}", what, x->number, kMaxCoordinate));
+    return x->number;
+  }
+  double real(const StepEntity& e, const StepRecord& r, size_t i, const char* what) const {
+    return real(e, param(e, r, i, what), what);
+  }
+  int integer(const StepEntity& e, const StepValue& v, const char* what, int lo, int hi) const {
+    if (v.kind != Kind::Integer || !(v.number >= lo && v.number <= hi))
+      fail(e, fmt::format("{} is not an integer in [{}, {}]", what, lo, hi));
+    return static_cast<int>(v.number);
+  }
+  long ref(const StepEntity& e, const StepValue& v, const char* what) const {
+    if (v.kind != Kind::Ref) fail(e, fmt::format("{} is not a reference #N", what));
+    return v.ref;
+  }
+  long ref(const StepEntity& e, const StepRecord& r, size_t i, const char* what) const {
+    return ref(e, param(e, r, i, what), what);
+  }
+  const std::vector<StepValue>& list(const StepEntity& e, const StepValue& v, const char* what) const {
+    if (v.kind != Kind::List) fail(e, fmt::format("{} is not a list", what));
+    return v.items;
+  }
+  bool logical(const StepEntity& e, const StepValue& v, const char* what) const {
+    if (v.kind == Kind::Enum && (v.text == "T" || v.text == "F")) return v.text == "T";
+    fail(e, fmt::format("{} is not .T. or .F.", what));
+  }
+  static bool is(const StepEntity& e, const char* type) { return e.record(type) != nullptr; }
+
+  // ---- geometry -----------------------------------------------------------------------------------
+  glm::dvec3 point(long id, const StepEntity& from);
+  glm::dvec3 direction(long id, const StepEntity& from);
+  Frame placement(long id, const StepEntity& from);
+  /// The records of a B-spline: with knots, and the one holding degree and control points (the
+  /// same for a simple instance, whose parameters start after the name: offset 1).
+  struct SplineRecords {
+    const StepRecord& knots;
+    const StepRecord& base;
+    size_t offset;
+  };
+  SplineRecords spline_records(const StepEntity& e, const std::string& type) const;
+  /// Knots from multiplicities and distinct values (parameters mults_at and knots_at of r).
+  std::vector<double> knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at, int degree) const;
+  Curve3 bspline_curve(const StepEntity& e);
+  Surface bspline_surface(const StepEntity& e);
+  /// The curve entity as NURBS (conics over their full turn), with a frame for conics.
+  struct CurveGeom {
+    enum { Line, Conic, Spline } type = Spline;
+    Curve3 nurbs;
+    Frame f;  // conic: x, y axes scaled by the semi-axes
+    double a = 0, b = 0;
+  };
+  CurveGeom curve(long id, const StepEntity& from, int depth);
+  /// The pieces of an EDGE_CURVE from its start vertex to its end vertex.
+  const std::vector<Curve3>& edge(long id, const StepEntity& from);
+  FaceSurface surface(long id, const StepEntity& from);
+
+  // ---- topology -----------------------------------------------------------------------------------
+  struct Loop {
+    std::vector<Curve3> curves;
+    std::vector<int> edges;
+    bool outer = false;
+  };
+  std::vector<Loop> face_loops(const StepEntity& face);
+  TrimmedSurface face(long id, const StepEntity& from);
+  void shell_faces(long id, const StepEntity& from, bool reversed, std::vector<TrimmedSurface>& out);
+  std::vector<TrimmedSurface> solid(const StepEntity& e);
+
+  // ---- units and assemblies ------------------------------------------------------------------------
+  void read_units(long context, const StepEntity& from);
+  std::vector<Instance> instances(long rep, int depth);
+  std::string product_name(long rep);
+  void link_representations();
+  long group(long rep) {
+    auto it = group_.find(rep);
+    if (it == group_.end()) return rep;
+    const long g = group(it->second);
+    it->second = g;
+    return g;
+  }
+
+  const StepFile& f_;
+  IgesReadLog& log_;
+  std::unordered_set<long> visited_;
+  double length_scale_ = 1.0;  // file length unit in mm (of the representation being read)
+  double angle_scale_ = 1.0;   // file plane angle unit in radians
+  double resolution_ = 0.0;
+  bool units_read_ = false;
+  std::unordered_map<long, std::vector<Curve3>> edges_;
+  std::unordered_map<long, int> edge_index_;
+  std::unordered_map<long, long> group_;  // union-find of representations related without a transform
+  struct Link {
+    long parent;
+    glm::dmat4 m;
+    std::string name;
+  };
+  std::unordered_map<long, std::vector<Link>> parents_;  // representation group -> its placements
+  std::unordered_map<long, long> product_of_group_;      // representation group -> PRODUCT instance
+};
+
+glm::dvec3 StepReader::point(long id, const StepEntity& from) {
+  const StepEntity& e = entity(id, from);
+  const StepRecord& r = record(e, "CARTESIAN_POINT");
+  const auto& c = list(e, param(e, r, 1, "coordinates"), "coordinates");
+  if (c.empty() || c.size() > 3) fail(e, fmt::format("has {} coordinates", c.size()));
+  glm::dvec3 p(0.0);
+  for (size_t i = 0; i < c.size(); ++i) p[static_cast<int>(i)] = real(e, c[i], "coordinate");
+  return p;
+}
+
+glm::dvec3 StepReader::direction(long id, const StepEntity& from) {
+  const StepEntity& e = entity(id, from);
+  const StepRecord& r = record(e, "DIRECTION");
+  const auto& c = list(e, param(e, r, 1, "direction ratios"), "direction ratios");
+  if (c.empty() || c.size() > 3) fail(e, fmt::format("has {} direction ratios", c.size()));
+  glm::dvec3 d(0.0);
+  for (size_t i = 0; i < c.size(); ++i) d[static_cast<int>(i)] = real(e, c[i], "direction ratio");
+  const double n = glm::length(d);
+  if (!(n > 0) || !std::isfinite(n)) fail(e, "is a zero direction");
+  return d / n;
+}
+
+Frame StepReader::placement(long id, const StepEntity& from) {
+  const StepEntity& e = entity(id, from);
+  const StepRecord& r = record(e, "AXIS2_PLACEMENT_3D");
+  Frame f;
+  f.o = point(ref(e, r, 1, "location"), e) * 1.0;
+  const StepValue& axis = param(e, r, 2, "axis");
+  const StepValue& refd = param(e, r, 3, "ref_direction");
+  f.z = axis.kind == Kind::Null ? glm::dvec3(0, 0, 1) : direction(ref(e, axis, "axis"), e);
+  // ISO 10303-42 first_proj_axis: the reference direction made orthogonal to the axis.
+  glm::dvec3 v = refd.kind == Kind::Null ? (f.z != glm::dvec3(1, 0, 0) ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1))
+                                         : direction(ref(e, refd, "ref_direction"), e);
+  v -= glm::dot(v, f.z) * f.z;
+  const double n = glm::length(v);
+  if (!(n > 1e-12)) fail(e, "its reference direction is parallel to its axis");
+  f.x = v / n;
+  f.y = glm::cross(f.z, f.x);
+  return f;
+}
+
+StepReader::SplineRecords StepReader::spline_records(const StepEntity& e, const std::string& type) const {
+  const StepRecord& k = record(e, type + "_WITH_KNOTS");
+  if (e.records.size() == 1) return {k, k, 1};  // simple instance: the name comes first
+  return {k, record(e, type), 0};
+}
+
+std::vector<double> StepReader::knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at,
+                                            int degree) const {
+  const auto& mults = list(e, param(e, r, mults_at, "knot multiplicities"), "knot multiplicities");
+  const auto& knots = list(e, param(e, r, knots_at, "knots"), "knots");
+  if (mults.size() != knots.size()) fail(e, fmt::format("has {} knot multiplicities for {} knots", mults.size(), knots.size()));
+  std::vector<double> out;
+  for (size_t i = 0; i < knots.size(); ++i) {
+    const int m = integer(e, mults[i], "knot multiplicity", 1, degree + 1);
+    out.insert(out.end(), static_cast<size_t>(m), real(e, knots[i], "knot"));
+  }
+  return out;
+}
+
+Curve3 StepReader::bspline_curve(const StepEntity& e) {
+  // Simple: B_SPLINE_CURVE_WITH_KNOTS(name, degree, points, form, closed, self_int, mults, knots,
+  // spec). Complex: B_SPLINE_CURVE(degree, points, form, closed, self_int)
+  // B_SPLINE_CURVE_WITH_KNOTS(mults, knots, spec) RATIONAL_B_SPLINE_CURVE(weights).
+  const auto [k, base, o] = spline_records(e, "B_SPLINE_CURVE");
+  const bool simple = o == 1;
+  Curve3 c;
+  c.degree = integer(e, param(e, base, o, "degree"), "degree", 1, kMaxDegree);
+  for (const StepValue& p : list(e, param(e, base, o + 1, "control points"), "control points"))
+    c.points.push_back(point(ref(e, p, "control point"), e));
+  const size_t ko = simple ? 6 : 0;
+  c.knots = knot_vector(e, k, ko, ko + 1, c.degree);
+  if (const StepRecord* w = e.record("RATIONAL_B_SPLINE_CURVE"))
+    for (const StepValue& x : list(e, param(e, *w, 0, "weights"), "weights")) c.weights.push_back(real(e, x, "weight"));
+  if (c.knots.size() != c.points.size() + static_cast<size_t>(c.degree) + 1)
+    fail(e, fmt::format("has {} knots for {} control points of degree {} (needs {})", c.knots.size(), c.points.size(),
+                        c.degree, c.points.size() + static_cast<size_t>(c.degree) + 1));
+  std::vector<std::string> problems = validate(c);
+  for (std::string& s : validate_magnitude(c, kMaxCoordinate)) problems.push_back(std::move(s));
+  if (!problems.empty()) fail(e, problems.front());
+  return c;
+}
+
+Surface StepReader::bspline_surface(const StepEntity& e) {
+  // Simple: B_SPLINE_SURFACE_WITH_KNOTS(name, du, dv, points, form, uc, vc, si, umults, vmults,
+  // uknots, vknots, spec). Complex: B_SPLINE_SURFACE(du, dv, points, form, uc, vc, si)
+  // B_SPLINE_SURFACE_WITH_KNOTS(umults, vmults, uknots, vknots, spec) RATIONAL_B_SPLINE_SURFACE(weights).
+  const auto [k, base, o] = spline_records(e, "B_SPLINE_SURFACE");
+  const bool simple = o == 1;
+  Surface s;
+  s.degree_u = integer(e, param(e, base, o, "u degree"), "u degree", 1, kMaxDegree);
+  s.degree_v = integer(e, param(e, base, o + 1, "v degree"), "v degree", 1, kMaxDegree);
+  const auto& rows = list(e, param(e, base, o + 2, "control points"), "control points");
+  s.count_u = static_cast<int>(rows.size());
+  std::vector<std::vector<glm::dvec3>> grid;
+  for (const StepValue& row : rows) {
+    const auto& items = list(e, row, "control point row");
+    if (grid.empty()) s.count_v = static_cast<int>(items.size());
+    if (static_cast<int>(items.size()) != s.count_v) fail(e, "its control point rows differ in length");
+    grid.emplace_back();
+    for (const StepValue& p : items) grid.back().push_back(point(ref(e, p, "control point"), e));
+  }
+  s.points.resize(static_cast<size_t>(s.count_u) * s.count_v);
+  for (int i = 0; i < s.count_u; ++i)
+    for (int j = 0; j < s.count_v; ++j) s.points[static_cast<size_t>(j) * s.count_u + i] = grid[i][j];
+  const size_t ko = simple ? 8 : 0;
+  s.knots_u = knot_vector(e, k, ko, ko + 2, s.degree_u);
+  s.knots_v = knot_vector(e, k, ko + 1, ko + 3, s.degree_v);
+  if (const StepRecord* w = e.record("RATIONAL_B_SPLINE_SURFACE")) {
+    const auto& wrows = list(e, param(e, *w, 0, "weights"), "weights");
+    if (static_cast<int>(wrows.size()) != s.count_u) fail(e, "its weights and control points differ in number");
+    s.weights.resize(s.points.size());
+    for (int i = 0; i < s.count_u; ++i) {
+      const auto& ws = list(e, wrows[i], "weight row");
+      if (static_cast<int>(ws.size()) != s.count_v) fail(e, "its weights and control points differ in number");
+      for (int j = 0; j < s.count_v; ++j) s.weights[static_cast<size_t>(j) * s.count_u + i] = real(e, ws[j], "weight");
+    }
+  }
+  std::vector<std::string> problems = validate(s);
+  for (std::string& p : validate_magnitude(s, kMaxCoordinate)) problems.push_back(std::move(p));
+  if (!problems.empty()) fail(e, problems.front());
+  return s;
+}
+
+StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int depth) {
+  const StepEntity& e = entity(id, from);
+  if (depth > kMaxDepth) fail(e, fmt::format("curves nest deeper than {} (a reference cycle?)", kMaxDepth));
+  CurveGeom g;
+  if (const StepRecord* r = e.record("LINE")) {
+    g.type = CurveGeom::Line;
+    const glm::dvec3 p = point(ref(e, *r, 1, "point"), e);
+    const StepEntity& vec = entity(ref(e, *r, 2, "direction vector"), e);
+    const glm::dvec3 d = direction(ref(vec, record(vec, "VECTOR"), 1, "orientation"), vec);
+    g.nurbs = segment(p, p + d, 0.0, 1.0);
+    return g;
+  }
+  if (e.record("CIRCLE") || e.record("ELLIPSE")) {
+    const bool circle = e.record("CIRCLE") != nullptr;
+    const StepRecord& r = *e.record(circle ? "CIRCLE" : "ELLIPSE");
+    g.type = CurveGeom::Conic;
+    g.f = placement(ref(e, r, 1, "position"), e);
+    g.a = real(e, r, 2, "radius");
+    g.b = circle ? g.a : real(e, r, 3, "second semi-axis");
+    if (!(g.a > 0 && g.b > 0)) fail(e, "has a radius that is not positive");
+    // Full turn: the unit circle's arcs mapped by the axes (affine: exact).
+    g.nurbs = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, 0.0, 2 * kPi);
+    return g;
+  }
+  if (e.record("B_SPLINE_CURVE_WITH_KNOTS")) {
+    g.nurbs = bspline_curve(e);
+    return g;
+  }
+  if (const StepRecord* r = e.record("POLYLINE")) {
+    g.nurbs.degree = 1;
+    const auto& pts = list(e, param(e, *r, 1, "points"), "points");
+    if (pts.size() < 2) fail(e, "has fewer than 2 points");
+    for (size_t i = 0; i < pts.size(); ++i) {
+      g.nurbs.points.push_back(point(ref(e, pts[i], "point"), e));
+      g.nurbs.knots.push_back(static_cast<double>(i));
+    }
+    g.nurbs.knots.insert(g.nurbs.knots.begin(), 0.0);
+    g.nurbs.knots.push_back(static_cast<double>(pts.size() - 1));
+    return g;
+  }
+  if (const StepRecord* r = e.record("TRIMMED_CURVE")) return curve(ref(e, *r, 1, "basis curve"), e, depth + 1);
+  if (const StepRecord* r = e.record("SURFACE_CURVE")) return curve(ref(e, *r, 1, "3D curve"), e, depth + 1);
+  if (const StepRecord* r = e.record("SEAM_CURVE")) return curve(ref(e, *r, 1, "3D curve"), e, depth + 1);
+  throw SkipFace{fmt::format("its edge curve #{} is a {}, which is not read", e.id, e.type_name())};
+}
+
+const std::vector<Curve3>& StepReader::edge(long id, const StepEntity& from) {
+  if (auto it = edges_.find(id); it != edges_.end()) return it->second;
+  const StepEntity& e = entity(id, from);
+  const StepRecord& r = record(e, "EDGE_CURVE");
+  auto vertex = [&](size_t i) {
+    const StepEntity& v = entity(ref(e, r, i, "vertex"), e);
+    return point(ref(v, record(v, "VERTEX_POINT"), 1, "vertex point"), v);
+  };
+  const glm::dvec3 a = vertex(1), b = vertex(2);
+  const CurveGeom g = curve(ref(e, r, 3, "edge geometry"), e, 0);
+  const bool same = logical(e, param(e, r, 4, "same_sense"), "same_sense");
+  std::vector<Curve3> pieces;
+  const double size = std::max(glm::length(a - b), 1e-300);
+  if (g.type == CurveGeom::Line) {
+    pieces.push_back(segment(a, b, 0.0, 1.0));
+  } else if (g.type == CurveGeom::Conic) {
+    // Angles of the vertices on the ellipse; the edge runs counter-clockwise from start to end when
+    // same_sense, else clockwise (= counter-clockwise from end to start, reversed).
+    auto angle = [&](glm::dvec3 p) {
+      const glm::dvec3 d = p - g.f.o;
+      return std::atan2(glm::dot(d, g.f.y) / g.b, glm::dot(d, g.f.x) / g.a);
+    };
+    const double s = angle(same ? a : b), t = angle(same ? b : a);
+    double sweep = t - s;
+    while (sweep <= 1e-12) sweep += 2 * kPi;
+    if (glm::length(a - b) <= 1e-9 * g.a) sweep = 2 * kPi;
+    Curve3 c = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, s, sweep);
+    pieces.push_back(same ? c : reversed(c));
+  } else {
+    const Curve3& c = g.nurbs;
+    const Interval d = curve_domain(c);
+    const double ta = Analytic::nearest_t(c, a, d), tb = Analytic::nearest_t(c, b, d);
+    const double t0 = same ? ta : tb, t1 = same ? tb : ta;
+    const bool closed = glm::length(curve_point(c, d.min) - curve_point(c, d.max)) <= 1e-9 * (1 + size);
+    const double eps = 1e-12 * d.width();
+    std::vector<Curve3> along;  // in the curve's direction from t0 to t1
+    if (t1 > t0 + eps) {
+      along.push_back(t0 <= d.min + eps && t1 >= d.max - eps ? c : restrict_curve(c, t0, t1));
+    } else if (closed) {  // through the closing point (or the whole closed curve)
+      if (t0 < d.max - eps) along.push_back(restrict_curve(c, t0, d.max));
+      if (t1 > d.min + eps) along.push_back(restrict_curve(c, d.min, t1));
+      if (along.empty()) along.push_back(c);
+    } else {
+      fail(e, "its vertices do not lie in order on its curve");
+    }
+    if (same) {
+      pieces = std::move(along);
+    } else {
+      for (auto it = along.rbegin(); it != along.rend(); ++it) pieces.push_back(reversed(*it));
+    }
+  }
+  edge_index_.emplace(id, static_cast<int>(edge_index_.size()));
+  return edges_.emplace(id, std::move(pieces)).first->second;
+}
+
+FaceSurface StepReader::surface(long id, const StepEntity& from) {
+  const StepEntity& e = entity(id, from);
+  FaceSurface s;
+  Analytic& a = s.analytic;
+  if (e.record("B_SPLINE_SURFACE_WITH_KNOTS")) {
+    s.bspline = bspline_surface(e);
+    return s;
+  }
+  if (const StepRecord* r = e.record("PLANE")) {
+    a.type = Analytic::Plane;
+    a.f = placement(ref(e, *r, 1, "position"), e);
+    return s;
+  }
+  auto positive = [&](const StepRecord& r, size_t i, const char* what) {
+    const double x = real(e, r, i, what);
+    if (!(x > 0)) fail(e, fmt::format("its {} {} is not positive", what, x));
+    return x;
+  };
+  if (const StepRecord* r = e.record("CYLINDRICAL_SURFACE")) {
+    a.type = Analytic::Cylinder;
+    a.f = placement(ref(e, *r, 1, "position"), e);
+    a.r = positive(*r, 2, "radius");
+    return s;
+  }
+  if (const StepRecord* r = e.record("CONICAL_SURFACE")) {
+    a.type = Analytic::Cone;
+    a.f = placement(ref(e, *r, 1, "position"), e);
+    a.r = real(e, *r, 2, "radius");
+    const double angle = real(e, *r, 3, "semi-angle") * angle_scale_;
+    if (!(a.r >= 0)) fail(e, "its radius is negative");
+    if (!(angle > 0 && angle < kPi / 2)) fail(e, fmt::format("its semi-angle {} rad is not in (0, pi/2)", angle));
+    a.tan_angle = std::tan(angle);
+    return s;
+  }
+  if (const StepRecord* r = e.record("SPHERICAL_SURFACE")) {
+    a.type = Analytic::Sphere;
+    a.f = placement(ref(e, *r, 1, "position"), e);
+    a.r = positive(*r, 2, "radius");
+    return s;
+  }
+  if (const StepRecord* r = e.record("TOROIDAL_SURFACE")) {
+    a.type = Analytic::Torus;
+    a.f = placement(ref(e, *r, 1, "position"), e);
+    a.r = positive(*r, 2, "major radius");
+    a.r2 = positive(*r, 3, "minor radius");
+    return s;
+  }
+  if (const StepRecord* r = e.record("SURFACE_OF_REVOLUTION")) {
+    a.type = Analytic::Revolution;
+    a.curve = curve(ref(e, *r, 1, "swept curve"), e, 0).nurbs;
+    const StepEntity& ax = entity(ref(e, *r, 2, "axis position"), e);
+    const StepRecord& ar = record(ax, "AXIS1_PLACEMENT");
+    a.f.o = point(ref(ax, ar, 1, "location"), ax);
+    const StepValue& dv = param(ax, ar, 2, "axis");
+    a.f.z = dv.kind == Kind::Null ? glm::dvec3(0, 0, 1) : direction(ref(ax, dv, "axis"), ax);
+    a.f.x = default_x(a.f.z);
+    a.f.y = glm::cross(a.f.z, a.f.x);
+    a.t_range = curve_domain(a.curve);
+    a.accept = 1e-6 * control_box_diagonal(a.curve);
+    // The profile's angle about the axis, at its control point farthest from the axis.
+    double best = -1;
+    for (const glm::dvec3& q : a.curve.points) {
+      const glm::dvec3 d = q - a.f.o;
+      const double x = glm::dot(d, a.f.x), y = glm::dot(d, a.f.y);
+      if (std::hypot(x, y) > best) best = std::hypot(x, y), a.phi0 = std::atan2(y, x);
+    }
+    return s;
+  }
+  if (const StepRecord* r = e.record("SURFACE_OF_LINEAR_EXTRUSION")) {
+    a.type = Analytic::Extrusion;
+    a.curve = curve(ref(e, *r, 1, "swept curve"), e, 0).nurbs;
+    const StepEntity& vec = entity(ref(e, *r, 2, "extrusion axis"), e);
+    a.dir = direction(ref(vec, record(vec, "VECTOR"), 1, "orientation"), vec);
+    a.t_range = curve_domain(a.curve);
+    a.flat = a.curve;
+    for (glm::dvec3& q : a.flat.points) q -= glm::dot(q, a.dir) * a.dir;
+    a.accept = 1e-6 * control_box_diagonal(a.curve);
+    return s;
+  }
+  throw SkipFace{fmt::format("its surface #{} is a {}, which is not read", e.id, e.type_name())};
+}
+
+std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face) {
+  const StepRecord& fr = face.record("ADVANCED_FACE") ? *face.record("ADVANCED_FACE") : record(face, "FACE_SURFACE");
+  std::vector<Loop> loops;
+  for (const StepValue& bv : list(face, param(face, fr, 1, "bounds"), "bounds")) {
+    const StepEntity& bound = entity(ref(face, bv, "bound"), face);
+    const bool outer = is(bound, "FACE_OUTER_BOUND");
+    const StepRecord& br = outer ? record(bound, "FACE_OUTER_BOUND") : record(bound, "FACE_BOUND");
+    const bool orientation = logical(bound, param(bound, br, 2, "orientation"), "orientation");
+    const StepEntity& le = entity(ref(bound, br, 1, "loop"), bound);
+    if (is(le, "VERTEX_LOOP")) continue;  // a pole or apex: no curve
+    Loop loop;
+    loop.outer = outer;
+    for (const StepValue& ov : list(le, param(le, record(le, "EDGE_LOOP"), 1, "edge list"), "edge list")) {
+      const StepEntity& oe = entity(ref(le, ov, "oriented edge"), le);
+      const StepRecord& orr = record(oe, "ORIENTED_EDGE");
+      const long ec = ref(oe, orr, 3, "edge element");
+      const bool forward = logical(oe, param(oe, orr, 4, "orientation"), "orientation");
+      const std::vector<Curve3>& pieces = edge(ec, oe);
+      const int index = edge_index_.at(ec);
+      if (forward) {
+        for (const Curve3& c : pieces) loop.curves.push_back(c), loop.edges.push_back(index);
+      } else {
+        for (auto it = pieces.rbegin(); it != pieces.rend(); ++it)
+          loop.curves.push_back(reversed(*it)), loop.edges.push_back(index);
+      }
+    }
+    if (!orientation) {
+      std::reverse(loop.curves.begin(), loop.curves.end());
+      std::reverse(loop.edges.begin(), loop.edges.end());
+      for (Curve3& c : loop.curves) c = reversed(c);
+    }
+    if (!loop.curves.empty()) loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+TrimmedSurface StepReader::face(long id, const StepEntity& from) {
+  const StepEntity& e = entity(id, from);
+  const StepRecord& fr = e.record("ADVANCED_FACE") ? *e.record("ADVANCED_FACE") : record(e, "FACE_SURFACE");
+  const std::vector<Loop> loops = face_loops(e);
+  FaceSurface fs = surface(ref(e, fr, 2, "face geometry"), e);
+  TrimmedSurface f;
+  f.face_id = static_cast<int>(e.id);
+  if (const StepValue& n = param(e, fr, 0, "name"); n.kind == Kind::String) f.name = n.text;
+  f.reversed = !logical(e, param(e, fr, 3, "same_sense"), "same_sense");
+  const Analytic& a = fs.analytic;
+  if (loops.empty()) {
+    if (!fs.bspline) throw SkipFace{"an analytic surface without edges has no extent"};
+    f.surface = *fs.bspline;  // the whole surface
+    return f;
+  }
+  // Size of the face from its edges: the flattening tolerance scales with it.
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const Loop& l : loops)
+    for (const Curve3& c : l.curves)
+      for (const glm::dvec3& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  const double size = glm::length(hi - lo);
+  if (!fs.bspline && a.type == Analytic::Plane) {
+    // Affine: the control points' plane coordinates (exact, weights kept).
+    glm::dvec2 plo(std::numeric_limits<double>::max()), phi(std::numeric_limits<double>::lowest());
+    for (const Loop& l : loops) {
+      TrimLoop t;
+      t.outer = l.outer;
+      for (size_t k = 0; k < l.curves.size(); ++k) {
+        const Curve3& c = l.curves[k];
+        Curve2 c2{c.degree, c.knots, {}, c.weights, l.edges[k]};
+        for (const glm::dvec3& q : c.points) {
+          c2.points.push_back(a.natural(q, std::nullopt));
+          plo = glm::min(plo, c2.points.back());
+          phi = glm::max(phi, c2.points.back());
+        }
+        t.curves.push_back(std::move(c2));
+      }
+      f.loops.push_back(std::move(t));
+    }
+    if (!(phi.x > plo.x && phi.y > plo.y)) throw SkipFace{"its edges span no area of its plane"};
+    f.surface = a.build(plo, phi).surface;
+    if (std::none_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; })) mark_outer(f);
+    return f;
+  }
+  const Chart chart = fs.bspline ? bspline_chart(*fs.bspline, std::max(1e-6 * size, resolution_)) : analytic_chart(a);
+  // Each loop sampled along its edges in the surface's parameters, periodic ones unwrapped from
+  // sample to sample; chords halved while the surface point of a chord's middle is farther than
+  // the tolerance from the surface point of the edge's middle.
+  const double tol = std::max(kStepTrimTolerance * size, 1e-300);
+  std::vector<std::vector<std::vector<glm::dvec2>>> lines(loops.size());
+  double off = 0.0;  // farthest edge sample from the surface
+  for (size_t li = 0; li < loops.size(); ++li) {
+    std::optional<glm::dvec2> prev;
+    for (const Curve3& c : loops[li].curves) {
+      const Interval d = curve_domain(c);
+      std::vector<glm::dvec2> line;
+      auto at = [&](double t, const std::optional<glm::dvec2>& near) {
+        const glm::dvec3 p = curve_point(c, t);
+        const glm::dvec2 uv = chart.natural(p, near);
+        if (std::isfinite(uv.x) && std::isfinite(uv.y)) off = std::max(off, glm::length(chart.point(uv) - p));
+        return uv;
+      };
+      std::function<void(double, glm::dvec2, double, glm::dvec2, int)> refine = [&](double t0, glm::dvec2 uv0, double t1,
+                                                                                     glm::dvec2 uv1, int depth) {
+        const double tm = 0.5 * (t0 + t1);
+        const glm::dvec2 uvm = at(tm, uv0);
+        const glm::dvec2 mid = 0.5 * (uv0 + uv1);
+        const bool finite = std::isfinite(mid.x) && std::isfinite(uvm.x);
+        if (depth < 12 && (!finite || glm::length(chart.point(mid) - chart.point(uvm)) > tol)) {
+          refine(t0, uv0, tm, uvm, depth + 1);
+          line.push_back(uvm);
+          refine(tm, uvm, t1, uv1, depth + 1);
+        }
+      };
+      const int n = 4 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
+      double t0 = d.min;
+      glm::dvec2 uv0 = at(t0, prev);
+      line.push_back(uv0);
+      for (int i = 1; i <= n; ++i) {
+        const double t1 = d.min + d.width() * i / n;
+        const glm::dvec2 uv1 = at(t1, uv0);
+        refine(t0, uv0, t1, uv1, 0);
+        line.push_back(uv1);
+        t0 = t1, uv0 = uv1;
+      }
+      prev = line.back();
+      lines[li].push_back(std::move(line));
+    }
+  }
+  if (off > std::max(1e-4 * size, 10 * resolution_))
+    throw SkipFace{fmt::format("its edges lie up to {:.3g} from its surface (face size {:.3g})", off, size)};
+  // Points on an axis (apex, pole) take the angle of their neighbour along the loop.
+  for (auto& loop : lines) {
+    std::vector<glm::dvec2*> pts;
+    for (auto& l : loop)
+      for (glm::dvec2& q : l) pts.push_back(&q);
+    for (int pass = 0; pass < 2; ++pass)
+      for (size_t i = 0; i < pts.size(); ++i)
+        if (!std::isfinite(pts[i]->x)) {
+          const glm::dvec2* n = i + 1 < pts.size() ? pts[i + 1] : nullptr;
+          const glm::dvec2* p = i > 0 ? pts[i - 1] : nullptr;
+          if (n && std::isfinite(n->x))
+            pts[i]->x = n->x;
+          else if (p && std::isfinite(p->x))
+            pts[i]->x = p->x;
+        }
+    for (const glm::dvec2* q : pts)
+      if (!std::isfinite(q->x) || !std::isfinite(q->y)) throw SkipFace{"an edge point has no parameters on its surface"};
+  }
+  // Loops shifted by whole periods: onto the first (outer) loop's branch for an analytic surface,
+  // whose NURBS is then built over them; into the domain of a B-spline surface.
+  auto box = [](const std::vector<std::vector<glm::dvec2>>& loop) {
+    Box2 b;
+    for (const auto& l : loop)
+      for (const glm::dvec2& q : l) b.add(q);
+    return b;
+  };
+  AnalyticSurface as;
+  if (fs.bspline) {
+    as.surface = *fs.bspline;
+    const Interval su = surface_domain_u(as.surface), sv = surface_domain_v(as.surface);
+    for (auto& loop : lines) {
+      const Box2 b = box(loop);
+      glm::dvec2 shift(0.0);
+      if (chart.period.x > 0) shift.x = chart.period.x * std::round((su.min + su.max - b.lo.x - b.hi.x) / (2 * chart.period.x));
+      if (chart.period.y > 0) shift.y = chart.period.y * std::round((sv.min + sv.max - b.lo.y - b.hi.y) / (2 * chart.period.y));
+      for (auto& l : loop)
+        for (glm::dvec2& q : l) q += shift;
+    }
+  } else {
+    size_t first = 0;
+    for (size_t li = 0; li < loops.size(); ++li)
+      if (loops[li].outer) {
+        first = li;
+        break;
+      }
+    const glm::dvec2 centre = box(lines[first]).centre();
+    Box2 all;
+    for (auto& loop : lines) {
+      const glm::dvec2 m = box(loop).centre();
+      glm::dvec2 shift(0.0);
+      if (chart.period.x > 0) shift.x = wrap_near(m.x, centre.x) - m.x;
+      if (chart.period.y > 0) shift.y = wrap_near(m.y, centre.y) - m.y;
+      for (auto& l : loop)
+        for (glm::dvec2& q : l) all.add(q += shift);
+    }
+    // A turn is at most 2 pi: rounding of points on the seam may add a hair.
+    if (chart.period.x > 0 && all.hi.x - all.lo.x > chart.period.x) all.hi.x = all.lo.x + chart.period.x;
+    if (chart.period.y > 0 && all.hi.y - all.lo.y > chart.period.y) all.hi.y = all.lo.y + chart.period.y;
+    if (!(all.hi.x > all.lo.x && all.hi.y > all.lo.y)) throw SkipFace{"its edges span no area of its surface"};
+    as = a.build(all.lo, all.hi);
+  }
+  f.surface = as.surface;
+  const Interval su = surface_domain_u(f.surface), sv = surface_domain_v(f.surface);
+  for (size_t li = 0; li < loops.size(); ++li) {
+    TrimLoop t;
+    t.outer = loops[li].outer;
+    for (size_t k = 0; k < lines[li].size(); ++k) {
+      const auto& line = lines[li][k];
+      Curve2 c;
+      c.edge = loops[li].edges[k];
+      c.degree = 1;
+      c.knots.push_back(0.0);
+      for (size_t i = 0; i < line.size(); ++i) {
+        const glm::dvec2 st = as.map(line[i]);
+        c.points.emplace_back(std::clamp(st.x, su.min, su.max), std::clamp(st.y, sv.min, sv.max));
+        c.knots.push_back(static_cast<double>(i));
+      }
+      c.knots.push_back(static_cast<double>(line.size() - 1));
+      t.curves.push_back(std::move(c));
+    }
+    f.loops.push_back(std::move(t));
+  }
+  // Without FACE_OUTER_BOUND, the loop of the largest parameter box is the outer one.
+  if (std::none_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; })) mark_outer(f);
+  return f;
+}
+
+void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std::vector<TrimmedSurface>& out) {
+  const StepEntity& e = entity(id, from);
+  if (const StepRecord* r = e.record("ORIENTED_CLOSED_SHELL")) {
+    const bool o = logical(e, param(e, *r, 2, "orientation"), "orientation");
+    const StepEntity& inner = entity(ref(e, *r, 1, "closed shell element"), e);
+    if (is(inner, "ORIENTED_CLOSED_SHELL")) fail(e, "is an oriented shell of an oriented shell");
+    shell_faces(inner.id, e, reversed != !o, out);
+    return;
+  }
+  const StepRecord* r = e.record("CLOSED_SHELL");
+  if (!r) r = e.record("OPEN_SHELL");
+  if (!r) fail(e, "is not a CLOSED_SHELL or OPEN_SHELL");
+  for (const StepValue& fv : list(e, param(e, *r, 1, "faces"), "faces")) {
+    const long fid = ref(e, fv, "face");
+    try {
+      TrimmedSurface f = face(fid, e);
+      f.reversed = f.reversed != reversed;
+      out.push_back(std::move(f));
+    } catch (const SkipFace& s) {
+      log_.warnings.push_back(fmt::format("face #{} dropped: {}", fid, s.reason));
+    }
+  }
+}
+
+std::vector<TrimmedSurface> StepReader::solid(const StepEntity& e) {
+  std::vector<TrimmedSurface> faces;
+  if (const StepRecord* r = e.record("MANIFOLD_SOLID_BREP")) {
+    shell_faces(ref(e, *r, 1, "outer shell"), e, false, faces);
+    if (const StepRecord* v = e.record("BREP_WITH_VOIDS"))
+      for (const StepValue& s : list(e, param(e, *v, e.records.size() == 1 ? 2 : 0, "voids"), "voids"))
+        shell_faces(ref(e, s, "void shell"), e, false, faces);
+  } else if (const StepRecord* b = e.record("BREP_WITH_VOIDS")) {
+    shell_faces(ref(e, *b, 1, "outer shell"), e, false, faces);
+    for (const StepValue& s : list(e, param(e, *b, 2, "voids"), "voids")) shell_faces(ref(e, s, "void shell"), e, false, faces);
+  } else if (const StepRecord* m = e.record("SHELL_BASED_SURFACE_MODEL")) {
+    for (const StepValue& s : list(e, param(e, *m, 1, "shells"), "shells")) shell_faces(ref(e, s, "shell"), e, false, faces);
+  }
+  return faces;
+}
+
+void StepReader::read_units(long context, const StepEntity& from) {
+  const StepEntity& c = entity(context, from);
+  const StepRecord* units = c.record("GLOBAL_UNIT_ASSIGNED_CONTEXT");
+  if (!units) return;
+  // SI prefixes of ISO 10303-41.
+  static const std::unordered_map<std::string, double> prefixes = {
+      {"EXA", 1e18}, {"PETA", 1e15}, {"TERA", 1e12}, {"GIGA", 1e9},  {"MEGA", 1e6},   {"KILO", 1e3},
+      {"HECTO", 1e2}, {"DECA", 1e1}, {"DECI", 1e-1}, {"CENTI", 1e-2}, {"MILLI", 1e-3}, {"MICRO", 1e-6},
+      {"NANO", 1e-9}, {"PICO", 1e-12}, {"FEMTO", 1e-15}, {"ATTO", 1e-18}};
+  // Size of a unit in SI base units (metre, radian), following conversion-based units.
+  std::function<double(const StepEntity&, int)> si = [&](const StepEntity& u, int depth) -> double {
+    if (depth > kMaxDepth) fail(u, "units nest too deep (a reference cycle?)");
+    if (const StepRecord* s = u.record("SI_UNIT")) {
+      const StepValue& p = param(u, *s, 0, "prefix");
+      double f = 1.0;
+      if (p.kind == Kind::Enum) {
+        const auto it = prefixes.find(p.text);
+        if (it == prefixes.end()) fail(u, fmt::format("unknown SI prefix .{}.", p.text));
+        f = it->second;
+      }
+      return f;
+    }
+    if (const StepRecord* cb = u.record("CONVERSION_BASED_UNIT")) {
+      const StepEntity& m = entity(ref(u, *cb, 1, "conversion factor"), u);
+      if (m.records.empty() || m.records.front().params.size() < 2) fail(m, "is not a measure with unit");
+      const StepRecord& mr = m.records.size() == 1 ? m.records.front() : *[&] {
+        for (const StepRecord& r : m.records)
+          if (r.params.size() >= 2) return &r;
+        return &m.records.front();
+      }();
+      const double value = real(m, mr, 0, "value");
+      const StepEntity& base = entity(ref(m, mr, 1, "unit"), m);
+      const double x = value * si(base, depth + 1);
+      if (!(x > 0) || !std::isfinite(x)) fail(m, "converts to a unit that is not positive");
+      return x;
+    }
+    fail(u, "is a unit nurbsgl does not read");
+  };
+  for (const StepValue& uv : list(c, param(c, *units, 0, "units"), "units")) {
+    const StepEntity& u = entity(ref(c, uv, "unit"), c);
+    if (is(u, "LENGTH_UNIT")) length_scale_ = si(u, 0) * 1e3;
+    if (is(u, "PLANE_ANGLE_UNIT")) angle_scale_ = si(u, 0);
+  }
+  if (const StepRecord* g = c.record("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT"))
+    for (const StepValue& uv : list(c, param(c, *g, 0, "uncertainty"), "uncertainty")) {
+      const StepEntity& u = entity(ref(c, uv, "uncertainty"), c);
+      if (const StepRecord* ur = u.record("UNCERTAINTY_MEASURE_WITH_UNIT")) {
+        const double x = real(u, *ur, 0, "uncertainty");
+        if (x > 0 && (resolution_ == 0 || x < resolution_)) resolution_ = x;
+      }
+    }
+}
+
+void StepReader::link_representations() {
+  // Representations related without a transform share one frame (union-find); with a transform,
+  // the component's representation is placed in its assembly's.
+  // Product structure first: which representation group belongs to which product definition.
+  std::unordered_map<long, long> rep_of_pd;  // PRODUCT_DEFINITION -> shape representation
+  std::unordered_map<long, long> pd_of_pds;  // PRODUCT_DEFINITION_SHAPE -> its definition
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    if (const StepRecord* r = e.record("PRODUCT_DEFINITION_SHAPE"); r && r->params.size() >= 3 && r->params[2].kind == Kind::Ref)
+      pd_of_pds[id] = r->params[2].ref;
+  }
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    if (const StepRecord* r = e.record("SHAPE_DEFINITION_REPRESENTATION");
+        r && r->params.size() >= 2 && r->params[0].kind == Kind::Ref && r->params[1].kind == Kind::Ref) {
+      if (auto it = pd_of_pds.find(r->params[0].ref); it != pd_of_pds.end()) rep_of_pd[it->second] = r->params[1].ref;
+      visited_.insert(id);
+    }
+  }
+  struct Placed {
+    long rep1, rep2;
+    long transform;
+    long relationship;
+  };
+  std::vector<Placed> placed;
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    const StepRecord* r = e.record("REPRESENTATION_RELATIONSHIP");
+    if (!r) r = e.record("SHAPE_REPRESENTATION_RELATIONSHIP");
+    if (!r || r->params.size() < 4) continue;
+    visited_.insert(id);
+    const long a = ref(e, *r, 2, "rep_1"), b = ref(e, *r, 3, "rep_2");
+    entity(a, e), entity(b, e);
+    if (const StepRecord* t = e.record("REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION")) {
+      placed.push_back({a, b, ref(e, *t, 0, "transformation operator"), id});
+    } else {
+      const long ga = group(a), gb = group(b);
+      if (ga != gb) group_[ga] = gb;
+    }
+  }
+  // CONTEXT_DEPENDENT_SHAPE_REPRESENTATION: relationship -> the usage occurrence it places.
+  std::unordered_map<long, long> nauo_of;
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    const StepRecord* r = e.record("CONTEXT_DEPENDENT_SHAPE_REPRESENTATION");
+    if (!r || r->params.size() < 2 || r->params[0].kind != Kind::Ref || r->params[1].kind != Kind::Ref) continue;
+    visited_.insert(id);
+    if (auto it = pd_of_pds.find(r->params[1].ref); it != pd_of_pds.end()) nauo_of[r->params[0].ref] = it->second;
+  }
+  for (const Placed& p : placed) {
+    const StepEntity& rel = f_.entities.at(p.relationship);
+    const StepEntity& t = entity(p.transform, rel);
+    const StepRecord& tr = record(t, "ITEM_DEFINED_TRANSFORMATION");
+    const glm::dmat4 m1 = frame_matrix(placement(ref(t, tr, 2, "transform_item_1"), t));
+    const glm::dmat4 m2 = frame_matrix(placement(ref(t, tr, 3, "transform_item_2"), t));
+    long child = p.rep1, parent = p.rep2;
+    glm::dmat4 m = m2 * glm::inverse(m1);  // rep_1's item_1 frame onto rep_2's item_2 frame
+    std::string name;
+    if (auto it = nauo_of.find(p.relationship); it != nauo_of.end()) {
+      const StepEntity& nauo = entity(it->second, rel);
+      if (const StepRecord* nr = nauo.record("NEXT_ASSEMBLY_USAGE_OCCURRENCE"); nr && nr->params.size() >= 5) {
+        if (nr->params[0].kind == Kind::String) name = nr->params[0].text;
+        if (name.empty() && nr->params[1].kind == Kind::String) name = nr->params[1].text;
+        // The component is the related product definition: if its shape is rep_2, turn round.
+        if (nr->params[4].kind == Kind::Ref)
+          if (auto rp = rep_of_pd.find(nr->params[4].ref); rp != rep_of_pd.end() && group(rp->second) == group(p.rep2)) {
+            std::swap(child, parent);
+            m = m1 * glm::inverse(m2);
+          }
+      }
+    }
+    parents_[group(child)].push_back({group(parent), m, name});
+  }
+  // Products by representation group, for body names.
+  for (auto [pd, rep] : rep_of_pd) {
+    const StepEntity* e = f_.find(pd);
+    if (!e) continue;
+    const StepRecord* r = e->record("PRODUCT_DEFINITION");
+    if (!r || r->params.size() < 3 || r->params[2].kind != Kind::Ref) continue;
+    const StepEntity* formation = f_.find(r->params[2].ref);
+    if (!formation || formation->records.empty() || formation->records.front().params.size() < 3) continue;
+    const StepValue& prod = formation->records.front().params[2];
+    if (prod.kind == Kind::Ref) product_of_group_.emplace(group(rep), prod.ref);
+  }
+}
+
+std::vector<Instance> StepReader::instances(long rep, int depth) {
+  const long g = group(rep);
+  const StepEntity* e = f_.find(rep);
+  if (depth > kMaxDepth && e) fail(*e, fmt::format("assemblies nest deeper than {} (a reference cycle?)", kMaxDepth));
+  const auto it = parents_.find(g);
+  if (it == parents_.end()) return {Instance{}};
+  std::vector<Instance> out;
+  for (const Link& l : it->second)
+    for (const Instance& p : instances(l.parent, depth + 1)) {
+      out.push_back({p.m * l.m, p.path.empty() ? l.name : p.path + "/" + l.name});
+      if (out.size() > kMaxInstances && e) fail(*e, fmt::format("is placed more than {} times", kMaxInstances));
+    }
+  return out;
+}
+
+std::string StepReader::product_name(long rep) {
+  const auto it = product_of_group_.find(group(rep));
+  if (it == product_of_group_.end()) return {};
+  const StepEntity* p = f_.find(it->second);
+  if (!p) return {};
+  const StepRecord* r = p->record("PRODUCT");
+  if (!r || r->params.size() < 2) return {};
+  const std::string& name = r->params[1].kind == Kind::String ? r->params[1].text : std::string();
+  if (!name.empty()) return name;
+  return r->params[0].kind == Kind::String ? r->params[0].text : std::string();
+}
+
+Model StepReader::read() {
+  Model model;
+  model.source = f_.name;
+  link_representations();
+  // Solids and the representations that hold them.
+  std::unordered_map<long, long> rep_of_item;
+  std::unordered_map<long, long> context_of_rep;
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    for (const StepRecord& r : e.records) {
+      const std::string& t = r.type;
+      if (t.size() < 14 || t.compare(t.size() - 14, 14, "REPRESENTATION") != 0 || r.params.size() < 3) continue;
+      if (r.params[1].kind != Kind::List) continue;
+      for (const StepValue& item : r.params[1].items)
+        if (item.kind == Kind::Ref) rep_of_item.emplace(item.ref, id);
+      if (r.params[2].kind == Kind::Ref) context_of_rep[id] = r.params[2].ref;
+      visited_.insert(id);
+    }
+  }
+  int edge_base = 0;
+  double model_scale = 0.0;
+  std::unordered_map<std::string, int> name_count;
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    if (!is(e, "MANIFOLD_SOLID_BREP") && !is(e, "BREP_WITH_VOIDS") && !is(e, "SHELL_BASED_SURFACE_MODEL")) continue;
+    visited_.insert(id);
+    const auto rep = rep_of_item.find(id);
+    length_scale_ = 1.0;
+    angle_scale_ = 1.0;
+    if (rep != rep_of_item.end())
+      if (auto c = context_of_rep.find(rep->second); c != context_of_rep.end()) read_units(c->second, e);
+    if (model_scale == 0.0) model_scale = length_scale_;
+    edges_.clear();
+    edge_index_.clear();
+    std::vector<TrimmedSurface> faces = solid(e);
+    const double to_model = length_scale_ / model_scale;
+    std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
+    if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
+      name = e.records.front().params[0].text;
+    if (name.empty()) name = fmt::format("solid #{}", id);
+    const std::vector<Instance> placed = rep != rep_of_item.end() ? instances(rep->second, 0) : std::vector<Instance>{{}};
+    const int edges = static_cast<int>(edge_index_.size());
+    for (size_t k = 0; k < placed.size(); ++k) {
+      Body body;
+      const int n = name_count[name]++;
+      body.name = n == 0 ? name : fmt::format("{} #{}", name, n + 1);
+      body.instance = placed[k].path;
+      glm::dmat4 m = placed[k].m;
+      if (to_model != 1.0) m = glm::scale(glm::dmat4(1.0), glm::dvec3(to_model)) * m;
+      for (const TrimmedSurface& f : faces) {
+        TrimmedSurface g = m == glm::dmat4(1.0) ? f : transformed(f, m);
+        for (TrimLoop& l : g.loops)
+          for (Curve2& c : l.curves) c.edge += edge_base;
+        body.faces.push_back(std::move(g));
+      }
+      edge_base += edges;
+      model.bodies.push_back(std::move(body));
+    }
+  }
+  model.unit_scale_to_mm = model_scale == 0.0 ? 1.0 : model_scale;
+  model.resolution = resolution_;
+  // Loops finished once the model size is known (as the IGES reader does).
+  double size = model_size(model);
+  if (!validate_model_size(size).empty()) size = 0.0;
+  for (Body& b : model.bodies)
+    for (TrimmedSurface& f : b.faces) finish_trim_loops(f, size, log_);
+  // Geometry and topology the reader did not reach.
+  static const char* kinds[] = {"SURFACE", "CURVE", "FACE", "SHELL", "BREP", "SOLID", "EDGE", "LOOP", "LINE", "CIRCLE", "ELLIPSE", "VERTEX"};
+  for (long id : f_.order) {
+    if (visited_.count(id)) continue;
+    const StepEntity& e = f_.entities.at(id);
+    const std::string t = e.type_name();
+    if (t == "CARTESIAN_POINT" || t == "DIRECTION" || t == "VECTOR" || t == "AXIS2_PLACEMENT_3D") continue;
+    for (const char* k : kinds)
+      if (t.find(k) != std::string::npos && t.find("REPRESENTATION") == std::string::npos &&
+          t.find("STYLE") == std::string::npos && t.find("PRESENTATION") == std::string::npos) {
+        ++model.skipped_types[t];
+        break;
+      }
+  }
+  return model;
+}
+
+}  // namespace
+
+Model read_step_text(const std::string& text, const std::string& name, IgesReadLog* log) {
+  IgesReadLog local;
+  IgesReadLog& lg = log ? *log : local;
+  const StepFile file = parse_step_file(text, name);
+  StepReader reader(file, lg);
+  return reader.read();
+}
+
+Model read_step(const std::filesystem::path& path, IgesReadLog* log) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ReadError(path.string(), "", "is a directory, not a STEP file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ReadError(path.string(), "", "cannot open file");
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw ReadError(path.string(), "", "read error");
+  return read_step_text(buf.str(), path.string(), log);
+}
+
+}  // namespace nurbs::io

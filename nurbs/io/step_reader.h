@@ -1,0 +1,54 @@
+#pragma once
+/// \file step_reader.h
+/// Native STEP (ISO 10303-21 files of AP203, AP214 and AP242) reader for the B-rep geometry
+/// subset, giving the same nurbs::Model as the IGES reader.
+///
+/// Read (ISO 10303-42 geometry and topology):
+/// - bodies: MANIFOLD_SOLID_BREP, BREP_WITH_VOIDS and SHELL_BASED_SURFACE_MODEL, each of CLOSED_SHELL
+///   / OPEN_SHELL (ORIENTED_CLOSED_SHELL turns its faces round) of ADVANCED_FACE or FACE_SURFACE;
+/// - surfaces: B_SPLINE_SURFACE_WITH_KNOTS (also the RATIONAL_B_SPLINE_SURFACE complex instance),
+///   PLANE, CYLINDRICAL_, CONICAL_, SPHERICAL_ and TOROIDAL_SURFACE, SURFACE_OF_REVOLUTION and
+///   SURFACE_OF_LINEAR_EXTRUSION, all as exact (rational) NURBS (analytic_nurbs.h);
+/// - edges: EDGE_LOOP of ORIENTED_EDGE of EDGE_CURVE between VERTEX_POINTs on LINE, CIRCLE,
+///   ELLIPSE, POLYLINE, B_SPLINE_CURVE_WITH_KNOTS (rational too), TRIMMED_CURVE and the 3D curve of
+///   SURFACE_CURVE / SEAM_CURVE; VERTEX_LOOP adds nothing;
+/// - units: SI_UNIT with prefixes and CONVERSION_BASED_UNIT (inch, degree...) for lengths and plane
+///   angles; the uncertainty of GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT as Model::resolution;
+/// - assemblies: REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION with ITEM_DEFINED_TRANSFORMATION
+///   (which side is the component is read from the NEXT_ASSEMBLY_USAGE_OCCURRENCE of its
+///   CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), nested to any depth: one body per placed instance of
+///   a solid, its placement applied to the geometry, named "PRODUCT" or "PRODUCT #k" by the product.
+///
+/// Trims: edges are given in model space; each is brought into its face's (u, v) plane. On planes
+/// the map is affine (exact, the curve's control points are mapped); on the other analytic
+/// surfaces the surface's own parameters of the edge's points are computed in closed form
+/// (angles unwrapped along the loop, so loops over a seam stay continuous) and the edge is
+/// flattened there within kStepTrimTolerance of the face's size; on B-spline surfaces edges are
+/// projected (project_curve.h). Loops then go through the IGES reader's repairs and checks
+/// (finish_trim_loops). ADVANCED_FACE same_sense = .F. sets TrimmedSurface::reversed.
+///
+/// Edges are numbered model-wide (Curve2::edge), the same edge on both of its faces, separately
+/// per placed instance, so `--watertight` welds as on the IGES B-rep path. Face ids are the STEP
+/// instance numbers of the faces.
+#include <filesystem>
+#include <string>
+
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/model.h"
+
+namespace nurbs::io {
+
+/// Edges are flattened into their face's parameter plane within this fraction of the face's size
+/// (the diagonal of its edges' box).
+inline constexpr double kStepTrimTolerance = 1e-7;
+
+/// Reads a STEP file. Throws ReadError ("FILE: line L: #ID (TYPE): problem") on malformed data,
+/// references to missing or wrong instances, reference cycles, and input beyond the IGES reader's
+/// limits (kMaxDegree, kMaxCoordinate). Faces on unsupported geometry are dropped with a warning in
+/// the log naming the entity; unread geometric entities are counted in Model::skipped_types.
+Model read_step(const std::filesystem::path& path, IgesReadLog* log = nullptr);
+
+/// Same on text in memory; `name` is used in messages and Model::source.
+Model read_step_text(const std::string& text, const std::string& name, IgesReadLog* log = nullptr);
+
+}  // namespace nurbs::io
