@@ -166,9 +166,13 @@ class Scanner {
 
   std::string string() {
     expect('\'');
+    const int start = line_;
     std::string out;
     while (true) {
-      if (pos_ >= s_.size()) fail("string ' is not closed");
+      if (pos_ >= s_.size()) {
+        line_ = start;
+        fail("string ' is not closed");
+      }
       const char c = s_[pos_++];
       if (c == '\n') ++line_;
       if (c == '\'') {

@@ -1216,7 +1216,7 @@ Model StepReader::read() {
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
     if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
       name = e.records.front().params[0].text;
-    if (name.empty()) name = fmt::format("solid #{}", id);
+    if (name.empty()) name = fmt::format("{} #{}", is(e, "SHELL_BASED_SURFACE_MODEL") ? "surface model" : "solid", id);
     const std::vector<Instance> placed = rep != rep_of_item.end() ? instances(rep->second, 0) : std::vector<Instance>{{}};
     const int edges = static_cast<int>(edge_index_.size());
     for (size_t k = 0; k < placed.size(); ++k) {
@@ -1236,6 +1236,30 @@ Model StepReader::read() {
       model.bodies.push_back(std::move(body));
     }
   }
+  // Faces outside any shell (and shells outside any solid): one body of loose faces, as the IGES
+  // reader keeps faces outside shells.
+  Body loose{"faces", {}, glm::dmat4(1.0), {}};
+  edges_.clear();
+  edge_index_.clear();
+  for (long id : f_.order) {
+    if (visited_.count(id)) continue;
+    const StepEntity& e = f_.entities.at(id);
+    if (is(e, "CLOSED_SHELL") || is(e, "OPEN_SHELL")) shell_faces(id, e, false, loose.faces);
+  }
+  for (long id : f_.order) {
+    if (visited_.count(id)) continue;
+    const StepEntity& e = f_.entities.at(id);
+    if (!is(e, "ADVANCED_FACE") && !is(e, "FACE_SURFACE")) continue;
+    try {
+      loose.faces.push_back(face(id, e));
+    } catch (const SkipFace& s) {
+      log_.warnings.push_back(fmt::format("face #{} dropped: {}", id, s.reason));
+    }
+  }
+  for (TrimmedSurface& f : loose.faces)
+    for (TrimLoop& l : f.loops)
+      for (Curve2& c : l.curves) c.edge += edge_base;
+  if (!loose.faces.empty()) model.bodies.push_back(std::move(loose));
   model.unit_scale_to_mm = model_scale == 0.0 ? 1.0 : model_scale;
   model.resolution = resolution_;
   // Loops finished once the model size is known (as the IGES reader does).

@@ -1,0 +1,285 @@
+// STEP (Part 21) parser and B-rep reader: syntax, units, faces on planes and cylinders with their
+// edges brought into (u, v), hostile input, and the shared STEP files against their IGES twins.
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <numbers>
+#include <string>
+
+#include "../../shared_models.h"
+#include "nurbs/io/iges_reader.h"
+#include "nurbs/io/read_error.h"
+#include "nurbs/io/step_file.h"
+#include "nurbs/io/step_reader.h"
+#include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+
+namespace {
+
+using nurbs::io::ReadError;
+
+std::string step_file(const std::string& data) {
+  return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('test'),'2;1');\nFILE_NAME('t','',(''),(''),'','','');\n"
+         "FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n" +
+         data + "ENDSEC;\nEND-ISO-10303-21;\n";
+}
+
+// Units of a representation context: length `length` (an SI_UNIT or conversion-based unit), radians.
+std::string context(const std::string& length) {
+  return "#900=( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#904)) "
+         "GLOBAL_UNIT_ASSIGNED_CONTEXT((#901,#902,#903)) REPRESENTATION_CONTEXT('','') );\n" +
+         length +
+         "#902=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );\n"
+         "#903=( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() );\n"
+         "#904=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-05),#901,'distance_accuracy_value','');\n";
+}
+
+const std::string kMillimetre = "#901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n";
+
+// A square face of side 2 on the plane z = 1: four LINE edges, in a surface model.
+std::string square_face(const std::string& length) {
+  std::string d = context(length);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,1.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n";
+  const double xy[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+  for (int i = 0; i < 4; ++i)
+    d += fmt::format("#{}=CARTESIAN_POINT('',({},{},1.));\n#{}=VERTEX_POINT('',#{});\n", 10 + i, xy[i][0], xy[i][1],
+                     20 + i, 10 + i);
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    d += fmt::format("#{}=DIRECTION('',({},{},0.));\n#{}=VECTOR('',#{},1.);\n#{}=LINE('',#{},#{});\n", 30 + i,
+                     xy[j][0] - xy[i][0], xy[j][1] - xy[i][1], 40 + i, 30 + i, 50 + i, 10 + i, 40 + i);
+    d += fmt::format("#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n", 60 + i, 20 + i,
+                     20 + j, 50 + i, 70 + i, 60 + i);
+  }
+  d += "#80=EDGE_LOOP('',(#70,#71,#72,#73));\n#81=FACE_OUTER_BOUND('',#80,.T.);\n"
+       "#82=ADVANCED_FACE('square',(#81),#5,.T.);\n#83=OPEN_SHELL('',(#82));\n"
+       "#84=SHELL_BASED_SURFACE_MODEL('',(#83));\n"
+       "#85=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#84),#900);\n";
+  return step_file(d);
+}
+
+// The lateral face of a cylinder of radius 1 and height 3 about z: two full circles and a seam LINE
+// used in both directions, as CAD writers give closed faces.
+std::string cylinder_face() {
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CYLINDRICAL_SURFACE('',#4,1.);\n"
+       "#6=CARTESIAN_POINT('',(0.,0.,3.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+       "#10=CARTESIAN_POINT('',(1.,0.,0.));\n#11=VERTEX_POINT('',#10);\n"
+       "#12=CARTESIAN_POINT('',(1.,0.,3.));\n#13=VERTEX_POINT('',#12);\n"
+       "#20=CIRCLE('',#4,1.);\n#21=CIRCLE('',#7,1.);\n#22=VECTOR('',#2,1.);\n#23=LINE('',#10,#22);\n"
+       "#30=EDGE_CURVE('',#11,#11,#20,.T.);\n#31=EDGE_CURVE('',#13,#13,#21,.T.);\n"
+       "#32=EDGE_CURVE('',#11,#13,#23,.T.);\n"
+       "#40=ORIENTED_EDGE('',*,*,#30,.T.);\n#41=ORIENTED_EDGE('',*,*,#32,.T.);\n"
+       "#42=ORIENTED_EDGE('',*,*,#31,.F.);\n#43=ORIENTED_EDGE('',*,*,#32,.F.);\n"
+       "#50=EDGE_LOOP('',(#40,#41,#42,#43));\n#51=FACE_BOUND('',#50,.T.);\n"
+       "#52=ADVANCED_FACE('',(#51),#5,.T.);\n#53=OPEN_SHELL('',(#52));\n#54=SHELL_BASED_SURFACE_MODEL('',(#53));\n"
+       "#55=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#54),#900);\n";
+  return step_file(d);
+}
+
+const nurbs::TrimmedSurface& only_face(const nurbs::Model& m) {
+  REQUIRE(m.bodies.size() == 1);
+  REQUIRE(m.bodies.front().faces.size() == 1);
+  return m.bodies.front().faces.front();
+}
+
+// Material share of a face's parameter box, by the winding rule on a grid of sample points.
+double material_share(const nurbs::TrimmedSurface& f) {
+  const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
+  const double tol = 1e-6 * std::max(u.width(), v.width());
+  int in = 0, n = 0;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j, ++n)
+      in += nurbs::is_material(f, {u.min + u.width() * (i + 0.5) / 40, v.min + v.width() * (j + 0.5) / 40}, tol) ? 1 : 0;
+  return static_cast<double>(in) / n;
+}
+
+}  // namespace
+
+TEST_CASE("STEP parser: simple and complex instances, strings, comments, typed and omitted values") {
+  const nurbs::io::StepFile f = nurbs::io::parse_step_file(
+      step_file("/* a comment */ #1 = PRODUCT('it''s', 'name', '', (#2)) ;\n"
+                "#2=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n"
+                "#3=MEASURE(LENGTH_MEASURE(25.4),$,-1.5E+2,2.);\n"),
+      "mem.stp");
+  REQUIRE(f.entities.size() == 3);
+  CHECK(f.schemas == std::vector<std::string>{"AUTOMOTIVE_DESIGN"});
+  const nurbs::io::StepEntity& p = *f.find(1);
+  CHECK(p.type_name() == "PRODUCT");
+  CHECK(p.records.front().params[0].text == "it's");
+  CHECK(p.records.front().params[3].items.front().ref == 2);
+  const nurbs::io::StepEntity& u = *f.find(2);
+  CHECK(u.type_name() == "(LENGTH_UNIT NAMED_UNIT SI_UNIT)");
+  REQUIRE(u.record("SI_UNIT"));
+  CHECK(u.record("SI_UNIT")->params[0].text == "MILLI");
+  const auto& m = f.find(3)->records.front().params;
+  CHECK(m[0].kind == nurbs::io::StepValue::Kind::Typed);
+  CHECK(m[0].items.front().number == doctest::Approx(25.4));
+  CHECK(m[1].kind == nurbs::io::StepValue::Kind::Null);
+  CHECK(m[2].number == doctest::Approx(-150.0));
+  CHECK(m[3].number == doctest::Approx(2.0));
+}
+
+TEST_CASE("STEP parser: malformed text is refused naming the line") {
+  auto message = [](const std::string& data) {
+    try {
+      (void)nurbs::io::parse_step_file(step_file(data), "bad.stp");
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(message("#1=PRODUCT('open string);\n").find("bad.stp: line 8") != std::string::npos);
+  CHECK(message("#1=PRODUCT('a');\n#1=PRODUCT('b');\n").find("#1 is defined twice") != std::string::npos);
+  CHECK(message("#1=PRODUCT('a')\n").find("expected ';'") != std::string::npos);
+  CHECK(message("#1=PRODUCT(" + std::string(200, '(') + std::string(200, ')') + ");\n").find("nested deeper") !=
+        std::string::npos);
+  CHECK(message("#1=PRODUCT(\x01);\n").find("\\x01") != std::string::npos);
+  CHECK_THROWS_AS((void)nurbs::io::parse_step_file("ISO-10303-21;\nDATA;\n#1=A();\n", "cut.stp"), ReadError);
+  CHECK_THROWS_AS((void)nurbs::io::parse_step_file("not step", "x.stp"), ReadError);
+}
+
+TEST_CASE("STEP reader: a plane face, its edges mapped exactly, and length units") {
+  const nurbs::Model mm = nurbs::io::read_step_text(square_face(kMillimetre), "square.stp");
+  const nurbs::TrimmedSurface& f = only_face(mm);
+  CHECK(mm.unit_scale_to_mm == 1.0);
+  CHECK(mm.resolution == doctest::Approx(1e-5));
+  CHECK(f.name == "square");
+  CHECK_FALSE(f.reversed);
+  REQUIRE(f.loops.size() == 1);
+  CHECK(f.loops.front().outer);
+  CHECK(f.loops.front().curves.size() == 4);
+  // The square spans the whole plane patch: every sample is material; the patch lies on z = 1.
+  CHECK(material_share(f) == 1.0);
+  const glm::dvec3 corner = nurbs::surface_point(f.surface, nurbs::surface_domain_u(f.surface).max,
+                                                 nurbs::surface_domain_v(f.surface).max);
+  CHECK(corner.x == doctest::Approx(2.0));
+  CHECK(corner.y == doctest::Approx(2.0));
+  CHECK(corner.z == doctest::Approx(1.0));
+  // Edges are numbered model-wide, one number per EDGE_CURVE.
+  std::set<int> edges;
+  for (const nurbs::Curve2& c : f.loops.front().curves) edges.insert(c.edge);
+  CHECK(edges.size() == 4);
+
+  const std::string inch =
+      "#901=( CONVERSION_BASED_UNIT('INCH',#905) LENGTH_UNIT() NAMED_UNIT(#906) );\n"
+      "#905=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#907);\n"
+      "#906=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
+      "#907=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n";
+  CHECK(nurbs::io::read_step_text(square_face(inch), "inch.stp").unit_scale_to_mm == doctest::Approx(25.4));
+  const std::string metre = "#901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) );\n";
+  CHECK(nurbs::io::read_step_text(square_face(metre), "m.stp").unit_scale_to_mm == doctest::Approx(1000.0));
+}
+
+TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn, on the cylinder") {
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_step_text(cylinder_face(), "cyl.stp", &log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.trim_problems.empty());
+  REQUIRE(f.loops.size() == 1);
+  // The loop bounds the whole (angle, height) rectangle: material everywhere, and the NURBS is the
+  // cylinder (radius 1, heights 0..3) all round.
+  CHECK(material_share(f) == 1.0);
+  const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
+  double worst = 0.0, zmin = 1e9, zmax = -1e9;
+  for (int i = 0; i <= 16; ++i)
+    for (int j = 0; j <= 4; ++j) {
+      const glm::dvec3 p = nurbs::surface_point(f.surface, u.min + u.width() * i / 16, v.min + v.width() * j / 4);
+      worst = std::max(worst, std::abs(std::hypot(p.x, p.y) - 1.0));
+      zmin = std::min(zmin, p.z), zmax = std::max(zmax, p.z);
+    }
+  CHECK(worst < 1e-12);
+  CHECK(zmin == doctest::Approx(0.0));
+  CHECK(zmax == doctest::Approx(3.0));
+  // The seam edge is used twice, once on each side of the parameter rectangle.
+  std::map<int, int> uses;
+  for (const nurbs::Curve2& c : f.loops.front().curves) ++uses[c.edge];
+  CHECK(uses.size() == 3);
+}
+
+TEST_CASE("STEP reader: bad references, cycles and unsupported geometry are named") {
+  auto message = [](const std::string& text) {
+    try {
+      (void)nurbs::io::read_step_text(text, "bad.stp");
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string missing = square_face(kMillimetre);
+  const std::string face = "#82=ADVANCED_FACE('square',(#81),#5";
+  missing.replace(missing.find(face), face.size(), "#82=ADVANCED_FACE('square',(#81),#99");
+  CHECK(message(missing).find("#82 (ADVANCED_FACE): refers to #99, which is not defined") != std::string::npos);
+
+  std::string cycle = square_face(kMillimetre);
+  cycle.replace(cycle.find("#50=LINE('',#10,#40)"), 20, "#50=TRIMMED_CURVE('',#50,(),(),.T.,.UNSPECIFIED.)");
+  CHECK(message(cycle).find("nest deeper") != std::string::npos);
+
+  std::string wrong = square_face(kMillimetre);
+  wrong.replace(wrong.find("#81=FACE_OUTER_BOUND('',#80"), 27, "#81=FACE_OUTER_BOUND('',#5");
+  CHECK(message(wrong).find("#5 (PLANE): is not a EDGE_LOOP") != std::string::npos);
+
+  // A face on a surface type that is not read is dropped with a warning naming it.
+  std::string other = square_face(kMillimetre);
+  other.replace(other.find("#5=PLANE('',#4)"), 15, "#5=OFFSET_SURFACE('',#4,1.,.F.)");
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_step_text(other, "offset.stp", &log);
+  CHECK(m.bodies.front().faces.empty());
+  REQUIRE(log.warnings.size() == 1);
+  CHECK(log.warnings.front().find("OFFSET_SURFACE") != std::string::npos);
+}
+
+TEST_CASE("shared STEP files read as OpenCASCADE does and as their IGES twins" * test::needs_shared_models()) {
+  struct Case {
+    const char* step;
+    const char* iges;  // the twin, empty when there is none
+    size_t bodies, faces;  // OpenCASCADE 7.6 (occt_reference.txt): solids or shells, faces
+  };
+  const Case cases[] = {{"step/gmsh_component8.step", "generated/gmsh_component8_brep.igs", 1, 21},
+                        {"step/pythonocc_Ventilator.stp", "generated/pythonocc_Ventilator_brep.igs", 1, 305},
+                        {"generated/vase_shell_t2.step", "generated/vase_shell_t2_brep.igs", 1, 6},
+                        {"generated/teapot_bezier32.step", "generated/teapot_bezier32_brep.igs", 4, 32},
+                        {"assembly/gmsh_as1-tu-203.stp", "", 18, 160}};
+  for (const Case& c : cases) {
+    CAPTURE(c.step);
+    nurbs::io::IgesReadLog log;
+    const nurbs::Model m = nurbs::io::read_step(test::shared_models_dir() / c.step, &log);
+    size_t faces = 0;
+    for (const nurbs::Body& b : m.bodies) faces += b.faces.size();
+    CHECK(m.bodies.size() == c.bodies);
+    CHECK(faces == c.faces);
+    CHECK(log.trim_problems.empty());
+    CHECK(log.warnings.empty());
+    if (*c.iges) {
+      const nurbs::Model twin = nurbs::io::read_iges(test::shared_models_dir() / c.iges);
+      const nurbs::Box a = nurbs::model_box(m), b = nurbs::model_box(twin);
+      // The faces' surfaces may extend differently beyond their trims; the boxes of the untrimmed
+      // surfaces still agree where both files keep the same surfaces.
+      CHECK(glm::length(a.min - b.min) <= 0.5 * a.diagonal());
+      CHECK(glm::length(a.max - b.max) <= 0.5 * a.diagonal());
+    }
+  }
+}
+
+TEST_CASE("shared STEP assembly: instances placed as OpenCASCADE places them" * test::needs_shared_models()) {
+  const nurbs::Model m = nurbs::io::read_step(test::shared_models_dir() / "assembly/gmsh_as1-tu-203.stp");
+  // OpenCASCADE 7.6: bbox [-10 0 -4] - [190 150 80] (the planar faces reach the box).
+  const nurbs::Box box = nurbs::model_box(m);
+  CHECK(box.min.x == doctest::Approx(-10.0).epsilon(1e-6));
+  CHECK(box.min.z == doctest::Approx(-4.0).epsilon(1e-6));
+  CHECK(box.max.x == doctest::Approx(190.0).epsilon(1e-6));
+  CHECK(box.max.y == doctest::Approx(150.0).epsilon(1e-6));
+  CHECK(box.max.z == doctest::Approx(80.0).epsilon(1e-6));
+  int nuts = 0;
+  for (const nurbs::Body& b : m.bodies) {
+    CHECK_FALSE(b.instance.empty());
+    nuts += b.name.rfind("nut", 0) == 0 ? 1 : 0;
+  }
+  CHECK(nuts == 8);
+}
