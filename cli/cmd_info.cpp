@@ -1,5 +1,6 @@
 // `nurbsgl info MODEL`: what a model file holds (faces, degrees, control points, trims, box,
 // model size, skipped IGES entities). No GPU needed.
+#include <chrono>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -32,7 +33,9 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_flag("--faces", *per_face, "Also list every face");
   cmd->callback([path, json, per_face, bounds, tolerance] {
     nurbs::io::IgesReadLog log;
+    const auto t0 = std::chrono::steady_clock::now();
     const nurbs::Model model = nurbs::io::read_model(*path, &log);
+    const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
     // A size that no tolerance can refer to (0, or overflowed) is bad input, as queries treat it.
     if (const auto problems = nurbs::validate_model_size(s.size); s.faces > 0 && !problems.empty())
@@ -42,7 +45,8 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
       j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"loops_reordered", log.reordered_loops},
                      {"domain_loops_added", log.domain_loops_added},
                      {"gaps_closed", log.gaps_closed},           {"ranges_restricted", log.ranges_restricted},
-                     {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings}};
+                     {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings},
+                     {"seconds", read_seconds}};
       if (*bounds) j["bounds"] = bounds_report(model, *tolerance, false);
       print_json(j);
       return;
@@ -50,8 +54,9 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
     fmt::print("{}", nurbs::io::to_text(s, *per_face));
     fmt::print(
         "reader             {} loops reoriented, {} loops with curves chained again, {} domain loops added, {} trim "
-        "gaps closed, {} curves/surfaces restricted to their declared parameter range\n",
-        log.reoriented_loops, log.reordered_loops, log.domain_loops_added, log.gaps_closed, log.ranges_restricted);
+        "gaps closed, {} curves/surfaces restricted to their declared parameter range; read in {:.3f} s\n",
+        log.reoriented_loops, log.reordered_loops, log.domain_loops_added, log.gaps_closed, log.ranges_restricted,
+        read_seconds);
     fmt::print("trim problems      {}\n", log.trim_problems.size());
     for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);
     if (log.trim_problems.size() > 20) fmt::print("  ... ({} more; --json lists all)\n", log.trim_problems.size() - 20);

@@ -147,10 +147,20 @@ glm::dvec3 default_x(glm::dvec3 v) {
 
 double ParameterAxis::operator()(double x) const {
   if (!angular) return offset + scale * x;
+  if (!std::isfinite(x)) return x;
   const double h = sweep / arcs, a = scale * x - start;
   const int k = std::clamp(static_cast<int>(std::floor(a / h)), 0, arcs - 1);
   const double sigma = std::tan(0.5 * (a - (k + 0.5) * h)) / std::tan(0.25 * h);
   return start + (k + 0.5 * (sigma + 1.0)) * h;
+}
+
+double ParameterAxis::inverse(double s) const {
+  if (!angular) return (s - offset) / scale;
+  if (!std::isfinite(s)) return s;
+  const double h = sweep / arcs, q = (s - start) / h;
+  const int k = std::clamp(static_cast<int>(std::floor(q)), 0, arcs - 1);
+  const double sigma = 2.0 * (q - k) - 1.0;
+  return (start + (k + 0.5) * h + 2.0 * std::atan(sigma * std::tan(0.25 * h))) / scale;
 }
 
 }  // namespace nurbs::io

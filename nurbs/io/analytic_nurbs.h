@@ -26,6 +26,8 @@ struct ParameterAxis {
   double sweep = 0.0;  ///< angular: total angle (radians) > 0
   int arcs = 0;        ///< angular: number of arcs, each at most 90 degrees
   [[nodiscard]] double operator()(double x) const;
+  /// The file's parameter of the NURBS parameter s (the inverse map, closed form).
+  [[nodiscard]] double inverse(double s) const;
 };
 
 /// An analytic surface as NURBS with its map (the file's u, v) -> (s, t), monotone in each direction.

@@ -221,16 +221,13 @@ struct FaceSurface {
 struct Chart {
   std::function<glm::dvec2(glm::dvec3, const std::optional<glm::dvec2>&)> natural;
   std::function<glm::dvec3(glm::dvec2)> point;
+  std::function<SurfaceDerivatives(glm::dvec2)> derivatives;  ///< B-spline charts only
   glm::dvec2 period{0.0};  ///< 0 = not periodic
 };
 
-Chart analytic_chart(const Analytic& a) {
-  Chart c;
-  c.natural = [&a](glm::dvec3 p, const std::optional<glm::dvec2>& prev) { return a.natural(p, prev); };
-  c.point = [&a](glm::dvec2 uv) { return a.point(uv); };
-  c.period = {a.u_angular() ? 2 * kPi : 0.0, a.v_periodic() ? 2 * kPi : 0.0};
-  return c;
-}
+// The chart of an analytic surface's NURBS `as`: parameters of a point in closed form (Analytic::
+// natural, unwrapped near the previous sample's angle) mapped to the NURBS parameters.
+Chart analytic_chart(const Analytic& a, const AnalyticSurface& as);
 
 // A B-spline surface is periodic along a direction whose two boundary curves coincide.
 Chart bspline_chart(const Surface& s, double accept) {
@@ -247,12 +244,24 @@ Chart bspline_chart(const Surface& s, double accept) {
   };
   Chart c;
   c.period = {closed(true) ? u.width() : 0.0, closed(false) ? v.width() : 0.0};
-  c.point = [&s](glm::dvec2 uv) {
-    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
-    auto wrap = [](double x, Interval d) { return x < d.min || x > d.max ? d.min + std::fmod(std::fmod(x - d.min, d.width()) + d.width(), d.width()) : x; };
-    return surface_point(s, wrap(uv.x, du), wrap(uv.y, dv));
-  };
+  // Unwrapped parameters brought back into the domain along periodic directions, clamped to it
+  // along the others.
   const glm::dvec2 period = c.period;
+  auto wrap = [u, v, period](glm::dvec2 uv) {
+    auto w = [](double x, Interval d, double p) {
+      if (!(p > 0)) return std::clamp(x, d.min, d.max);
+      return x < d.min || x > d.max ? d.min + std::fmod(std::fmod(x - d.min, p) + p, p) : x;
+    };
+    return glm::dvec2(w(uv.x, u, period.x), w(uv.y, v, period.y));
+  };
+  c.point = [&s, wrap](glm::dvec2 uv) {
+    const glm::dvec2 q = wrap(uv);
+    return surface_point(s, q.x, q.y);
+  };
+  c.derivatives = [&s, wrap](glm::dvec2 uv) {
+    const glm::dvec2 q = wrap(uv);
+    return surface_derivatives(s, q.x, q.y);
+  };
   c.natural = [&s, u, v, period, accept](glm::dvec3 p, const std::optional<glm::dvec2>& prev) {
     // Newton clamps to the domain: on a periodic direction a start on one side of the seam cannot
     // reach a point just across it, so a start near the seam is also tried on its other side.
@@ -291,6 +300,28 @@ Chart bspline_chart(const Surface& s, double accept) {
       if (period.y > 0) uv.y += period.y * std::round((prev->y - uv.y) / period.y);
     }
     return uv;
+  };
+  return c;
+}
+
+Chart analytic_chart(const Analytic& a, const AnalyticSurface& as) {
+  Chart c = bspline_chart(as.surface, 0.0);
+  const Interval u = surface_domain_u(as.surface), v = surface_domain_v(as.surface);
+  const glm::dvec2 period = c.period;
+  c.natural = [&a, &as, u, v, period](glm::dvec3 p, const std::optional<glm::dvec2>& prev) {
+    std::optional<glm::dvec2> near;
+    if (prev) {
+      glm::dvec2 q = *prev;  // into the domain, then the file's parameters
+      if (period.x > 0) q.x = u.min + std::fmod(std::fmod(q.x - u.min, period.x) + period.x, period.x);
+      if (period.y > 0) q.y = v.min + std::fmod(std::fmod(q.y - v.min, period.y) + period.y, period.y);
+      near = glm::dvec2(as.u.inverse(q.x), as.v.inverse(q.y));
+    }
+    glm::dvec2 st = as.map(a.natural(p, near));
+    if (prev) {
+      if (period.x > 0 && std::isfinite(st.x)) st.x += period.x * std::round((prev->x - st.x) / period.x);
+      if (period.y > 0 && std::isfinite(st.y)) st.y += period.y * std::round((prev->y - st.y) / period.y);
+    }
+    return st;
   };
   return c;
 }
@@ -837,46 +868,125 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
     if (std::none_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; })) mark_outer(f);
     return f;
   }
-  const Chart chart = fs.bspline ? bspline_chart(*fs.bspline, std::max(1e-6 * size, resolution_)) : analytic_chart(a);
+  // An analytic surface becomes NURBS first, over the box of its edges' parameters from a coarse
+  // pass (angles unwrapped along each loop, loops shifted by whole turns onto the first outer loop's
+  // branch), widened by a margin for what the edges reach between samples; its edges are then
+  // brought into the NURBS parameters as on a B-spline surface, with the closed-form inverse.
+  AnalyticSurface as;
+  std::vector<glm::dvec2> loop_start(loops.size(), glm::dvec2(std::numeric_limits<double>::quiet_NaN()));
+  if (fs.bspline) {
+    as.surface = *fs.bspline;
+  } else {
+    std::vector<Box2> boxes(loops.size());
+    for (size_t li = 0; li < loops.size(); ++li) {
+      std::optional<glm::dvec2> prev;
+      for (const Curve3& c : loops[li].curves) {
+        const Interval d = curve_domain(c);
+        const int n = 8 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
+        for (int i = 0; i <= n; ++i) {
+          const glm::dvec2 uv = a.natural(curve_point(c, d.min + d.width() * i / n), prev);
+          if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) continue;
+          if (!std::isfinite(loop_start[li].x)) loop_start[li] = uv;
+          boxes[li].add(uv);
+          prev = uv;
+        }
+      }
+      if (!std::isfinite(loop_start[li].x)) throw SkipFace{"an edge loop has no parameters on its surface"};
+    }
+    size_t first = 0;
+    for (size_t li = 0; li < loops.size(); ++li)
+      if (loops[li].outer) {
+        first = li;
+        break;
+      }
+    const glm::dvec2 centre = boxes[first].centre();
+    Box2 all;
+    for (size_t li = 0; li < loops.size(); ++li) {
+      const glm::dvec2 m = boxes[li].centre();
+      glm::dvec2 shift(0.0);
+      if (a.u_angular()) shift.x = wrap_near(m.x, centre.x) - m.x;
+      if (a.v_periodic()) shift.y = wrap_near(m.y, centre.y) - m.y;
+      loop_start[li] += shift;
+      all.add(boxes[li].lo + shift);
+      all.add(boxes[li].hi + shift);
+    }
+    const glm::dvec2 extent = all.hi - all.lo, turn(a.u_angular() ? 2 * kPi : 0.0, a.v_periodic() ? 2 * kPi : 0.0);
+    for (int k = 0; k < 2; ++k) {
+      const double margin = 0.01 * extent[k] + 1e-9 * size;
+      if (turn[k] > 0 && extent[k] + 2 * margin >= turn[k] - 1e-6) {  // a whole turn
+        all.lo[k] = 0.5 * (all.lo[k] + all.hi[k]) - kPi;
+        all.hi[k] = all.lo[k] + 2 * kPi;
+      } else if (a.type != Analytic::Sphere || k == 0) {
+        all.lo[k] -= margin, all.hi[k] += margin;
+      } else {  // latitude within the poles
+        all.lo[k] = std::max(all.lo[k] - margin, -kPi / 2), all.hi[k] = std::min(all.hi[k] + margin, kPi / 2);
+      }
+    }
+    if (!(all.hi.x > all.lo.x && all.hi.y > all.lo.y)) throw SkipFace{"its edges span no area of its surface"};
+    as = a.build(all.lo, all.hi);
+    for (glm::dvec2& q : loop_start) q = as.map(q);
+  }
+  const double accept = std::max(1e-6 * size, resolution_);
+  const Chart chart = fs.bspline ? bspline_chart(as.surface, accept) : analytic_chart(a, as);
   // Each loop sampled along its edges in the surface's parameters, periodic ones unwrapped from
   // sample to sample; chords halved while the surface point of a chord's middle is farther than
   // the tolerance from the surface point of the edge's middle.
   const double tol = std::max(kStepTrimTolerance * size, 1e-300);
   std::vector<std::vector<std::vector<glm::dvec2>>> lines(loops.size());
   double off = 0.0;  // farthest edge sample from the surface
+  // Cubic Hermite pieces in (u, v) through the samples with the edge's (u, v) tangents
+  // [Su Sv] (du, dv)' = C'(t) in least squares: few samples for a tight tolerance (error O(h^4));
+  // Newton starts from the tangent's prediction.
+  const bool hermite = true;
   for (size_t li = 0; li < loops.size(); ++li) {
     std::optional<glm::dvec2> prev;
+    if (std::isfinite(loop_start[li].x)) prev = loop_start[li];
     for (const Curve3& c : loops[li].curves) {
       const Interval d = curve_domain(c);
       std::vector<glm::dvec2> line;
-      auto at = [&](double t, const std::optional<glm::dvec2>& near) {
-        const glm::dvec3 p = curve_point(c, t);
-        const glm::dvec2 uv = chart.natural(p, near);
-        if (std::isfinite(uv.x) && std::isfinite(uv.y)) off = std::max(off, glm::length(chart.point(uv) - p));
-        return uv;
+      struct Sample {
+        double t;
+        glm::dvec2 uv, duv;
       };
-      std::function<void(double, glm::dvec2, double, glm::dvec2, int)> refine = [&](double t0, glm::dvec2 uv0, double t1,
-                                                                                     glm::dvec2 uv1, int depth) {
-        const double tm = 0.5 * (t0 + t1);
-        const glm::dvec2 uvm = at(tm, uv0);
-        const glm::dvec2 mid = 0.5 * (uv0 + uv1);
-        const bool finite = std::isfinite(mid.x) && std::isfinite(uvm.x);
-        if (depth < 12 && (!finite || glm::length(chart.point(mid) - chart.point(uvm)) > tol)) {
-          refine(t0, uv0, tm, uvm, depth + 1);
-          line.push_back(uvm);
-          refine(tm, uvm, t1, uv1, depth + 1);
+      auto at = [&](double t, const std::optional<glm::dvec2>& near) {
+        const std::vector<glm::dvec3> cd = curve_derivatives(c, t, 1);
+        Sample out{t, chart.natural(cd[0], near), glm::dvec2(std::numeric_limits<double>::quiet_NaN())};
+        if (!std::isfinite(out.uv.x) || !std::isfinite(out.uv.y)) return out;
+        off = std::max(off, glm::length(chart.point(out.uv) - cd[0]));
+        if (hermite) {
+          const SurfaceDerivatives sd = chart.derivatives(out.uv);
+          const double a11 = glm::dot(sd.su, sd.su), a12 = glm::dot(sd.su, sd.sv), a22 = glm::dot(sd.sv, sd.sv);
+          const double b1 = glm::dot(sd.su, cd[1]), b2 = glm::dot(sd.sv, cd[1]), det = a11 * a22 - a12 * a12;
+          if (det > 1e-12 * a11 * a22) out.duv = glm::dvec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
         }
+        return out;
+      };
+      auto predict = [&](const Sample& s, double t) {
+        return std::isfinite(s.duv.x) ? s.uv + s.duv * (t - s.t) : s.uv;
+      };
+      std::function<void(const Sample&, const Sample&, int)> refine = [&](const Sample& s0, const Sample& s1, int depth) {
+        const double h = s1.t - s0.t, tm = 0.5 * (s0.t + s1.t);
+        const Sample sm = at(tm, predict(s0, tm));
+        const glm::dvec2 chord = (s1.uv - s0.uv) / h;
+        const glm::dvec2 d0 = std::isfinite(s0.duv.x) ? s0.duv : chord, d1 = std::isfinite(s1.duv.x) ? s1.duv : chord;
+        const glm::dvec2 mid = 0.5 * (s0.uv + s1.uv) + (hermite ? h / 8 * (d0 - d1) : glm::dvec2(0.0));
+        const bool finite = std::isfinite(mid.x) && std::isfinite(sm.uv.x);
+        if (depth < 12 && (!finite || glm::length(chart.point(mid) - chart.point(sm.uv)) > tol)) {
+          refine(s0, sm, depth + 1);
+          refine(sm, s1, depth + 1);
+          return;
+        }
+        if (hermite) line.insert(line.end(), {s0.uv + h / 3 * d0, s1.uv - h / 3 * d1});
+        line.push_back(s1.uv);
       };
       const int n = 4 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
-      double t0 = d.min;
-      glm::dvec2 uv0 = at(t0, prev);
-      line.push_back(uv0);
+      Sample s0 = at(d.min, prev);
+      line.push_back(s0.uv);
       for (int i = 1; i <= n; ++i) {
         const double t1 = d.min + d.width() * i / n;
-        const glm::dvec2 uv1 = at(t1, uv0);
-        refine(t0, uv0, t1, uv1, 0);
-        line.push_back(uv1);
-        t0 = t1, uv0 = uv1;
+        const Sample s1 = at(t1, predict(s0, t1));
+        refine(s0, s1, 0);
+        s0 = s1;
       }
       prev = line.back();
       lines[li].push_back(std::move(line));
@@ -910,9 +1020,7 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
       for (const glm::dvec2& q : l) b.add(q);
     return b;
   };
-  AnalyticSurface as;
-  if (fs.bspline) {
-    as.surface = *fs.bspline;
+  {
     const Interval su = surface_domain_u(as.surface), sv = surface_domain_v(as.surface);
     for (auto& loop : lines) {
       const Box2 b = box(loop);
@@ -922,28 +1030,6 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
       for (auto& l : loop)
         for (glm::dvec2& q : l) q += shift;
     }
-  } else {
-    size_t first = 0;
-    for (size_t li = 0; li < loops.size(); ++li)
-      if (loops[li].outer) {
-        first = li;
-        break;
-      }
-    const glm::dvec2 centre = box(lines[first]).centre();
-    Box2 all;
-    for (auto& loop : lines) {
-      const glm::dvec2 m = box(loop).centre();
-      glm::dvec2 shift(0.0);
-      if (chart.period.x > 0) shift.x = wrap_near(m.x, centre.x) - m.x;
-      if (chart.period.y > 0) shift.y = wrap_near(m.y, centre.y) - m.y;
-      for (auto& l : loop)
-        for (glm::dvec2& q : l) all.add(q += shift);
-    }
-    // A turn is at most 2 pi: rounding of points on the seam may add a hair.
-    if (chart.period.x > 0 && all.hi.x - all.lo.x > chart.period.x) all.hi.x = all.lo.x + chart.period.x;
-    if (chart.period.y > 0 && all.hi.y - all.lo.y > chart.period.y) all.hi.y = all.lo.y + chart.period.y;
-    if (!(all.hi.x > all.lo.x && all.hi.y > all.lo.y)) throw SkipFace{"its edges span no area of its surface"};
-    as = a.build(all.lo, all.hi);
   }
   f.surface = as.surface;
   const Interval su = surface_domain_u(f.surface), sv = surface_domain_v(f.surface);
@@ -954,14 +1040,16 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
       const auto& line = lines[li][k];
       Curve2 c;
       c.edge = loops[li].edges[k];
-      c.degree = 1;
-      c.knots.push_back(0.0);
-      for (size_t i = 0; i < line.size(); ++i) {
-        const glm::dvec2 st = as.map(line[i]);
-        c.points.emplace_back(std::clamp(st.x, su.min, su.max), std::clamp(st.y, sv.min, sv.max));
-        c.knots.push_back(static_cast<double>(i));
+      c.degree = hermite ? 3 : 1;
+      for (const glm::dvec2& q : line) {
+        c.points.emplace_back(std::clamp(q.x, su.min, su.max), std::clamp(q.y, sv.min, sv.max));
       }
-      c.knots.push_back(static_cast<double>(line.size() - 1));
+      // Knots: 0, 1, ... at the samples, inner ones of multiplicity `degree` (Hermite pieces join C1
+      // in shape, their Bezier form is kept).
+      const int pieces = static_cast<int>(line.size() - 1) / c.degree;
+      c.knots.assign(static_cast<size_t>(c.degree) + 1, 0.0);
+      for (int i = 1; i < pieces; ++i) c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree), static_cast<double>(i));
+      c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree) + 1, static_cast<double>(pieces));
       t.curves.push_back(std::move(c));
     }
     f.loops.push_back(std::move(t));

@@ -183,9 +183,10 @@ TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn
   const nurbs::TrimmedSurface& f = only_face(m);
   CHECK(log.trim_problems.empty());
   REQUIRE(f.loops.size() == 1);
-  // The loop bounds the whole (angle, height) rectangle: material everywhere, and the NURBS is the
-  // cylinder (radius 1, heights 0..3) all round.
-  CHECK(material_share(f) == 1.0);
+  // The loop bounds the whole turn and the heights 0..3: the NURBS is the cylinder (radius 1) all
+  // round, 1 % higher and lower than the face (a margin for edges bulging between samples), and
+  // its material is the 3 / 3.06 of the parameter rectangle between the circles.
+  CHECK(material_share(f) == doctest::Approx(3.0 / 3.06).epsilon(0.01));
   const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
   double worst = 0.0, zmin = 1e9, zmax = -1e9;
   for (int i = 0; i <= 16; ++i)
@@ -195,8 +196,8 @@ TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn
       zmin = std::min(zmin, p.z), zmax = std::max(zmax, p.z);
     }
   CHECK(worst < 1e-12);
-  CHECK(zmin == doctest::Approx(0.0));
-  CHECK(zmax == doctest::Approx(3.0));
+  CHECK(zmin == doctest::Approx(-0.03));
+  CHECK(zmax == doctest::Approx(3.03));
   // The seam edge is used twice, once on each side of the parameter rectangle.
   std::map<int, int> uses;
   for (const nurbs::Curve2& c : f.loops.front().curves) ++uses[c.edge];
