@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -17,6 +18,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -279,6 +281,7 @@ Chart bspline_chart(const Surface& s, double accept) {
         const glm::dvec2 uv = closest_parameter(s, p, st);
         const double d = glm::length(surface_point(s, uv.x, uv.y) - p);
         if (d < best_d) best_d = d, best = uv;
+        if (best_d <= accept) return;  // the other side of the seam only when this one fails
       }
     };
     if (prev) {
@@ -344,6 +347,19 @@ void mark_outer(TrimmedSurface& f) {
     if (area > best) best = area, outer = &l;
   }
   if (outer) outer->outer = true;
+}
+
+// body(k) for k in [0, n) on every core (an atomic counter hands out the indices).
+void parallel_for(size_t n, const std::function<void(size_t)>& body) {
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t k; (k = next.fetch_add(1)) < n;) body(k);
+  };
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), n);
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
 }
 
 struct Instance {
@@ -445,9 +461,21 @@ class StepReader {
     bool outer = false;
   };
   std::vector<Loop> face_loops(const StepEntity& face);
-  TrimmedSurface face(long id, const StepEntity& from);
-  void shell_faces(long id, const StepEntity& from, bool reversed, std::vector<TrimmedSurface>& out);
-  std::vector<TrimmedSurface> solid(const StepEntity& e);
+  /// A face's entities read (sequentially: the caches and the visited set are shared), its
+  /// geometry not yet built.
+  struct FaceJob {
+    TrimmedSurface f;  // id, name, orientation
+    std::vector<Loop> loops;
+    FaceSurface fs;
+    std::string skipped;  // why the face is dropped, when it is
+  };
+  FaceJob face_job(long id, const StepEntity& from);
+  /// The face's surface and trims from its job: no shared state, run on worker threads.
+  TrimmedSurface build_face(FaceJob& job) const;
+  /// Builds every job on all cores; dropped faces are logged and left out.
+  std::vector<TrimmedSurface> build_faces(std::vector<FaceJob>& jobs);
+  void shell_faces(long id, const StepEntity& from, bool reversed, std::vector<FaceJob>& out);
+  std::vector<FaceJob> solid(const StepEntity& e);
 
   // ---- units and assemblies ------------------------------------------------------------------------
   void read_units(long context, const StepEntity& from);
@@ -824,15 +852,46 @@ std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face) {
   return loops;
 }
 
-TrimmedSurface StepReader::face(long id, const StepEntity& from) {
+StepReader::FaceJob StepReader::face_job(long id, const StepEntity& from) {
   const StepEntity& e = entity(id, from);
   const StepRecord& fr = e.record("ADVANCED_FACE") ? *e.record("ADVANCED_FACE") : record(e, "FACE_SURFACE");
-  const std::vector<Loop> loops = face_loops(e);
-  FaceSurface fs = surface(ref(e, fr, 2, "face geometry"), e);
-  TrimmedSurface f;
-  f.face_id = static_cast<int>(e.id);
-  if (const StepValue& n = param(e, fr, 0, "name"); n.kind == Kind::String) f.name = n.text;
-  f.reversed = !logical(e, param(e, fr, 3, "same_sense"), "same_sense");
+  FaceJob job;
+  job.f.face_id = static_cast<int>(e.id);
+  if (const StepValue& n = param(e, fr, 0, "name"); n.kind == Kind::String) job.f.name = n.text;
+  job.f.reversed = !logical(e, param(e, fr, 3, "same_sense"), "same_sense");
+  try {
+    job.loops = face_loops(e);
+    job.fs = surface(ref(e, fr, 2, "face geometry"), e);
+  } catch (const SkipFace& s) {
+    job.skipped = s.reason;
+  }
+  return job;
+}
+
+std::vector<TrimmedSurface> StepReader::build_faces(std::vector<FaceJob>& jobs) {
+  std::vector<std::optional<TrimmedSurface>> built(jobs.size());
+  parallel_for(jobs.size(), [&](size_t k) {
+    if (!jobs[k].skipped.empty()) return;
+    try {
+      built[k] = build_face(jobs[k]);
+    } catch (const SkipFace& s) {
+      jobs[k].skipped = s.reason;
+    }
+  });
+  std::vector<TrimmedSurface> out;
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    if (built[k])
+      out.push_back(std::move(*built[k]));
+    else
+      log_.warnings.push_back(fmt::format("face #{} dropped: {}", jobs[k].f.face_id, jobs[k].skipped));
+  }
+  return out;
+}
+
+TrimmedSurface StepReader::build_face(FaceJob& job) const {
+  const std::vector<Loop>& loops = job.loops;
+  const FaceSurface& fs = job.fs;
+  TrimmedSurface f = job.f;
   const Analytic& a = fs.analytic;
   if (loops.empty()) {
     if (!fs.bspline) throw SkipFace{"an analytic surface without edges has no extent"};
@@ -979,7 +1038,7 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
         if (hermite) line.insert(line.end(), {s0.uv + h / 3 * d0, s1.uv - h / 3 * d1});
         line.push_back(s1.uv);
       };
-      const int n = 4 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
+      const int n = 2 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
       Sample s0 = at(d.min, prev);
       line.push_back(s0.uv);
       for (int i = 1; i <= n; ++i) {
@@ -1059,7 +1118,7 @@ TrimmedSurface StepReader::face(long id, const StepEntity& from) {
   return f;
 }
 
-void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std::vector<TrimmedSurface>& out) {
+void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std::vector<FaceJob>& out) {
   const StepEntity& e = entity(id, from);
   if (const StepRecord* r = e.record("ORIENTED_CLOSED_SHELL")) {
     const bool o = logical(e, param(e, *r, 2, "orientation"), "orientation");
@@ -1072,19 +1131,14 @@ void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std
   if (!r) r = e.record("OPEN_SHELL");
   if (!r) fail(e, "is not a CLOSED_SHELL or OPEN_SHELL");
   for (const StepValue& fv : list(e, param(e, *r, 1, "faces"), "faces")) {
-    const long fid = ref(e, fv, "face");
-    try {
-      TrimmedSurface f = face(fid, e);
-      f.reversed = f.reversed != reversed;
-      out.push_back(std::move(f));
-    } catch (const SkipFace& s) {
-      log_.warnings.push_back(fmt::format("face #{} dropped: {}", fid, s.reason));
-    }
+    FaceJob job = face_job(ref(e, fv, "face"), e);
+    job.f.reversed = job.f.reversed != reversed;
+    out.push_back(std::move(job));
   }
 }
 
-std::vector<TrimmedSurface> StepReader::solid(const StepEntity& e) {
-  std::vector<TrimmedSurface> faces;
+std::vector<StepReader::FaceJob> StepReader::solid(const StepEntity& e) {
+  std::vector<FaceJob> faces;
   if (const StepRecord* r = e.record("MANIFOLD_SOLID_BREP")) {
     shell_faces(ref(e, *r, 1, "outer shell"), e, false, faces);
     if (const StepRecord* v = e.record("BREP_WITH_VOIDS"))
@@ -1299,7 +1353,8 @@ Model StepReader::read() {
     if (model_scale == 0.0) model_scale = length_scale_;
     edges_.clear();
     edge_index_.clear();
-    std::vector<TrimmedSurface> faces = solid(e);
+    std::vector<FaceJob> jobs = solid(e);
+    const std::vector<TrimmedSurface> faces = build_faces(jobs);
     const double to_model = length_scale_ / model_scale;
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
     if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
@@ -1329,21 +1384,18 @@ Model StepReader::read() {
   Body loose{"faces", {}, glm::dmat4(1.0), {}};
   edges_.clear();
   edge_index_.clear();
+  std::vector<FaceJob> jobs;
   for (long id : f_.order) {
     if (visited_.count(id)) continue;
     const StepEntity& e = f_.entities.at(id);
-    if (is(e, "CLOSED_SHELL") || is(e, "OPEN_SHELL")) shell_faces(id, e, false, loose.faces);
+    if (is(e, "CLOSED_SHELL") || is(e, "OPEN_SHELL")) shell_faces(id, e, false, jobs);
   }
   for (long id : f_.order) {
     if (visited_.count(id)) continue;
     const StepEntity& e = f_.entities.at(id);
-    if (!is(e, "ADVANCED_FACE") && !is(e, "FACE_SURFACE")) continue;
-    try {
-      loose.faces.push_back(face(id, e));
-    } catch (const SkipFace& s) {
-      log_.warnings.push_back(fmt::format("face #{} dropped: {}", id, s.reason));
-    }
+    if (is(e, "ADVANCED_FACE") || is(e, "FACE_SURFACE")) jobs.push_back(face_job(id, e));
   }
+  loose.faces = build_faces(jobs);
   for (TrimmedSurface& f : loose.faces)
     for (TrimLoop& l : f.loops)
       for (Curve2& c : l.curves) c.edge += edge_base;
@@ -1353,8 +1405,18 @@ Model StepReader::read() {
   // Loops finished once the model size is known (as the IGES reader does).
   double size = model_size(model);
   if (!validate_model_size(size).empty()) size = 0.0;
+  std::vector<TrimmedSurface*> all;
   for (Body& b : model.bodies)
-    for (TrimmedSurface& f : b.faces) finish_trim_loops(f, size, log_);
+    for (TrimmedSurface& f : b.faces) all.push_back(&f);
+  std::vector<IgesReadLog> logs(all.size());
+  parallel_for(all.size(), [&](size_t k) { finish_trim_loops(*all[k], size, logs[k]); });
+  for (const IgesReadLog& l : logs) {
+    log_.reoriented_loops += l.reoriented_loops;
+    log_.reordered_loops += l.reordered_loops;
+    log_.domain_loops_added += l.domain_loops_added;
+    log_.gaps_closed += l.gaps_closed;
+    log_.trim_problems.insert(log_.trim_problems.end(), l.trim_problems.begin(), l.trim_problems.end());
+  }
   // Geometry and topology the reader did not reach.
   static const char* kinds[] = {"SURFACE", "CURVE", "FACE", "SHELL", "BREP", "SOLID", "EDGE", "LOOP", "LINE", "CIRCLE", "ELLIPSE", "VERTEX"};
   for (long id : f_.order) {
