@@ -25,6 +25,7 @@
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/analytic_nurbs.h"
+#include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_faces.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/step_file.h"
@@ -450,17 +451,26 @@ class StepReader {
     double a = 0, b = 0;
   };
   CurveGeom curve(long id, const StepEntity& from, int depth);
+  /// A piece of an edge, with the same piece of its parameter-space curves where the file gives
+  /// them (PCURVEs of a SURFACE_CURVE / SEAM_CURVE over a B-spline, by the surface they lie on).
+  struct EdgePiece {
+    Curve3 c;
+    std::vector<std::pair<long, Curve3>> pcurves;  // surface instance, curve in its (u, v) (z = 0)
+  };
   /// The pieces of an EDGE_CURVE from its start vertex to its end vertex.
-  const std::vector<Curve3>& edge(long id, const StepEntity& from);
+  const std::vector<EdgePiece>& edge(long id, const StepEntity& from);
+  /// The PCURVEs of a SURFACE_CURVE / SEAM_CURVE `e` on the parameter range [t0, t1] of its 3D curve.
+  std::vector<std::pair<long, Curve3>> pcurves(const StepEntity& e, double t0, double t1);
   FaceSurface surface(long id, const StepEntity& from);
 
   // ---- topology -----------------------------------------------------------------------------------
   struct Loop {
     std::vector<Curve3> curves;
     std::vector<int> edges;
+    std::vector<std::vector<Curve3>> pcurves;  // per curve: its parameter-space curves on the face's surface
     bool outer = false;
   };
-  std::vector<Loop> face_loops(const StepEntity& face);
+  std::vector<Loop> face_loops(const StepEntity& face, long surface);
   /// A face's entities read (sequentially: the caches and the visited set are shared), its
   /// geometry not yet built.
   struct FaceJob {
@@ -472,6 +482,9 @@ class StepReader {
   FaceJob face_job(long id, const StepEntity& from);
   /// The face's surface and trims from its job: no shared state, run on worker threads.
   TrimmedSurface build_face(FaceJob& job) const;
+  /// The loop from its edges' parameter-space curves on `s`, when each has one that agrees with its
+  /// edge within `accept` and the loop closes; else none.
+  static std::optional<TrimLoop> given_loop(const Loop& loop, const Surface& s, double accept);
   /// Builds every job on all cores; dropped faces are logged and left out.
   std::vector<TrimmedSurface> build_faces(std::vector<FaceJob>& jobs);
   void shell_faces(long id, const StepEntity& from, bool reversed, std::vector<FaceJob>& out);
@@ -497,7 +510,7 @@ class StepReader {
   double angle_scale_ = 1.0;   // file plane angle unit in radians
   double resolution_ = 0.0;
   bool units_read_ = false;
-  std::unordered_map<long, std::vector<Curve3>> edges_;
+  std::unordered_map<long, std::vector<EdgePiece>> edges_;
   std::unordered_map<long, int> edge_index_;
   std::unordered_map<long, long> group_;  // union-find of representations related without a transform
   struct Link {
@@ -641,8 +654,11 @@ StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int dep
     g.type = CurveGeom::Line;
     const glm::dvec3 p = point(ref(e, *r, 1, "point"), e);
     const StepEntity& vec = entity(ref(e, *r, 2, "direction vector"), e);
-    const glm::dvec3 d = direction(ref(vec, record(vec, "VECTOR"), 1, "orientation"), vec);
-    g.nurbs = segment(p, p + d, 0.0, 1.0);
+    const StepRecord& vr = record(vec, "VECTOR");
+    const glm::dvec3 d = direction(ref(vec, vr, 1, "orientation"), vec) * real(vec, vr, 2, "magnitude");
+    g.nurbs = segment(p, p + d, 0.0, 1.0);  // the line's own parameter on [0, 1]
+    g.f.o = p;
+    g.f.x = d;
     return g;
   }
   if (e.record("CIRCLE") || e.record("ELLIPSE")) {
@@ -679,7 +695,34 @@ StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int dep
   throw SkipFace{fmt::format("its edge curve #{} is a {}, which is not read", e.id, e.type_name())};
 }
 
-const std::vector<Curve3>& StepReader::edge(long id, const StepEntity& from) {
+std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, double t0, double t1) {
+  std::vector<std::pair<long, Curve3>> out;
+  const StepRecord* r = e.record("SURFACE_CURVE");
+  if (!r) r = e.record("SEAM_CURVE");
+  if (!r || r->params.size() < 3 || r->params[2].kind != Kind::List) return out;
+  for (const StepValue& gv : r->params[2].items) {
+    if (gv.kind != Kind::Ref) continue;
+    const StepEntity& pc = entity(gv.ref, e);
+    const StepRecord* pr = pc.record("PCURVE");
+    if (!pr) continue;
+    const long surface = ref(pc, *pr, 1, "basis surface");
+    const StepEntity& dr = entity(ref(pc, *pr, 2, "reference to curve"), pc);
+    const StepRecord& drr = dr.records.front();
+    const auto& items = list(dr, param(dr, drr, 1, "items"), "items");
+    if (items.size() != 1) continue;
+    const CurveGeom g = curve(ref(dr, items.front(), "curve"), dr, 1);
+    if (g.type == CurveGeom::Line) {
+      out.emplace_back(surface, segment(g.f.o + t0 * g.f.x, g.f.o + t1 * g.f.x, t0, t1));
+    } else if (g.type == CurveGeom::Spline) {
+      const Interval d = curve_domain(g.nurbs);
+      if (t0 < d.min - 1e-9 * d.width() || t1 > d.max + 1e-9 * d.width()) continue;
+      out.emplace_back(surface, restrict_curve(g.nurbs, std::max(t0, d.min), std::min(t1, d.max)));
+    }
+  }
+  return out;
+}
+
+const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEntity& from) {
   if (auto it = edges_.find(id); it != edges_.end()) return it->second;
   const StepEntity& e = entity(id, from);
   const StepRecord& r = record(e, "EDGE_CURVE");
@@ -688,12 +731,13 @@ const std::vector<Curve3>& StepReader::edge(long id, const StepEntity& from) {
     return point(ref(v, record(v, "VERTEX_POINT"), 1, "vertex point"), v);
   };
   const glm::dvec3 a = vertex(1), b = vertex(2);
-  const CurveGeom g = curve(ref(e, r, 3, "edge geometry"), e, 0);
+  const long geometry = ref(e, r, 3, "edge geometry");
+  const CurveGeom g = curve(geometry, e, 0);
   const bool same = logical(e, param(e, r, 4, "same_sense"), "same_sense");
-  std::vector<Curve3> pieces;
+  std::vector<EdgePiece> pieces;
   const double size = std::max(glm::length(a - b), 1e-300);
   if (g.type == CurveGeom::Line) {
-    pieces.push_back(segment(a, b, 0.0, 1.0));
+    pieces.push_back({segment(a, b, 0.0, 1.0), {}});
   } else if (g.type == CurveGeom::Conic) {
     // Angles of the vertices on the ellipse; the edge runs counter-clockwise from start to end when
     // same_sense, else clockwise (= counter-clockwise from end to start, reversed).
@@ -706,7 +750,7 @@ const std::vector<Curve3>& StepReader::edge(long id, const StepEntity& from) {
     while (sweep <= 1e-12) sweep += 2 * kPi;
     if (glm::length(a - b) <= 1e-9 * g.a) sweep = 2 * kPi;
     Curve3 c = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, s, sweep);
-    pieces.push_back(same ? c : reversed(c));
+    pieces.push_back({same ? c : reversed(c), {}});
   } else {
     const Curve3& c = g.nurbs;
     const Interval d = curve_domain(c);
@@ -714,20 +758,26 @@ const std::vector<Curve3>& StepReader::edge(long id, const StepEntity& from) {
     const double t0 = same ? ta : tb, t1 = same ? tb : ta;
     const bool closed = glm::length(curve_point(c, d.min) - curve_point(c, d.max)) <= 1e-9 * (1 + size);
     const double eps = 1e-12 * d.width();
-    std::vector<Curve3> along;  // in the curve's direction from t0 to t1
+    std::vector<Interval> along;  // in the curve's direction from t0 to t1
     if (t1 > t0 + eps) {
-      along.push_back(t0 <= d.min + eps && t1 >= d.max - eps ? c : restrict_curve(c, t0, t1));
+      along.push_back(t0 <= d.min + eps && t1 >= d.max - eps ? d : Interval{t0, t1});
     } else if (closed) {  // through the closing point (or the whole closed curve)
-      if (t0 < d.max - eps) along.push_back(restrict_curve(c, t0, d.max));
-      if (t1 > d.min + eps) along.push_back(restrict_curve(c, d.min, t1));
-      if (along.empty()) along.push_back(c);
+      if (t0 < d.max - eps) along.push_back({t0, d.max});
+      if (t1 > d.min + eps) along.push_back({d.min, t1});
+      if (along.empty()) along.push_back(d);
     } else {
       fail(e, "its vertices do not lie in order on its curve");
     }
-    if (same) {
-      pieces = std::move(along);
-    } else {
-      for (auto it = along.rbegin(); it != along.rend(); ++it) pieces.push_back(reversed(*it));
+    if (!same) std::reverse(along.begin(), along.end());
+    const StepEntity& ge = entity(geometry, e);
+    for (const Interval& range : along) {
+      EdgePiece piece{range.min <= d.min && range.max >= d.max ? c : restrict_curve(c, range.min, range.max),
+                      pcurves(ge, range.min, range.max)};
+      if (!same) {
+        piece.c = reversed(piece.c);
+        for (auto& pc : piece.pcurves) pc.second = reversed(pc.second);
+      }
+      pieces.push_back(std::move(piece));
     }
   }
   edge_index_.emplace(id, static_cast<int>(edge_index_.size()));
@@ -816,7 +866,7 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   throw SkipFace{fmt::format("its surface #{} is a {}, which is not read", e.id, e.type_name())};
 }
 
-std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face) {
+std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face, long surface) {
   const StepRecord& fr = face.record("ADVANCED_FACE") ? *face.record("ADVANCED_FACE") : record(face, "FACE_SURFACE");
   std::vector<Loop> loops;
   for (const StepValue& bv : list(face, param(face, fr, 1, "bounds"), "bounds")) {
@@ -833,19 +883,28 @@ std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face) {
       const StepRecord& orr = record(oe, "ORIENTED_EDGE");
       const long ec = ref(oe, orr, 3, "edge element");
       const bool forward = logical(oe, param(oe, orr, 4, "orientation"), "orientation");
-      const std::vector<Curve3>& pieces = edge(ec, oe);
+      const std::vector<EdgePiece>& pieces = edge(ec, oe);
       const int index = edge_index_.at(ec);
+      auto add = [&](const EdgePiece& p, bool flip) {
+        loop.curves.push_back(flip ? reversed(p.c) : p.c);
+        loop.edges.push_back(index);
+        loop.pcurves.emplace_back();
+        for (const auto& [on, pc] : p.pcurves)
+          if (on == surface) loop.pcurves.back().push_back(flip ? reversed(pc) : pc);
+      };
       if (forward) {
-        for (const Curve3& c : pieces) loop.curves.push_back(c), loop.edges.push_back(index);
+        for (const EdgePiece& p : pieces) add(p, false);
       } else {
-        for (auto it = pieces.rbegin(); it != pieces.rend(); ++it)
-          loop.curves.push_back(reversed(*it)), loop.edges.push_back(index);
+        for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) add(*it, true);
       }
     }
     if (!orientation) {
       std::reverse(loop.curves.begin(), loop.curves.end());
       std::reverse(loop.edges.begin(), loop.edges.end());
+      std::reverse(loop.pcurves.begin(), loop.pcurves.end());
       for (Curve3& c : loop.curves) c = reversed(c);
+      for (auto& options : loop.pcurves)
+        for (Curve3& c : options) c = reversed(c);
     }
     if (!loop.curves.empty()) loops.push_back(std::move(loop));
   }
@@ -860,12 +919,54 @@ StepReader::FaceJob StepReader::face_job(long id, const StepEntity& from) {
   if (const StepValue& n = param(e, fr, 0, "name"); n.kind == Kind::String) job.f.name = n.text;
   job.f.reversed = !logical(e, param(e, fr, 3, "same_sense"), "same_sense");
   try {
-    job.loops = face_loops(e);
-    job.fs = surface(ref(e, fr, 2, "face geometry"), e);
+    const long surface_id = ref(e, fr, 2, "face geometry");
+    job.loops = face_loops(e, surface_id);
+    job.fs = surface(surface_id, e);
   } catch (const SkipFace& s) {
     job.skipped = s.reason;
   }
   return job;
+}
+
+std::optional<TrimLoop> StepReader::given_loop(const Loop& loop, const Surface& s, double accept) {
+  const size_t n = loop.curves.size();
+  for (size_t k = 0; k < n; ++k)
+    if (loop.pcurves[k].empty()) return std::nullopt;
+  auto on_edge = [&](const Curve3& pc, const Curve3& c) {
+    const Interval dp = curve_domain(pc), dc = curve_domain(c);
+    for (double x : {0.0, 0.5, 1.0}) {
+      const glm::dvec3 q = curve_point(pc, dp.min + x * dp.width());
+      if (!(glm::length(surface_point(s, q.x, q.y) - curve_point(c, dc.min + x * dc.width())) <= accept)) return false;
+    }
+    return true;
+  };
+  auto start = [](const Curve3& c) { return glm::dvec2(c.points.front()); };
+  auto end = [](const Curve3& c) { return glm::dvec2(c.points.back()); };
+  // Each first choice, then the nearest continuation; the choice whose gaps sum least.
+  double best_gap = std::numeric_limits<double>::infinity();
+  std::vector<const Curve3*> best;
+  for (const Curve3& first : loop.pcurves[0]) {
+    std::vector<const Curve3*> chosen{&first};
+    double gap = 0.0;
+    for (size_t k = 1; k < n; ++k) {
+      const Curve3* pick = nullptr;
+      double d = std::numeric_limits<double>::infinity();
+      for (const Curve3& o : loop.pcurves[k])
+        if (glm::length(start(o) - end(*chosen.back())) < d) d = glm::length(start(o) - end(*chosen.back())), pick = &o;
+      chosen.push_back(pick);
+      gap += d;
+    }
+    gap += glm::length(start(*chosen.front()) - end(*chosen.back()));
+    if (gap < best_gap) best_gap = gap, best = chosen;
+  }
+  TrimLoop out;
+  out.outer = loop.outer;
+  for (size_t k = 0; k < n; ++k) {
+    if (!on_edge(*best[k], loop.curves[k])) return std::nullopt;
+    out.curves.push_back(to_2d(*best[k]));
+    out.curves.back().edge = loop.edges[k];
+  }
+  return out;
 }
 
 std::vector<TrimmedSurface> StepReader::build_faces(std::vector<FaceJob>& jobs) {
@@ -997,7 +1098,14 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   // [Su Sv] (du, dv)' = C'(t) in least squares: few samples for a tight tolerance (error O(h^4));
   // Newton starts from the tangent's prediction.
   const bool hermite = true;
+  // Loops whose every edge has a parameter-space curve on this B-spline surface (files that carry
+  // PCURVEs) take those: exact, no inversion. Each is checked against its 3D edge (both ends and
+  // the middle within the acceptance distance); of a seam's two, the one continuing the loop.
+  std::vector<std::optional<TrimLoop>> given(loops.size());
+  if (fs.bspline)
+    for (size_t li = 0; li < loops.size(); ++li) given[li] = given_loop(loops[li], as.surface, accept);
   for (size_t li = 0; li < loops.size(); ++li) {
+    if (given[li]) continue;
     std::optional<glm::dvec2> prev;
     if (std::isfinite(loop_start[li].x)) prev = loop_start[li];
     for (const Curve3& c : loops[li].curves) {
@@ -1093,6 +1201,10 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   f.surface = as.surface;
   const Interval su = surface_domain_u(f.surface), sv = surface_domain_v(f.surface);
   for (size_t li = 0; li < loops.size(); ++li) {
+    if (given[li]) {
+      f.loops.push_back(std::move(*given[li]));
+      continue;
+    }
     TrimLoop t;
     t.outer = loops[li].outer;
     for (size_t k = 0; k < lines[li].size(); ++k) {
