@@ -39,6 +39,7 @@ namespace cmd_clearance_impl {
 
 struct Options {
   std::string a, b, move, rotate, motion;
+  std::string body_a, body_b;  ///< one body of the model (index or name); empty = every body
   double rel_tolerance = 1e-5;
   queries::Search search = queries::Search::CoarseToFine;
   std::string first_stage = "hierarchy";
@@ -154,12 +155,32 @@ nlohmann::json prepare_json(const queries::PreparedModel& a, const queries::Prep
           {"samples", samples(a) + samples(b)}};
 }
 
+/// The model of `file` with only the body `spec` names (its index as `nurbsgl info` lists it, or its
+/// name); `model` itself when `spec` is empty.
+nurbs::Model select_body(nurbs::Model model, const std::string& spec, const std::string& option, const std::string& file) {
+  if (spec.empty()) return model;
+  int index = -1;
+  for (size_t k = 0; k < model.bodies.size() && index < 0; ++k)
+    if (model.bodies[k].name == spec) index = int(k);
+  if (index < 0 && !spec.empty() && spec.find_first_not_of("0123456789") == std::string::npos && spec.size() < 9)
+    index = std::stoi(spec) < int(model.bodies.size()) ? std::stoi(spec) : -1;
+  if (index < 0)
+    throw BadInput(fmt::format("{}: {} has no body '{}' ({} bodies; `nurbsgl info {}` lists them)", option, file, spec,
+                               model.bodies.size(), file));
+  nurbs::Body body = std::move(model.bodies[static_cast<size_t>(index)]);
+  model.bodies.clear();
+  model.bodies.push_back(std::move(body));
+  return model;
+}
+
 void run(const GlobalOptions& global, const Options& o) {
   const std::vector<glm::dmat4> frames = motions(o);
-  // B read (and sized) again only when it is another file.
-  const nurbs::Model ma = nurbs::io::read_model(o.a);
+  // B read (and sized) again only when it is another file or another body of it.
+  const nurbs::Model ma = select_body(nurbs::io::read_model(o.a), o.body_a, "--body-a", o.a);
   const std::optional<nurbs::Model> other_b =
-      o.b == o.a ? std::nullopt : std::optional<nurbs::Model>(nurbs::io::read_model(o.b));
+      o.b == o.a && o.body_b == o.body_a
+          ? std::nullopt
+          : std::optional<nurbs::Model>(select_body(nurbs::io::read_model(o.b), o.body_b, "--body-b", o.b));
   const nurbs::Model& mb = other_b ? *other_b : ma;
   const double size_a = checked_model_size(ma, o.a);
   const double size =  // in A's unit
@@ -418,6 +439,9 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<Options>();
   cmd->add_option("A", o->a, "First model file")->required();
   cmd->add_option("B", o->b, "Second model file (may be the same file)")->required();
+  cmd->add_option("--body-a", o->body_a,
+                  "Only this body of A: its index or name as `nurbsgl info A` lists them (a part of an assembly)");
+  cmd->add_option("--body-b", o->body_b, "Only this body of B (index or name)");
   cmd->add_option("--move-b", o->move, "Translate B by DX,DY,DZ (after the rotation)");
   cmd->add_option("--rotate-b", o->rotate, "Rotate B by DEG degrees about the axis AX,AY,AZ through the origin");
   cmd->add_option("--tol", o->rel_tolerance,

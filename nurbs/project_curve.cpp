@@ -28,6 +28,9 @@ struct Sample {
 
 glm::dvec2 closest_parameter(const Surface& s, glm::dvec3 p, glm::dvec2 start) {
   glm::dvec2 uv = clamp_to_domain(s, start);
+  // Converged once a step is below 1e-13 of the domain: rounding keeps steps near 1e-16 of the
+  // parameters' size, which a tighter absolute threshold never sees (50 iterations each).
+  const double stop = 1e-13 * std::max(surface_domain_u(s).width(), surface_domain_v(s).width());
   for (int it = 0; it < 50; ++it) {
     const SurfaceDerivatives d = surface_derivatives(s, uv.x, uv.y);
     const glm::dvec3 r = d.s - p;
@@ -40,7 +43,7 @@ glm::dvec2 closest_parameter(const Surface& s, glm::dvec3 p, glm::dvec2 start) {
     const glm::dvec2 next = clamp_to_domain(s, uv - glm::dvec2((c * f - b * g) / det, (a * g - b * f) / det));
     const double step = glm::length(next - uv);
     uv = next;
-    if (step <= 1e-15 * (1.0 + glm::length(uv))) break;
+    if (!(step > stop)) break;
   }
   return uv;
 }

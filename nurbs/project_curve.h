@@ -13,7 +13,8 @@
 
 namespace nurbs {
 
-/// Parameters (u, v) of the point of `s` nearest to `p`, by Newton from `start` (at most 50 steps).
+/// Parameters (u, v) of the point of `s` nearest to `p`, by Newton from `start` (at most 50 steps,
+/// until a step is below 1e-13 of the larger domain width).
 [[nodiscard]] glm::dvec2 closest_parameter(const Surface& s, glm::dvec3 p, glm::dvec2 start);
 
 /// The same from the nearest sample of a (8 (n_u - p) + 1) x (8 (n_v - q) + 1) grid (at most 257 each).
