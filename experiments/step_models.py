@@ -29,6 +29,8 @@ import subprocess
 import sys
 import tempfile
 
+from real_models import write_points  # the same random points in the box grown by a fifth
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "models")
 TWINS = {"step/gmsh_component8.step": "generated/gmsh_component8_brep.igs",
          "step/pythonocc_Ventilator.stp": "generated/pythonocc_Ventilator_brep.igs",
@@ -65,15 +67,6 @@ def tessellate(cli, model, tmp):
     j = json.loads(output([cli, "tessellate", model, "--eps", "1e-3", "--relative", "--watertight", "-o", mesh,
                            "--json"]))
     return mesh_area(mesh), j.get("open_edges")
-
-
-def write_points(info, n, path):
-    lo, hi = info["bbox"]["min"], info["bbox"]["max"]
-    rng = random.Random(7)
-    with open(path, "w") as f:
-        for _ in range(n):
-            f.write(" ".join(f"{lo[k] - 0.1 * (hi[k] - lo[k]) + rng.random() * 1.2 * (hi[k] - lo[k]):.9g}"
-                             for k in range(3)) + "\n")
 
 
 def distances(cli, model, points):
@@ -125,7 +118,7 @@ def main():
                 row["twin"] = twin
                 row["twin_mesh_area"] = round(tessellate(cli, twin_path, tmp)[0], 3)
                 points = os.path.join(tmp, "points.txt")
-                write_points(info, args.points, points)
+                write_points(cli, path, args.points, points)
                 a, b = distances(cli, path, points), distances(cli, twin_path, points)
                 worst = max(abs(x[0] - y[0]) / max(x[1] + y[1], 1e-300) for x, y in zip(a, b))
                 row.update({"distance_points": len(a), "worst_difference_per_bounds": round(worst, 3)})
