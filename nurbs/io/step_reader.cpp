@@ -1110,7 +1110,6 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   // Cubic Hermite pieces in (u, v) through the samples with the edge's (u, v) tangents
   // [Su Sv] (du, dv)' = C'(t) in least squares: few samples for a tight tolerance (error O(h^4));
   // Newton starts from the tangent's prediction.
-  const bool hermite = true;
   // Loops whose every edge has a parameter-space curve on this B-spline surface (files that carry
   // PCURVEs) take those: exact, no inversion. Each is checked against its 3D edge (both ends and
   // the middle within the acceptance distance); of a seam's two, the one continuing the loop.
@@ -1127,37 +1126,40 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       struct Sample {
         double t;
         glm::dvec2 uv, duv;
+        double gap;  // |S(uv) - C(t)|: how far the edge lies from the surface there
       };
       auto at = [&](double t, const std::optional<glm::dvec2>& near) {
         const std::vector<glm::dvec3> cd = curve_derivatives(c, t, 1);
-        Sample out{t, chart.natural(cd[0], near), glm::dvec2(std::numeric_limits<double>::quiet_NaN())};
+        Sample out{t, chart.natural(cd[0], near), glm::dvec2(std::numeric_limits<double>::quiet_NaN()), 0.0};
         if (!std::isfinite(out.uv.x) || !std::isfinite(out.uv.y)) return out;
-        off = std::max(off, glm::length(chart.point(out.uv) - cd[0]));
-        if (hermite) {
-          const SurfaceDerivatives sd = chart.derivatives(out.uv);
-          const double a11 = glm::dot(sd.su, sd.su), a12 = glm::dot(sd.su, sd.sv), a22 = glm::dot(sd.sv, sd.sv);
-          const double b1 = glm::dot(sd.su, cd[1]), b2 = glm::dot(sd.sv, cd[1]), det = a11 * a22 - a12 * a12;
-          if (det > 1e-12 * a11 * a22) out.duv = glm::dvec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
-        }
+        out.gap = glm::length(chart.point(out.uv) - cd[0]);
+        off = std::max(off, out.gap);
+        const SurfaceDerivatives sd = chart.derivatives(out.uv);
+        const double a11 = glm::dot(sd.su, sd.su), a12 = glm::dot(sd.su, sd.sv), a22 = glm::dot(sd.sv, sd.sv);
+        const double b1 = glm::dot(sd.su, cd[1]), b2 = glm::dot(sd.sv, cd[1]), det = a11 * a22 - a12 * a12;
+        if (det > 1e-12 * a11 * a22) out.duv = glm::dvec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
         return out;
       };
       auto predict = [&](const Sample& s, double t) {
         return std::isfinite(s.duv.x) ? s.uv + s.duv * (t - s.t) : s.uv;
       };
+      // A piece is kept when the surface point of its Hermite middle lies within the tolerance of
+      // the edge's middle, beyond the edge's own distance from the surface at the piece's ends; else
+      // the middle is inverted and both halves are tried.
       std::function<void(const Sample&, const Sample&, int)> refine = [&](const Sample& s0, const Sample& s1, int depth) {
         const double h = s1.t - s0.t, tm = 0.5 * (s0.t + s1.t);
-        const Sample sm = at(tm, predict(s0, tm));
         const glm::dvec2 chord = (s1.uv - s0.uv) / h;
         const glm::dvec2 d0 = std::isfinite(s0.duv.x) ? s0.duv : chord, d1 = std::isfinite(s1.duv.x) ? s1.duv : chord;
-        const glm::dvec2 mid = 0.5 * (s0.uv + s1.uv) + (hermite ? h / 8 * (d0 - d1) : glm::dvec2(0.0));
-        const bool finite = std::isfinite(mid.x) && std::isfinite(sm.uv.x);
-        if (depth < 12 && (!finite || glm::length(chart.point(mid) - chart.point(sm.uv)) > tol)) {
+        const glm::dvec2 mid = 0.5 * (s0.uv + s1.uv) + h / 8 * (d0 - d1);
+        const bool finite = std::isfinite(mid.x) && std::isfinite(mid.y);
+        if (depth < 12 &&
+            (!finite || glm::length(chart.point(mid) - curve_point(c, tm)) > tol + std::max(s0.gap, s1.gap))) {
+          const Sample sm = at(tm, predict(s0, tm));
           refine(s0, sm, depth + 1);
           refine(sm, s1, depth + 1);
           return;
         }
-        if (hermite) line.insert(line.end(), {s0.uv + h / 3 * d0, s1.uv - h / 3 * d1});
-        line.push_back(s1.uv);
+        line.insert(line.end(), {s0.uv + h / 3 * d0, s1.uv - h / 3 * d1, s1.uv});
       };
       const int n = 2 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
       Sample s0 = at(d.min, prev);
@@ -1224,7 +1226,7 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       const auto& line = lines[li][k];
       Curve2 c;
       c.edge = loops[li].edges[k];
-      c.degree = hermite ? 3 : 1;
+      c.degree = 3;
       for (const glm::dvec2& q : line) {
         c.points.emplace_back(std::clamp(q.x, su.min, su.max), std::clamp(q.y, sv.min, sv.max));
       }
