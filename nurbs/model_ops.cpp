@@ -44,21 +44,31 @@ std::vector<TrimmedSurface> world_faces(const Model& model) {
 
 double Box::diagonal() const { return glm::length(max - min); }
 
+Box sampled_box(const Surface& s, const glm::dmat4& m) {
+  constexpr int kSamples = 16;  // 17 x 17 points
+  const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+  const bool identity = m == glm::dmat4(1.0);
+  Box box;
+  for (int j = 0; j <= kSamples; ++j)
+    for (int i = 0; i <= kSamples; ++i) {
+      glm::dvec3 p = surface_point(s, du.min + du.width() * i / kSamples, dv.min + dv.width() * j / kSamples);
+      if (!identity) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+      box.min = i == 0 && j == 0 ? p : glm::min(box.min, p);
+      box.max = i == 0 && j == 0 ? p : glm::max(box.max, p);
+    }
+  return box;
+}
+
 Box model_box(const Model& model) {
   Box box;
   bool first = true;
-  constexpr int kSamples = 16;  // 17 x 17 points per face
-  for (const TrimmedSurface& f : world_faces(model)) {
-    const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
-    for (int j = 0; j <= kSamples; ++j)
-      for (int i = 0; i <= kSamples; ++i) {
-        const glm::dvec3 p =
-            surface_point(f.surface, du.min + du.width() * i / kSamples, dv.min + dv.width() * j / kSamples);
-        box.min = first ? p : glm::min(box.min, p);
-        box.max = first ? p : glm::max(box.max, p);
-        first = false;
-      }
-  }
+  for (const Body& b : model.bodies)
+    for (const TrimmedSurface& f : b.faces) {
+      const Box fb = sampled_box(f.surface, b.transform);
+      box.min = first ? fb.min : glm::min(box.min, fb.min);
+      box.max = first ? fb.max : glm::max(box.max, fb.max);
+      first = false;
+    }
   return box;
 }
 

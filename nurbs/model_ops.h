@@ -30,6 +30,9 @@ struct Box {
 };
 [[nodiscard]] Box model_box(const Model& model);
 
+/// One face's part of model_box: the box of the 17 x 17 sample points of `s` mapped by `m`.
+[[nodiscard]] Box sampled_box(const Surface& s, const glm::dmat4& m = glm::dmat4(1.0));
+
 /// Box of a surface's control points: it holds the surface (convex hull, positive weights).
 [[nodiscard]] Box control_box(const Surface& s);
 

@@ -1530,11 +1530,15 @@ Model StepReader::read() {
   model.unit_scale_to_mm = model_scale == 0.0 ? 1.0 : model_scale;
   model.resolution = resolution_;
   // Loops finished once the model size is known (as the IGES reader does).
-  double size = model_size(model);
-  if (!validate_model_size(size).empty()) size = 0.0;
-  std::vector<TrimmedSurface*> all;
+  std::vector<TrimmedSurface*> all;  // placements are in the geometry: no body transform
   for (Body& b : model.bodies)
     for (TrimmedSurface& f : b.faces) all.push_back(&f);
+  std::vector<Box> boxes(all.size());  // model_size, the faces sampled on every core
+  parallel_for(all.size(), [&](size_t k) { boxes[k] = sampled_box(all[k]->surface); });
+  Box box = boxes.empty() ? Box{} : boxes.front();
+  for (const Box& b : boxes) box.min = glm::min(box.min, b.min), box.max = glm::max(box.max, b.max);
+  double size = box.diagonal();
+  if (!validate_model_size(size).empty()) size = 0.0;
   std::vector<IgesReadLog> logs(all.size());
   parallel_for(all.size(), [&](size_t k) { finish_trim_loops(*all[k], size, logs[k]); });
   for (const IgesReadLog& l : logs) {
