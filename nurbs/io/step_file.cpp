@@ -299,6 +299,7 @@ bool looks_like_step(const std::string& text) {
 StepFile parse_step_file(const std::string& text, const std::string& name) {
   StepFile f;
   f.name = name;
+  f.bytes = text.size();
   Scanner sc(text, name);
   if (!looks_like_step(text)) throw ReadError(name, "line 1", "not a STEP file (it does not start with ISO-10303-21;)");
   sc.keyword();  // ISO-10303-21

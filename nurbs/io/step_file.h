@@ -45,6 +45,7 @@ struct StepEntity {
 
 struct StepFile {
   std::string name;                          ///< file name, for messages
+  size_t bytes = 0;                          ///< size of the text
   std::vector<std::string> schemas;          ///< FILE_SCHEMA
   std::vector<long> order;                   ///< instance numbers in file order
   std::unordered_map<long, StepEntity> entities;

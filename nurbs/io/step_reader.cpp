@@ -1466,6 +1466,7 @@ Model StepReader::read() {
     }
   }
   int edge_base = 0;
+  long long placed_points = 0;
   double model_scale = 0.0;
   std::unordered_map<std::string, int> name_count;
   for (long id : f_.order) {
@@ -1489,6 +1490,15 @@ Model StepReader::read() {
     if (name.empty()) name = fmt::format("{} #{}", is(e, "SHELL_BASED_SURFACE_MODEL") ? "surface model" : "solid", id);
     const std::vector<Instance> placed = rep != rep_of_item.end() ? instances(rep->second, 0) : std::vector<Instance>{{}};
     const int edges = static_cast<int>(edge_index_.size());
+    // Placed copies count against the IGES reader's budget of control points (kMaxPointsBase plus
+    // one per byte): an assembly naming a part at every level twice would otherwise grow without
+    // bound.
+    long long points = 0;
+    for (const TrimmedSurface& f : faces) points += static_cast<long long>(f.surface.points.size());
+    placed_points += points * static_cast<long long>(placed.size());
+    if (placed_points > kMaxPointsBase + static_cast<long long>(f_.bytes))
+      fail(e, fmt::format("its {} placements would create more than {} control points in all", placed.size(),
+                          kMaxPointsBase + static_cast<long long>(f_.bytes)));
     for (size_t k = 0; k < placed.size(); ++k) {
       Body body;
       const int n = name_count[name]++;

@@ -237,6 +237,54 @@ TEST_CASE("STEP reader: bad references, cycles and unsupported geometry are name
   CHECK(log.warnings.front().find("OFFSET_SURFACE") != std::string::npos);
 }
 
+TEST_CASE("STEP reader: assembly placements, their cycles and their blow-up are bounded") {
+  auto with = [](const std::string& extra) {
+    std::string text = square_face(kMillimetre);
+    text.insert(text.find("ENDSEC;\nEND-ISO"), extra);
+    return text;
+  };
+  auto place = [](int id, int child, int parent, int transform) {
+    return fmt::format(
+        "#{}=( REPRESENTATION_RELATIONSHIP('','',#{},#{}) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#{}) "
+        "SHAPE_REPRESENTATION_RELATIONSHIP() );\n",
+        id, child, parent, transform);
+  };
+  // The square placed twice in an assembly, moved by (10, 0, 0) the second time.
+  const std::string frames =
+      "#300=CARTESIAN_POINT('',(10.,0.,0.));\n#301=AXIS2_PLACEMENT_3D('',#300,#2,#3);\n"
+      "#302=ITEM_DEFINED_TRANSFORMATION('','',#4,#4);\n#303=ITEM_DEFINED_TRANSFORMATION('','',#4,#301);\n";
+  const nurbs::Model two = nurbs::io::read_step_text(
+      with(frames + "#310=SHAPE_REPRESENTATION('',(#4),#900);\n" + place(311, 85, 310, 302) + place(312, 85, 310, 303)),
+      "two.stp");
+  REQUIRE(two.bodies.size() == 2);
+  const nurbs::Box b0 = nurbs::sampled_box(two.bodies[0].faces.front().surface);
+  const nurbs::Box b1 = nurbs::sampled_box(two.bodies[1].faces.front().surface);
+  CHECK(b1.min.x - b0.min.x == doctest::Approx(10.0));
+  CHECK(b1.min.y == doctest::Approx(b0.min.y));
+
+  auto message = [](const std::string& text) {
+    try {
+      (void)nurbs::io::read_step_text(text, "bad.stp");
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Each representation placed in the other: a cycle.
+  CHECK(message(with(frames + "#310=SHAPE_REPRESENTATION('',(#4),#900);\n" + place(311, 85, 310, 302) +
+                     place(312, 310, 85, 302)))
+            .find("nest deeper than") != std::string::npos);
+  // 30 levels of assemblies each holding the one below twice: 2^30 placements, refused at once.
+  std::string levels = frames;
+  for (int k = 0; k < 30; ++k) {
+    const int rep = 400 + 3 * k, below = k == 0 ? 85 : 400 + 3 * (k - 1);
+    levels += fmt::format("#{}=SHAPE_REPRESENTATION('',(#4),#900);\n", rep);
+    levels += place(rep + 1, below, rep, 302) + place(rep + 2, below, rep, 303);
+  }
+  const std::string blown = message(with(levels));
+  CHECK((blown.find("placed more than") != std::string::npos || blown.find("control points in all") != std::string::npos));
+}
+
 TEST_CASE("shared STEP files read as OpenCASCADE does and as their IGES twins" * test::needs_shared_models()) {
   struct Case {
     const char* step;
