@@ -203,11 +203,12 @@ class Scanner {
         break;
       }
     }
-    std::string tok = s_.substr(b, pos_ - b);
-    // Part 21 allows "1." and "1.E5": from_chars does not; strtod does, and stops where we ended.
-    char* end = nullptr;
-    const double x = std::strtod(tok.c_str(), &end);
-    if (tok.empty() || end != tok.c_str() + tok.size()) fail(fmt::format("bad number '{}'", printable(tok)));
+    // from_chars reads "1." and "1.E5" too, but not a leading '+'.
+    const char* first = s_.data() + b + (s_[b] == '+' ? 1 : 0);
+    double x = 0.0;
+    const auto r = std::from_chars(first, s_.data() + pos_, x);
+    if (pos_ == b || r.ec != std::errc() || r.ptr != s_.data() + pos_)
+      fail(fmt::format("bad number '{}'", printable(std::string_view(s_).substr(b, pos_ - b))));
     v.kind = real ? StepValue::Kind::Real : StepValue::Kind::Integer;
     v.number = x;
   }
@@ -300,6 +301,7 @@ StepFile parse_step_file(const std::string& text, const std::string& name) {
   StepFile f;
   f.name = name;
   f.bytes = text.size();
+  f.entities.reserve(text.size() / 48);  // CAD files hold an instance per 40-60 bytes
   Scanner sc(text, name);
   if (!looks_like_step(text)) throw ReadError(name, "line 1", "not a STEP file (it does not start with ISO-10303-21;)");
   sc.keyword();  // ISO-10303-21
