@@ -1,0 +1,23 @@
+# The project speaks of the software alone: no development-process words in its sources, scripts and
+# docs (history belongs in version control). Usage: cmake -DROOT=DIR [-DEXCLUDE=SUBDIR] -P check_words.cmake
+# fails listing every file:line that cites a tracker number, a work period or the instructions given.
+file(GLOB_RECURSE files LIST_DIRECTORIES false
+     "${ROOT}/*.cpp" "${ROOT}/*.h" "${ROOT}/*.glsl" "${ROOT}/*.py" "${ROOT}/*.sh" "${ROOT}/*.md" "${ROOT}/*.cmake"
+     "${ROOT}/*CMakeLists.txt" "${ROOT}/.ci/*")
+set(found "")
+foreach(f IN LISTS files)
+  string(REGEX MATCH "/(build[^/]*|\\.git)/" in_build "${f}")
+  if(in_build)
+    continue()
+  endif()
+  if(EXCLUDE AND f MATCHES "^${ROOT}/${EXCLUDE}/")
+    continue()
+  endif()
+  file(STRINGS "${f}" lines REGEX "[Ii]ssue #?[0-9]+|[^A-Za-z][Ss]essions?[^A-Za-z]|[^A-Za-z][Bb]rief[^A-Za-z]")
+  foreach(line IN LISTS lines)
+    string(APPEND found "${f}: ${line}\n")
+  endforeach()
+endforeach()
+if(found)
+  message(FATAL_ERROR "development-process words:\n${found}")
+endif()
