@@ -17,7 +17,7 @@
 namespace cli {
 
 void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
-  auto* cmd = app.add_subcommand("info", "Describe a model file (.igs/.iges/.bpt): faces, degrees, trims, size");
+  auto* cmd = app.add_subcommand("info", "Describe a model file (.igs/.iges/.stp/.step/.bpt): faces, bodies, degrees, trims, size");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto per_face = std::make_shared<bool>(false);
