@@ -44,7 +44,7 @@ void run(const DeviationArgs& a) {
   const double eps = a.relative ? a.eps * size : a.eps;
   if (a.eps_given && (!(eps > 0) || !std::isfinite(eps)))
     throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));
-  const nurbs::TriangleMesh mesh = nurbs::io::read_mesh_file(a.mesh);
+  const nurbs::TriangleMesh mesh = nurbs::io::read_mesh_file(a.mesh, nurbs::coordinate_limit(nurbs::model_box(model)));
   if (mesh.triangles.empty()) throw BadInput(fmt::format("{}: the mesh has no triangles", a.mesh));
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
