@@ -286,7 +286,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_option("--loop-share", a->loop_share,
                   "Guaranteed mode: the share of eps for the trim loops; the cells get the rest")
-      ->check(CLI::Range(0.05, 0.95))
+      ->check(finite_range(0.05, 0.95))
       ->capture_default_str();
   cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
       ->check(CLI::IsMember({"midpoint", "arbitrary"}))

@@ -225,7 +225,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
                 "the GPU batched point query; never above the ray's)");
   cmd->add_option("--ball-tolerance", a->ball.tolerance,
                   "--ball: the point query's grid bound K_e, relative to the model size")
-      ->check(CLI::Range(1e-7, 1e-2))
+      ->check(finite_range(1e-7, 1e-2))
       ->capture_default_str();
   auto* ball_engine = cmd->add_option("--ball-engine", a->ball.engine,
                   "--ball: where the batched point query descends, as distance --engine: gpu (the float pass), cpu "

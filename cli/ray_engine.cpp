@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/validators.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
@@ -97,7 +98,7 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
   cmd->add_option("--tolerance", args.tolerance,
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
                   "exact face)")
-      ->check(CLI::Range(1e-9, 1e-2))
+      ->check(finite_range(1e-9, 1e-2))
       ->capture_default_str();
 }
 
