@@ -62,8 +62,14 @@ std::vector<double> numbers(const std::string& text, size_t count, const std::st
   return v;
 }
 
-/// nurbs::rigid_motion; `what` names the source in errors.
-glm::dmat4 rigid_motion(const glm::dvec3& t, const glm::dvec3& axis, double deg, const std::string& what) {
+/// nurbs::rigid_motion with a move of at most `limit` in every coordinate; `what` names the source
+/// in errors.
+glm::dmat4 rigid_motion(const glm::dvec3& t, const glm::dvec3& axis, double deg, double limit,
+                        const std::string& what) {
+  if (!nurbs::within_coordinate_limit(t, limit))
+    throw BadInput(fmt::format("{}: the move ({}, {}, {}) is beyond {:.3g}, the coordinates double arithmetic "
+                               "carries for these models",
+                               what, t.x, t.y, t.z, limit));
   try {
     return nurbs::rigid_motion(t, axis, deg);
   } catch (const std::invalid_argument& e) {
@@ -71,8 +77,9 @@ glm::dmat4 rigid_motion(const glm::dvec3& t, const glm::dvec3& axis, double deg,
   }
 }
 
-/// The motions of B: one from --rotate-b / --move-b, or one per line of --motion FILE.
-std::vector<glm::dmat4> motions(const Options& o) {
+/// The motions of B: one from --rotate-b / --move-b, or one per line of --motion FILE; moves of at
+/// most `limit` in every coordinate.
+std::vector<glm::dmat4> motions(const Options& o, double limit) {
   if (o.motion.empty()) {
     glm::dvec3 t(0.0), axis(0.0, 0.0, 1.0);
     double deg = 0.0;
@@ -80,28 +87,24 @@ std::vector<glm::dmat4> motions(const Options& o) {
       const auto r = numbers(o.rotate, 4, "--rotate-b");
       axis = {r[0], r[1], r[2]};
       deg = r[3];
-      if (glm::length(axis) == 0) throw BadInput("--rotate-b: the axis is zero");
+      if (axis == glm::dvec3(0.0)) throw BadInput("--rotate-b: the axis is zero");
     }
     if (!o.move.empty()) {
       const auto v = numbers(o.move, 3, "--move-b");
       t = {v[0], v[1], v[2]};
+      (void)rigid_motion(t, axis, 0.0, limit, "--move-b");
     }
-    return {rigid_motion(t, axis, deg, "--rotate-b")};
+    return {rigid_motion(t, axis, deg, limit, o.rotate.empty() ? "--move-b" : "--rotate-b")};
   }
   if (!o.move.empty() || !o.rotate.empty()) throw BadInput("--motion cannot be combined with --move-b or --rotate-b");
-  std::ifstream f;
-  if (o.motion != "-") {
-    f.open(o.motion);
-    if (!f) throw BadInput(fmt::format("--motion {}: cannot open the file", o.motion));
-  }
-  std::istream& in = o.motion == "-" ? std::cin : f;
+  std::istringstream in(read_input_text(o.motion, "--motion"));
   std::vector<glm::dmat4> out;
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
     const std::string where = fmt::format("{}: line {}", o.motion, n);
     const auto v = numbers(line, 7, where + " (DX DY DZ AX AY AZ DEG)");
-    out.push_back(rigid_motion({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, v[6], where));
+    out.push_back(rigid_motion({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, v[6], limit, where));
   }
   if (out.empty()) throw BadInput(fmt::format("--motion {}: no frames", o.motion));
   return out;
@@ -174,7 +177,6 @@ nurbs::Model select_body(nurbs::Model model, const std::string& spec, const std:
 }
 
 void run(const GlobalOptions& global, const Options& o) {
-  const std::vector<glm::dmat4> frames = motions(o);
   // B read (and sized) again only when it is another file or another body of it.
   const nurbs::Model ma = select_body(nurbs::io::read_model(o.a), o.body_a, "--body-a", o.a);
   const std::optional<nurbs::Model> other_b =
@@ -185,6 +187,10 @@ void run(const GlobalOptions& global, const Options& o) {
   const double size_a = checked_model_size(ma, o.a);
   const double size =  // in A's unit
       other_b ? std::max(size_a, checked_model_size(mb, o.b) * mb.unit_scale_to_mm / ma.unit_scale_to_mm) : size_a;
+  // B's moves: within reach of both models (B's box scaled into A's unit).
+  const double scale_b = mb.unit_scale_to_mm / ma.unit_scale_to_mm;
+  const std::vector<glm::dmat4> frames =
+      motions(o, nurbs::coordinate_limit(nurbs::model_box(ma)) + scale_b * nurbs::coordinate_limit(nurbs::model_box(mb)));
   const double tolerance = o.rel_tolerance * size;
   const std::string unit = unit_name(ma);  // of every distance printed (B is scaled into it below)
   const double grid_tolerance = queries::clearance_model_tolerance(tolerance);

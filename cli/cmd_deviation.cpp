@@ -21,6 +21,7 @@
 #include "nurbs/surface_project.h"
 #include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/tessellation/mesh_parameters.h"
+#include "nurbs/tessellation/tessellate.h"
 #include "nurbs/tessellation/triangle_bvh.h"
 #include "nurbs/trim_classify.h"
 
@@ -44,7 +45,7 @@ void run(const DeviationArgs& a) {
   const double eps = a.relative ? a.eps * size : a.eps;
   if (a.eps_given && (!(eps > 0) || !std::isfinite(eps)))
     throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));
-  const nurbs::TriangleMesh mesh = nurbs::io::read_mesh_file(a.mesh);
+  const nurbs::TriangleMesh mesh = nurbs::io::read_mesh_file(a.mesh, nurbs::coordinate_limit(nurbs::model_box(model)));
   if (mesh.triangles.empty()) throw BadInput(fmt::format("{}: the mesh has no triangles", a.mesh));
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -52,7 +53,9 @@ void run(const DeviationArgs& a) {
   o.samples = a.samples;
   // The boundary polylines as `tessellate --check` makes them for the same eps, so that both
   // commands measure a mesh alike; without --eps the default (1e-6 of the model size).
-  o.boundary_tolerance = a.eps_given ? 1e-3 * eps : 0.0;
+  // An eps below the tessellator's smallest (nurbs::tess::kMinRelativeEps) still gets polylines of work
+  // bounded by the model, not by the number.
+  o.boundary_tolerance = a.eps_given ? 1e-3 * std::max(eps, nurbs::tess::kMinRelativeEps * size) : 0.0;
   o.threads = a.threads;
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
   const int threads = a.threads > 0 ? a.threads : std::max(1, int(std::thread::hardware_concurrency()));

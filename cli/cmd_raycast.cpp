@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/ray_engine.h"
 #include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
@@ -23,7 +24,7 @@ struct RaycastArgs {
 void run(const GlobalOptions& global, const RaycastArgs& a) {
   const nurbs::Model model = nurbs::io::read_model(a.model);
   (void)checked_model_size(model, a.model);
-  const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays);
+  const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
   RayEngine engine(model, a.engine, global);
   const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
   long long hit_count = 0;

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "gpgpu/compact.h"
 #include "gpgpu/reduce.h"
 
@@ -104,7 +105,7 @@ void add_selftest(CLI::App& app, const GlobalOptions& global) {
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
   cmd->add_option("--density", o->density, "Fraction of texels the compaction keeps")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(finite_range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] { run(global, *o); });

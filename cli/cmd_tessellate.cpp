@@ -46,6 +46,10 @@ void run(const TessArgs& a) {
   // Without --eps: 1e-3 of the model size, the reference setting of the experiments.
   const double eps = a.eps_given ? (a.relative ? a.eps * size : a.eps) : 1e-3 * size;
   if (!(eps > 0) || !std::isfinite(eps)) throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));
+  if (const double least = nurbs::tess::kMinRelativeEps * size; !(eps >= least * (1 - 1e-12)))
+    throw BadInput(fmt::format("--eps {:g}: below {:.6g}, the smallest usable ({:g} of the model size {:g}; the "
+                               "triangle count grows as 1/eps)",
+                               a.eps, least, nurbs::tess::kMinRelativeEps, size));
   std::string out_error;
   if (!a.output.empty()) try {
       (void)nurbs::io::mesh_format_of(a.output);
@@ -286,7 +290,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_option("--loop-share", a->loop_share,
                   "Guaranteed mode: the share of eps for the trim loops; the cells get the rest")
-      ->check(CLI::Range(0.05, 0.95))
+      ->check(finite_range(0.05, 0.95))
       ->capture_default_str();
   cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
       ->check(CLI::IsMember({"midpoint", "arbitrary"}))

@@ -25,6 +25,9 @@ namespace cli {
 // files' anonymous namespaces would meet.
 namespace cmd_thickness_impl {
 
+/// Most samples a thickness run takes (--samples, and the finest --spacing).
+constexpr long long kMaxSamples = 100'000'000;
+
 struct ThicknessArgs {
   std::string model, output, csv, exr;
   long long samples = 20000;
@@ -85,6 +88,11 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   const nurbs::ray::Scene& scene = engine.scene();
   engine.rays_start_on_surfaces();
   nurbs::ray::ThicknessOptions o;
+  // A spacing finer than that of the most samples --samples allows is refused before the work.
+  if (const double finest = nurbs::ray::spacing_for_samples(scene, kMaxSamples);
+      a.spacing_given && !(a.spacing >= finest))
+    throw BadInput(fmt::format("--spacing {:g}: below {:.4g}, the spacing of {} samples (the most --samples allows)",
+                               a.spacing, finest, kMaxSamples));
   o.spacing = a.spacing_given ? a.spacing : nurbs::ray::spacing_for_samples(scene, a.samples);
   const nurbs::ray::CastFn cast = [&](const std::vector<nurbs::ray::Ray>& rays, double t_min) {
     return engine.cast(rays, t_min, "thickness: orientation");
@@ -210,7 +218,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option_function<long long>(
          "--samples", [a](long long v) { a->samples = v, a->samples_given = true; },
          "About this many samples over the model's area (default 20000)")
-      ->check(CLI::Range(1LL, 100'000'000LL));
+      ->check(CLI::Range(1LL, kMaxSamples));
   cmd->add_option_function<double>(
          "--spacing", [a](double v) { a->spacing = v, a->spacing_given = true; },
          "Sample spacing on the faces, in model units (instead of --samples)")
@@ -225,7 +233,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
                 "the GPU batched point query; never above the ray's)");
   cmd->add_option("--ball-tolerance", a->ball.tolerance,
                   "--ball: the point query's grid bound K_e, relative to the model size")
-      ->check(CLI::Range(1e-7, 1e-2))
+      ->check(finite_range(1e-7, 1e-2))
       ->capture_default_str();
   auto* ball_engine = cmd->add_option("--ball-engine", a->ball.engine,
                   "--ball: where the batched point query descends, as distance --engine: gpu (the float pass), cpu "

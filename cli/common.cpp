@@ -8,9 +8,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <utility>
 
+#include "nurbs/io/input_file.h"
 #include "nurbs/io/output_file.h"
+#include "nurbs/io/read_error.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
@@ -59,6 +62,14 @@ double checked_model_size(const nurbs::Model& model, const std::string& path) {
   if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
     throw BadInput(fmt::format("{}: {}", path, problems.front()));
   return size;
+}
+
+std::string read_input_text(const std::string& path, const std::string& option) {
+  try {
+    return path == "-" ? nurbs::io::read_input_stream(std::cin, "stdin") : nurbs::io::read_input_file(path);
+  } catch (const nurbs::io::ReadError& e) {
+    throw BadInput(option + " " + e.what());
+  }
 }
 
 void check_output(const std::string& path, const std::string& option) {

@@ -63,6 +63,11 @@ class Progress {
 /// file) when no tolerance can refer to it (nurbs::validate_model_size).
 double checked_model_size(const nurbs::Model& model, const std::string& path);
 
+/// The whole text of the input file `path` given with `option` (--points, --rays, --motion); "-"
+/// reads standard input. BadInput (exit 2) "OPTION PATH: PROBLEM" when it is missing, a directory or
+/// cannot be read (nurbs/io/input_file.h).
+[[nodiscard]] std::string read_input_text(const std::string& path, const std::string& option);
+
 /// Before a command's work: BadInput (exit 2) naming `option` unless `path` can be written
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.
 void check_output(const std::string& path, const std::string& option);

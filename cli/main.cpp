@@ -49,7 +49,9 @@ int main(int argc, char** argv) {
   // ({"error", "exit_code"} on stdout); the text stays on stderr.
   bool json = false;
   for (int k = 1; k < argc; ++k) json |= std::string_view(argv[k]) == "--json";
-  const auto fail = [&](int rc, const std::string& text) {
+  // Control bytes (quoted from a bad file or argument) are escaped in every message.
+  const auto fail = [&](int rc, const std::string& message) {
+    const std::string text = nurbs::io::printable(message, true);
     fmt::print(stderr, "{}\n", text);
     if (json && !cli::json_printed()) cli::print_json({{"error", text}, {"exit_code", rc}});
     return rc;

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/validators.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
@@ -17,7 +18,7 @@ namespace cli {
 // files' anonymous namespaces would meet.
 namespace ray_engine_impl {
 
-std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& name) {
+std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& name, double limit) {
   std::vector<nurbs::ray::Ray> rays;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -43,24 +44,30 @@ std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& nam
       v[n++] = x;
     }
     if (n != 6) throw BadInput(fmt::format("{}: line {}: {} numbers, expected 6 (ox oy oz dx dy dz)", name, number, n));
-    const glm::dvec3 d(v[3], v[4], v[5]);
+    const glm::dvec3 origin(v[0], v[1], v[2]);
+    if (!nurbs::within_coordinate_limit(origin, limit))
+      throw BadInput(fmt::format("{}: line {}: the origin ({}, {}, {}) lies beyond {:.3g}, the coordinates double "
+                                 "arithmetic carries for this model",
+                                 name, number, v[0], v[1], v[2], limit));
+    // Scaled by its largest component first: a length of 1e200-sized components would overflow.
+    const double largest = std::max({std::abs(v[3]), std::abs(v[4]), std::abs(v[5])});
+    const glm::dvec3 d = largest > 0.0 ? glm::dvec3(v[3], v[4], v[5]) / largest : glm::dvec3(0.0);
     const double len = glm::length(d);
     if (!(len > 0.0) || !std::isfinite(len))
       throw BadInput(
           fmt::format("{}: line {}: the direction ({}, {}, {}) has no length", name, number, v[3], v[4], v[5]));
-    rays.push_back({{v[0], v[1], v[2]}, d / len});
+    rays.push_back({origin, d / len});
   }
+  if (rays.empty()) throw BadInput(fmt::format("--rays {}: no rays in the file", name));
   return rays;
 }
 
 }  // namespace ray_engine_impl
 
-std::vector<nurbs::ray::Ray> read_rays(const std::string& path) {
+std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinate_limit) {
   using namespace ray_engine_impl;
-  if (path == "-") return parse_rays(std::cin, "stdin");
-  std::ifstream in(path);
-  if (!in) throw BadInput(fmt::format("{}: cannot open the ray file", path));
-  return parse_rays(in, path);
+  std::istringstream in(read_input_text(path, "--rays"));
+  return parse_rays(in, path == "-" ? "stdin" : path, coordinate_limit);
 }
 
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
@@ -91,7 +98,7 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
   cmd->add_option("--tolerance", args.tolerance,
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
                   "exact face)")
-      ->check(CLI::Range(1e-9, 1e-2))
+      ->check(finite_range(1e-9, 1e-2))
       ->capture_default_str();
 }
 

@@ -3,6 +3,7 @@
 /// Option checks shared by subcommands. CLI11's Range lets NaN through (every comparison with NaN is
 /// false) and prints small bounds as 0.000000, so tolerances get their own check.
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <cmath>
 #include <string>
 
@@ -46,6 +47,19 @@ inline CLI::Validator positive_number(const std::string& what = "a positive numb
         return "";
       },
       "POSITIVE");
+}
+
+/// A finite number in [lo, hi]: the check written so that NaN fails it (CLI11's Range lets NaN
+/// through, and prints its bounds as 0.000000).
+inline CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        if (std::string e = parse_double(text, v, ""); !e.empty()) return e;
+        if (!(v >= lo && v <= hi)) return fmt::format("{} is not a finite number from {:g} to {:g}", text, lo, hi);
+        return "";
+      },
+      fmt::format("in [{:g}, {:g}]", lo, hi));
 }
 
 /// `--search faithful|coarse-to-fine` (queries::Search): the paper's grids at the tolerance, or

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -73,6 +74,11 @@ Box model_box(const Model& model) {
 }
 
 double model_size(const Model& model) { return model_box(model).diagonal(); }
+
+double coordinate_limit(const Box& box) {
+  const glm::dvec3 far = glm::max(glm::abs(box.min), glm::abs(box.max));
+  return std::max({far.x, far.y, far.z}) + kCoordinateReach * box.diagonal();
+}
 
 Box control_box(const Surface& s) {
   Box box{s.points.front(), s.points.front()};

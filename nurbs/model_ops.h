@@ -2,6 +2,7 @@
 /// \file model_ops.h
 /// Whole-model operations: rigid transforms applied to faces, and the model size (bounding-box
 /// diagonal, as ACIS defines its tolerance) that every relative tolerance in nurbsgl refers to.
+#include <cmath>
 #include <glm/mat4x4.hpp>
 #include <string>
 #include <vector>
@@ -44,6 +45,20 @@ struct Box {
 /// scaled by 1e-300 has size 0 (its diagonal underflows); one at 1e300 an infinite size.
 inline constexpr double kMinModelSize = 1e-100;
 inline constexpr double kMaxModelSize = 1e100;
+
+/// How far from a model, in model sizes, a query's input (a point, a ray origin, a mesh vertex, a
+/// motion's translation) may lie: double arithmetic carries about 16 digits, so a coordinate 1e15
+/// sizes away keeps about a tenth of the model size; beyond it distances to the model are noise.
+inline constexpr double kCoordinateReach = 1e15;
+
+/// The largest coordinate magnitude a query against a model with box `box` can carry: the box's
+/// largest coordinate magnitude plus kCoordinateReach x its diagonal. Input beyond it is bad input.
+[[nodiscard]] double coordinate_limit(const Box& box);
+
+/// Whether every coordinate of `p` is finite and of magnitude at most `limit` (coordinate_limit).
+[[nodiscard]] inline bool within_coordinate_limit(const glm::dvec3& p, double limit) {
+  return std::abs(p.x) <= limit && std::abs(p.y) <= limit && std::abs(p.z) <= limit;
+}
 
 /// What is wrong with `size` (a model_size) as the scale of a query's tolerances, empty when it is
 /// finite and in [kMinModelSize, kMaxModelSize]. Callers that derive tolerances from the model size

@@ -62,7 +62,9 @@ Curve3 circle_arc(const glm::dvec2& centre, const glm::dvec2& start, const glm::
 }
 
 Curve3 conic_arc(const std::array<double, 6>& k, const glm::dvec2& s, const glm::dvec2& e, double z, int form) {
-  const auto [A, B, C, D, E, F] = k;
+  // Named copies, not a structured binding: the lambdas below capture them (clang before 16 cannot
+  // capture a binding).
+  const double A = k[0], B = k[1], C = k[2], D = k[3], E = k[4], F = k[5];
   const double disc = B * B - 4.0 * A * C;
   if (form == 0) form = disc < 0.0 ? 1 : (disc > 0.0 ? 2 : 3);
   auto value = [&](const glm::dvec2& p) {

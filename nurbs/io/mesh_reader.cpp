@@ -10,12 +10,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
+#include "nurbs/io/input_file.h"
 #include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
@@ -89,13 +88,35 @@ class Welder {
   std::unordered_map<Key, int, Hash> index_;
 };
 
-/// Corners c0..cn-1 of a convex-enough polygon as the fan (c0, ci, ci+1).
-void add_fan(TriangleMesh& mesh, const std::vector<int>& corners) {
-  for (size_t i = 1; i + 1 < corners.size(); ++i) mesh.triangles.emplace_back(corners[0], corners[i], corners[i + 1]);
+/// Most corners of one polygon: a fan of more is no longer a face of a mesh (a non-convex outline,
+/// or a file made to multiply work).
+constexpr size_t kMaxPolygonCorners = size_t(1) << 16;
+
+/// Corners c0..cn-1 of a convex-enough polygon as the fan (c0, ci, ci+1), leaving out the triangles
+/// that name one vertex twice (they have no area to measure). Returns what is wrong with the
+/// polygon, empty when nothing: more than kMaxPolygonCorners corners.
+std::string add_fan(TriangleMesh& mesh, const std::vector<int>& corners) {
+  if (corners.size() > kMaxPolygonCorners)
+    return fmt::format("polygon has {} corners, more than {}", corners.size(), kMaxPolygonCorners);
+  for (size_t i = 1; i + 1 < corners.size(); ++i) {
+    const int a = corners[0], b = corners[i], c = corners[i + 1];
+    if (a != b && b != c && c != a) mesh.triangles.emplace_back(a, b, c);
+  }
+  return "";
+}
+
+/// What is wrong with a vertex at `p`, empty when its coordinates are within `limit` in magnitude
+/// (nurbs::coordinate_limit of the model it is measured against).
+std::string check_vertex(const glm::dvec3& p, double limit) {
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(p[c]) <= limit))
+      return fmt::format("coordinate {:g} is beyond {:.3g}, the range double arithmetic carries for this model", p[c],
+                         limit);
+  return "";
 }
 
 /// Binary STL: 80-byte header, uint32 count, 50 bytes per facet (normal, 3 vertices, attribute).
-TriangleMesh read_stl_binary(std::string_view data, const std::string& name) {
+TriangleMesh read_stl_binary(std::string_view data, const std::string& name, double limit) {
   if (data.size() < 84)
     throw ReadError(name, fmt::format("byte {}", data.size()),
                     fmt::format("binary STL header needs 84 bytes, the file has {} (truncated)", data.size()));
@@ -116,15 +137,18 @@ TriangleMesh read_stl_binary(std::string_view data, const std::string& name) {
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         throw ReadError(name, fmt::format("byte {}", at + 12 + 12 * c),
                         fmt::format("facet {} of {}: vertex {} is not finite", k, count, c));
+      if (const std::string problem = check_vertex(p, limit); !problem.empty())
+        throw ReadError(name, fmt::format("byte {}", at + 12 + 12 * c),
+                        fmt::format("facet {} of {}: vertex {}: {}", k, count, c, problem));
       t[c] = welder.add(p);
     }
-    mesh.triangles.push_back(t);
+    if (t.x != t.y && t.y != t.z && t.z != t.x) mesh.triangles.push_back(t);
   }
   return mesh;
 }
 
 /// ASCII STL: solid / facet normal / outer loop / vertex x y z (x3) / endloop / endfacet / endsolid.
-TriangleMesh read_stl_ascii(std::string_view text, const std::string& name) {
+TriangleMesh read_stl_ascii(std::string_view text, const std::string& name, double limit) {
   TriangleMesh mesh;
   Welder welder(mesh);
   Lines lines{text};
@@ -148,12 +172,13 @@ TriangleMesh read_stl_ascii(std::string_view text, const std::string& name) {
       if (w.size() != 4) fail(fmt::format("'vertex' needs 3 numbers, got {}", w.size() - 1));
       for (int c = 0; c < 3; ++c)
         if (!parse_number(w[size_t(c) + 1], p[c])) fail(fmt::format("'{}' is not a finite number", w[size_t(c) + 1]));
+      if (const std::string problem = check_vertex(p, limit); !problem.empty()) fail("vertex: " + problem);
       corners.push_back(welder.add(p));
     } else if (key == "endloop" && state == InLoop) {
       state = InFacet;
     } else if (key == "endfacet" && state == InFacet) {
       if (corners.size() < 3) fail(fmt::format("facet has {} vertices, expected 3", corners.size()));
-      add_fan(mesh, corners);
+      if (const std::string problem = add_fan(mesh, corners); !problem.empty()) fail(problem);
       state = InSolid;
     } else if (key == "endsolid" && state == InSolid) {
       state = Outside;
@@ -168,21 +193,21 @@ TriangleMesh read_stl_ascii(std::string_view text, const std::string& name) {
 
 /// Binary when the size matches the facet count at byte 80 or the file does not start with "solid"
 /// followed by text (binary headers may start with "solid" too).
-TriangleMesh read_stl(std::string_view data, const std::string& name) {
+TriangleMesh read_stl(std::string_view data, const std::string& name, double limit) {
   if (data.size() >= 84) {
     uint32_t count = 0;
     std::memcpy(&count, data.data() + 80, 4);
-    if (84 + 50 * uint64_t(count) == data.size()) return read_stl_binary(data, name);
+    if (84 + 50 * uint64_t(count) == data.size()) return read_stl_binary(data, name, limit);
   }
   size_t first = data.find_first_not_of(" \t\r\n");
   const bool solid = first != std::string_view::npos && data.substr(first, 5) == "solid";
   const std::string_view head = data.substr(0, 512);
   const bool text = std::none_of(head.begin(), head.end(), [](char c) { return c == '\0'; });
-  return solid && text ? read_stl_ascii(data, name) : read_stl_binary(data, name);
+  return solid && text ? read_stl_ascii(data, name, limit) : read_stl_binary(data, name, limit);
 }
 
 /// Wavefront OBJ: "v x y z [w]" and "f a b c ..." with a, a/t, a//n, a/t/n, negative = relative.
-TriangleMesh read_obj(std::string_view text, const std::string& name) {
+TriangleMesh read_obj(std::string_view text, const std::string& name, double limit) {
   TriangleMesh mesh;
   Lines lines{text};
   Tokens w;
@@ -196,6 +221,8 @@ TriangleMesh read_obj(std::string_view text, const std::string& name) {
       glm::dvec3 p;
       for (int c = 0; c < 3; ++c)
         if (!parse_number(w[size_t(c) + 1], p[c])) fail(fmt::format("'{}' is not a finite number", w[size_t(c) + 1]));
+      if (const std::string problem = check_vertex(p, limit); !problem.empty())
+        fail(fmt::format("vertex {}: {}", mesh.positions.size() + 1, problem));
       mesh.positions.push_back(p);
     } else if (w[0] == "f") {
       if (w.size() < 4) fail(fmt::format("face has {} vertices, expected at least 3", w.size() - 1));
@@ -209,7 +236,7 @@ TriangleMesh read_obj(std::string_view text, const std::string& name) {
         if (index < 0 || index >= n) fail(fmt::format("vertex index {} out of range ({} vertices so far)", i, n));
         corners.push_back(int(index));
       }
-      add_fan(mesh, corners);
+      if (const std::string problem = add_fan(mesh, corners); !problem.empty()) fail(problem);
     }
     // vn, vt, g, o, s, usemtl, mtllib, l, p, ...: not geometry we measure.
   }
@@ -309,7 +336,16 @@ struct PlyBody {
 };
 
 /// PLY header ("ply", format, element/property lines, end_header), then the elements in order.
-TriangleMesh read_ply(std::string_view data, const std::string& name) {
+/// Bytes one item of `e` takes at the least: binary, its scalars and list counts; ASCII, a character
+/// per property (the separators left uncounted, so that a short file is named where it ends).
+size_t ply_least_item_bytes(const PlyElement& e, bool binary) {
+  static constexpr size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};  // by PlyType
+  size_t bytes = 0;
+  for (const PlyProperty& p : e.properties) bytes += binary ? sizes[size_t(p.list ? p.count_type : p.type)] : 1;
+  return bytes;
+}
+
+TriangleMesh read_ply(std::string_view data, const std::string& name, double limit) {
   Lines lines{data};
   Tokens w;
   std::vector<PlyElement> elements;
@@ -362,6 +398,14 @@ TriangleMesh read_ply(std::string_view data, const std::string& name) {
     if (face && !have_vertices) throw ReadError(name, "header", "element 'face' comes before 'vertex'");
     have_vertices |= vertex;
     body.element = &e;
+    // The count is not trusted before the bytes behind it exist (an item without properties reads
+    // nothing: its count would only spin).
+    if (e.properties.empty()) continue;
+    const size_t least = ply_least_item_bytes(e, binary), left = data.size() - body.pos;
+    if (e.count > 0 && size_t(e.count) > left / least)
+      throw ReadError(name, binary ? fmt::format("byte {}", body.pos) : fmt::format("line {}", body.line),
+                      fmt::format("element '{}' has {} items of at least {} bytes, the file has {} bytes left (truncated)",
+                                  e.name, e.count, least, data.size() - body.pos));
     const long long nv = (long long)mesh.positions.size();
     for (body.item = 0; body.item < e.count; ++body.item) {
       glm::dvec3 p(0.0);
@@ -381,33 +425,36 @@ TriangleMesh read_ply(std::string_view data, const std::string& name) {
         if (n < 3) body.fail(fmt::format("has {} vertices, expected at least 3", n));
         corners.clear();
         for (long long i = 0; i < n; ++i) corners.push_back(int(body.index(prop.type, nv, "vertex index")));
-        add_fan(mesh, corners);
+        if (const std::string problem = add_fan(mesh, corners); !problem.empty()) body.fail(problem);
       }
       if (vertex && !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
         body.fail("coordinate is not finite");
+      if (const std::string problem = vertex ? check_vertex(p, limit) : ""; !problem.empty()) body.fail(problem);
       if (vertex) mesh.positions.push_back(p);
     }
   }
   return mesh;
 }
 
-}  // namespace
-
-TriangleMesh read_mesh(std::istream& in, MeshFormat format, const std::string& name) {
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw ReadError(name, "", "read failed");
+TriangleMesh read_mesh_data(std::string_view data, MeshFormat format, const std::string& name, double limit) {
   switch (format) {
     case MeshFormat::Stl:
-      return read_stl(data, name);
+      return read_stl(data, name, limit);
     case MeshFormat::Obj:
-      return read_obj(data, name);
+      return read_obj(data, name, limit);
     case MeshFormat::Ply:
-      return read_ply(data, name);
+      return read_ply(data, name, limit);
   }
   throw ReadError(name, "", "unknown mesh format");
 }
 
-TriangleMesh read_mesh_file(const std::filesystem::path& path) {
+}  // namespace
+
+TriangleMesh read_mesh(std::istream& in, MeshFormat format, const std::string& name, double coordinate_limit) {
+  return read_mesh_data(read_input_stream(in, name), format, name, coordinate_limit);
+}
+
+TriangleMesh read_mesh_file(const std::filesystem::path& path, double coordinate_limit) {
   const std::string name = path.string();
   if (!std::filesystem::exists(path)) throw ReadError(name, "", "no such file");
   MeshFormat format;
@@ -416,9 +463,7 @@ TriangleMesh read_mesh_file(const std::filesystem::path& path) {
   } catch (const std::invalid_argument&) {
     throw ReadError(name, "", "unknown mesh format '" + path.extension().string() + "' (use .obj, .ply or .stl)");
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReadError(name, "", "cannot open the file");
-  return read_mesh(in, format, name);
+  return read_mesh_data(read_input_file(path), format, name, coordinate_limit);
 }
 
 }  // namespace nurbs::io

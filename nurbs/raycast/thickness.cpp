@@ -163,8 +163,12 @@ ThicknessSamples thickness_samples(const Scene& scene, const ThicknessOptions& o
     const UvBox box = material_box(scene, f);
     FaceSamples s;
     s.face = f;
-    s.nu = std::clamp(static_cast<int>(std::ceil(e.length_u / options.spacing)), 1, options.max_grid);
-    s.nv = std::clamp(static_cast<int>(std::ceil(e.length_v / options.spacing)), 1, options.max_grid);
+    // Clamped as doubles: a tiny spacing makes the ratio too large for an int (or infinite).
+    const auto cells = [&](double length) {
+      return static_cast<int>(std::clamp(std::ceil(length / options.spacing), 1.0, double(options.max_grid)));
+    };
+    s.nu = cells(e.length_u);
+    s.nv = cells(e.length_v);
     const size_t n = static_cast<size_t>(s.nu) * static_cast<size_t>(s.nv);
     s.uv.resize(n);
     s.point.resize(n);

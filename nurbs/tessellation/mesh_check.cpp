@@ -207,7 +207,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
         const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
         if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
       }
-      if (!mesh.uv.empty() && !mesh.triangle_face.empty()) {
+      if (!mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0) {
         const glm::dvec2 uvs[7] = {mesh.uv[size_t(tri.x)],
                                    mesh.uv[size_t(tri.y)],
                                    mesh.uv[size_t(tri.z)],

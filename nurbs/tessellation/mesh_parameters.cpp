@@ -59,7 +59,9 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
       glm::dvec2 best(0.0);
       double best_score = INFINITY, d = 0;
       for (const glm::dvec3& q : {c, corner[0], corner[1], corner[2]}) {
-        const auto& [f, start] = where[size_t(bvh.closest(q).triangle)];
+        const int nearest = bvh.closest(q).triangle;
+        if (nearest < 0) continue;  // no sample within the search's reach (a point beyond 1e300)
+        const auto& [f, start] = where[size_t(nearest)];
         const Surface& s = faces[size_t(f)].surface;
         const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
         glm::dvec2 uv = foot(s, c, start, d);
@@ -74,6 +76,12 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
         const bool material = faces[size_t(f)].loops.empty() || is_material(trims[size_t(f)], uv);
         const double score = material ? d : d + 1e300;  // material feet first
         if (score < best_score) best_score = score, face = f, best = uv;
+      }
+      out.triangles[k] = glm::ivec3(int(3 * k), int(3 * k + 1), int(3 * k + 2));
+      out.triangle_face[k] = face;
+      if (face < 0) {  // no foot found: the corners as they are, without a face (measured from the grid)
+        for (int i = 0; i < 3; ++i) out.positions[3 * k + size_t(i)] = corner[i], out.vertex_face[3 * k + size_t(i)] = -1;
+        continue;
       }
       const Surface& s = faces[size_t(face)].surface;
       for (int i = 0; i < 3; ++i) {
@@ -91,8 +99,6 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
         if (lu <= 1e-9 * lv) uv[i].x = 0.5 * (a.x + b.x);
         if (lv <= 1e-9 * lu) uv[i].y = 0.5 * (a.y + b.y);
       }
-      out.triangles[k] = glm::ivec3(int(3 * k), int(3 * k + 1), int(3 * k + 2));
-      out.triangle_face[k] = face;
     }
   };
   std::vector<std::thread> pool;

@@ -19,7 +19,8 @@ namespace nurbs::tess {
 /// get their own three vertices (the check needs no topology). Without this, mesh samples start Newton
 /// only from the check's coarse grid, and across a seam or on a wavy surface that start lies on the
 /// wrong side: mesh_to_surface came out near the grid spacing. The feet only give measure_deviation
-/// more starting points, so its bound can only get tighter.
+/// more starting points, so its bound can only get tighter. A triangle for which no sample is within
+/// reach (coordinates near the double range) keeps its corners with face -1 and no (u, v).
 [[nodiscard]] TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, const TriangleMesh& in,
                                                 int grid = 64, int threads = 0);
 

@@ -21,6 +21,11 @@ namespace nurbs::tess {
 /// paper's approximate error, eps for the loops and eps for the surface (fewer triangles, no guarantee).
 enum class TessMode { Guaranteed, Approximate };
 
+/// Smallest eps relative to the model size that a tessellation is asked for: the triangle count grows
+/// as 1/eps on curved faces (the generated sphere: 0.12 million triangles at 1e-4, 1.05 million at
+/// 1e-5, 4.2 million and 1.4 GB at 1e-6), so a smaller eps asks for work that cannot fit.
+inline constexpr double kMinRelativeEps = 1e-6;
+
 struct TessellateOptions {
   double eps = 1e-3;  ///< absolute, model units
   TessMode mode = TessMode::Guaranteed;

@@ -101,6 +101,12 @@ const Case kCases[] = {
           l[d + 1].replace(73, 7, "      9");
           return std::vector<std::string>{at(d + 2), "sequence number D9 out of order, expected 3"};
         }),
+    raw("control bytes in a sequence number (escaped in the message)",
+        [](auto& l) {
+          int d = first_line(l, 'D');
+          l[d + 1].replace(73, 7, "  \x01\x1b[2J");
+          return std::vector<std::string>{at(d + 2), "bad sequence number '  \\x01\\x1b[2J' in columns 74-80"};
+        }),
     raw("unknown section letter",
         [](auto& l) {
           int d = first_line(l, 'D');

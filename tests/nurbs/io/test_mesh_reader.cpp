@@ -195,6 +195,63 @@ TEST_CASE("mesh reader: bad files name the file, where, and the problem") {
   }
 }
 
+TEST_CASE("mesh reader: coordinates beyond the limit name the vertex and the value") {
+  const auto error_with_limit = [](const std::string& text, MeshFormat f, const std::string& name) -> std::string {
+    std::istringstream in(text);
+    try {
+      (void)nurbs::io::read_mesh(in, f, name, 1e3);
+    } catch (const nurbs::io::ReadError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string beyond = "coordinate 1e+155 is beyond 1e+03, the range double arithmetic carries for this model";
+  CHECK(error_with_limit("v 0 0 0\nv 1e155 0 0\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj, "b.obj") ==
+        "b.obj: line 2: vertex 2: " + beyond);
+  CHECK(error_with_limit("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0 -1e155 0\n",
+                         MeshFormat::Stl, "b.stl") == "b.stl: line 5: vertex: coordinate -1e+155 is beyond 1e+03, "
+                                                     "the range double arithmetic carries for this model");
+  CHECK(error_with_limit("ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
+                         "property double z\nend_header\n0 0 0\n0 0 1e155\n",
+                         MeshFormat::Ply, "b.ply") == "b.ply: line 9: vertex 1 of 2: " + beyond);
+  TriangleMesh far = octahedron();
+  far.positions[4].z = 2e3;  // a float: binary STL
+  CHECK(error_with_limit(written(far, MeshFormat::Stl), MeshFormat::Stl, "b.stl") ==
+        "b.stl: byte 120: facet 0 of 8: vertex 2: coordinate 2000 is beyond 1e+03, the range double arithmetic "
+        "carries for this model");
+  CHECK(parse("v 0 0 0\nv 1e155 0 0\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj).positions[1].x == 1e155);  // no limit
+}
+
+TEST_CASE("mesh reader: counts are not trusted before their bytes; fans of many or repeated corners") {
+  // An element without properties and a count of 9e18 (it looped for ever): nothing to read.
+  const std::string header = "ply\nformat ascii 1.0\nelement junk 9000000000000000000\nend_header\n";
+  CHECK(parse(header, MeshFormat::Ply).triangles.empty());
+  // A count whose items cannot fit in the bytes left is truncation, said before reading them.
+  const std::string vertices = "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
+                               "property float y\nproperty float z\nend_header\n0123456789ab";
+  CHECK(error_of(vertices, MeshFormat::Ply, "b.ply") ==
+        "b.ply: byte 127: element 'vertex' has 1000000000000 items of at least 12 bytes, the file has 12 bytes left "
+        "(truncated)");
+  // A polygon of 150,000 corners: refused, naming its line.
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+  for (int k = 0; k < 50000; ++k) obj += " 1 2 3";
+  CHECK(error_of(obj + "\n", MeshFormat::Obj, "b.obj") == "b.obj: line 4: polygon has 150000 corners, more than 65536");
+  // Triangles that name a vertex twice have no area: left out (a face of one repeated vertex adds none).
+  const TriangleMesh m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1 1 1\nf 1 2 2 3\n", MeshFormat::Obj);
+  REQUIRE(m.triangles.size() == 1);
+  CHECK(m.triangles[0] == glm::ivec3(0, 1, 2));
+}
+
+TEST_CASE("mesh reader: a folder is named as one; control bytes from the file are escaped") {
+  const auto dir = std::filesystem::temp_directory_path() / "nurbsgl_test_mesh_reader_folder.stl";
+  std::filesystem::create_directories(dir);
+  CHECK_THROWS_WITH_AS(nurbs::io::read_mesh_file(dir), (dir.string() + ": is a directory, not a file").c_str(),
+                       nurbs::io::ReadError);
+  std::filesystem::remove_all(dir);
+  CHECK(error_of("v 0 \x01\x1b[2J 0\n", MeshFormat::Obj, "b.obj") ==
+        "b.obj: line 1: '\\x01\\x1b[2J' is not a finite number");
+}
+
 TEST_CASE("mesh reader: every prefix and random byte damage give a mesh or a ReadError, never a crash") {
   std::mt19937 random(9);  // fixed seed: the same damaged files every run
   for (const MeshFormat f : {MeshFormat::Obj, MeshFormat::Ply, MeshFormat::Stl}) {

@@ -12,6 +12,7 @@
 #include "nurbs/io/mesh_reader.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/tessellation/mesh_check.h"
+#include "nurbs/tessellation/mesh_parameters.h"
 #include "nurbs/tessellation/mesh_topology.h"
 #include "nurbs/tessellation/tessellate.h"
 #include "nurbs/tessellation/triangle_bvh.h"
@@ -83,6 +84,23 @@ TEST_CASE("mesh check: deviation of an exact mesh is 0; a moved vertex and a mis
   CHECK(missing.surface_to_mesh == doctest::Approx(std::sqrt(0.5)).epsilon(1e-9));
   CHECK(missing.mesh_to_surface < 1e-12);
   CHECK(missing.worst_face == 0);
+}
+
+TEST_CASE("mesh check: a triangle beyond every sample's reach gets no face and is still measured") {
+  // 1e155 squared overflows the BVH's search radius (1e300): no nearest sample. The triangle keeps its
+  // corners with face -1 (it had read the sample list at index -1), the other one gets face 0.
+  const std::vector<nurbs::TrimmedSurface> faces{unit_square()};
+  nurbs::TriangleMesh m = square_mesh();
+  m.positions.push_back({1e155, 0, 0});
+  m.triangles.push_back({0, 1, 4});
+  const nurbs::TriangleMesh with = nurbs::tess::with_face_parameters(faces, m, 8, 1);
+  REQUIRE(with.triangle_face.size() == 3);
+  CHECK(with.triangle_face[0] == 0);
+  CHECK(with.triangle_face[2] == -1);
+  CHECK(with.vertex_face[8] == -1);
+  CHECK(with.positions[8] == glm::dvec3(1e155, 0, 0));
+  const nurbs::tess::Deviation d = nurbs::tess::measure_deviation(faces, with, {8, 0.0, 1});
+  CHECK(d.mesh_to_surface > 1e154);  // the far corner's distance, not a crash
 }
 
 TEST_CASE("mesh check: per-face deviations; a triangle across a concave trim shows on its face alone") {
