@@ -13,18 +13,9 @@
 namespace nurbs::io {
 namespace {
 
-// Bytes of a file quoted in a message: printable ASCII as is, everything else as \xNN.
-std::string printable(std::string_view s, size_t max = 40) {
-  std::string out;
-  for (size_t i = 0; i < s.size() && i < max; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7f)
-      out += static_cast<char>(c);
-    else
-      out += fmt::format("\\x{:02x}", c);
-  }
-  if (s.size() > max) out += "...";
-  return out;
+// Bytes of a file quoted in a message: at most `max` of them, escaped as ReadError escapes.
+std::string quoted(std::string_view s, size_t max = 40) {
+  return printable(s.substr(0, max)) + (s.size() > max ? "..." : "");
 }
 
 class Scanner {
@@ -67,7 +58,7 @@ class Scanner {
 
   void expect(char c) {
     const char got = peek();
-    if (got != c) fail(fmt::format("expected '{}', found '{}'", c, printable(std::string_view(&s_[pos_], 1))));
+    if (got != c) fail(fmt::format("expected '{}', found '{}'", c, quoted(std::string_view(&s_[pos_], 1))));
     ++pos_;
   }
 
@@ -85,7 +76,7 @@ class Scanner {
     size_t b = pos_;
     if (s_[pos_] == '!') ++pos_;
     if (pos_ >= s_.size() || !std::isalpha(static_cast<unsigned char>(s_[pos_])))
-      fail(fmt::format("expected a keyword, found '{}'", printable(std::string_view(s_).substr(b, 20))));
+      fail(fmt::format("expected a keyword, found '{}'", quoted(std::string_view(s_).substr(b, 20))));
     while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_' || s_[pos_] == '-'))
       ++pos_;
     std::string k = s_.substr(b, pos_ - b);
@@ -101,7 +92,7 @@ class Scanner {
     long id = 0;
     const auto r = std::from_chars(s_.data() + b, s_.data() + pos_, id);
     if (b == pos_ || r.ec != std::errc() || r.ptr != s_.data() + pos_ || id <= 0)
-      fail(fmt::format("bad instance name '#{}'", printable(std::string_view(s_).substr(b, std::max<size_t>(pos_ - b, 1)))));
+      fail(fmt::format("bad instance name '#{}'", quoted(std::string_view(s_).substr(b, std::max<size_t>(pos_ - b, 1)))));
     return id;
   }
 
@@ -148,7 +139,7 @@ class Scanner {
       v.items.push_back(value(depth + 1));
       expect(')');
     } else {
-      fail(fmt::format("unexpected '{}' in a parameter list", printable(std::string_view(&s_[pos_], 1))));
+      fail(fmt::format("unexpected '{}' in a parameter list", quoted(std::string_view(&s_[pos_], 1))));
     }
     return v;
   }
@@ -208,7 +199,7 @@ class Scanner {
     double x = 0.0;
     const auto r = std::from_chars(first, s_.data() + pos_, x);
     if (pos_ == b || r.ec != std::errc() || r.ptr != s_.data() + pos_)
-      fail(fmt::format("bad number '{}'", printable(std::string_view(s_).substr(b, pos_ - b))));
+      fail(fmt::format("bad number '{}'", quoted(std::string_view(s_).substr(b, pos_ - b))));
     v.kind = real ? StepValue::Kind::Real : StepValue::Kind::Integer;
     v.number = x;
   }
@@ -244,7 +235,7 @@ void parse_data(Scanner& sc, StepFile& f) {
   while (true) {
     if (sc.peek() != '#') {
       const std::string k = sc.keyword();
-      if (k != "ENDSEC") sc.fail(fmt::format("expected an instance #N = ... or ENDSEC, found {}", printable(k)));
+      if (k != "ENDSEC") sc.fail(fmt::format("expected an instance #N = ... or ENDSEC, found {}", quoted(k)));
       sc.expect(';');
       return;
     }
@@ -325,7 +316,7 @@ StepFile parse_step_file(const std::string& text, const std::string& name) {
       parse_data(sc, f);
       data = true;
     } else {
-      sc.fail(fmt::format("unexpected section {}", printable(k)));
+      sc.fail(fmt::format("unexpected section {}", quoted(k)));
     }
   }
   if (!data) throw ReadError(name, "", "no DATA section");
