@@ -22,6 +22,7 @@
 
 #include "cli/commands.h"
 #include "cli/validators.h"
+#include "nurbs/io/query_text.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "queries/batch_cache.h"
@@ -45,35 +46,6 @@ struct Options {
   bool no_cache = false;              ///< the batched preparation neither read from nor written to disk
   std::string engine = "auto";        ///< where the batched descent runs (queries::BatchEngine)
 };
-
-/// "x,y,z" or "x y z" (commas or spaces) as a point within `limit` in every coordinate
-/// (nurbs::coordinate_limit of the model); `where` names the source in errors.
-glm::dvec3 parse_point(const std::string& text, const std::string& where, double limit) {
-  std::string spaced = text;
-  for (char& c : spaced)
-    if (c == ',') c = ' ';
-  std::istringstream in(spaced);
-  glm::dvec3 p;
-  std::string rest;
-  if (!(in >> p.x >> p.y >> p.z) || (in >> rest) || !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-    throw BadInput(fmt::format("{}: '{}' is not a point X,Y,Z of three finite numbers", where, text));
-  if (!nurbs::within_coordinate_limit(p, limit))
-    throw BadInput(fmt::format("{}: '{}' lies beyond {:.3g}, the coordinates double arithmetic carries for this model",
-                               where, text, limit));
-  return p;
-}
-
-std::vector<glm::dvec3> read_points(const std::string& file, double limit) {
-  std::istringstream in(read_input_text(file, "--points"));
-  std::vector<glm::dvec3> out;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    out.push_back(parse_point(line, fmt::format("{}: line {}", file, n), limit));
-  }
-  if (out.empty()) throw BadInput(fmt::format("--points {}: no points in the file", file));
-  return out;
-}
 
 /// The rule every answer is held to: found, and its bound within the requested tolerance T.
 bool meets(const queries::PointDistance& d, double tolerance) {
@@ -104,7 +76,8 @@ void run(const GlobalOptions& global, const Options& o) {
   const double size = checked_model_size(model, o.path);
   const double limit = nurbs::coordinate_limit(nurbs::model_box(model));
   const std::vector<glm::dvec3> points =
-      o.point.empty() ? read_points(o.points, limit) : std::vector{parse_point(o.point, "--point", limit)};
+      o.point.empty() ? nurbs::io::parse_points(read_input_text(o.points, "--points"), o.points, limit)
+                      : std::vector{nurbs::io::parse_point(o.point, "--point", limit)};
   const std::string unit = unit_name(model);  // of every distance printed
   const auto faces = nurbs::world_faces(model);
   auto gpu = start_gpu(global);

@@ -11,67 +11,20 @@
 #include <thread>
 
 #include "cli/validators.h"
+#include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
-// Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
-// files' anonymous namespaces would meet.
-namespace ray_engine_impl {
 
-std::vector<nurbs::ray::Ray> parse_rays(std::istream& in, const std::string& name, double limit) {
+std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinate_limit) {
   std::vector<nurbs::ray::Ray> rays;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::replace(line.begin(), line.end(), '\t', ' ');
-    const size_t first = line.find_first_not_of(" \r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double v[6];
-    int n = 0;
-    std::string word;
-    while (fields >> word) {
-      size_t used = 0;
-      double x = 0.0;
-      try {
-        x = std::stod(word, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != word.size() || !std::isfinite(x))
-        throw BadInput(fmt::format("{}: line {}: '{}' is not a finite number", name, number, word));
-      if (n == 6) throw BadInput(fmt::format("{}: line {}: more than 6 numbers (ox oy oz dx dy dz)", name, number));
-      v[n++] = x;
-    }
-    if (n != 6) throw BadInput(fmt::format("{}: line {}: {} numbers, expected 6 (ox oy oz dx dy dz)", name, number, n));
-    const glm::dvec3 origin(v[0], v[1], v[2]);
-    if (!nurbs::within_coordinate_limit(origin, limit))
-      throw BadInput(fmt::format("{}: line {}: the origin ({}, {}, {}) lies beyond {:.3g}, the coordinates double "
-                                 "arithmetic carries for this model",
-                                 name, number, v[0], v[1], v[2], limit));
-    // Scaled by its largest component first: a length of 1e200-sized components would overflow.
-    const double largest = std::max({std::abs(v[3]), std::abs(v[4]), std::abs(v[5])});
-    const glm::dvec3 d = largest > 0.0 ? glm::dvec3(v[3], v[4], v[5]) / largest : glm::dvec3(0.0);
-    const double len = glm::length(d);
-    if (!(len > 0.0) || !std::isfinite(len))
-      throw BadInput(
-          fmt::format("{}: line {}: the direction ({}, {}, {}) has no length", name, number, v[3], v[4], v[5]));
-    rays.push_back({origin, d / len});
-  }
-  if (rays.empty()) throw BadInput(fmt::format("--rays {}: no rays in the file", name));
+  for (const auto& r :
+       nurbs::io::parse_rays(read_input_text(path, "--rays"), path == "-" ? "stdin" : path, coordinate_limit))
+    rays.push_back({r.origin, r.direction});
   return rays;
 }
 
-}  // namespace ray_engine_impl
-
-std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinate_limit) {
-  using namespace ray_engine_impl;
-  std::istringstream in(read_input_text(path, "--rays"));
-  return parse_rays(in, path == "-" ? "stdin" : path, coordinate_limit);
-}
-
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
-  using namespace ray_engine_impl;
   cmd->add_option("--method", args.method,
                   "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
                   "ray tracing without a kept structure (§3.2)")
@@ -119,13 +72,11 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
 }
 
 RayEngine::~RayEngine() {
-  using namespace ray_engine_impl;
   caster_.reset();  // its textures before the context
   if (gpu_) report_profile(*gpu_, global_);
 }
 
 std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
-  using namespace ray_engine_impl;
   Progress progress(what, "rays");
   return caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
 }

@@ -18,9 +18,9 @@ namespace cli {
 
 /// Rays from a text file (or stdin for "-"): `ox oy oz dx dy dz` per line, separated by spaces,
 /// tabs or commas; blank lines and lines starting with '#' are skipped. Directions are normalised.
-/// Throws BadInput naming the file and line for a malformed line, a zero direction or an origin
-/// coordinate of magnitude above `coordinate_limit` (nurbs::coordinate_limit of the model), and
-/// naming the file when it cannot be read or holds no ray.
+/// Throws BadInput naming the file when it cannot be read, and nurbs::io::ReadError (query_text.h)
+/// naming the file and line for a malformed line, a zero direction or an origin coordinate of
+/// magnitude above `coordinate_limit` (nurbs::coordinate_limit of the model), or a file without rays.
 [[nodiscard]] std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinate_limit);
 
 struct RayEngineArgs {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the libFuzzer target fuzz_TARGET (iges, bpt, mesh or motion; fuzz/) for SECONDS under ASan +
+# Runs the libFuzzer target fuzz_TARGET (iges, bpt, mesh, motion or query_text; fuzz/) for SECONDS under ASan +
 # UBSan. Builds it with clang in build-fuzz/ (NURBSGL_FUZZ=ON, NURBSGL_CPU_ONLY=ON) when needed, seeds
 # its corpus from the project's own files (the generated models of build/models, tests/data, the
 # shared models, fuzz/regressions/TARGET), and writes what it finds (crash-*, timeout-*, slow-unit-*)
@@ -11,10 +11,15 @@ cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz.sh TARGET SECONDS}
 seconds=${2:?usage: scripts/fuzz.sh TARGET SECONDS}
 shift 2
-case $target in iges | bpt | mesh | motion) ;; *) echo "fuzz.sh: unknown target '$target' (iges, bpt, mesh, motion)" >&2; exit 2 ;; esac
+case $target in
+  iges | bpt | mesh | motion | query_text) ;;
+  *) echo "fuzz.sh: unknown target '$target' (iges, bpt, mesh, motion, query_text)" >&2; exit 2 ;;
+esac
 build=${NURBSGL_FUZZ_BUILD:-build-fuzz}
 if [ ! -f "$build/CMakeCache.txt" ]; then
   CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNURBSGL_FUZZ=ON -DNURBSGL_CPU_ONLY=ON >/dev/null
+else
+  cmake "$build" >/dev/null  # a target added since the last run
 fi
 cmake --build "$build" -j2 --target "fuzz_$target" >/dev/null
 
@@ -37,6 +42,7 @@ case $target in
       case ${f##*.} in stl) b='\x00' ;; obj) b='\x01' ;; *) b='\x02' ;; esac
       { printf "$b"; cat "$f"; } >"$corpus/seed_$k"; k=$((k + 1))
     done ;;
+  query_text) for f in $(small txt tests/data build/tests/cli); do cp "$f" "$corpus/"; done ;;
   motion) printf '5 0 0 0 0 1 0\n6,0,0,0,0,1,30\n# comment\n0 0 0 1 1 1 -720\n' >"$corpus/seed_motion" ;;
 esac
 "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "nurbs/io/input_file.h"
 #include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
@@ -126,11 +127,7 @@ Model read_bpt_text(const std::string& text, const std::string& name) {
 }
 
 Model read_bpt(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReadError(path.string(), "", "cannot open file");
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  return read_bpt_text(buf.str(), path.string());
+  return read_bpt_text(read_input_file(path), path.string());
 }
 
 }  // namespace nurbs::io

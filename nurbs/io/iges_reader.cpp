@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "nurbs/io/iges_faces.h"
+#include "nurbs/io/input_file.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/model_ops.h"
 
@@ -186,12 +187,7 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
 }
 
 Model read_iges(const std::filesystem::path& path, const IgesReadOptions& options, IgesReadLog* log) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReadError(path.string(), "", "cannot open file");
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw ReadError(path.string(), "", "read error");
-  return read_iges_text(std::move(buf).str(), path.string(), options, log);
+  return read_iges_text(read_input_file(path), path.string(), options, log);
 }
 
 }  // namespace nurbs::io

@@ -335,7 +335,6 @@ struct PlyBody {
   }
 };
 
-/// PLY header ("ply", format, element/property lines, end_header), then the elements in order.
 /// Bytes one item of `e` takes at the least: binary, its scalars and list counts; ASCII, a character
 /// per property (the separators left uncounted, so that a short file is named where it ends).
 size_t ply_least_item_bytes(const PlyElement& e, bool binary) {
@@ -345,6 +344,7 @@ size_t ply_least_item_bytes(const PlyElement& e, bool binary) {
   return bytes;
 }
 
+/// PLY header ("ply", format, element/property lines, end_header), then the elements in order.
 TriangleMesh read_ply(std::string_view data, const std::string& name, double limit) {
   Lines lines{data};
   Tokens w;
@@ -401,11 +401,11 @@ TriangleMesh read_ply(std::string_view data, const std::string& name, double lim
     // The count is not trusted before the bytes behind it exist (an item without properties reads
     // nothing: its count would only spin).
     if (e.properties.empty()) continue;
-    const size_t least = ply_least_item_bytes(e, binary), left = data.size() - body.pos;
+    const size_t least = ply_least_item_bytes(e, binary), left = data.size() - std::min(body.pos, data.size());
     if (e.count > 0 && size_t(e.count) > left / least)
       throw ReadError(name, binary ? fmt::format("byte {}", body.pos) : fmt::format("line {}", body.line),
                       fmt::format("element '{}' has {} items of at least {} bytes, the file has {} bytes left (truncated)",
-                                  e.name, e.count, least, data.size() - body.pos));
+                                  e.name, e.count, least, left));
     const long long nv = (long long)mesh.positions.size();
     for (body.item = 0; body.item < e.count; ++body.item) {
       glm::dvec3 p(0.0);

@@ -72,5 +72,5 @@ TEST_CASE("bpt: malformed files give their specific error") {
                     "t.bpt: line 20: data after the 1 patches announced on line 1");
   CHECK_THROWS_WITH(nurbs::io::read_bpt_text("2\n" + patch, "t.bpt"),
                     "t.bpt: line 19: patch 2 degrees: unexpected end of file");
-  CHECK_THROWS_WITH(nurbs::io::read_bpt("/nonexistent/t.bpt"), "/nonexistent/t.bpt: cannot open file");
+  CHECK_THROWS_WITH(nurbs::io::read_bpt("/nonexistent/t.bpt"), "/nonexistent/t.bpt: no such file");
 }

@@ -232,6 +232,11 @@ TEST_CASE("mesh reader: counts are not trusted before their bytes; fans of many 
   CHECK(error_of(vertices, MeshFormat::Ply, "b.ply") ==
         "b.ply: byte 127: element 'vertex' has 1000000000000 items of at least 12 bytes, the file has 12 bytes left "
         "(truncated)");
+  // A header whose last line has no newline: nothing left for the items (no wrapped byte count).
+  CHECK(error_of("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "end_header",
+                 MeshFormat::Ply, "b.ply") ==
+        "b.ply: line 8: element 'vertex' has 3 items of at least 3 bytes, the file has 0 bytes left (truncated)");
   // A polygon of 150,000 corners: refused, naming its line.
   std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
   for (int k = 0; k < 50000; ++k) obj += " 1 2 3";
