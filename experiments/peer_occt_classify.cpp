@@ -1,5 +1,5 @@
 // Trim classification vs OpenCASCADE (built only with -DNURBSGL_PEER_BENCH=ON, as
-// scripts/bench.sh does). For every IGES file under the shared models, each nurbsgl face is matched
+// scripts/bench.sh does). For every IGES and STEP file under the shared models, each nurbsgl face is matched
 // to the OCCT face nearest to a few of its material points (not by order), then an N x N grid of cell
 // centres over the face's whole (u, v) domain is classified twice:
 //  - nurbsgl: nurbs::flatten_trim + nurbs::is_material (the CPU twin of the trim texture,
@@ -69,7 +69,7 @@ struct OcctFace {
 
 std::vector<OcctFace> occt_faces(const fs::path& path) {
   double seconds = 0.0;
-  const TopoDS_Shape shape = peer::read_iges(path.string(), seconds);
+  const TopoDS_Shape shape = peer::read_shape(path.string(), seconds);
   std::vector<OcctFace> faces;
   for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
     OcctFace f;
@@ -206,7 +206,7 @@ void explain(const nurbs::TrimmedSurface& face, const nurbs::TrimPolygons& trim,
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"nurbsgl trim classification vs OpenCASCADE's BRepClass_FaceClassifier, per shared IGES model"};
+  CLI::App app{"nurbsgl trim classification vs OpenCASCADE's BRepClass_FaceClassifier, per shared IGES and STEP model"};
   std::string shared = std::string(NURBSGL_SHARED_DIR) + "/models", csv = "experiments/out/peer_occt_classify.csv";
   std::string only;
   int grid = 64, explain_max = 20;
@@ -223,7 +223,8 @@ int main(int argc, char** argv) {
   for (const auto& e : fs::recursive_directory_iterator(shared)) {
     std::string ext = e.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (e.is_regular_file() && (ext == ".igs" || ext == ".iges") && e.path().string().find(only) != std::string::npos)
+    if (e.is_regular_file() && (ext == ".igs" || ext == ".iges" || ext == ".stp" || ext == ".step") &&
+        e.path().string().find(only) != std::string::npos)
       files.push_back(e.path());
   }
   std::sort(files.begin(), files.end());
