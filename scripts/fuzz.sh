@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the libFuzzer target fuzz_TARGET (iges, bpt, mesh, motion or query_text; fuzz/) for SECONDS under ASan +
+# Runs the libFuzzer target fuzz_TARGET (iges, step, bpt, mesh, motion or query_text; fuzz/) for SECONDS under ASan +
 # UBSan. Builds it with clang in build-fuzz/ (NURBSGL_FUZZ=ON, NURBSGL_CPU_ONLY=ON) when needed, seeds
 # its corpus from the project's own files (the generated models of build/models, tests/data, the
 # shared models, fuzz/regressions/TARGET), and writes what it finds (crash-*, timeout-*, slow-unit-*)
@@ -12,8 +12,8 @@ target=${1:?usage: scripts/fuzz.sh TARGET SECONDS}
 seconds=${2:?usage: scripts/fuzz.sh TARGET SECONDS}
 shift 2
 case $target in
-  iges | bpt | mesh | motion | query_text) ;;
-  *) echo "fuzz.sh: unknown target '$target' (iges, bpt, mesh, motion, query_text)" >&2; exit 2 ;;
+  iges | step | bpt | mesh | motion | query_text) ;;
+  *) echo "fuzz.sh: unknown target '$target' (iges, step, bpt, mesh, motion, query_text)" >&2; exit 2 ;;
 esac
 build=${NURBSGL_FUZZ_BUILD:-build-fuzz}
 if [ ! -f "$build/CMakeCache.txt" ]; then
@@ -34,6 +34,8 @@ small() {
 shared=${NURBSGL_SHARED_DIR:-../shared}/models
 case $target in
   iges) for f in $(small 'igs|iges' build/models tests/data "$shared/iges" "$shared/generated"); do
+          cp "$f" "$corpus/"; done ;;
+  step) for f in $(small 'stp|step' tests/data "$shared/step" "$shared/generated" "$shared/assembly"); do
           cp "$f" "$corpus/"; done ;;
   bpt) for f in $(small bpt "$shared/teapot"); do cp "$f" "$corpus/"; done ;;
   mesh) # the first byte picks the format: 0 STL, 1 OBJ, 2 PLY
