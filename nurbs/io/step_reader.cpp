@@ -80,6 +80,19 @@ struct Analytic {
   Curve3 curve;           // revolution: profile; extrusion: directrix
   Curve3 flat;            // extrusion: the directrix projected along dir
   double accept = 0.0;    // a curve point this near a point of the surface is its parameter
+  bool line = false;      // the curve is a LINE: unbounded, its parameter in closed form
+
+  // The swept curve's point at t (a LINE's beyond its unit segment too).
+  [[nodiscard]] glm::dvec3 curve_at(double t) const {
+    return line ? curve.points[0] + t * (curve.points[1] - curve.points[0]) : curve_point(curve, t);
+  }
+
+  // The parameter of the foot of p on the line through the segment c (LINE: point + t vector).
+  static double line_t(const Curve3& c, glm::dvec3 p) {
+    const glm::dvec3 d = c.points[1] - c.points[0];
+    const double dd = glm::dot(d, d);
+    return dd > 0 ? glm::dot(p - c.points[0], d) / dd : 0.0;
+  }
   double phi0 = 0.0;      // revolution: angle of the profile about the axis
   glm::dvec3 dir{0.0};    // extrusion: unit direction
   Interval t_range{0, 1};
@@ -97,11 +110,11 @@ struct Analytic {
       case Sphere: return f.o + r * std::cos(uv.y) * (cu * f.x + su * f.y) + r * std::sin(uv.y) * f.z;
       case Torus: return f.o + (r + r2 * std::cos(uv.y)) * (cu * f.x + su * f.y) + r2 * std::sin(uv.y) * f.z;
       case Revolution: {
-        const glm::dvec3 d = curve_point(curve, uv.y) - f.o;
+        const glm::dvec3 d = curve_at(uv.y) - f.o;
         const glm::dvec3 along = glm::dot(d, f.z) * f.z, rr = d - along;
         return f.o + along + cu * rr + su * glm::cross(f.z, rr);
       }
-      case Extrusion: return curve_point(curve, uv.x) + uv.y * dir;
+      case Extrusion: return curve_at(uv.x) + uv.y * dir;
     }
     return {};
   }
@@ -149,9 +162,10 @@ struct Analytic {
       case Plane: return {x, y};
       case Extrusion: {
         // The directrix point whose line along dir passes nearest p: nearest in the plane normal to dir.
-        const double t = nearest_t(flat, p - glm::dot(p, dir) * dir, t_range, prev ? std::optional(prev->x) : std::nullopt,
-                                   accept);
-        return {t, glm::dot(p - curve_point(curve, t), dir)};
+        const double t = line ? line_t(flat, p - glm::dot(p, dir) * dir)
+                              : nearest_t(flat, p - glm::dot(p, dir) * dir, t_range,
+                                          prev ? std::optional(prev->x) : std::nullopt, accept);
+        return {t, glm::dot(p - curve_at(t), dir)};
       }
       case Cylinder:
       case Cone: uv = {std::atan2(y, x), z}; break;
@@ -162,7 +176,8 @@ struct Analytic {
         // Turn p back by u into the profile's half-plane, then the nearest profile point.
         const glm::dvec3 along = z * f.z, rr = d - along;
         const glm::dvec3 back = f.o + along + std::cos(-u) * rr + std::sin(-u) * glm::cross(f.z, rr);
-        uv = {u, nearest_t(curve, back, t_range, prev ? std::optional(prev->y) : std::nullopt, accept)};
+        uv = {u, line ? line_t(curve, back)
+                      : nearest_t(curve, back, t_range, prev ? std::optional(prev->y) : std::nullopt, accept)};
         break;
       }
     }
@@ -175,7 +190,8 @@ struct Analytic {
   }
 
   // The curve on [a, b] within its domain (the same parameters).
-  static Curve3 part(const Curve3& c, double a, double b) {
+  Curve3 part(const Curve3& c, double a, double b) const {
+    if (line) return segment(c.points[0] + a * (c.points[1] - c.points[0]), c.points[0] + b * (c.points[1] - c.points[0]), a, b);
     const Interval d = curve_domain(c);
     a = std::max(a, d.min), b = std::min(b, d.max);
     return a <= d.min && b >= d.max ? c : restrict_curve(c, a, b);
@@ -844,7 +860,9 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   }
   if (const StepRecord* r = e.record("SURFACE_OF_REVOLUTION")) {
     a.type = Analytic::Revolution;
-    a.curve = curve(ref(e, *r, 1, "swept curve"), e, 0).nurbs;
+    const CurveGeom swept = curve(ref(e, *r, 1, "swept curve"), e, 0);
+    a.curve = swept.nurbs;
+    a.line = swept.type == CurveGeom::Line;
     const StepEntity& ax = entity(ref(e, *r, 2, "axis position"), e);
     const StepRecord& ar = record(ax, "AXIS1_PLACEMENT");
     a.f.o = point(ref(ax, ar, 1, "location"), ax);
@@ -865,7 +883,9 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   }
   if (const StepRecord* r = e.record("SURFACE_OF_LINEAR_EXTRUSION")) {
     a.type = Analytic::Extrusion;
-    a.curve = curve(ref(e, *r, 1, "swept curve"), e, 0).nurbs;
+    const CurveGeom swept = curve(ref(e, *r, 1, "swept curve"), e, 0);
+    a.curve = swept.nurbs;
+    a.line = swept.type == CurveGeom::Line;
     const StepEntity& vec = entity(ref(e, *r, 2, "extrusion axis"), e);
     a.dir = direction(ref(vec, record(vec, "VECTOR"), 1, "orientation"), vec);
     a.t_range = curve_domain(a.curve);

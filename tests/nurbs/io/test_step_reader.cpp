@@ -205,6 +205,25 @@ TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn
   CHECK(uses.size() == 3);
 }
 
+TEST_CASE("STEP reader: a plane given as a LINE extruded, its edges beyond the line's unit vector") {
+  // The square of side 2 on z = 1 again, on the line through (0, 0, 1) along x (vector of length 1)
+  // swept along y: its edges reach the line's parameter 2.
+  std::string text = square_face(kMillimetre);
+  text.replace(text.find("#5=PLANE('',#4);"), 16,
+               "#5=SURFACE_OF_LINEAR_EXTRUSION('',#6,#8);\n#6=LINE('',#1,#7);\n#7=VECTOR('',#3,1.);\n"
+               "#8=VECTOR('',#9,1.);\n#9=DIRECTION('',(0.,1.,0.));");
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_step_text(text, "extruded.stp", &log);
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(log.trim_problems.empty());
+  // The patch is the square's box grown by 1 % each way, as for a PLANE.
+  CHECK(material_share(f) == doctest::Approx(1.0 / (1.02 * 1.02)).epsilon(0.01));
+  const nurbs::Box box = nurbs::sampled_box(f.surface);
+  CHECK(box.min.x == doctest::Approx(-0.02));
+  CHECK(box.max.x == doctest::Approx(2.02));
+  CHECK(box.max.z == doctest::Approx(1.0));
+}
+
 TEST_CASE("STEP reader: bad references, cycles and unsupported geometry are named") {
   auto message = [](const std::string& text) {
     try {
