@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -189,6 +190,10 @@ void run(const GlobalOptions& global, const Options& o) {
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   const double query_s = std::chrono::duration<double>(t2 - t1).count();
   const double tolerance = o.rel_tolerance * size;
+  // An answer is a distance only with a face and finite figures: anything else is reported as not
+  // found (exit 1), never printed as a distance.
+  for (auto& r : results)
+    if (r.found && (r.face < 0 || !std::isfinite(r.distance) || !std::isfinite(r.bound))) r.found = false;
   size_t not_found = 0, over = 0;
   for (const auto& r : results) not_found += !r.found, over += r.found && !meets(r, tolerance);
   if (o.json) {
