@@ -16,10 +16,13 @@ namespace peer {
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// The same with OCCT's STEP reader.
-inline TopoDS_Shape read_step(const std::string& path, double& seconds) {
+/// The file's shape read by OCCT's `Reader` (IGESControl_Reader, STEPControl_Reader), every root
+/// transferred; `seconds` gets the time of reading and transfer. Throws std::runtime_error naming
+/// the file when OCCT cannot read it or transfers nothing.
+template <class Reader>
+TopoDS_Shape read_with(const std::string& path, double& seconds) {
   const auto t0 = Clock::now();
-  STEPControl_Reader reader;
+  Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
   reader.TransferRoots();
   TopoDS_Shape shape = reader.OneShape();
@@ -28,17 +31,12 @@ inline TopoDS_Shape read_step(const std::string& path, double& seconds) {
   return shape;
 }
 
-/// The file's shape, every root transferred; `seconds` gets the time of reading and transfer.
-/// Throws std::runtime_error naming the file when OCCT cannot read it or transfers nothing.
 inline TopoDS_Shape read_iges(const std::string& path, double& seconds) {
-  const auto t0 = Clock::now();
-  IGESControl_Reader reader;
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
-  reader.TransferRoots();
-  TopoDS_Shape shape = reader.OneShape();
-  seconds = seconds_since(t0);
-  if (shape.IsNull()) throw std::runtime_error(path + ": OCCT transferred no shape");
-  return shape;
+  return read_with<IGESControl_Reader>(path, seconds);
+}
+
+inline TopoDS_Shape read_step(const std::string& path, double& seconds) {
+  return read_with<STEPControl_Reader>(path, seconds);
 }
 
 /// read_step for .stp / .step (any case), else read_iges.

@@ -1,5 +1,5 @@
-// OpenCASCADE peer of the STEP reader (experiments/step_models.py): OCCT's own STEP reader only, so
-// the peer stays independent of nurbsgl; prints JSON, asserts nothing.
+// OpenCASCADE peer of the STEP reader (experiments/step_models.py): OCCT's own STEP reader only
+// (peer_occt_read.h), so the peer stays independent of nurbsgl; prints JSON, asserts nothing.
 //  read FILE [--repeat N]: STEPControl_Reader read + transfer of every root (the fastest of N runs),
 //      faces, solids, shells, total face area (BRepGProp) and the bounding box (BRepBndLib::AddOptimal).
 //  clearance FILE --a X,Y,Z --b X,Y,Z: the solids (or shells) of the file nearest the points a and b
@@ -16,7 +16,6 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
-#include <STEPControl_Reader.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Shape.hxx>
@@ -28,20 +27,12 @@
 #include <string>
 #include <vector>
 
+#include "peer_occt_read.h"
+
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-TopoDS_Shape read_step(const std::string& path, double& seconds) {
-  const auto t0 = Clock::now();
-  STEPControl_Reader reader;
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw std::runtime_error(path + ": OCCT cannot read it");
-  reader.TransferRoots();
-  TopoDS_Shape shape = reader.OneShape();
-  seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (shape.IsNull()) throw std::runtime_error(path + ": OCCT transferred no shape");
-  return shape;
-}
+using peer::Clock;
+using peer::read_step;
 
 int count(const TopoDS_Shape& s, TopAbs_ShapeEnum type) {
   int n = 0;
