@@ -147,7 +147,7 @@ void run(const GlobalOptions& global, const Options& o) {
                         // query reads the batch's atlases and pyramid, never changes them)
           cache_write = std::async(std::launch::async, [&b = *batch, file, key] {
             const auto c0 = std::chrono::steady_clock::now();
-            std::string why = queries::save_batch_state(file, key, b.export_state());
+            std::string why = queries::save_batch_state(file, key, b.state_view());
             return std::pair{why, std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count()};
           });
       }

@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
   print_machine(gpu);
   auto size = [](nurbs::Surface s) {
     nurbs::Model m;
-    m.bodies.push_back({"", face(std::move(s)), glm::dmat4(1.0)});
+    m.bodies.push_back({"", face(std::move(s)), glm::dmat4(1.0), ""});
     return nurbs::model_size(m);
   };
   const double tolerance = rel * std::max(size(models::wavy_surface_199x33()), size(models::wavy_surface_100x105()));

@@ -9,7 +9,6 @@ uniform sampler2D u_slots;    // RGBA32F array, 4 records per slot (queries/face
 uniform sampler2D u_basis;    // RGBA32F array: (N, dN/dt, span, 0), u tables then v tables per slot
 uniform sampler2D u_ctrl;     // RGBA32F array: homogeneous control points of every slot
 layout(location = 0) out vec4 o_point;
-layout(location = 1) out vec4 o_normal;
 
 vec4 record(int slot, int k) {
   return texelFetch(u_slots, pow2_texel(4 * slot + k, textureSize(u_slots, 0).x), 0);
@@ -21,7 +20,6 @@ void main() {
   int slot = int(texelFetch(u_slot_of, g, 0).r);
   if (slot < 0) {
     o_point = vec4(0.0);
-    o_normal = vec4(0.0);
     return;
   }
   vec4 r0 = record(slot, 0), r1 = record(slot, 1), r2 = record(slot, 2), r3 = record(slot, 3);
@@ -30,25 +28,15 @@ void main() {
   int p = int(r1.z), q = int(r1.w), W = int(r2.w), H = int(r3.x);
   int su = int(array_at(u_basis, base_u + i).z);
   int sv = int(array_at(u_basis, base_v + j).z);
-  vec4 S = vec4(0.0), Su = vec4(0.0), Sv = vec4(0.0);
+  vec4 S = vec4(0.0);
   for (int b = 0; b <= q; ++b) {
-    vec2 nv = array_at(u_basis, base_v + b * H + j).xy;
-    vec4 row = vec4(0.0), row_du = vec4(0.0);
+    float nv = array_at(u_basis, base_v + b * H + j).x;
+    vec4 row = vec4(0.0);
     for (int a = 0; a <= p; ++a) {
-      vec2 nu = array_at(u_basis, base_u + a * W + i).xy;
-      vec4 pw = array_at(u_ctrl, ctrl + (sv - q + b) * count_u + su - p + a);
-      row += nu.x * pw;
-      row_du += nu.y * pw;
+      float nu = array_at(u_basis, base_u + a * W + i).x;
+      row += nu * array_at(u_ctrl, ctrl + (sv - q + b) * count_u + su - p + a);
     }
-    S += nv.x * row;
-    Su += nv.x * row_du;
-    Sv += nv.y * row;
+    S += nv * row;
   }
-  vec3 P = S.xyz / S.w;
-  vec3 du = (Su.xyz - Su.w * P) / S.w;
-  vec3 dv = (Sv.xyz - Sv.w * P) / S.w;
-  vec3 n = cross(du, dv);
-  float len = length(n);
-  o_point = vec4(P + r2.xyz, S.w);
-  o_normal = vec4(len > 0.0 ? n / len : vec3(0.0), 0.0);
+  o_point = vec4(S.xyz / S.w + r2.xyz, S.w);
 }

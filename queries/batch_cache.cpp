@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <span>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
@@ -40,8 +41,12 @@ class Writer {
     out_.write(reinterpret_cast<const char*>(&v), sizeof v);
   }
   template <class T>
-  void array(const std::vector<T>& v) {
+  void array(std::span<const T> v) {
     value(uint64_t(v.size()));
+    values(v);
+  }
+  template <class T>
+  void values(std::span<const T> v) {
     out_.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(T)));
   }
 
@@ -105,14 +110,17 @@ void trim_directory(const std::filesystem::path& dir, std::uintmax_t max_bytes) 
 /// The per-texel arrays of an atlas (components per texel) and their values outside every slot.
 struct TexelArray {
   std::vector<float> PointBatchState::Atlas::*member;
+  std::span<const float> PointBatchStateView::Atlas::*view;
   size_t components;
   float outside;
 };
-constexpr TexelArray kTexelArrays[] = {{&PointBatchState::Atlas::samples, 4, 0.0f},
-                                       {&PointBatchState::Atlas::slot_of, 1, -1.0f},
-                                       {&PointBatchState::Atlas::mask, 1, 0.0f},
-                                       {&PointBatchState::Atlas::crossed, 1, 0.0f},
-                                       {&PointBatchState::Atlas::trim_cell, 1, 0.0f}};
+using S = PointBatchState::Atlas;
+using V = PointBatchStateView::Atlas;
+constexpr TexelArray kTexelArrays[] = {{&S::samples, &V::samples, 4, 0.0f},
+                                       {&S::slot_of, &V::slot_of, 1, -1.0f},
+                                       {&S::mask, &V::mask, 1, 0.0f},
+                                       {&S::crossed, &V::crossed, 1, 0.0f},
+                                       {&S::trim_cell, &V::trim_cell, 1, 0.0f}};
 
 /// Calls f(texel) for every texel inside a slot, slot by slot, row by row.
 template <class F>
@@ -124,12 +132,12 @@ void for_slot_texels(const AtlasPlan& plan, F&& f) {
 
 /// Whether every texel outside the slots holds the arrays' outside values (what the atlas
 /// evaluation and the trim fill leave there): then only the slots' texels are stored.
-bool padding_is_empty(const PointBatchState::Atlas& at) {
-  const size_t texels = size_t(at.plan.width) * size_t(at.plan.height);
+bool padding_is_empty(const PointBatchStateView::Atlas& at) {
+  const size_t texels = size_t(at.plan->width) * size_t(at.plan->height);
   std::vector<char> inside(texels, 0);
-  for_slot_texels(at.plan, [&](size_t t) { inside[t] = 1; });
+  for_slot_texels(*at.plan, [&](size_t t) { inside[t] = 1; });
   for (const TexelArray& a : kTexelArrays) {
-    const std::vector<float>& v = at.*a.member;
+    const std::span<const float> v = at.*a.view;
     if (v.size() != texels * a.components) return false;
     for (size_t t = 0; t < texels; ++t)
       if (!inside[t])
@@ -243,8 +251,8 @@ std::optional<PointBatchState> load_batch_state(const std::filesystem::path& fil
   return s;
 }
 
-std::string save_batch_state(const std::filesystem::path& file, const std::string& key, const PointBatchState& state,
-                             std::uintmax_t max_bytes) {
+std::string save_batch_state(const std::filesystem::path& file, const std::string& key,
+                             const PointBatchStateView& state, std::uintmax_t max_bytes) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(file.parent_path(), ec);
@@ -256,29 +264,32 @@ std::string save_batch_state(const std::filesystem::path& file, const std::strin
     Writer w(out);
     for (char c : kMagic) w.value(c);
     w.value(kFormat);
-    w.array(std::vector<char>(key.begin(), key.end()));
+    w.array(std::span<const char>(key));
     w.value(uint64_t(state.atlases.size()));
-    for (const PointBatchState::Atlas& at : state.atlases) {
-      w.value(at.plan.width), w.value(at.plan.height), w.value(uint64_t(at.plan.slots.size()));
-      for (const AtlasSlot& sl : at.plan.slots) w.value(sl.face), w.value(sl.x), w.value(sl.y), w.value(sl.width), w.value(sl.height);
+    for (const PointBatchStateView::Atlas& at : state.atlases) {
+      const AtlasPlan& plan = *at.plan;
+      w.value(plan.width), w.value(plan.height), w.value(uint64_t(plan.slots.size()));
+      for (const AtlasSlot& sl : plan.slots) w.value(sl.face), w.value(sl.x), w.value(sl.y), w.value(sl.width), w.value(sl.height);
       w.value(at.w0), w.value(at.h0), w.value(at.levels);
       const bool sparse = padding_is_empty(at);
       w.value(uint8_t(sparse));
+      long long inside = 0;
+      for (const AtlasSlot& sl : plan.slots) inside += static_cast<long long>(sl.width) * sl.height;
       for (const TexelArray& a : kTexelArrays) {
-        const std::vector<float>& v = at.*a.member;
+        const std::span<const float> v = at.*a.view;
         if (!sparse) {
           w.array(v);
           continue;
         }
-        std::vector<float> compact;
-        for_slot_texels(at.plan, [&](size_t t) {
-          compact.insert(compact.end(), v.begin() + ptrdiff_t(t * a.components),
-                         v.begin() + ptrdiff_t((t + 1) * a.components));
-        });
-        w.array(compact);
+        // The slots' texels, row by row straight from the arrays (as for_slot_texels visits them).
+        w.value(uint64_t(inside) * a.components);
+        for (const AtlasSlot& sl : plan.slots)
+          for (int j = 0; j < sl.height; ++j)
+            w.values(v.subspan((size_t(sl.y + j) * size_t(plan.width) + size_t(sl.x)) * a.components,
+                               size_t(sl.width) * a.components));
       }
-      for (const std::vector<float>* v : {&at.trim_head, &at.trim_segs}) w.array(*v);
-      for (const PointBatchState::Level& level : at.obb) {
+      for (const std::span<const float> v : {at.trim_head, at.trim_segs}) w.array(v);
+      for (const PointBatchStateView::Level& level : at.obb) {
         w.array(level.texels);
         for (const auto& b : level.boxes) w.array(b);
       }

@@ -44,8 +44,12 @@ inline constexpr std::uintmax_t kBatchCacheBytes = std::uintmax_t(2) << 30;
 
 /// Writes `state` under `key` to `file` (creating its folder), then removes the folder's oldest
 /// cache files beyond `max_bytes`. Returns an empty string, or why the file could not be written.
-std::string save_batch_state(const std::filesystem::path& file, const std::string& key, const PointBatchState& state,
-                             std::uintmax_t max_bytes = kBatchCacheBytes);
+std::string save_batch_state(const std::filesystem::path& file, const std::string& key,
+                             const PointBatchStateView& state, std::uintmax_t max_bytes = kBatchCacheBytes);
+inline std::string save_batch_state(const std::filesystem::path& file, const std::string& key,
+                                    const PointBatchState& state, std::uintmax_t max_bytes = kBatchCacheBytes) {
+  return save_batch_state(file, key, view(state), max_bytes);
+}
 
 /// Whether `state`'s atlas plans are those prepare_atlases would make for `m`'s grids: every slot
 /// of a face's grid size, every face once.

@@ -349,9 +349,9 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   // it here, beside those threads.
   using F = gpgpu::Format;
   gpgpu::Texture slot_of(3, 3, F::R32F), slots(1, 1, F::RGBA32F), basis(1, 1, F::RGBA32F), ctrl(1, 1, F::RGBA32F);
-  gpgpu::Texture points(1, 1, F::RGBA32F), normals(1, 1, F::RGBA32F);
+  gpgpu::Texture points(1, 1, F::RGBA32F);
   const gpgpu::Input in[] = {{"u_slot_of", &slot_of}, {"u_slots", &slots}, {"u_basis", &basis}, {"u_ctrl", &ctrl}};
-  gpgpu::Texture* out[] = {&points, &normals};
+  gpgpu::Texture* out[] = {&points};
   gpu.run("surface_eval_atlas_first_draw", atlas_program(gpu), in, out);
   if (trimmed) gpgpu::compile_polygon_fill(gpu);  // trim masks
   const bool samples = use_samples(limits, search == Search::CoarseToFine);

@@ -202,16 +202,14 @@ FaceAtlas evaluate_atlas(gpgpu::Gpu& gpu, const AtlasPlan& plan, const std::vect
   const auto basis_tex = gpgpu::upload_array_pow2(basis, gpgpu::Format::RGBA32F, max_size, 0.0f);
   const auto ctrl_tex = gpgpu::upload_array_pow2(ctrl, gpgpu::Format::RGBA32F, max_size, 0.0f);
   a.points = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
-  a.normals = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::RGBA32F);
   gpgpu::Program& p = atlas_program(gpu);
   const gpgpu::Input inputs[] = {{"u_slot_of", &slot_tex},
                                  {"u_slots", &rec_tex.texture},
                                  {"u_basis", &basis_tex.texture},
                                  {"u_ctrl", &ctrl_tex.texture}};
-  gpgpu::Texture* outputs[] = {&a.points, &a.normals};
+  gpgpu::Texture* outputs[] = {&a.points};
   gpu.run("surface_eval_atlas", p, inputs, outputs);
   gpu.dump("atlas_surface_points", a.points);
-  gpu.dump("atlas_surface_normals", a.normals);
 
   a.mask = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R8);
   if (std::none_of(plan.slots.begin(), plan.slots.end(),

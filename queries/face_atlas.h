@@ -42,11 +42,13 @@ inline constexpr int kSlotAlign = 16;
 std::vector<AtlasPlan> plan_atlases(const std::vector<std::pair<int, int>>& sizes, int side, long long max_samples,
                                     std::vector<int>& unpacked, int align = kSlotAlign);
 
-/// An evaluated atlas: points (x, y, z, w) and unit normals of every slot, RGBA32F, zero outside
-/// the slots; and the trim mask (R8, 1 = material) on the same texels.
+/// An evaluated atlas: the points (x, y, z, w) of every slot, RGBA32F, zero outside the slots; and
+/// the trim mask (R8, 1 = material) on the same texels. The boxes need the points alone (the
+/// paper's four neighbours and K), so no normals are evaluated: a texture and the derivative sums
+/// less.
 struct FaceAtlas {
   AtlasPlan plan;
-  gpgpu::Texture points, normals, mask;
+  gpgpu::Texture points, mask;
   gpgpu::Texture slot_of;  ///< R32F: the slot index of each texel, -1 outside the slots
 };
 

@@ -355,9 +355,13 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   std::vector<PointDistance> out(points.size());
   const size_t threads = share_count(points.size(), on_gpu ? 128 : 16);
   std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0);
+  // The points along a Morton curve, as the GPU pass lays them out: neighbours walk the same boxes
+  // and cells, which then stay in the caches (in input order each point fetches its own).
+  const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
   for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
     std::vector<BatchCell> best(atlases_.size());
-    for (size_t i = begin; i < end; ++i) {
+    for (size_t k = begin; k < end; ++k) {
+      const size_t i = order[k];
       const double wanted = within.empty() ? 0.0 : within[i];
       if (on_gpu) {
         bool was_cut = false;
@@ -431,20 +435,52 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState 
   }
 }
 
-PointBatchState PointBatch::export_state() const {
-  if (boxes_ != PointBoxes::Oriented) throw std::logic_error("PointBatch::export_state: oriented boxes only");
-  PointBatchState s;
+PointBatchStateView PointBatch::state_view() const {
+  if (boxes_ != PointBoxes::Oriented) throw std::logic_error("PointBatch::state_view: oriented boxes only");
+  PointBatchStateView s;
   for (size_t a = 0; a < atlases_.size(); ++a) {
     const Atlas& at = atlases_[a];
-    PointBatchState::Atlas& sa = s.atlases.emplace_back();
-    sa.plan = m_.atlases[a].plan;
+    PointBatchStateView::Atlas& sa = s.atlases.emplace_back();
+    sa.plan = &m_.atlases[a].plan;
     sa.w0 = at.w0, sa.h0 = at.h0, sa.levels = at.levels;
     sa.samples = at.samples, sa.slot_of = at.slot_of, sa.mask = at.mask, sa.crossed = at.crossed;
     sa.trim_cell = at.trim_cell, sa.trim_head = at.trim_head, sa.trim_segs = at.trim_segs;
     for (int l = 0; l < at.levels; ++l) {
       const Atlas::ObbLevel& level = at.cpu_obb[size_t(l)];
-      sa.obb.push_back({level.texels, level.boxes});
+      sa.obb.push_back({level.texels, {level.boxes[0], level.boxes[1], level.boxes[2]}});
     }
+  }
+  return s;
+}
+
+PointBatchStateView view(const PointBatchState& state) {
+  PointBatchStateView s;
+  for (const PointBatchState::Atlas& at : state.atlases) {
+    PointBatchStateView::Atlas& sa = s.atlases.emplace_back();
+    sa.plan = &at.plan;
+    sa.w0 = at.w0, sa.h0 = at.h0, sa.levels = at.levels;
+    sa.samples = at.samples, sa.slot_of = at.slot_of, sa.mask = at.mask, sa.crossed = at.crossed;
+    sa.trim_cell = at.trim_cell, sa.trim_head = at.trim_head, sa.trim_segs = at.trim_segs;
+    for (const PointBatchState::Level& level : at.obb)
+      sa.obb.push_back({level.texels, {level.boxes[0], level.boxes[1], level.boxes[2]}});
+  }
+  return s;
+}
+
+PointBatchState PointBatch::export_state() const {
+  const PointBatchStateView v = state_view();
+  const auto own = [](std::span<const float> x) { return std::vector<float>(x.begin(), x.end()); };
+  PointBatchState s;
+  for (const PointBatchStateView::Atlas& va : v.atlases) {
+    PointBatchState::Atlas& sa = s.atlases.emplace_back();
+    sa.plan = *va.plan;
+    sa.w0 = va.w0, sa.h0 = va.h0, sa.levels = va.levels;
+    sa.samples = own(va.samples), sa.slot_of = own(va.slot_of), sa.mask = own(va.mask);
+    sa.crossed = own(va.crossed), sa.trim_cell = own(va.trim_cell), sa.trim_head = own(va.trim_head);
+    sa.trim_segs = own(va.trim_segs);
+    for (const PointBatchStateView::Level& level : va.obb)
+      sa.obb.push_back({std::vector<uint32_t>(level.texels.begin(), level.texels.end()),
+                        {own(level.boxes[0]), own(level.boxes[1]), own(level.boxes[2])}});
   }
   return s;
 }

@@ -126,6 +126,23 @@ struct PointBatchState {
   std::vector<Atlas> atlases;
 };
 
+/// The same arrays as views (save_batch_state writes them): of a live PointBatch (state_view(),
+/// valid while the batch lives; nothing is copied) or of a PointBatchState (view()).
+struct PointBatchStateView {
+  struct Level {
+    std::span<const uint32_t> texels;
+    std::array<std::span<const float>, 3> boxes;
+  };
+  struct Atlas {
+    const AtlasPlan* plan = nullptr;
+    int w0 = 1, h0 = 1, levels = 1;
+    std::span<const float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
+    std::vector<Level> obb;
+  };
+  std::vector<Atlas> atlases;
+};
+[[nodiscard]] PointBatchStateView view(const PointBatchState& state);
+
 /// A model from prepare_geometry with the atlases of `state` restored (plans and samples, uploaded;
 /// their normals, masks and slot textures left empty): what PointBatch(gpu, m, state) needs.
 void restore_atlases(PreparedModel& m, const PointBatchState& state);
@@ -136,8 +153,10 @@ class PointBatch {
   /// atlas plans; PointBoxes::Oriented): the same pyramid and trimmed cells, uploaded, none built.
   /// `m` has its atlases from restore_atlases.
   PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state);
-  /// This batch's state (PointBoxes::Oriented only, else std::logic_error).
+  /// This batch's state (PointBoxes::Oriented only, else std::logic_error): a copy, and views of
+  /// the batch's own arrays (what the disk cache writes while the batch answers points).
   [[nodiscard]] PointBatchState export_state() const;
+  [[nodiscard]] PointBatchStateView state_view() const;
 
   /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
   /// samples, masks and slot indices back once. `m` (Search::Faithful, else std::invalid_argument)

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "../gpgpu/gl_fixture.h"
 #include "queries/batch_cache.h"
@@ -44,6 +45,16 @@ TEST_CASE("batch cache: a restored batch answers as the batch it was exported fr
   const auto file = dir / "state.batch";
   const queries::PointBatchState exported = built.export_state();
   REQUIRE(queries::save_batch_state(file, "key one", exported).empty());
+  {
+    // Written from the live batch's own arrays (what the CLI does, no copy): the same bytes.
+    const auto direct = dir / "direct.batch";
+    REQUIRE(queries::save_batch_state(direct, "key one", built.state_view()).empty());
+    std::ifstream x(file, std::ios::binary), y(direct, std::ios::binary);
+    const std::string bx((std::istreambuf_iterator<char>(x)), {}), by((std::istreambuf_iterator<char>(y)), {});
+    CHECK(bx.size() > 1000);
+    CHECK(bx == by);
+    std::filesystem::remove(direct);
+  }
   {
     // The per-texel arrays are stored for the slots' texels only: the file holds less than the
     // padded atlases would, and no more than the slots, the pyramid and the trim data.

@@ -89,9 +89,9 @@ TEST_CASE("point batch: the memory estimate covers the atlases and box pyramids 
     const long long estimate = queries::estimate_batch_bytes(m, side, queries::PointBoxes::Oriented);
     queries::prepare_atlases(gpu, m, side);
     queries::PointBatch batch(gpu, m, queries::PointBoxes::Oriented);
-    long long made = 0;  // the GPU textures alone: atlas points and normals, three box textures per level
+    long long made = 0;  // the GPU textures alone: atlas points, three box textures per level
     for (size_t a = 0; a < m.atlases.size(); ++a) {
-      made += 32LL * m.atlases[a].plan.width * m.atlases[a].plan.height;
+      made += 16LL * m.atlases[a].plan.width * m.atlases[a].plan.height;
       for (int l = 0; l < batch.levels(a); ++l) made += 48LL * batch.level_width(a, l) * batch.level_height(a, l);
     }
     CAPTURE(tol);
