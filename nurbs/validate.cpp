@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "nurbs/knot_vector.h"
@@ -63,6 +64,12 @@ void check_magnitudes(std::vector<std::string>& out, const std::vector<P>& point
       out.push_back(fmt::format("weight {} is {:g}, outside [{:g}, {:g}]", i, weights[i], 1.0 / limit, limit));
       return;
     }
+  if (weights.empty()) return;
+  const auto [lo, hi] = std::minmax_element(weights.begin(), weights.end());
+  if (*hi > kMaxWeightRatio * *lo)
+    out.push_back(fmt::format("weight {} is {:g} and weight {} is {:g}: a ratio of {:.3g}, above the {:g} that "
+                              "the rational bounds carry",
+                              hi - weights.begin(), *hi, lo - weights.begin(), *lo, *hi / *lo, kMaxWeightRatio));
 }
 
 }  // namespace

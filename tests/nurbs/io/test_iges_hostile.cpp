@@ -146,6 +146,14 @@ TEST_CASE("coordinates, knots and weights beyond kMaxCoordinate are refused nami
   s.weights[3] = 1e-200;
   message = read_error(nurbs::io::write_iges_text(one_face(s)));
   CHECK(has(message, ent(1, 128) + ": out of range: weight 3 is 1e-200, outside [1e-100, 1e+100]"));
+  // Weights within range whose ratio the rational bounds cannot carry (a minute's tessellation 2.5
+  // off its surface); a ratio of 1e6 is read.
+  s.weights[3] = 1e9;
+  message = read_error(nurbs::io::write_iges_text(one_face(s)));
+  CHECK(has(message, ent(1, 128) + ": out of range: weight 3 is 1e+09 and weight 0 is 1: a ratio of 1e+09, above the "
+                                   "1e+06 that the rational bounds carry"));
+  s.weights[3] = 1e-6;
+  CHECK(read_error(nurbs::io::write_iges_text(one_face(s))).empty());
   s = nurbs::io::test::bump();
   for (double& k : s.knots_u) k *= 1e150;
   message = read_error(nurbs::io::write_iges_text(one_face(s)));
