@@ -26,6 +26,7 @@ struct TessArgs {
   std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
   bool no_simplify = false, check = false, json = false, watertight = false, paper_rectangles = false;
   int check_samples = 48, threads = 0;
+  long long max_cells = nurbs::tess::TessellateOptions{}.max_cells;
   double loop_share = 0.45;
   std::vector<int> faces;  ///< --face; empty = all
 };
@@ -79,11 +80,18 @@ void run(const TessArgs& a) {
   o.watertight = a.watertight;
   o.rectangle_faces = !a.paper_rectangles;
   o.weld = std::min(model.resolution, 0.1 * eps);
+  o.max_cells = a.max_cells;
 
   nurbs::tess::TessellateResult r;
-  {
+  try {
     Progress progress("tessellate", "faces");  // on stderr once the work has taken a second
     r = nurbs::tess::tessellate(faces, o, [&](int done, int total) { progress.update(done, total); });
+  } catch (const nurbs::tess::WorkLimitError& e) {
+    const double least = a.eps_given && a.relative ? e.least_eps / size : e.least_eps;
+    throw BadInput(fmt::format("--eps {:g}: about {:.3g} surface cells, above --max-cells {} (estimated before the "
+                               "work from the cells at 64, 256 and 1024 times eps); --eps {:.2g}{} or more fits",
+                               a.eps_given ? a.eps : eps, double(e.estimated_cells), a.max_cells, least,
+                               a.eps_given && a.relative ? " --relative" : ""));
   }
   // Watertight: the mesh is written with its shared boundary vertices made one (welded as the
   // tessellator welds them), and its edges are counted as written. Otherwise each face keeps its
@@ -312,6 +320,11 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
                   "Face index (repeatable); default: all faces. Face numbers in the output "
                   "count the chosen faces");
   cmd->add_option("--threads", a->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--max-cells", a->max_cells,
+                  "The most surface cells (about two triangles each) the model may need, estimated before the "
+                  "work; above it exit 2 with the eps that fits (0: no limit)")
+      ->check(CLI::Range(0LL, 1LL << 40))
+      ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
   cmd->callback([a, check_samples] {
     // Options that would do nothing are refused.

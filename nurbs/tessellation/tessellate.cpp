@@ -1,13 +1,17 @@
 #include "nurbs/tessellation/tessellate.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <exception>
 #include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <cmath>
+#include <fmt/format.h>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "nurbs/model_ops.h"
@@ -66,6 +70,29 @@ void boundary_positions(const std::vector<LoopPolyline>& loops, const FaceMesh& 
   }
 }
 
+/// §5's cell options of a face at `eps`: over the bounding box of its loops, clipped to the domain;
+/// nullopt when the loops enclose no area there.
+std::optional<CellOptions> cell_options(const TrimmedSurface& face, const std::vector<LoopPolyline>& loops,
+                                        const TessellateOptions& o, double eps) {
+  const bool guaranteed = o.mode == TessMode::Guaranteed;
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for (const LoopPolyline& l : loops)
+    for (const glm::dvec2& p : l.uv) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
+  lo = glm::max(lo, glm::dvec2(du.min, dv.min));
+  hi = glm::min(hi, glm::dvec2(du.max, dv.max));
+  if (!(lo.x < hi.x && lo.y < hi.y)) return std::nullopt;
+  CellOptions co;
+  co.eps_surface = guaranteed ? (1.0 - o.loop_share) * eps : eps;
+  co.error = guaranteed ? SurfaceError::Conservative : SurfaceError::Approximate;
+  co.subdivision = o.subdivision;
+  co.bound = o.cell_bound;
+  co.domain_u = Interval{lo.x, hi.x};
+  co.domain_v = Interval{lo.y, hi.y};
+  co.bilinear_factor = guaranteed ? 2.0 : 1.0;
+  return co;
+}
+
 FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyline>& loops,
                         const TessellateOptions& o) {
   FaceOut out;
@@ -74,30 +101,23 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
 
   // §5 cells over the bounding box of the loops (clipped to the domain by subdivide_surface).
   auto t = Clock::now();
-  glm::dvec2 lo(1e300), hi(-1e300);
-  for (const LoopPolyline& l : loops)
-    for (const glm::dvec2& p : l.uv) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
-  lo = glm::max(lo, glm::dvec2(du.min, dv.min));
-  hi = glm::min(hi, glm::dvec2(du.max, dv.max));
-  if (!(lo.x < hi.x && lo.y < hi.y)) {
+  const std::optional<CellOptions> co = cell_options(face, loops, o, o.eps);
+  if (!co) {
     out.failure = "its trim loops enclose no area inside the surface's parameter domain";
     return out;
   }
-  CellOptions co;
-  co.eps_surface = guaranteed ? (1.0 - o.loop_share) * o.eps : o.eps;
-  co.error = guaranteed ? SurfaceError::Conservative : SurfaceError::Approximate;
-  co.subdivision = o.subdivision;
-  co.bound = o.cell_bound;
-  co.domain_u = Interval{lo.x, hi.x};
-  co.domain_v = Interval{lo.y, hi.y};
-  co.bilinear_factor = guaranteed ? 2.0 : 1.0;
   CellStats cs;
-  const std::vector<Cell> cells = subdivide_surface(face.surface, co, &cs);
+  CellOptions face_co = *co;
+  face_co.max_nodes = o.max_face_nodes;
+  const std::vector<Cell> cells = subdivide_surface(face.surface, face_co, &cs);
   out.stats.cells = cs.leaves;
   out.stats.cell_nodes = cs.nodes;
   out.stats.unconverged_cells = cs.unconverged;
   out.stats.seconds_surface = since(t);
+  if (guaranteed && cs.unconverged > 0)  // the mesh is still made, but not within eps
+    out.failure = fmt::format("the surface subdivision stopped at its limit ({} nodes, depth {}) with {} cells "
+                              "above eps; a larger eps",
+                              cs.nodes, cs.max_depth, cs.unconverged);
 
   // §6 trimming, §7 triangulation.
   t = Clock::now();
@@ -186,6 +206,60 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
         face_to.outer_polyline = rectangle_polyline(faces[f].surface, *r);
     loops[f] = approximate_trim_loops(faces[f], face_to, &trim_stats[f]);
   });
+  if (options.max_cells > 0) {
+    // The work eps asks for, before it starts: each face's cells at 1024, 256 and 64 times eps (2 %
+    // of the work) fit cells(eps) = F + A eps^-e, F the floor its knot spans impose and e in
+    // [1/2, 1] (singly to doubly curved). Where the passes rise slower than e = 1/2 they are not yet
+    // on the power law (the generated sphere: 16, 64 and 128 cells, then 6976 at eps), and e = 1,
+    // the steepest, is taken.
+    // Returns the estimate at eps and, from the same fit, the least eps whose estimate fits.
+    auto estimate_at = [&](double eps) {
+      const double scales[3] = {1024.0, 256.0, 64.0};
+      std::vector<std::array<long long, 3>> counts(faces.size(), {0, 0, 0});
+      for_faces([&](size_t f) {
+        for (int k = 0; k < 3; ++k)
+          if (auto co = cell_options(faces[f], loops[f], options, scales[k] * eps)) {
+            co->max_nodes = int(std::min<long long>(2 * options.max_cells, 1LL << 22));
+            CellStats cs;
+            (void)subdivide_surface(faces[f].surface, *co, &cs);
+            counts[f][size_t(k)] = cs.leaves;
+          }
+      });
+      auto total = [&](double s) {  // the cells at eps x s (s in [1, 64])
+        double sum = 0.0;
+        for (const auto& [c1024, c256, c64] : counts) {
+          const double rise = double(c64 - c256), before = double(c256 - c1024);
+          const double measured = rise > 0.0 && before > 0.0 ? std::log(rise / before) / std::log(4.0) : 1.0;
+          const double e = measured < 0.5 ? 1.0 : std::min(measured, 1.0);
+          const double at64 = std::pow(64.0, -e), step = at64 * (1.0 - std::pow(4.0, -e));  // A at64 (1 - 4^-e) = rise
+          const double a = rise > 0.0 ? rise / step : 0.0, floor = double(c64) - a * at64;
+          sum += std::max(double(c64), floor + a * std::pow(s, -e));
+        }
+        return sum;
+      };
+      double lo = 1.0, hi = 64.0;
+      for (int i = 0; i < 40; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        (total(mid) > double(options.max_cells) ? lo : hi) = mid;
+      }
+      return std::pair{total(1.0), hi * eps};
+    };
+    const auto [estimate, least] = estimate_at(options.eps);
+    if (estimate > double(options.max_cells)) {
+      // The fit's least eps, checked by the same estimate there (its passes are coarser) and raised
+      // until it fits: the eps named is one that the next run accepts.
+      double fits = least;
+      for (int i = 0; i < 12; ++i) {
+        const auto [again, further] = estimate_at(fits);
+        if (again <= double(options.max_cells)) break;
+        fits = std::max(further, 1.25 * fits);
+      }
+      throw WorkLimitError(fmt::format("eps {:g} asks for about {:.3g} surface cells (from the cells at 64, 256 and "
+                                       "1024 times eps), above the limit of {}; eps {:.2g} or more fits",
+                                       options.eps, estimate, options.max_cells, fits),
+                           (long long)estimate, fits);
+    }
+  }
   WatertightStats ws;
   if (options.watertight) share_boundary_vertices(faces, loops, to.eps, &ws);
   std::atomic<int> done{0};

@@ -5,6 +5,7 @@
 /// the cells cut by the loops in a half-edge graph (§6), the polygons triangulated (§7), the vertices
 /// evaluated coherently (§8). Faces run in parallel; the output does not depend on the thread count.
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,23 @@ struct TessellateOptions {
   /// weld_tolerance is the larger of this and 1e-9 x the largest face's control box. The CLI passes
   /// the file's stated resolution (Model::resolution), capped at eps / 10.
   double weld = 0.0;
+  /// Beyond the paper: the most §5 cells (about two triangles each) the whole model may need; 0 for
+  /// no limit. Estimated before any face is subdivided, from the faces' cells at 256 and 64 times eps
+  /// (cells grow as 1/eps on doubly curved faces, 1/sqrt(eps) on singly curved ones: the two
+  /// passes tell which, for 2 % of the work); above the limit tessellate throws WorkLimitError.
+  /// 2^21 cells: some 4 million triangles, a minute and 1.5 GB (the generated sphere at 1e-6 of its
+  /// size needs more: it ran 90 s into the per-face node limit and a mesh 4.2 off its surface).
+  long long max_cells = 1LL << 21;
+  /// §5's safety net per face (CellOptions::max_nodes): the nodes one face's subdivision may visit.
+  int max_face_nodes = 1 << 22;
+};
+
+/// Thrown by tessellate, before the work, when the cells eps asks for exceed max_cells.
+struct WorkLimitError : std::runtime_error {
+  WorkLimitError(const std::string& what, long long estimate, double least_eps)
+      : std::runtime_error(what), estimated_cells(estimate), least_eps(least_eps) {}
+  long long estimated_cells;  ///< the estimate that exceeded the limit
+  double least_eps;           ///< about the smallest eps whose estimate fits the limit
 };
 
 /// Figures of the paper's Tables 2-4 for one run (seconds are summed over faces, i.e. CPU time of
@@ -88,8 +106,10 @@ struct TessellateResult {
 
 /// Tessellates `faces` (world coordinates, e.g. world_faces(model)). Each face's triangles are
 /// counter-clockwise seen from its outside (Su x Sv, flipped for reversed faces). A face that throws
-/// or yields no triangles is reported in `failures`; the others still come out. `progress` (optional)
-/// is called with (faces done, total) from worker threads, serialised.
+/// or yields no triangles is reported in `failures`; the others still come out. So is, in guaranteed
+/// mode, a face whose subdivision stopped at the node limit with cells above eps (its triangles
+/// are kept, but its bound does not hold). `progress` (optional) is called with (faces done, total)
+/// from worker threads, serialised. Throws WorkLimitError when options.max_cells is exceeded.
 [[nodiscard]] TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const TessellateOptions& options,
                                           const std::function<void(int, int)>& progress = {});
 

@@ -129,6 +129,47 @@ TEST_CASE("tessellate: the output does not depend on the thread count") {
   CHECK(one.mesh.triangles.size() > 5000);  // 7,856: enough faces and cells for the threads to interleave
 }
 
+TEST_CASE("tessellate: work over max_cells is refused before it starts, with the eps that fits") {
+  // The sphere needs 59,136 cells at 1e-4 of its size (6,976 at 1e-3). A limit of 20,000 refuses
+  // 1e-4 from the coarse passes' estimate, which lies near the cells needed; the eps it names fits.
+  const std::vector<nurbs::TrimmedSurface> faces{face_of(models::rational_sphere(10.0))};
+  const double size = nurbs::control_box(faces[0].surface).diagonal();
+  TessellateOptions o;
+  o.eps = 1e-4 * size;
+  o.max_cells = 20000;
+  double least = 0.0;
+  try {
+    (void)nurbs::tess::tessellate(faces, o);
+    FAIL("no WorkLimitError");
+  } catch (const nurbs::tess::WorkLimitError& e) {
+    MESSAGE(std::string(e.what()));
+    CHECK(e.estimated_cells > 59136 / 2);
+    CHECK(e.estimated_cells < 59136 * 2);
+    least = e.least_eps;
+  }
+  CHECK(least > o.eps);
+  CHECK(least < 10 * o.eps);
+  o.eps = least;
+  const auto r = nurbs::tess::tessellate(faces, o);
+  CHECK(r.failures.empty());
+  CHECK(r.stats.cells <= o.max_cells);
+  MESSAGE("at the eps named: " << r.stats.cells << " cells");
+}
+
+TEST_CASE("tessellate: a face whose subdivision stops at the node limit above eps is a failure, its mesh kept") {
+  const std::vector<nurbs::TrimmedSurface> faces{face_of(models::rational_torus(8.0, 2.0))};
+  TessellateOptions o;
+  o.eps = 1e-2;
+  o.max_face_nodes = 64;
+  const auto r = nurbs::tess::tessellate(faces, o);
+  REQUIRE(r.failures.size() == 1);
+  CHECK(r.failures[0].reason.find("stopped at its limit (") != std::string::npos);
+  CHECK(r.stats.unconverged_cells > 0);
+  CHECK(!r.mesh.triangles.empty());
+  o.max_face_nodes = 1 << 22;
+  CHECK(nurbs::tess::tessellate(faces, o).failures.empty());
+}
+
 TEST_CASE("tessellate: every shared IGES model within eps = 5e-3 of its size" * test::needs_shared_models()) {
   for (const auto& path : test::shared_iges_files()) {
     const nurbs::Model model = nurbs::io::read_model(path);
