@@ -63,7 +63,19 @@ double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi 
 class Cells {
  public:
   Cells(const PreparedModel& m, const glm::dmat4& motion)
-      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()) {}
+      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()),
+        material_rect_(m.faces.size()) {
+    // Per trimmed face, the (u, v) box of its outer loops: no material lies outside it.
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+      if (f >= m.trims.size()) break;
+      const nurbs::TrimPolygons& t = m.trims[f];
+      glm::dvec2 lo(kInf), hi(-kInf);
+      for (size_t l = 0; l < t.loops.size(); ++l)
+        if (l < t.outer.size() && t.outer[l])
+          for (const glm::dvec2& p : t.loops[l]) lo = glm::min(lo, p), hi = glm::max(hi, p);
+      if (lo.x <= hi.x && lo.y <= hi.y) material_rect_[f] = std::pair{lo, hi};
+    }
+  }
 
   /// Polishes (u, v) on `face` towards the closest point to q (q in moved coordinates). When the
   /// Newton point is trimmed away (the closest point often lies on a trim edge), the last material
@@ -183,7 +195,26 @@ class Cells {
     c.lo = glm::min(glm::min(c.corner[0], c.corner[1]), glm::min(c.corner[2], c.corner[3]));
     c.hi = glm::max(glm::max(c.corner[0], c.corner[1]), glm::max(c.corner[2], c.corner[3]));
     // Grown by K_e and the rounding of the double evaluation (a few ulp of the coordinates).
-    const double grow = c.k + 1e-14 * std::max(glm::length(c.lo), glm::length(c.hi));
+    double grow = c.k + 1e-14 * std::max(glm::length(c.lo), glm::length(c.hi));
+    // A cell reaching beyond its face's outer loops (faces whose domain has a margin around the
+    // trim, as planes read from STEP and IGES do) holds its material in the overlap: its box is the
+    // overlap's, a lower bound that no longer lags by the margin. (Parallel plane edges 143.5 mm
+    // apart kept a lower bound 7e-4 short, the width of one plane's margin, while their equidistant
+    // cell pairs grew fourfold a round until the budget ran out.)
+    if (const auto& r = material_rect_[size_t(c.face)]) {
+      const double u0 = std::max(c.u0, r->first.x), u1 = std::min(c.u1, r->second.x);
+      const double v0 = std::max(c.v0, r->first.y), v1 = std::min(c.v1, r->second.y);
+      if (u0 <= u1 && v0 <= v1 && (u0 > c.u0 || u1 < c.u1 || v0 > c.v0 || v1 < c.v1)) {
+        const double k = nurbs::filip_k_rect(m_.bounds[size_t(c.face)], {u0, u1}, {v0, v1}, nurbs::KNorm::Euclidean);
+        glm::dvec3 lo(kInf), hi(-kInf);
+        for (const glm::dvec2 uv : {glm::dvec2(u0, v0), glm::dvec2(u1, v0), glm::dvec2(u0, v1), glm::dvec2(u1, v1)}) {
+          const glm::dvec3 q = at(c.face, uv).p;
+          lo = glm::min(lo, q), hi = glm::max(hi, q);
+        }
+        c.lo = lo, c.hi = hi;
+        grow = k + 1e-14 * std::max(glm::length(lo), glm::length(hi));
+      }
+    }
     c.lo -= glm::dvec3(grow);
     c.hi += glm::dvec3(grow);
     const nurbs::Interval du = nurbs::surface_domain_u(m_.faces[size_t(c.face)].surface);
@@ -202,6 +233,8 @@ class Cells {
   glm::dmat4 motion_, inverse_;
   std::vector<std::vector<uint32_t>> grid_index_;  ///< per face, by grid cell: slot()
   std::vector<std::optional<BandedTrim>> banded_;  ///< per trimmed face of a cell (is_material, edge-box)
+  /// Per trimmed face with outer loops: the (u, v) box of those loops (finish clips boxes to it).
+  std::vector<std::optional<std::pair<glm::dvec2, glm::dvec2>>> material_rect_;
 };
 
 /// The children of cell i to pair with (itself when it is not split).
