@@ -240,6 +240,27 @@ bool BandedTrim::is_material(glm::dvec2 uv) const {
   return any_outer ? in_outer : true;
 }
 
+std::vector<std::pair<glm::dvec2, glm::dvec2>> BandedTrim::edges_in_box(glm::dvec2 lo, glm::dvec2 hi,
+                                                                        size_t limit) const {
+  std::vector<std::pair<glm::dvec2, glm::dvec2>> out;
+  std::vector<std::pair<size_t, int>> seen;  // (loop, edge): an edge is listed in several bands
+  for (size_t k = 0; k < loops_.size() && out.size() < limit; ++k) {
+    const Loop& l = loops_[k];
+    const auto& poly = trim_->loops[k];
+    if (l.bands.empty()) continue;
+    for (size_t b = band(l, lo.y), last = band(l, hi.y); b <= last && out.size() < limit; ++b)
+      for (int e : l.bands[b]) {
+        const glm::dvec2 p = poly[size_t(e)], q = poly[(size_t(e) + 1) % poly.size()];
+        if (!segment_meets_box(p, q, lo, hi) || std::find(seen.begin(), seen.end(), std::pair{k, e}) != seen.end())
+          continue;
+        seen.emplace_back(k, e);
+        out.emplace_back(p, q);
+        if (out.size() >= limit) break;
+      }
+  }
+  return out;
+}
+
 bool BandedTrim::meets_box(glm::dvec2 lo, glm::dvec2 hi) const {
   for (size_t k = 0; k < loops_.size(); ++k) {
     const Loop& l = loops_[k];

@@ -5,6 +5,7 @@
 /// tolerance, then each loop's winding number is computed exactly on the polygon.
 #include <cstddef>
 #include <glm/vec2.hpp>
+#include <utility>
 #include <vector>
 
 #include "nurbs/knot_vector.h"
@@ -57,6 +58,10 @@ class BandedTrim {
   [[nodiscard]] bool is_material(glm::dvec2 uv) const;
   /// Whether an edge of the loops meets the closed box [lo, hi] (reads only the bands of its v range).
   [[nodiscard]] bool meets_box(glm::dvec2 lo, glm::dvec2 hi) const;
+  /// The loops' edges meeting the closed box [lo, hi], at most `limit` (each edge once): a box that
+  /// one straight edge crosses is cut in two by it.
+  [[nodiscard]] std::vector<std::pair<glm::dvec2, glm::dvec2>> edges_in_box(glm::dvec2 lo, glm::dvec2 hi,
+                                                                           size_t limit) const;
 
  private:
   struct Loop {

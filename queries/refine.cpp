@@ -35,6 +35,13 @@ struct Cell {
   int32_t first_child = -1;  ///< children, once split: [first_child, first_child + children)
   int32_t children = 0;
   bool splittable = true;
+  /// A cell one straight trim edge crosses: the material side of its two triangles, cut by that
+  /// edge in (u, v) and mapped by the triangles' own affine maps (up to four triangles; 0 = none,
+  /// the whole cell). Every material point of the cell lies within K_e of these pieces, so they
+  /// give the pair search lower bounds that do not lag by the trimmed-away part of the cell.
+  int pieces = 0;
+  glm::dvec3 piece[4][3];
+  glm::dvec2 piece_uv[4][3];
 
   [[nodiscard]] glm::dvec2 uv(int c) const { return {c & 1 ? u1 : u0, c & 2 ? v1 : v0}; }
   /// Triangle t (0: corners 0, 1, 3; 1: corners 0, 3, 2), the diagonal of the GPU path's cells.
@@ -46,7 +53,53 @@ struct Cell {
   [[nodiscard]] glm::dvec2 uv_at(int t, const glm::dvec3& w) const {
     return w.x * uv(kTri[t][0]) + w.y * uv(kTri[t][1]) + w.z * uv(kTri[t][2]);
   }
+  /// The triangles that bound the cell's material for the lower bounds: the pieces, else the two
+  /// triangles; with (u, v) at barycentric weights w.
+  [[nodiscard]] int bound_triangles() const { return pieces > 0 ? pieces : 2; }
+  void bound_triangle(int t, glm::dvec3 out[3]) const {
+    if (pieces == 0) return triangle(t, out);
+    for (int k = 0; k < 3; ++k) out[k] = piece[t][k];
+  }
+  [[nodiscard]] glm::dvec2 bound_uv_at(int t, const glm::dvec3& w) const {
+    if (pieces == 0) return uv_at(t, w);
+    return w.x * piece_uv[t][0] + w.y * piece_uv[t][1] + w.z * piece_uv[t][2];
+  }
 };
+
+/// Cuts the cell's two triangles by the straight trim edge ab, keeping the side `side` (the sign of
+/// cross(b - a, p - a) on the material side); fills c.pieces (0 when nothing is left).
+void cut_by_edge(Cell& c, glm::dvec2 a, glm::dvec2 b, double side) {
+  const auto sign = [&](glm::dvec2 p) { return side * ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)); };
+  c.pieces = 0;
+  for (int t = 0; t < 2; ++t) {
+    glm::dvec2 in[3];
+    glm::dvec3 pos[3];
+    for (int k = 0; k < 3; ++k) in[k] = c.uv(Cell::kTri[t][k]), pos[k] = c.corner[Cell::kTri[t][k]];
+    // Sutherland-Hodgman against the half-plane sign >= 0: at most 4 vertices.
+    glm::dvec2 out[4];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec2 p = in[k], q = in[(k + 1) % 3];
+      const double sp = sign(p), sq = sign(q);
+      if (sp >= 0.0) out[n++] = p;
+      if ((sp >= 0.0) != (sq >= 0.0)) out[n++] = p + (q - p) * (sp / (sp - sq));
+    }
+    if (n < 3) continue;
+    // The triangle's affine map from (u, v) to space: barycentric weights in its (u, v) triangle.
+    const glm::dvec2 e1 = in[1] - in[0], e2 = in[2] - in[0];
+    const double det = e1.x * e2.y - e1.y * e2.x;
+    const auto map = [&](glm::dvec2 p) {
+      const glm::dvec2 d = p - in[0];
+      const double w1 = (d.x * e2.y - d.y * e2.x) / det, w2 = (e1.x * d.y - e1.y * d.x) / det;
+      return (1.0 - w1 - w2) * pos[0] + w1 * pos[1] + w2 * pos[2];
+    };
+    for (int k = 1; k + 1 < n; ++k) {  // a fan
+      const glm::dvec2 f[3] = {out[0], out[k], out[k + 1]};
+      for (int j = 0; j < 3; ++j) c.piece[c.pieces][j] = map(f[j]), c.piece_uv[c.pieces][j] = f[j];
+      ++c.pieces;
+    }
+  }
+}
 
 /// Least distance between a point and a box (Eqs. 9-12) and between two boxes (Eqs. 13-20).
 double point_box(const glm::dvec3& p, const Cell& c) {
@@ -56,8 +109,9 @@ double box_box(const Cell& a, const Cell& b) {
   return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
 }
 
-/// How loose a cell's bounds are: K_e inside the trim, the box diagonal on a trim edge.
-double slack(const Cell& c) { return c.material == 15u ? c.k : glm::length(c.hi - c.lo); }
+/// How loose a cell's bounds are: K_e inside the trim and where one straight edge cuts the cell
+/// (its pieces), the box diagonal on other trim edges.
+double slack(const Cell& c) { return c.material == 15u || c.pieces > 0 ? c.k : glm::length(c.hi - c.lo); }
 
 /// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
 class Cells {
@@ -196,6 +250,39 @@ class Cells {
     c.hi = glm::max(glm::max(c.corner[0], c.corner[1]), glm::max(c.corner[2], c.corner[3]));
     // Grown by K_e and the rounding of the double evaluation (a few ulp of the coordinates).
     double grow = c.k + 1e-14 * std::max(glm::length(c.lo), glm::length(c.hi));
+    // A cell one straight trim edge crosses: its material side (cut_by_edge), and the box of that.
+    if (const std::optional<BandedTrim>& b = banded_[size_t(c.face)]; b && c.material != 0u && c.material != 15u) {
+      const auto edges = b->edges_in_box({c.u0, c.v0}, {c.u1, c.v1}, 2);
+      if (edges.size() == 1) {
+        const auto [a, e] = edges.front();
+        double side = 0.0;
+        bool consistent = true;
+        for (int k = 0; k < 4; ++k) {
+          const glm::dvec2 p = c.uv(k);
+          const double r = (e.x - a.x) * (p.y - a.y) - (e.y - a.y) * (p.x - a.x);
+          if ((c.material >> k) & 1u) {
+            if (side == 0.0 && r != 0.0) side = r > 0.0 ? 1.0 : -1.0;
+            consistent = consistent && side * r >= 0.0;
+          }
+        }
+        for (int k = 0; k < 4 && consistent; ++k) {
+          const glm::dvec2 p = c.uv(k);
+          const double r = (e.x - a.x) * (p.y - a.y) - (e.y - a.y) * (p.x - a.x);
+          if (!((c.material >> k) & 1u)) consistent = side * r <= 0.0;
+        }
+        if (consistent && side != 0.0) cut_by_edge(c, a, e, side);
+        if (c.pieces > 0) {
+          glm::dvec3 lo(kInf), hi(-kInf);
+          for (int t = 0; t < c.pieces; ++t)
+            for (const glm::dvec3& q : c.piece[t]) lo = glm::min(lo, q), hi = glm::max(hi, q);
+          c.lo = glm::max(c.lo, lo), c.hi = glm::min(c.hi, hi);
+          c.lo -= glm::dvec3(grow);
+          c.hi += glm::dvec3(grow);
+          set_splittable(c);
+          return;
+        }
+      }
+    }
     // A cell reaching beyond its face's outer loops (faces whose domain has a margin around the
     // trim, as planes read from STEP and IGES do) holds its material in the overlap: its box is the
     // overlap's, a lower bound that no longer lags by the margin. (Parallel plane edges 143.5 mm
@@ -217,6 +304,10 @@ class Cells {
     }
     c.lo -= glm::dvec3(grow);
     c.hi += glm::dvec3(grow);
+    set_splittable(c);
+  }
+
+  void set_splittable(Cell& c) const {
     const nurbs::Interval du = nurbs::surface_domain_u(m_.faces[size_t(c.face)].surface);
     const nurbs::Interval dv = nurbs::surface_domain_v(m_.faces[size_t(c.face)].surface);
     c.splittable = c.u1 - c.u0 > 1e-12 * du.width() && c.v1 - c.v0 > 1e-12 * dv.width();
@@ -398,14 +489,14 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
         if (low[n] > r.distance) continue;
         double tri_low = kInf;
         bool split = false;
-        for (int s = 0; s < 2 && !split; ++s)
-          for (int t = 0; t < 2 && !split; ++t) {
+        for (int s = 0; s < x.bound_triangles() && !split; ++s)
+          for (int t = 0; t < y.bound_triangles() && !split; ++t) {
             glm::dvec3 ta[3], tb[3], pa, pb, wa, wb;
-            x.triangle(s, ta);
-            y.triangle(t, tb);
+            x.bound_triangle(s, ta);
+            y.bound_triangle(t, tb);
             const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
             tri_low = std::min(tri_low, d);
-            if (d < near.d) near = {d, n, x.uv_at(s, wa), y.uv_at(t, wb)};
+            if (d < near.d) near = {d, n, x.bound_uv_at(s, wa), y.bound_uv_at(t, wb)};
             // Split for certain (its least triangle distance can only be lower): the box is its
             // lower bound, and the pair's other triangles are left to its children.
             split = low[n] < split_below && d - x.k - y.k < split_below;
@@ -520,23 +611,26 @@ std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedMo
   };
   std::vector<uint32_t> xs = cells_of(a, ca), ys = cells_of(b, cb);
   // A first upper bound from two material corners: A's nearest to the centre of B's cells, B's
-  // nearest to that, and back.
+  // nearest to that, and back. (None where a side's cells have no material corner: thin faces
+  // between grid lines. Such a side once gave the other side's corner as its own, and an upper
+  // bound of 0 that pruned every pair: a nut and a bolt of an assembly, 21.1 apart, "not found".)
   auto nearest = [](const Cells& cells, const std::vector<uint32_t>& index, const glm::dvec3& to) {
     double best = kInf;
-    glm::dvec3 at = to;
+    std::optional<glm::dvec3> at;
     for (uint32_t k : index)
       for (int c = 0; c < 4; ++c)
         if (cells.all[k].material & (1u << c))
           if (const double d = glm::length(cells.all[k].corner[c] - to); d < best) best = d, at = cells.all[k].corner[c];
-    return std::pair{best, at};
+    return at;
   };
   glm::dvec3 centre(0.0);
   for (uint32_t y : ys) centre += 0.5 * (cb.all[y].lo + cb.all[y].hi) / double(ys.size());
-  glm::dvec3 pa = nearest(ca, xs, centre).second;
-  for (int round = 0; round < 2; ++round) {
-    const auto [d, pb] = nearest(cb, ys, pa);
-    upper = std::min(upper, d);
-    pa = nearest(ca, xs, pb).second;
+  std::optional<glm::dvec3> pa = nearest(ca, xs, centre);
+  for (int round = 0; round < 2 && pa; ++round) {
+    const std::optional<glm::dvec3> pb = nearest(cb, ys, *pa);
+    if (!pb) break;
+    upper = std::min(upper, glm::length(*pa - *pb));
+    pa = nearest(ca, xs, *pb);
   }
   // The cells of each side within the upper bound of the other side's box, then their pairs whose
   // boxes lie within it.

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -172,4 +173,48 @@ TEST_CASE("refine: the cases the paper warns about: contact, a point on the surf
     CAPTURE(z);
     test::check_proven(r.found, r.meets_tolerance, r.distance, r.bound, tol, std::abs(std::abs(z) - 1.0), 1e-12);
   }
+}
+
+TEST_CASE("refine: parallel slanted trim edges of planes are proven by the cells the edges cut") {
+  // Two planes cut to triangles by slanted edges (their domains reach 0.1 beyond the trim, as the
+  // readers' planes do); B turned half a turn and moved so that the two long edges run parallel,
+  // 0.4 apart in the plane and 0.3 above: every point of one edge lies 0.5 from the other. A cell an
+  // edge cuts bounds its material side alone (its pieces), so a small pair budget proves 0.5; with
+  // whole-cell boxes the equidistant pairs along the edges split until the budget ran out.
+  auto triangle_face = [] {
+    nurbs::TrimmedSurface f;
+    nurbs::Surface& s = f.surface;
+    s.degree_u = s.degree_v = 1;
+    s.count_u = s.count_v = 2;
+    s.knots_u = s.knots_v = {-0.1, -0.1, 1.1, 1.1};
+    s.points = {{-0.1, -0.1, 0.0}, {1.1, -0.1, 0.0}, {-0.1, 1.1, 0.0}, {1.1, 1.1, 0.0}};
+    nurbs::TrimLoop loop;
+    loop.outer = true;
+    const glm::dvec2 p[3] = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
+    for (int k = 0; k < 3; ++k) {
+      nurbs::Curve<2> c;
+      c.degree = 1;
+      c.knots = {0.0, 0.0, 1.0, 1.0};
+      c.points = {p[k], p[(k + 1) % 3]};
+      loop.curves.push_back(c);
+    }
+    f.loops.push_back(loop);
+    return f;
+  };
+  const double tol = 1e-4;
+  const auto a = queries::prepare_geometry({triangle_face()}, tol, 1LL << 22, queries::Search::CoarseToFine);
+  const auto b = queries::prepare_geometry({triangle_face()}, tol, 1LL << 22, queries::Search::CoarseToFine);
+  const glm::dvec3 centre(0.5, 0.5, 0.0), along = glm::normalize(glm::dvec3(1.0, 1.0, 0.0));
+  const glm::dmat4 motion = glm::translate(glm::dmat4(1.0), centre + 0.4 * along + glm::dvec3(0.0, 0.0, 0.3)) *
+                            glm::rotate(glm::dmat4(1.0), M_PI, glm::dvec3(0.0, 0.0, 1.0)) *
+                            glm::translate(glm::dmat4(1.0), -centre);
+  queries::RefineLimits limits;
+  limits.max_pairs = 1 << 14;
+  const auto r = queries::refine_all_pairs(a, b, motion, 2 * tol, std::numeric_limits<double>::infinity(), -1, limits);
+  REQUIRE(r.has_value());
+  REQUIRE(r->found);
+  MESSAGE("distance " << r->distance << " +- " << r->bound << " in " << r->rounds << " rounds, " << r->cells << " cells");
+  CHECK(r->meets_tolerance);
+  CHECK(r->bound <= 2 * tol);
+  CHECK(std::abs(r->distance - 0.5) <= r->bound + 1e-12);
 }
