@@ -109,9 +109,15 @@ double box_box(const Cell& a, const Cell& b) {
   return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
 }
 
-/// How loose a cell's bounds are: K_e inside the trim and where one straight edge cuts the cell
-/// (its pieces), the box diagonal on other trim edges.
-double slack(const Cell& c) { return c.material == 15u || c.pieces > 0 ? c.k : glm::length(c.hi - c.lo); }
+/// How loose a cell's bounds are: K_e inside the trim, the box diagonal on a trim edge. Where one
+/// straight edge cuts the cell, its pieces make the lower bound as tight as inside (K_e), but its
+/// material corners, the upper bound's samples, still lie up to the cell's size from the edge: a
+/// quarter of the diagonal, at least K_e.
+double slack(const Cell& c) {
+  if (c.material == 15u) return c.k;
+  const double diagonal = glm::length(c.hi - c.lo);
+  return c.pieces > 0 ? std::max(c.k, 0.25 * diagonal) : diagonal;
+}
 
 /// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
 class Cells {
