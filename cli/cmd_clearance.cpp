@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/paper_preset.h"
 #include "cli/validators.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -52,6 +53,7 @@ struct Options {
   bool json = false, timings = false;
   std::string face_cull = "boxes";
   std::string engine = "auto";
+  PaperPreset preset;  ///< --paper
 };
 
 /// `count` finite numbers separated by commas or spaces; `what` names the option in errors.
@@ -341,6 +343,19 @@ void run(const GlobalOptions& global, const Options& o) {
              {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count()}};
     return queries::clearance(*gpu, a, b, motion, &vs.faces_a, &vs.faces_b, limits);
   };
+  // The switches of --paper as used; null where this run does not use them (the GPU descent's on
+  // the CPU engine, --voxels without the voxel stage).
+  const auto preset_json = [&] {
+    const bool descent = gpu_frames > 0;
+    const auto on_gpu = [&](const nlohmann::json& v) { return descent ? v : nlohmann::json(); };
+    const bool c2f = o.search == queries::Search::CoarseToFine;
+    return o.preset.json({{"engine", engine_json()["used"]},
+                          {"voxels", voxel ? nlohmann::json(o.voxels) : nlohmann::json()},
+                          {"reduce-block", on_gpu(o.reduce_block)},
+                          {"compact-fanout", on_gpu(o.compact_fanout)},
+                          {"host-pairs", on_gpu(queries::host_pairs_used(limits, c2f))},
+                          {"gpu-upper", on_gpu(queries::upper_from_samples(limits, c2f) ? "samples" : "boxes")}});
+  };
   auto query = [&](const glm::dmat4& motion) {
     queries::Clearance c = query_kept(motion);
     if (c.face_a >= 0) c.face_a = index_a[size_t(c.face_a)];
@@ -351,6 +366,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const auto t1 = std::chrono::steady_clock::now();
   const double prepare_s = std::chrono::duration<double>(t1 - t0).count();
   if (!o.motion.empty()) {
+    if (!o.json) o.preset.print_text();
     nlohmann::json results = nlohmann::json::array();
     size_t over = 0;
     const bool progress = frames.size() > 1 && isatty(STDERR_FILENO);
@@ -370,13 +386,14 @@ void run(const GlobalOptions& global, const Options& o) {
     if (progress) fmt::print(stderr, "\n");
     if (o.json)
       print_json(nlohmann::json{{"frames", frames.size()},
-                                        {"prepare_seconds", prepare_s},
-                                        {"prepare", prepare_json(a, b)},
-                                        {"face_cull", cull_json},
-                                        {"engine", engine_json()},
-                                        {"tolerance", tolerance},
-                                        {"unit", unit},
-                                        {"results", results}});
+                                {"prepare_seconds", prepare_s},
+                                {"prepare", prepare_json(a, b)},
+                                {"face_cull", cull_json},
+                                {"engine", engine_json()},
+                                {"preset", preset_json()},
+                                {"tolerance", tolerance},
+                                {"unit", unit},
+                                {"results", results}});
     if (gpu) report_profile(*gpu, global);
     if (over > 0)
       throw CommandFailed(fmt::format("{} of {} frames with a bound over the tolerance {:.3g}", over, frames.size(),
@@ -394,10 +411,12 @@ void run(const GlobalOptions& global, const Options& o) {
     j["prepare"] = prepare_json(a, b);
     j["face_cull"] = cull_json;
     j["engine"] = engine_json();
+    j["preset"] = preset_json();
     j["tolerance"] = tolerance;
     j["unit"] = unit;
     print_json(j);
   } else {
+    o.preset.print_text();
     fmt::print(
         "clearance {:.9g} +- {:.3g} {} between face {} of A at ({:.6g}, {:.6g}, {:.6g}) and face {} of B at "
         "({:.6g}, {:.6g}, {:.6g})\n",
@@ -457,12 +476,13 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--motion", o->motion,
                   "One query per line of FILE: DX DY DZ AX AY AZ DEG (B rotated, then moved; - reads stdin)");
-  add_search_option(cmd, o->search);
-  cmd->add_option("--first-stage", o->first_stage,
-                  "hierarchy: one box hierarchy over all faces of each model; voxels: the paper's voxel grid "
-                  "first (5.4), then the hierarchy over the faces it keeps")
-      ->check(CLI::IsMember({"hierarchy", "voxels"}))
-      ->capture_default_str();
+  auto* search = add_search_option(cmd, o->search);
+  auto* first_stage =
+      cmd->add_option("--first-stage", o->first_stage,
+                      "hierarchy: one box hierarchy over all faces of each model; voxels: the paper's voxel grid "
+                      "first (5.4), then the hierarchy over the faces it keeps")
+          ->check(CLI::IsMember({"hierarchy", "voxels"}))
+          ->capture_default_str();
   auto* voxels = cmd->add_option("--voxels", o->voxels, "Voxels per axis of the voxel first stage")
                      ->check(CLI::Range(1, 512))
                      ->capture_default_str();
@@ -493,26 +513,45 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
                   "The most grid samples of one face; a face that needs more for --tol is refused (exit 2)")
       ->check(CLI::Range(4LL, 1LL << 30))
       ->capture_default_str();
-  cmd->add_option("--face-cull", o->face_cull,
-                  "boxes: before any grid, leave out the faces whose control boxes lie farther from every face of "
-                  "the other model than an upper bound from material samples (they cannot hold the closest pair); "
-                  "off: prepare every face (the paper)")
-      ->check(CLI::IsMember({"boxes", "off"}))
-      ->capture_default_str();
-  cmd->add_option("--engine", o->engine,
-                  "auto: one query whose kept faces' coarse grids hold at most 2^22 cell pairs runs on the CPU "
-                  "alone, in double (the GPU's set-up would cost more), others on the GPU, as does any option of "
-                  "the GPU descent; gpu: always the GPU descent; cpu: always the CPU (coarse-to-fine, hierarchy "
-                  "first stage)")
-      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
-      ->capture_default_str();
+  auto* face_cull =
+      cmd->add_option("--face-cull", o->face_cull,
+                      "boxes: before any grid, leave out the faces whose control boxes lie farther from every face of "
+                      "the other model than an upper bound from material samples (they cannot hold the closest pair); "
+                      "off: prepare every face (the paper)")
+          ->check(CLI::IsMember({"boxes", "off"}))
+          ->capture_default_str();
+  auto* engine =
+      cmd->add_option("--engine", o->engine,
+                      "auto: one query whose kept faces' coarse grids hold at most 2^22 cell pairs runs on the CPU "
+                      "alone, in double (the GPU's set-up would cost more), others on the GPU, as does any option of "
+                      "the GPU descent; gpu: always the GPU descent; cpu: always the CPU (coarse-to-fine, hierarchy "
+                      "first stage)")
+          ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+          ->capture_default_str();
+  // --paper: faithful grids (5.1), every face prepared and the voxel first stage of 5.4 at the
+  // 40^3 grid of the paper's tests (6), the descent on the GPU (5.1) with its log2 reductions of 2 x 2
+  // texels and the stream reduction's 4-texel count pyramid (1.1), every level on the GPU (5.1), U
+  // from the boxes' farthest points (5.2, Eqs. 13-16).
+  auto& preset = o->preset;
+  preset.add_flag(cmd, "Krishnamurthy et al.");
+  govern_search(preset, search, o->search, "§5.1");
+  preset.govern(face_cull, o->face_cull, std::string("off"), "§5.4");
+  preset.govern(first_stage, o->first_stage, std::string("voxels"), "§5.4");
+  preset.govern(voxels, o->voxels, 40, "§6");
+  preset.govern(engine, o->engine, std::string("gpu"), "§5.1");
+  preset.govern(reduce_block_opt, o->reduce_block, 2, "§1.1, §3.1");
+  preset.govern(fanout_opt, o->compact_fanout, 4, "§1.1");
+  preset.govern(host_pairs_opt, o->host_pairs, 0LL, "§5.1");
+  preset.govern(upper_opt, o->upper, std::string("boxes"), "§5.2");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, voxels, reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt] {
+    o->preset.apply();
     if (voxels->count() > 0 && o->first_stage != "voxels") throw BadInput("--voxels needs --first-stage voxels");
     // The options of the GPU descent ask for it: auto runs on the GPU, cpu is refused.
     for (const CLI::Option* g : {reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt})
       if (g->count() > 0) {
-        if (o->engine == "cpu") throw BadInput(fmt::format("{} sets the GPU descent; not with --engine cpu", g->get_name()));
+        if (o->engine == "cpu")
+          throw BadInput(fmt::format("{} sets the GPU descent; not with --engine cpu", g->get_name()));
         if (o->engine == "auto") o->engine = "gpu";
       }
     run(global, *o);

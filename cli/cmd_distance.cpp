@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/paper_preset.h"
 #include "cli/validators.h"
 #include "nurbs/io/query_text.h"
 #include "nurbs/io/read_model.h"
@@ -46,6 +47,7 @@ struct Options {
   long long max_samples = 1LL << 22;  ///< per face grid
   bool no_cache = false;              ///< the batched preparation neither read from nor written to disk
   std::string engine = "auto";        ///< where the batched descent runs (queries::BatchEngine)
+  PaperPreset preset;                 ///< --paper
 };
 
 /// The rule every answer is held to: found, and its bound within the requested tolerance T.
@@ -206,6 +208,11 @@ void run(const GlobalOptions& global, const Options& o) {
       j["not_found"] = not_found, j["over_tolerance"] = over;
     }
     j["prepare_seconds"] = prepare_s;
+    // The switches of --paper as used; null where the batched projection does not use them.
+    const auto one_at_a_time = [&](const nlohmann::json& v) { return batched ? nlohmann::json() : v; };
+    j["preset"] = o.preset.json({{"per-point", !batched},
+                                 {"search", one_at_a_time(search_name(o.search))},
+                                 {"host-cells", one_at_a_time(batched ? 0 : query->host_cells_used())}});
     j["tolerance"] = tolerance;
     j["unit"] = unit;
     if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
@@ -231,6 +238,7 @@ void run(const GlobalOptions& global, const Options& o) {
     else
       print_json(j);
   } else {
+    o.preset.print_text();
     fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", faces.size(),
                size, unit, o.rel_tolerance * size, prepare_s,
                cache_json.is_object() && cache_json.value("hit", false) ? " (atlases and pyramid from the cache)" : "");
@@ -285,9 +293,10 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
       ->check(relative_tolerance())
       ->capture_default_str();
   auto* search = add_search_option(cmd, o->search);
-  cmd->add_flag("--per-point", o->per_point,
-                "With --points: one query per point (the per-point path; --search applies) instead of the batched "
-                "projection (all points in one pass, on faithful grids)");
+  auto* per_point =
+      cmd->add_flag("--per-point", o->per_point,
+                    "With --points: one query per point (the per-point path; --search applies) instead of the batched "
+                    "projection (all points in one pass, on faithful grids)");
   auto* boxes = cmd->add_option("--boxes", o->boxes,
                   "Batched projection: the box pyramid the points descend, 'oriented' (each box in its cells' "
                   "tangent frame: far fewer cells tested) or 'aabb' (axis-aligned, as Krishnamurthy et al. 5.1)")
@@ -312,17 +321,26 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "renderer rasterizes on the CPU (llvmpipe), gpu otherwise")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->capture_default_str();
+  // --paper: the paper's point query, one point at a time (3.1: the batched projection is beyond
+  // it), every face on its grid at the tolerance (3.1, 4), every atlas pruned by the GPU's
+  // reduction and stream reduction (3.1).
+  o->preset.add_flag(cmd, "Krishnamurthy et al.");
+  o->preset.govern(per_point, o->per_point, true, "§3.1");
+  govern_search(o->preset, search, o->search, "§3.1, §4");
+  o->preset.govern(host_cells, o->host_cells, 0LL, "§3.1");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine] {
+    o->preset.apply();
     // Options of the other path are refused, not ignored: --search and --host-cells steer one query
     // at a time, --boxes the batched projection.
     const bool batched = !o->points.empty() && !o->per_point;
     if (batched && search->count() > 0) throw BadInput("--search applies to one query at a time: add --per-point");
     if (batched && host_cells->count() > 0)
       throw BadInput("--host-cells applies to one query at a time: add --per-point");
-    if (!batched && boxes->count() > 0) throw BadInput("--boxes applies to the batched --points projection");
-    if (!batched && no_cache->count() > 0) throw BadInput("--no-cache applies to the batched --points projection");
-    if (!batched && engine->count() > 0) throw BadInput("--engine applies to the batched --points projection");
+    const std::string why = o->preset.paper() ? " (--paper sets --per-point)" : "";
+    for (const CLI::Option* b : {boxes, no_cache, engine})
+      if (!batched && b->count() > 0)
+        throw BadInput(fmt::format("{} applies to the batched --points projection{}", b->get_name(), why));
     run(global, *o);
   });
 }

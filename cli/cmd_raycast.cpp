@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/paper_preset.h"
 #include "cli/ray_engine.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -18,6 +19,7 @@ namespace cmd_raycast_impl {
 struct RaycastArgs {
   std::string model, rays;
   RayEngineArgs engine;
+  PaperPreset preset;  ///< --paper
   bool json = false;
 };
 
@@ -55,10 +57,12 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     nlohmann::json j = {{"model", a.model},   {"rays", rays.size()},      {"hits", hit_count},
                         {"seconds", engine.cast_seconds()}, {"hit_residual", bound}, {"results", results}};
     j.update(engine.figures());
+    j["preset"] = a.preset.json();
     print_json(j);
     return;
   }
   const nlohmann::json f = engine.figures();
+  a.preset.print_text();
   fmt::print("model     {} ({} faces, {} bicubic patches)\n", a.model, engine.scene().faces.size(),
              engine.scene().patches.size());
   fmt::print("rays      {}  hits {}  misses {}\n", rays.size(), hit_count, (long long)rays.size() - hit_count);
@@ -94,9 +98,12 @@ void add_raycast(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("MODEL", args->model, "Model file (.igs/.iges/.bpt)")->required();
   cmd->add_option("--rays", args->rays, "ray file: 'ox oy oz dx dy dz' per line (spaces or commas, '-' for stdin)")
       ->required();
-  add_ray_engine_options(cmd, args->engine);
+  add_ray_engine_options(cmd, args->engine, args->preset);
   cmd->add_flag("--json", args->json, "JSON: rays, seconds, t, face, uv (input order), and the figures");
-  cmd->callback([&global, args] { run(global, *args); });
+  cmd->callback([&global, args] {
+    args->preset.apply();
+    run(global, *args);
+  });
 }
 
 }  // namespace cli

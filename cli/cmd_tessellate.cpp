@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/paper_preset.h"
 #include "cli/validators.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/read_model.h"
@@ -29,6 +30,7 @@ struct TessArgs {
   long long max_cells = nurbs::tess::TessellateOptions{}.max_cells;
   double loop_share = 0.45;
   std::vector<int> faces;  ///< --face; empty = all
+  PaperPreset preset;      ///< --paper
 };
 
 nlohmann::json stats_json(const nurbs::tess::TessellateStats& s) {
@@ -179,6 +181,10 @@ void run(const TessArgs& a) {
                           {"lifted_degree_max", r.stats.trim.lifted_degree_max},
                           {"lift_error_max", r.stats.trim.lift_error_max}}},
                         {"seconds", stats_json(r.stats)}};
+    // The switches of --paper as used: the cell bound is guaranteed mode's; watertight meshes loop
+    // every boundary, as --paper-rectangles does.
+    j["preset"] = a.preset.json({{"cell-bound", guaranteed ? nlohmann::json(a.cell_bound) : nlohmann::json()},
+                                 {"paper-rectangles", a.paper_rectangles || a.watertight}});
     nlohmann::json failures = nlohmann::json::array();
     for (const auto& f : r.failures) failures.push_back({{"face", f.face}, {"reason", f.reason}});
     j["failures"] = failures;
@@ -232,6 +238,7 @@ void run(const TessArgs& a) {
     if (!a.output.empty()) j["output"] = a.output;
     print_json(j);
   } else {
+    a.preset.print_text();
     fmt::print("model        {} ({} faces, size {:.6g})\n", a.path, r.stats.faces, size);
     fmt::print("eps          {:.6g} ({:.3g} of the size), {} error, {}\n", eps, eps / size, a.mode, a.method);
     fmt::print("triangles    {}  vertices {}  trim edges {}  open edges {}\n", r.stats.triangles, r.stats.vertices,
@@ -287,28 +294,44 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
                   "surface-point estimate, fewer triangles, no guarantee")
       ->check(CLI::IsMember({"guaranteed", "approximate"}))
       ->capture_default_str();
-  cmd->add_option("--method", a->method, "kdtree: the paper's subdivision; quadtree: [Kah02], for comparison")
-      ->check(CLI::IsMember({"kdtree", "quadtree"}))
-      ->capture_default_str();
-  cmd->add_option("--cell-bound", a->cell_bound,
-                  "Guaranteed mode, the cells' proven bound: net = the paper's control-net test (2 eps_bilin + "
-                  "twist/4); filip = also Filip's second-derivative bound of each cell, the smaller kept (fewer "
-                  "triangles, still proven)")
-      ->check(CLI::IsMember({"filip", "net"}))
-      ->capture_default_str();
+  auto* method =
+      cmd->add_option("--method", a->method, "kdtree: the paper's subdivision; quadtree: [Kah02], for comparison")
+          ->check(CLI::IsMember({"kdtree", "quadtree"}))
+          ->capture_default_str();
+  auto* cell_bound =
+      cmd->add_option("--cell-bound", a->cell_bound,
+                      "Guaranteed mode, the cells' proven bound: net = the paper's control-net test (2 eps_bilin + "
+                      "twist/4); filip = also Filip's second-derivative bound of each cell, the smaller kept (fewer "
+                      "triangles, still proven)")
+          ->check(CLI::IsMember({"filip", "net"}))
+          ->capture_default_str();
   cmd->add_option("--loop-share", a->loop_share,
                   "Guaranteed mode: the share of eps for the trim loops; the cells get the rest")
       ->check(finite_range(0.05, 0.95))
       ->capture_default_str();
-  cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
-      ->check(CLI::IsMember({"midpoint", "arbitrary"}))
-      ->capture_default_str();
-  cmd->add_flag("--watertight", a->watertight,
-                "Faces sharing an edge get the same boundary vertices (no cracks; a closed model has no open edges)");
-  cmd->add_flag("--paper-rectangles", a->paper_rectangles,
-                "Approximate the boundary of a face bounded by its parameter rectangle by loop polylines, as the "
-                "paper does any loop (default: the cells' edges are that boundary, with no loop error)");
-  cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
+  auto* split =
+      cmd->add_option("--split", a->split, "Trim curve subdivision: midpoint or arbitrary (at the worst control point)")
+          ->check(CLI::IsMember({"midpoint", "arbitrary"}))
+          ->capture_default_str();
+  auto* watertight = cmd->add_flag(
+      "--watertight", a->watertight,
+      "Faces sharing an edge get the same boundary vertices (no cracks; a closed model has no open edges)");
+  auto* paper_rectangles =
+      cmd->add_flag("--paper-rectangles", a->paper_rectangles,
+                    "Approximate the boundary of a face bounded by its parameter rectangle by loop polylines, as the "
+                    "paper does any loop (default: the cells' edges are that boundary, with no loop error)");
+  auto* no_simplify = cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
+  // --paper: the kd-tree (5.2) with the control-net bound (5.2, the conservative error), trim curves
+  // split at their midpoint (5.1, Table 2) and their loops simplified (5.1), every loop approximated
+  // by polylines (5.1), each face on its own (3). --mode stays free: the paper gives both errors.
+  auto& preset = a->preset;
+  preset.add_flag(cmd, "Balazs, Guthe, Klein");
+  preset.govern(method, a->method, std::string("kdtree"), "§5.2");
+  preset.govern(cell_bound, a->cell_bound, std::string("net"), "§5.2");
+  preset.govern(split, a->split, std::string("midpoint"), "§5.1");
+  preset.govern(no_simplify, a->no_simplify, false, "§5.1");
+  preset.govern(paper_rectangles, a->paper_rectangles, true, "§5.1");
+  preset.govern(watertight, a->watertight, false, "§3");
   cmd->add_option("-o,--output", a->output, "Write the mesh: .obj, .ply or .stl");
   cmd->add_flag("--check", a->check,
                 "Measure the deviation (face samples to mesh, mesh samples to faces); exit 1 when above eps in "
@@ -327,6 +350,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
   cmd->callback([a, check_samples] {
+    a->preset.apply();
     // Options that would do nothing are refused.
     if (a->relative && !a->eps_given) throw BadInput("--relative: needs --eps");
     if (check_samples->count() > 0 && !a->check) throw BadInput("--check-samples: needs --check");

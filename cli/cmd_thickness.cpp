@@ -11,12 +11,13 @@
 #include <optional>
 
 #include "cli/commands.h"
-#include "cli/validators.h"
+#include "cli/paper_preset.h"
 #include "cli/ray_engine.h"
 #include "cli/thickness_ball.h"
+#include "cli/validators.h"
 #include "gpgpu/exr_dump.h"
-#include "nurbs/io/output_file.h"
 #include "nurbs/io/mesh_writer.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/raycast/thickness.h"
 
@@ -34,6 +35,7 @@ struct ThicknessArgs {
   double spacing = 0.0, min_wall = 0.0;
   bool samples_given = false, spacing_given = false, min_wall_given = false, json = false;
   RayEngineArgs engine;
+  PaperPreset preset;  ///< --paper
   BallArgs ball;
   std::string colour = "ray";
 };
@@ -168,9 +170,11 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
                        {"hit_face", hits[thinnest].face}};
     }
     j.update(f);
+    j["preset"] = a.preset.json();
     print_json(j);
     return;
   }
+  a.preset.print_text();
   fmt::print("model      {} ({} faces, {} bicubic patches, size {:.6g})\n", a.model, scene.faces.size(),
              scene.patches.size(), size);
   fmt::print("samples    {} rays at spacing {:.4g}; {} hits, {} misses\n", n, o.spacing, hit_count, n - hit_count);
@@ -227,7 +231,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
          "--min-wall", [a](double v) { a->min_wall = v, a->min_wall_given = true; },
          "Count the samples thinner than T (model units)")
       ->check(positive_number("a positive distance"));
-  add_ray_engine_options(cmd, a->engine);
+  add_ray_engine_options(cmd, a->engine, a->preset);
   cmd->add_flag("--ball", a->ball.enabled,
                 "Also the rolling-ball thickness: the largest empty ball tangent at each sample (shrinking ball over "
                 "the GPU batched point query; never above the ray's)");
@@ -249,6 +253,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
   cmd->add_option("--exr", a->exr, "Write each face's thickness grid as DIR/face_NNNN_thickness.exr (-1: none)");
   cmd->add_flag("--json", a->json, "One JSON object: rays, hits, thickness min/max/mean/median, figures");
   cmd->callback([&global, a, ball_engine] {
+    a->preset.apply();
     if (ball_engine->count() > 0 && !a->ball.enabled) throw BadInput("--ball-engine needs --ball");
     run(global, *a);
   });

@@ -24,22 +24,25 @@ std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinat
   return rays;
 }
 
-void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
-  cmd->add_option("--method", args.method,
-                  "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
-                  "ray tracing without a kept structure (§3.2)")
-      ->check(CLI::IsMember({"bvh", "dacrt"}))
-      ->capture_default_str();
-  cmd->add_option("--device", args.device,
-                  "cpu: the double-precision path on every core; gpu: the fragment-shader pass (Lemasson et al. "
-                  "§3.2-3.4 in float), hits finished in double on the CPU (bvh only)")
-      ->check(CLI::IsMember({"cpu", "gpu"}))
-      ->capture_default_str();
-  cmd->add_option("--bvh-build", args.bvh_build,
-                  "--device gpu: build the Morton BVH on the cpu, or on the gpu in fragment passes (Morton codes, "
-                  "bitonic sort, Karras' nodes: Lemasson et al. §3.2)")
-      ->check(CLI::IsMember({"cpu", "gpu"}))
-      ->capture_default_str();
+void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& preset) {
+  auto* method =
+      cmd->add_option("--method", args.method,
+                      "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
+                      "ray tracing without a kept structure (§3.2)")
+          ->check(CLI::IsMember({"bvh", "dacrt"}))
+          ->capture_default_str();
+  auto* device =
+      cmd->add_option("--device", args.device,
+                      "cpu: the double-precision path on every core; gpu: the fragment-shader pass (Lemasson et al. "
+                      "§3.2-3.4 in float), hits finished in double on the CPU (bvh only)")
+          ->check(CLI::IsMember({"cpu", "gpu"}))
+          ->capture_default_str();
+  auto* bvh_build =
+      cmd->add_option("--bvh-build", args.bvh_build,
+                      "--device gpu: build the Morton BVH on the cpu, or on the gpu in fragment passes (Morton codes, "
+                      "bitonic sort, Karras' nodes: Lemasson et al. §3.2)")
+          ->check(CLI::IsMember({"cpu", "gpu"}))
+          ->capture_default_str();
   cmd->add_option("--threads", args.threads, "CPU threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_option("--dacrt-patches", args.dacrt_patches,
                   "dacrt: test every ray against every patch once a patch set is this small (Figs. 8-9)")
@@ -53,6 +56,12 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args) {
                   "exact face)")
       ->check(finite_range(1e-9, 1e-2))
       ->capture_default_str();
+  // --paper: the BVH method on the GPU (3.2: the faster and more accurate of the paper's two GPU
+  // methods; DACRT has no GPU pass here), its tree built there from Morton keys (3.2).
+  preset.add_flag(cmd, "Lemasson et al.");
+  preset.govern(method, args.method, std::string("bvh"), "§3.2");
+  preset.govern(device, args.device, std::string("gpu"), "§3.2-3.4");
+  preset.govern(bvh_build, args.bvh_build, std::string("gpu"), "§3.2");
 }
 
 RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global)

@@ -1,7 +1,8 @@
 #pragma once
 /// \file ray_engine.h
 /// What `raycast` and `thickness` share: the ray file reader, the options that choose how rays are
-/// cast (--method bvh|dacrt, --threads) and the engine that builds the scene of a model and casts
+/// cast (--method bvh|dacrt, --device, --bvh-build, --threads; --paper sets the first three as
+/// Lemasson et al.) and the engine that builds the scene of a model and casts
 /// rays through it with progress on stderr.
 #include <CLI/CLI.hpp>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "cli/common.h"
+#include "cli/paper_preset.h"
 #include "nurbs/model.h"
 #include "nurbs/raycast/raycast_cpu.h"
 #include "queries/ray_caster.h"
@@ -31,7 +33,8 @@ struct RayEngineArgs {
   double tolerance = 1e-5;                ///< bicubic tolerance relative to the model size
   int dacrt_patches = 8, dacrt_rays = 8;  ///< DACRT's brute-force thresholds
 };
-void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args);
+/// The options of RayEngineArgs on `cmd`, and --paper governing --method, --device and --bvh-build.
+void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& preset);
 
 /// The CLI's side of queries::RayCaster: the GPU started from the global options when --device gpu
 /// (exit 3 when none starts), progress on stderr, the figures as JSON.

@@ -2,11 +2,13 @@
 /// \file validators.h
 /// Option checks shared by subcommands. CLI11's Range lets NaN through (every comparison with NaN is
 /// false) and prints small bounds as 0.000000, so tolerances get their own check.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <string>
 
+#include "cli/paper_preset.h"
 #include "queries/prepared_model.h"
 
 namespace cli {
@@ -76,6 +78,19 @@ inline CLI::Option* add_search_option(CLI::App* cmd, queries::Search& search) {
       ->check(CLI::IsMember({"faithful", "coarse-to-fine"}))
       ->type_name("faithful|coarse-to-fine")
       ->default_str("coarse-to-fine");
+}
+
+/// --search's value as the option spells it.
+inline std::string search_name(queries::Search search) {
+  return search == queries::Search::Faithful ? "faithful" : "coarse-to-fine";
+}
+
+/// --search under the --paper preset: faithful (`section`: where the paper puts every face on a grid
+/// at the tolerance).
+inline void govern_search(PaperPreset& preset, CLI::Option* option, queries::Search& search, std::string section) {
+  preset.govern(
+      option, "faithful", std::move(section), [&search] { return search_name(search); },
+      [&search] { search = queries::Search::Faithful; });
 }
 
 }  // namespace cli

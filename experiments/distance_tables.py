@@ -7,7 +7,8 @@ run on the same machine, then writes NAME.csv, NAME.png and a short summary on s
 
   tables   Tables 1 and 3: the 199x33 surface against the 100x105 one (Table 1) and the trimmed 100x105
            (Table 3) at four positions of B: time per query, prepare time, distance, bound / model
-           size, faithful vs coarse-to-fine, OCCT distance and time; also Fig. 12 (pairs per level).
+           size, paper preset vs faithful vs default, OCCT distance and time; also Fig. 12 (pairs per
+           level).
   table2   Table 2: the per-pass breakdown of one query (`clearance --timings`).
   fig16    Fig. 16: a scripted motion of B over 100 frames (`clearance --motion`), time and bound per frame.
   table5   Table 5: object pairs from ../shared/models (teapot near the vase wall; a model against itself
@@ -15,6 +16,13 @@ run on the same machine, then writes NAME.csv, NAME.png and a short summary on s
   points   Point distance: `distance --points` on random points near the 100x105 surface vs OCCT's
            GeomAPI_ProjectPointOnSurf initialised once, distances compared.
   all      everything above.
+
+Each experiment runs the CLI's presets side by side, a row (or series) each: `paper` (`--paper`: every
+switch at the paper's algorithm: faithful grids, every face, the voxel first stage, 2 x 2 reductions,
+the 4-texel stream reduction, every level on the GPU, box upper bounds; one query per point),
+`faithful` (`--search faithful` on the default's other switches) and `default` (no switch: the
+coarse-to-fine search). The paper preset runs fewer queries (--paper-reps, --paper-frames): its voxel
+stage costs seconds per query on a software renderer.
 
 OCCT's answer is checked against ours: |d_occt - d| <= bound + OCCT's shape tolerance, else the CSV
 column `within` says `NO`. Benchmarks, not tests: nothing here fails on a slow figure.
@@ -35,8 +43,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after the backend is chosen)
 
-METHODS = ("faithful", "coarse-to-fine")
-VOXELS = "c2f + voxels"  # Table 5 only: --first-stage voxels (§5.4) on the coarse-to-fine search
+# The runs of each experiment, by name: the options each adds to `clearance`.
+METHODS = {"paper": ["--paper"], "faithful": ["--search", "faithful"], "default": []}
+VOXELS = "default + voxels"  # Table 5 only: --first-stage voxels (§5.4) on the default
 
 # Positions of B (rotated by DEG degrees about the axis through the origin, then moved), chosen so that
 # the closest points lie in different places. A: x in [0, 200], y in [0, 40], z in +-5; B: [0, 100]^2,
@@ -159,8 +168,12 @@ class Runner:
         return out
 
     def clearance(self, a, b, method, *args, stderr_to=None):
-        return self.nurbsgl("clearance", a, b, *args, "--search", method, "--tol", str(self.a.tol), "--json",
+        return self.nurbsgl("clearance", a, b, *args, *METHODS[method], "--tol", str(self.a.tol), "--json",
                             stderr_to=stderr_to)
+
+    def reps(self, method):
+        """Queries per position of a method: fewer for the paper preset (its voxel stage is slow)."""
+        return min(self.a.reps, self.a.paper_reps) if method == "paper" else self.a.reps
 
     def peer(self, *args):
         return run_json([self.a.peer, *args])
@@ -201,15 +214,20 @@ class Runner:
     # --- Tables 1 and 3, Fig. 12 -------------------------------------------------------------------
     def pair_table(self, table, a, b, positions):
         """One nurbsgl process per method (one prepare), each position repeated; OCCT per position."""
-        reps = self.a.reps
-        motion = self.path(f"{table}_motion.txt")
-        write_lines(motion, [motion_line(p) for _, p, _ in positions for _ in range(reps)])
-        ours = self.each_method(table, lambda m: self.clearance(a, b, m, "--motion", motion))
+        reps = {m: self.reps(m) for m in METHODS}
+
+        def run(m):
+            motion = self.path(f"{table}_{m}_motion.txt")
+            write_lines(motion, [motion_line(p) for _, p, _ in positions for _ in range(reps[m])])
+            return self.clearance(a, b, m, "--motion", motion)
+
+        ours = self.each_method(table, run)
         if not ours:
             return
-        last = {(k, m): ours[m]["results"][(k + 1) * reps - 1] for k in range(len(positions)) for m in ours}
+        last = {(k, m): ours[m]["results"][(k + 1) * reps[m] - 1] for k in range(len(positions)) for m in ours}
         occt, gaps = self.occt_shapes(table, a, b, [motion_line(p) for _, p, _ in positions],
-                                      [(k, r["point_a"], r["point_b"]) for (k, _), r in last.items()], max(reps, 3))
+                                      [(k, r["point_a"], r["point_b"]) for (k, _), r in last.items()],
+                                      max(self.a.reps, 3))
         gaps = dict(zip(last.keys(), gaps))
         back = self.gaps_where_occt_smaller(a, b, occt["results"], [p for _, p, _ in positions],
                                             [(k, r["distance"], r["bound"], occt["tolerance"])
@@ -219,14 +237,15 @@ class Runner:
             o = occt["results"][k]
             for m in ours:
                 j = ours[m]
-                frames = j["results"][k * reps:(k + 1) * reps]
+                frames = j["results"][k * reps[m]:(k + 1) * reps[m]]
                 r = frames[-1]
                 g = gaps[(k, m)]
                 size = j["tolerance"] / self.a.tol
-                steady = statistics.median(f["seconds"] for f in frames[1:]) if reps > 1 else r["seconds"]
+                steady = statistics.median(f["seconds"] for f in frames[1:]) if reps[m] > 1 else r["seconds"]
                 d_o = o.get("distance")
                 rows.append({
                     "table": table, "position": name, "motion": motion_line(pos), "where": where, "method": m,
+                    "preset": j.get("preset", {}).get("name", ""), "queries": reps[m],
                     "distance": r["distance"], "bound": r["bound"], "bound_over_size": r["bound"] / size,
                     "model_size": size, "tolerance": j["tolerance"],
                     "prepare_s": j["prepare_seconds"] if k == 0 else "",
@@ -254,7 +273,7 @@ class Runner:
         self.plot_pair_table(table, rows, positions)
         self.plot_levels(table, levels, positions)
         print(f"\n{table}: {os.path.basename(a)} vs {os.path.basename(b)}, tol {self.a.tol:g} x model size, "
-              f"median of {reps - 1 if reps > 1 else 1} queries after the first")
+              f"median of the queries after the first ({', '.join(f'{m} {max(reps[m] - 1, 1)}' for m in ours)})")
         print(f"{'position':<8} {'method':<15} {'distance':>12} {'bound/size':>10} {'prep ms':>8} {'1st ms':>8} "
               f"{'query ms':>9} {'OCCT d':>12} {'OCCT ms':>8} {'OCCT/ours':>9} within")
         for r in rows:
@@ -268,13 +287,12 @@ class Runner:
     def plot_pair_table(self, table, rows, positions):
         fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
         names = [p[0] for p in positions]
-        w = 0.27
-        for i, (label, key, filt) in enumerate([
-                ("faithful", "query_s", ["faithful"]), ("coarse-to-fine", "query_s", ["coarse-to-fine"]),
-                ("OCCT", "occt_s", METHODS)]):
+        series = [(m, "query_s", [m]) for m in METHODS] + [("OCCT", "occt_s", list(METHODS))]
+        w = 0.8 / len(series)
+        for i, (label, key, filt) in enumerate(series):
             ys = [1e3 * next((r[key] for r in rows if r["position"] == n and r["method"] in filt), math.nan)
                   for n in names]
-            ax0.bar([x + (i - 1) * w for x in range(len(names))], ys, w, label=label)
+            ax0.bar([x + (i - (len(series) - 1) / 2) * w for x in range(len(names))], ys, w, label=label)
         ax0.set_xticks(range(len(names)), names)
         ax0.set_yscale("log")
         ax0.set_ylim(bottom=1)
@@ -284,7 +302,7 @@ class Runner:
         for i, m in enumerate(METHODS):
             ys = [next((r["bound_over_size"] for r in rows if r["position"] == n and r["method"] == m), math.nan)
                   for n in names]
-            ax1.bar([x + (i - 0.5) * w for x in range(len(names))], ys, w, label=m)
+            ax1.bar([x + (i - (len(METHODS) - 1) / 2) * w for x in range(len(names))], ys, w, label=m)
         ax1.axhline(2 * self.a.tol, color="k", ls="--", lw=0.8, label="2 x tol (K_a + K_b)")
         ax1.set_xticks(range(len(names)), names)
         ax1.set_ylabel("bound / model size")
@@ -297,7 +315,7 @@ class Runner:
     def plot_levels(self, table, levels, positions):
         fig, ax = plt.subplots(figsize=(6, 4))
         for name, _, _ in positions:
-            for m, ls in zip(METHODS, ("-", "--")):
+            for m, ls in zip(METHODS, ("-", "--", ":")):
                 pts = [(r["level"], r["pairs"]) for r in levels if r["position"] == name and r["method"] == m]
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], ls, marker="o", ms=3, label=f"{name} {m}")
         ax.set_yscale("log")
@@ -385,37 +403,48 @@ class Runner:
             t = k / (frames - 1)
             s, c = math.sin(2 * math.pi * t), math.cos(2 * math.pi * t)
             lines.append(f"{100 * t:.6g} {-20 + 10 * s:.6g} {-6 + 2 * c:.6g} 0 0 1 {10 * s:.6g}")
-        motion = self.path("fig16_motion.txt")
-        write_lines(motion, lines)
-        ours = self.each_method("fig16", lambda m: self.clearance(a, b, m, "--motion", motion))
+        # The frames each method runs: all, or every few for the paper preset (--paper-frames of them).
+        step = max(1, frames // max(1, self.a.paper_frames))
+        run_frames = {m: list(range(0, frames, step)) if m == "paper" else list(range(frames)) for m in METHODS}
+
+        def run(m):
+            motion = self.path(f"fig16_{m}_motion.txt")
+            write_lines(motion, [lines[k] for k in run_frames[m]])
+            return self.clearance(a, b, m, "--motion", motion)
+
+        ours = self.each_method("fig16", run)
         if not ours:
             return
-        occt, gaps = self.occt_shapes("fig16", a, b, lines, [(k, r["point_a"], r["point_b"]) for m in ours
-                                                              for k, r in enumerate(ours[m]["results"])], 1)
-        gaps = {m: gaps[i * frames:(i + 1) * frames] for i, m in enumerate(ours)}
+        res = {m: dict(zip(run_frames[m], ours[m]["results"])) for m in ours}  # method -> frame -> answer
+        order = [(m, k) for m in ours for k in res[m]]
+        occt, gaps = self.occt_shapes("fig16", a, b, lines, [(k, res[m][k]["point_a"], res[m][k]["point_b"])
+                                                              for m, k in order], 1)
+        gaps = dict(zip(order, gaps))
         back = self.gaps_where_occt_smaller(a, b, occt["results"], [[float(x) for x in ln.split()] for ln in lines],
-                                            [(k, r["distance"], r["bound"], occt["tolerance"]) for m in ours
-                                             for k, r in enumerate(ours[m]["results"])])
+                                            [(k, res[m][k]["distance"], res[m][k]["bound"], occt["tolerance"])
+                                             for m, k in order])
         rows = []
         for k in range(frames):
             o = occt["results"][k]
             row = {"frame": k + 1, "motion": lines[k], "occt_distance": o.get("distance", ""), "occt_s": o["seconds"]}
             for m in ours:
-                r = ours[m]["results"][k]
-                row[f"{m}_s"] = r["seconds"]
-                row[f"{m}_distance"] = r["distance"]
-                row[f"{m}_bound"] = r["bound"]
-                row[f"{m}_meets_tolerance"] = r.get("meets_tolerance", "")
-                row[f"{m}_within"] = within(r["distance"], r["bound"], o.get("distance"), occt["tolerance"], gaps[m][k],
-                                            back.get(k))
+                r = res[m].get(k)
+                row[f"{m}_s"] = r["seconds"] if r else ""
+                row[f"{m}_distance"] = r["distance"] if r else ""
+                row[f"{m}_bound"] = r["bound"] if r else ""
+                row[f"{m}_meets_tolerance"] = r.get("meets_tolerance", "") if r else ""
+                row[f"{m}_within"] = within(r["distance"], r["bound"], o.get("distance"), occt["tolerance"],
+                                            gaps[(m, k)], back.get(k)) if r else ""
             row["ours_gap_a"], row["ours_gap_b"] = back.get(k, ("", ""))
             rows.append(row)
         write_csv(self.path("fig16.csv"), rows)
         fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
         x = [r["frame"] for r in rows]
         for m in ours:
-            ax0.plot(x, [1e3 * r[f"{m}_s"] for r in rows], label=m)
-            ax1.plot(x, [r[f"{m}_bound"] for r in rows], label=f"bound, {m}")
+            ran = [r for r in rows if r[f"{m}_s"] != ""]
+            style = "o-" if len(ran) < len(rows) else "-"
+            ax0.plot([r["frame"] for r in ran], [1e3 * r[f"{m}_s"] for r in ran], style, ms=3, label=m)
+            ax1.plot([r["frame"] for r in ran], [r[f"{m}_bound"] for r in ran], style, ms=3, label=f"bound, {m}")
         ax0.plot(x, [1e3 * r["occt_s"] for r in rows], label="OCCT")
         ax0.set_yscale("log")
         ax0.set_ylabel("ms per frame")
@@ -424,7 +453,9 @@ class Runner:
         ax1.set_ylabel("bound (absolute)")
         ax1.set_xlabel("frame")
         ax2 = ax1.twinx()
-        ax2.plot(x, [r["faithful_distance"] for r in rows], "k:", label="distance (faithful)")
+        shown = next((m for m in ("default", "faithful", "paper") if m in ours), None)
+        if shown:
+            ax2.plot(x, [r[f"{shown}_distance"] for r in rows], "k:", label=f"distance ({shown})")
         ax2.plot(x, [r["occt_distance"] for r in rows], "kx", ms=3, label="distance (OCCT)")
         ax2.set_ylabel("distance")
         ax1.legend(loc="upper left", fontsize=8)
@@ -435,14 +466,15 @@ class Runner:
         occt_ms = 1e3 * statistics.median(r["occt_s"] for r in rows)
         print(f"\nfig16: {frames} frames, tol {self.a.tol:g} x model size (median ms per frame; bound min-max)")
         for m in ours:
-            ms = 1e3 * statistics.median(r[f"{m}_s"] for r in rows)
-            bounds = [r[f"{m}_bound"] for r in rows]
-            bad = verdicts(r[f"{m}_within"] for r in rows)
-            n_unmet = sum(r[f"{m}_meets_tolerance"] is False for r in rows)
+            ran = [r for r in rows if r[f"{m}_s"] != ""]
+            ms = 1e3 * statistics.median(r[f"{m}_s"] for r in ran)
+            bounds = [r[f"{m}_bound"] for r in ran]
+            bad = verdicts(r[f"{m}_within"] for r in ran)
+            n_unmet = sum(r[f"{m}_meets_tolerance"] is False for r in ran)
             unmet = f"; tolerance not met on {n_unmet} frames" if n_unmet else ""
-            print(f"  {m:<15} prepare {1e3 * ours[m]['prepare_seconds']:.0f} ms, {ms:.1f} ms/frame, bound "
-                  f"{min(bounds):.3g}-{max(bounds):.3g}, OCCT {occt_ms:.1f} ms/frame, OCCT/ours {occt_ms / ms:.2f}x, "
-                  f"OCCT outside our bound: {bad}{unmet}")
+            print(f"  {m:<15} {len(ran):>3} frames, prepare {1e3 * ours[m]['prepare_seconds']:.0f} ms, {ms:.1f} "
+                  f"ms/frame, bound {min(bounds):.3g}-{max(bounds):.3g}, OCCT {occt_ms:.1f} ms/frame, OCCT/ours "
+                  f"{occt_ms / ms:.2f}x, OCCT outside our bound: {bad}{unmet}")
 
     # --- Table 5 -----------------------------------------------------------------------------------
     def table5(self):
@@ -475,7 +507,7 @@ class Runner:
             ours = self.each_method(f"table5 {name}", lambda m: self.clearance(a, b, m, "--motion", motion))
             if voxels:  # the paper's §5.4 voxel first stage before the hierarchy, on the default search
                 try:
-                    ours[VOXELS] = self.clearance(a, b, "coarse-to-fine", "--motion", motion, "--first-stage", "voxels")
+                    ours[VOXELS] = self.clearance(a, b, "default", "--motion", motion, "--first-stage", "voxels")
                 except RuntimeError as e:
                     print(f"\ntable5 {name}: {VOXELS} failed: {e}")
             if not ours:
@@ -493,6 +525,7 @@ class Runner:
                 size = j["tolerance"] / self.a.tol
                 rows.append({
                     "pair": name, "a": fa, "b": fb, "motion": motion_line(pos), "where": where, "method": m,
+                    "preset": j.get("preset", {}).get("name", ""),
                     "distance": r["distance"], "bound": r["bound"], "bound_over_size": r["bound"] / size,
                     "prepare_s": j["prepare_seconds"], "first_query_s": fr[0]["seconds"], "query_s": steady,
                     "first_total_s": j["prepare_seconds"] + fr[0]["seconds"], "leaf_pairs": r["leaf_pairs"],
@@ -516,15 +549,15 @@ class Runner:
         write_csv(self.path("table5.csv"), rows)
         names = list(dict.fromkeys(r["pair"] for r in rows))
         fig, ax = plt.subplots(figsize=(9, 4))
-        w = 0.14
-        series = [("prepare + 1st, faithful", "faithful", "first_total_s"), ("query, faithful", "faithful", "query_s"),
-                  ("prepare + 1st, c2f", "coarse-to-fine", "first_total_s"),
-                  ("query, c2f", "coarse-to-fine", "query_s"), ("query, c2f + voxels", VOXELS, "query_s")]
+        series = [(f"{what}, {m}", m, key) for m in METHODS
+                  for what, key in (("prepare + 1st", "first_total_s"), ("query", "query_s"))]
+        series.append((f"query, {VOXELS}", VOXELS, "query_s"))
+        w = 0.8 / (len(series) + 1)
         for i, (label, m, key) in enumerate(series):
             ys = [1e3 * next((r[key] for r in rows if r["pair"] == n and r["method"] == m), math.nan) for n in names]
-            ax.bar([x + (i - 2.5) * w for x in range(len(names))], ys, w, label=label)
+            ax.bar([x + (i - len(series) / 2) * w for x in range(len(names))], ys, w, label=label)
         ys = [1e3 * next(r["occt_s"] for r in rows if r["pair"] == n) for n in names]
-        ax.bar([x + 2.5 * w for x in range(len(names))], ys, w, label="OCCT")
+        ax.bar([x + len(series) / 2 * w for x in range(len(names))], ys, w, label="OCCT")
         ax.set_xticks(range(len(names)), names)
         ax.set_yscale("log")
         ax.set_ylim(bottom=1)
@@ -545,9 +578,9 @@ class Runner:
 
     # --- points ------------------------------------------------------------------------------------
     def points(self):
-        """`distance --points` as the CLI gives it (batched when available) on all points, and one query
-        per point (`--per-point`, both search methods; `--point` per process where the CLI lacks it) on
-        the first --per-point-sample points, against OCCT's projection of every point."""
+        """`distance --points` by default (the batched projection) on all points, and one query per point
+        on the first --per-point-sample points: the paper preset (`--paper`: per point, faithful) and the
+        coarse-to-fine search (`--per-point`); against OCCT's projection of every point."""
         model = self.model("paper-100x105")
         n = 200 if self.a.quick else self.a.points
         rnd = random.Random(8)
@@ -561,24 +594,16 @@ class Runner:
         runs = {}
         try:
             runs["points"] = self.nurbsgl("distance", model, "--points", file, *tol)
-            runs["points"]["label"] = f"--points ({runs['points'].get('path', 'as the CLI gives it')})"
+            runs["points"]["label"] = f"default (--points, {runs['points'].get('path', 'as the CLI gives it')})"
         except RuntimeError as e:
             print(f"\npoints: --points failed: {e}")
-        per_point = "--per-point" in subprocess.run([self.a.nurbsgl, "distance", "--help"], capture_output=True,
-                                                    text=True).stdout
-
-        def one_by_one(m):
-            if per_point:
-                j = self.nurbsgl("distance", model, "--points", sample_file, "--per-point", "--search", m, *tol)
-            else:  # one process per point: the query time is the JSON's, the prepare time the median
-                single = [self.nurbsgl("distance", model, "--point", ",".join(f"{x:.9g}" for x in p), "--search", m,
-                                       *tol) for p in pts[:sample]]
-                j = {"results": single, "seconds": sum(r["seconds"] for r in single),
-                     "prepare_seconds": statistics.median(r["prepare_seconds"] for r in single)}
-            j["label"] = f"per point, {m}"
-            return j
-
-        runs.update(self.each_method("points", one_by_one))
+        for key, args, label in (("paper", ["--paper"], "paper (--paper, per point)"),
+                                 ("coarse-to-fine", ["--per-point"], "per point, coarse-to-fine")):
+            try:
+                runs[key] = self.nurbsgl("distance", model, "--points", sample_file, *args, *tol)
+                runs[key]["label"] = label
+            except RuntimeError as e:
+                print(f"\npoints: {label} failed: {e}")
         if not runs:
             return
         occt = self.peer("points", model, "--points", file, "--repeat", "3")
@@ -589,7 +614,8 @@ class Runner:
                                    for _ in range(big)])
             try:
                 runs["large"] = self.nurbsgl("distance", model, "--points", big_file, *tol)
-                runs["large"]["label"] = f"--points ({runs['large'].get('path', 'as the CLI gives it')}, {big} points)"
+                path = runs["large"].get("path", "as the CLI gives it")
+                runs["large"]["label"] = f"default (--points, {path}, {big} points)"
             except RuntimeError as e:
                 print(f"\npoints: --points with {big} points failed: {e}")
         rows = []
@@ -640,21 +666,21 @@ class Runner:
         for s in summary[:-1]:
             m = s["key"]
             if m == "large":
-                print(f"  {s['method']:<31} prepare {1e3 * s['prepare_s']:.0f} ms, {s['ms_per_point']:.4f} ms/point "
+                print(f"  {s['method']:<40} prepare {1e3 * s['prepare_s']:.0f} ms, {s['ms_per_point']:.4f} ms/point "
                       f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.1f}x")
                 continue
             diffs = [abs(r[f"{m}_diff_occt"]) for r in rows if r[f"{m}_diff_occt"] != ""]
             bad = verdicts(r[f"{m}_within"] for r in rows if r[f"{m}_within"])
-            print(f"  {s['method']:<31} {s['points']} points, prepare {1e3 * s['prepare_s']:.0f} ms, "
+            print(f"  {s['method']:<40} {s['points']} points, prepare {1e3 * s['prepare_s']:.0f} ms, "
                   f"{s['ms_per_point']:.3f} ms/point "
                   f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.2f}x, "
                   f"max |d - d_OCCT| {max(diffs):.2e}, OCCT outside our bound: {bad}")
-        pairs = [(r["points_distance"] - r["faithful_distance"], r["points_bound"] + r["faithful_bound"]) for r in rows
-                 if "points" in runs and "faithful" in runs and r["faithful_distance"] != ""]
+        pairs = [(r["points_distance"] - r["paper_distance"], r["points_bound"] + r["paper_bound"]) for r in rows
+                 if "points" in runs and "paper" in runs and r["paper_distance"] != ""]
         if pairs:
-            print(f"  --points vs per point (faithful) on {len(pairs)} points: max |diff| "
+            print(f"  default --points vs the paper preset on {len(pairs)} points: max |diff| "
                   f"{max(abs(d) for d, _ in pairs):.2e}, beyond both bounds on {sum(abs(d) > b for d, b in pairs)}")
-        print(f"  {'OCCT':<31} {n} points, init {1e3 * occt['init_seconds']:.2f} ms, {occt_ms:.3f} ms/point, "
+        print(f"  {'OCCT':<40} {n} points, init {1e3 * occt['init_seconds']:.2f} ms, {occt_ms:.3f} ms/point, "
               f"no projection found for {none} points")
 
 
@@ -674,6 +700,9 @@ def main():
     p.add_argument("--points", type=int, default=1000, help="random points of the points experiment")
     p.add_argument("--batch-points", type=int, default=100000, help="points of the batched throughput run")
     p.add_argument("--per-point-sample", type=int, default=200, help="points of the one-query-per-point runs")
+    p.add_argument("--paper-reps", type=int, default=2,
+                   help="queries per position of the paper preset in Tables 1 and 3 (its voxel stage is slow)")
+    p.add_argument("--paper-frames", type=int, default=10, help="frames of Fig. 16 that the paper preset runs")
     p.add_argument("--gl", help="GL backend passed to nurbsgl")
     p.add_argument("--quick", action="store_true", help="one position, fewer frames and points")
     a = p.parse_args()

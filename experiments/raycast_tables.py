@@ -6,15 +6,17 @@ contract) and the OCCT peer (`peer_occt_distance rays`: IntCurvesFace_ShapeInter
 in the same run on the same machine. Per model:
 
   rays      N random rays (origins on a sphere around the model, aimed at random points of its box):
-            rays per second of the BVH and DACRT methods on the CPU and of the BVH on the GPU (the
-            float pass and the double finishing timed apart), box and patch tests per ray (paper Fig. 7),
-            memory of the BVH, patches and trims (Fig. 11).
+            rays per second of the BVH and DACRT methods on the CPU, of the BVH on the GPU (the
+            float pass and the double finishing timed apart) and of the paper preset (`--paper`: the
+            BVH built and traversed on the GPU), box and patch tests per ray (paper Fig. 7), memory of
+            the BVH, patches and trims (Fig. 11). The run without switches is the default preset.
   peer      the first M of those rays through OCCT: rays per second, the hit/miss agreement, and
             |t - t_occt| on the rays both hit (OCCT is the independent reference).
   accuracy  Fig. 13: |t_bicubic - t| (the hit on the bicubic patches, what the paper reports, against
             the hit moved onto the exact NURBS face in double) and |t - t_occt|; the fraction of
             samples within 1e-3 mm (the goal: 99 %; the paper reached 55 %).
-  thickness `nurbsgl thickness --samples S`: rays per second, min / median thickness.
+  thickness `nurbsgl thickness --samples S`, the default and `--paper`: rays per second, min / median
+            thickness.
   dacrt     Figs. 8-9: DACRT's rays per second and tests per ray over its two brute-force thresholds
             (patch set, ray set) on the first model.
 
@@ -108,17 +110,21 @@ def main():
         rays = os.path.join(out, f"{name}_rays.txt")
         make_rays(info, a.rays, 7, rays)
         ours = {}
-        for method, device in (("bvh", "cpu"), ("dacrt", "cpu"), ("bvh", "gpu")):
-            j = run_json([nurbsgl, "raycast", path, "--rays", rays, "--method", method, "--device", device, "--json"])
+        # key, options: the default preset (bvh on the cpu), DACRT, the BVH pass on the GPU, the paper preset.
+        for key, options in (("bvh", []), ("dacrt", ["--method", "dacrt"]), ("gpu", ["--device", "gpu"]),
+                             ("paper", ["--paper"])):
+            j = run_json([nurbsgl, "raycast", path, "--rays", rays, *options, "--json"])
             if j is None:
                 continue
-            key = method if device == "cpu" else "gpu"
+            method, device = j["method"], j["device"]
+            preset = j.get("preset", {}).get("name", "")
             # Per-ray fields as lists (-1 for a miss) from the one object per ray.
             j["t"] = [r["t"] if r["hit"] else -1.0 for r in j["results"]]
             j["t_bicubic"] = [r["t_bicubic"] if r["hit"] else -1.0 for r in j["results"]]
             ours[key] = j
             gpu = j.get("gpu") or {}
-            rows.append({"model": name, "method": method, "device": device, "rays": j["rays"],
+            rows.append({"model": name, "preset": preset if key in ("bvh", "paper") else "", "method": method,
+                         "device": device, "bvh_build": gpu.get("bvh_build", "cpu"), "rays": j["rays"],
                          "gpu_pass_seconds": round(gpu.get("gpu_seconds", 0), 4),
                          "finish_seconds": round(gpu.get("cpu_seconds", 0), 4), "fallbacks": gpu.get("fallbacks", 0),
                          "hits": j["hits"], "rays_per_second": round(j["rays_per_second"]),
@@ -149,6 +155,10 @@ def main():
                 hist_gpu.extend(tg)
                 wg = sum(1 for x in tg if x <= 1e-3) / max(1, len(tg))
                 line += f"; |t_gpu_float - t| <= 1e-3: {100 * wg:.1f} %"
+            if "paper" in ours:
+                pj = ours["paper"]
+                line += (f", paper preset {pj['rays_per_second']:.0f} rays/s (BVH built on the gpu in "
+                         f"{pj['gpu']['bvh_build_gpu_seconds']:.3f} s)")
             line += (f"; {j['tests_per_ray']['box']:.1f} boxes + {j['tests_per_ray']['patch']:.2f} patches per ray;"
                      f" {j['patches']} patches")
             within = sum(1 for x in bic if x <= 1e-3) / max(1, len(bic))
@@ -167,14 +177,17 @@ def main():
                                  "within_1e-3_occt": round(w, 5), "max_dt_occt": max(d, default=0),
                                  "within_1e-3_bicubic": round(within, 5), "max_dt_bicubic": max(bic, default=0)})
             summary.append(line)
-        th = run_json([nurbsgl, "thickness", path, "--samples", str(a.samples), "--json"])
-        if th is not None:
-            th_rows.append({"model": name, "rays": th["rays"], "hits": th["hits"],
+        for preset, options in (("default", []), ("paper", ["--paper"])):
+            th = run_json([nurbsgl, "thickness", path, "--samples", str(a.samples), *options, "--json"])
+            if th is None:
+                continue
+            th_rows.append({"model": name, "preset": preset, "device": th["device"], "rays": th["rays"],
+                            "hits": th["hits"],
                             "rays_per_second": round(th["thickness_rays_per_second"]),
                             "min": th["thickness"]["min"], "median": th["thickness"]["median"],
                             "faces_flipped": th["orientation"]["faces_flipped_from_file"],
                             "faces_unsure": th["orientation"]["faces_unsure"]})
-            summary.append(f"    thickness: {th['rays']} samples, {th['hits']} hits, "
+            summary.append(f"    thickness ({preset}): {th['rays']} samples, {th['hits']} hits, "
                            f"{th['thickness_rays_per_second']:.0f} rays/s, min {th['thickness']['min']:.4g}, "
                            f"median {th['thickness']['median']:.4g}")
     dacrt_rows = []
@@ -233,6 +246,13 @@ def main():
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "accuracy.png"), dpi=120)
+    # Rays per second of every run, the presets named (default: no switch; paper: --paper).
+    summary += ["", f"{'model':<28}{'preset':<9}{'method':<7}{'device':<16}{'bvh build':<10}{'rays/s':>10}"
+                    f"{'boxes/ray':>10}{'patches/ray':>12}{'build s':>9}"]
+    for r in rows:
+        summary.append(f"{r['model']:<28}{r.get('preset', ''):<9}{r['method']:<7}{r['device']:<16}"
+                       f"{r.get('bvh_build', ''):<10}{r['rays_per_second']:>10}{r.get('box_tests_per_ray', ''):>10}"
+                       f"{r.get('patch_tests_per_ray', ''):>12}{r['build_seconds']:>9}")
     text = "\n".join(summary)
     with open(os.path.join(out, "summary.txt"), "w") as f:
         f.write(text + "\n")

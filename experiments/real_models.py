@@ -9,12 +9,14 @@ cells without material), its peak resident memory; then OpenCASCADE's projection
 (`peer_occt_distance points`: GeomAPI_ProjectPointOnSurf per face, trims ignored) on the first
 `--occt-points` of the same points, its rate, and the ratio; then our answers for the first
 `--check-points` against OpenCASCADE's exact distance to the trimmed faces (BRepExtrema_DistShapeShape
-from a vertex): how many differ by more than our bound plus the shape's tolerance. Writes real_models.csv in OUT and prints
-a table. Then clearance of each model against a copy of itself moved along x by its box width plus
---gap times its size (separated copies): `nurbsgl clearance --json` as one process (wall, and
-prepare + query) by default (the engine it chose), on the GPU, and on the GPU without the face cull,
-beside OpenCASCADE's BRepExtrema_DistShapeShape (`peer_occt_distance shapes`: its first query,
-reading excluded, and its whole process);
+from a vertex): how many differ by more than our bound plus the shape's tolerance. Each tolerance also
+runs the paper preset (`distance --paper`: one faithful query per point) on the first --paper-points
+points, a row of its own (column preset). Writes real_models.csv in OUT and prints a table. Then
+clearance of each model against a copy of itself moved along x by its box width plus --gap times its
+size (separated copies): `nurbsgl clearance --json` as one process (wall, and prepare + query) by
+default (the default preset: the engine it chose), on the GPU, on the GPU without the face cull, and
+with the paper preset (`--paper`), beside OpenCASCADE's BRepExtrema_DistShapeShape
+(`peer_occt_distance shapes`: its first query, reading excluded, and its whole process);
 real_models_clearance.csv. A benchmark, not a test: nothing fails on a slow figure.
 
 Usage: experiments/real_models.py --build BUILD --out OUT [--points N] [--occt-points M] [--models ...]
@@ -66,6 +68,7 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--points", type=int, default=20000)
+    ap.add_argument("--paper-points", type=int, default=20, help="points of the paper preset (one query each)")
     ap.add_argument("--occt-points", type=int, default=500)
     ap.add_argument("--check-points", type=int, default=100,
                     help="our answers checked against OpenCASCADE's exact distance to the trimmed faces")
@@ -96,12 +99,23 @@ def main():
             d = json.loads(out)
             occt_rate = d["points"] / d["seconds"]
             occt_trimmed = d["trimmed"]
-        for tol in a.tolerances.split(","):
-            out, wall, peak = run([cli, "distance", model, "--points", pts, "--tol", tol, "--json"])
+        paper_pts = pts + f".first{a.paper_points}"
+        with open(pts) as f, open(paper_pts, "w") as g:
+            g.writelines(f.readlines()[: a.paper_points])
+        for tol, preset in ((t, p) for t in a.tolerances.split(",") for p in ("default", "paper")):
+            paper = preset == "paper"
+            options = ["--points", paper_pts, "--paper"] if paper else ["--points", pts]
+            n = a.paper_points if paper else a.points
+            try:
+                out, wall, peak = run([cli, "distance", model, *options, "--tol", tol, "--json"])
+            except RuntimeError as e:  # a failed run is a result too (the paper preset's grids may not fit)
+                print(f"{rel} tol {tol} {preset}: {e}", flush=True)
+                continue
             d = json.loads(out)
             cpu = d.get("cpu", {})
-            rate = a.points / wall
-            row = {"model": rel, "faces": faces, "tol": tol, "points": a.points, "wall_s": round(wall, 2),
+            rate = n / wall
+            row = {"model": rel, "faces": faces, "tol": tol, "preset": d["preset"]["name"], "points": n,
+                   "wall_s": round(wall, 2),
                    "prepare_s": round(d["prepare_seconds"], 2), "points_per_s": round(rate, 1),
                    "cpu_share": round(cpu.get("share", float("nan")), 4),
                    "walk_cut_short": cpu.get("walk_cut_short"), "searched_again": cpu.get("no_material_in_winning_cell"),
@@ -136,10 +150,10 @@ def main():
         size = sum((hi[k] - lo[k]) ** 2 for k in range(3)) ** 0.5
         move = f"{hi[0] - lo[0] + a.gap * size:.9g},0,0"
         row = {"model": rel, "faces": info["faces"], "tol": a.clearance_tol, "move_x": move.split(",")[0]}
-        # auto (the CPU alone for small models, else the GPU), the GPU descent with the face cull, and
-        # without it (the paper's preparation of every face).
-        for name, extra in (("auto", []), ("gpu", ["--engine", "gpu"]), ("gpu_all_faces", ["--engine", "gpu",
-                                                                                          "--face-cull", "off"])):
+        # The default preset (the CPU alone for small models, else the GPU), the GPU descent with the face
+        # cull, without it (the paper's preparation of every face), and the paper preset.
+        for name, extra in (("default", []), ("gpu", ["--engine", "gpu"]),
+                            ("gpu_all_faces", ["--engine", "gpu", "--face-cull", "off"]), ("paper", ["--paper"])):
             out, wall, peak = run([cli, "clearance", model, model, "--move-b", move, "--tol", a.clearance_tol,
                                    "--json"] + extra)
             d = json.loads(out)
@@ -147,7 +161,7 @@ def main():
             row[f"engine_{name}"] = d["engine"]["used"]
             row[f"wall_s_{name}"] = round(wall, 3)
             row[f"prepare_query_s_{name}"] = round(d["prepare_seconds"] + d["seconds"], 3)
-            if name == "auto":
+            if name == "default":
                 row["faces_kept"] = f"{d['face_cull']['faces_a']}+{d['face_cull']['faces_b']}"
         if os.path.exists(peer):
             out, wall, _ = run([peer, "shapes", model, model, "--move-b", move, "--repeat", "1"])
@@ -155,8 +169,8 @@ def main():
             row["occt_distance"] = d["distance"]
             row["occt_query_s"] = round(d["first_seconds"], 3)
             row["occt_wall_s"] = round(wall, 3)
-            row["ratio_query"] = round(d["first_seconds"] / row["prepare_query_s_auto"], 2)
-            row["ratio_wall"] = round(wall / row["wall_s_auto"], 2)
+            row["ratio_query"] = round(d["first_seconds"] / row["prepare_query_s_default"], 2)
+            row["ratio_wall"] = round(wall / row["wall_s_default"], 2)
         crows.append(row)
         print("  ".join(f"{k}={v}" for k, v in row.items()), flush=True)
     write_csv(os.path.join(a.out, "real_models_clearance.csv"), crows)

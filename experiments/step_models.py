@@ -7,13 +7,15 @@ For every STEP file under ../shared/models (step/, assembly/, generated/*.step):
   of as many), their ratio, OpenCASCADE's face count and total face area;
 - tessellation: `nurbsgl tessellate --eps 1e-3 --relative --watertight` of the STEP file and of its
   IGES twin (the same model written by OpenCASCADE's IGES writer), the meshes' areas beside
-  OpenCASCADE's exact area, and the open edges of the STEP mesh;
+  OpenCASCADE's exact area, and the open edges of the STEP mesh; beside it the paper preset
+  (`tessellate --paper`: each face on its own, no watertight step): its area and open edges;
 - distance: --points random points in the box grown by a fifth (fixed seed), `nurbsgl distance
   --points --json` on the STEP file and on its twin: the largest difference of the two answers over
-  the sum of their bounds (<= 1 when they agree within their bounds);
+  the sum of their bounds (<= 1 when they agree within their bounds); the same with the paper preset
+  (`distance --paper`: one faithful query per point) on the first --paper-points points;
 - for the assembly: `nurbsgl clearance` between two of its parts (--pairs, by body name) and
   OpenCASCADE's BRepExtrema_DistShapeShape between the solids at our closest points, the difference
-  over our bound.
+  over our bound; each pair with the default and with the paper preset (`clearance --paper`), a row each.
 Without OpenCASCADE's peer (--peer not given and not built) its columns are left empty, and the
 script says so. Writes step_models.csv in OUT and prints a table. A benchmark, not a test.
 
@@ -62,16 +64,20 @@ def mesh_area(path):
     return area
 
 
-def tessellate(cli, model, tmp):
+def tessellate(cli, model, tmp, options=("--watertight",)):
     mesh = os.path.join(tmp, "mesh.obj")
-    j = json.loads(output([cli, "tessellate", model, "--eps", "1e-3", "--relative", "--watertight", "-o", mesh,
-                           "--json"]))
+    j = json.loads(output([cli, "tessellate", model, "--eps", "1e-3", "--relative", *options, "-o", mesh, "--json"]))
     return mesh_area(mesh), j.get("open_edges")
 
 
-def distances(cli, model, points):
-    j = json.loads(output([cli, "distance", model, "--points", points, "--tol", "1e-5", "--json"]))
+def distances(cli, model, points, options=()):
+    j = json.loads(output([cli, "distance", model, "--points", points, "--tol", "1e-5", *options, "--json"]))
     return [(r["distance"], r["bound"]) for r in j["results"]]
+
+
+def worst_per_bounds(a, b):
+    """The largest difference of two runs' answers over the sum of their bounds."""
+    return round(max(abs(x[0] - y[0]) / max(x[1] + y[1], 1e-300) for x, y in zip(a, b)), 3)
 
 
 def main():
@@ -80,6 +86,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--peer", help="peer_occt_step (default: BUILD/experiments/peer_occt_step if built)")
     ap.add_argument("--points", type=int, default=200)
+    ap.add_argument("--paper-points", type=int, default=20, help="points of the paper preset (one query each)")
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args()
     cli = os.path.join(args.build, "cli", "nurbsgl")
@@ -112,6 +119,8 @@ def main():
                             "occt_area": round(occt["area"], 3)})
             area, open_edges = tessellate(cli, path, tmp)
             row.update({"mesh_area": round(area, 3), "open_edges": open_edges})
+            area, open_edges = tessellate(cli, path, tmp, ("--paper",))
+            row.update({"paper_mesh_area": round(area, 3), "paper_open_edges": open_edges})
             twin = TWINS.get(name)
             if twin and os.path.exists(os.path.join(ROOT, twin)):
                 twin_path = os.path.join(ROOT, twin)
@@ -120,14 +129,20 @@ def main():
                 points = os.path.join(tmp, "points.txt")
                 write_points(cli, path, args.points, points)
                 a, b = distances(cli, path, points), distances(cli, twin_path, points)
-                worst = max(abs(x[0] - y[0]) / max(x[1] + y[1], 1e-300) for x, y in zip(a, b))
-                row.update({"distance_points": len(a), "worst_difference_per_bounds": round(worst, 3)})
+                row.update({"distance_points": len(a), "worst_difference_per_bounds": worst_per_bounds(a, b)})
+                first = os.path.join(tmp, "paper_points.txt")
+                with open(points) as f, open(first, "w") as g:
+                    g.writelines(f.readlines()[: args.paper_points])
+                a, b = distances(cli, path, first, ["--paper"]), distances(cli, twin_path, first, ["--paper"])
+                row.update({"paper_distance_points": len(a),
+                            "paper_worst_difference_per_bounds": worst_per_bounds(a, b)})
             rows.append(row)
-            for body_a, body_b in ASSEMBLY_PAIRS.get(name, []):
-                item = {"model": name, "a": body_a, "b": body_b}
+            pairs = [(pair, preset) for pair in ASSEMBLY_PAIRS.get(name, []) for preset in ("default", "paper")]
+            for (body_a, body_b), preset in pairs:
+                item = {"model": name, "a": body_a, "b": body_b, "preset": preset}
                 try:
                     c = json.loads(output([cli, "clearance", path, path, "--body-a", body_a, "--body-b", body_b,
-                                           "--json"]))
+                                           *(["--paper"] if preset == "paper" else []), "--json"]))
                 except RuntimeError as e:  # an unproven answer (exit 1) is a result of the run too
                     item["error"] = str(e).split(": ")[-1]
                     clearances.append(item)

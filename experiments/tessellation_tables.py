@@ -10,11 +10,14 @@ machine. Per model, at eps = EPS x model size (default 1e-3):
   table3   subdivision (Table 3): kd-tree vs quadtree x conservative (guaranteed) vs approximate error:
            triangles and times.
   table4   quadtree baseline [Kah02] vs ours (Table 4): time, triangles, trim edges (both guaranteed).
+  presets  the CLI's presets side by side, measured by --check: `paper` (`tessellate --paper`: the kd-tree
+           with the control-net bound, midpoint split, simplified loops, loop polylines on every
+           boundary, no watertight step) and `default` (no switch); also a row in Table 2.
   occt     OpenCASCADE at equal MEASURED deviation: our mesh's deviation D comes from `tessellate
            --check`; the deflection of BRepMesh is bisected until its mesh, measured by `nurbsgl
            deviation` the same way, lies within --match of D (the last mesh not above D is kept).
 
-Writes table2.csv, table3.csv, table4.csv, occt.csv, a PNG per table and summary.txt (also on stdout),
+Writes table2.csv, table3.csv, table4.csv, presets.csv, occt.csv, a PNG per table and summary.txt (also on stdout),
 with a verdict per model on the targets: >= 2x fewer triangles than the quadtree, no more
 triangles than OCCT at equal measured deviation, the bearing (occt_bearing.iges) under 1 s.
 Benchmarks, not tests: nothing fails on a slow figure; a command that fails is reported and skipped.
@@ -46,6 +49,8 @@ VARIANTS = [  # key, --method, --mode, --split, --cell-bound (guaranteed mode: f
     ("kd_g_arb", "kdtree", "guaranteed", "arbitrary", "filip"),
 ]
 TABLE3 = ("kd_g", "kd_a", "quad_g", "quad_a", "kd_g_net", "quad_g_net")
+# The presets compared: key, the options it adds. kd_g (above) is the default run; this is `--paper`.
+PAPER = ("paper", ["--paper"])
 
 
 def log(msg):
@@ -96,8 +101,11 @@ class Runner:
         self.tmp = tempfile.mkdtemp(prefix="tess_exp_")
 
     def tessellate(self, model, method, mode, split, bound, check=False, output=None):
-        cmd = [self.a.nurbsgl, "tessellate", model, "--eps", str(self.a.eps), "--relative", "--method", method,
-               "--mode", mode, "--split", split, "--cell-bound", bound, "--json"]
+        options = ["--method", method, "--mode", mode, "--split", split, "--cell-bound", bound]
+        return self.tessellate_with(model, options, check, output)
+
+    def tessellate_with(self, model, options, check=False, output=None):
+        cmd = [self.a.nurbsgl, "tessellate", model, "--eps", str(self.a.eps), "--relative", *options, "--json"]
         if self.a.loop_share is not None:
             cmd += ["--loop-share", str(self.a.loop_share)]
         if check:
@@ -172,6 +180,11 @@ class Runner:
             except Failed as e:
                 errors.append(f"{key}: {e}")
                 log(f"  {key}: {e}")
+        try:
+            runs[PAPER[0]] = self.tessellate_with(path, PAPER[1], check=True)
+        except Failed as e:
+            errors.append(f"{PAPER[0]}: {e}")
+            log(f"  {PAPER[0]}: {e}")
         result = {"name": name, "path": path, "runs": runs, "errors": errors, "occt": None}
         ours = runs.get("kd_g")
         if ours and "check" in ours:  # our mesh through its file, measured as OCCT's will be (no (u, v))
@@ -196,15 +209,30 @@ class Runner:
         return result
 
 
+def preset_row(model, preset, j):
+    """A row of the presets table: the preset's triangles, edges, time and measured deviation."""
+    c = j.get("check", {})
+    return {"model": model, "preset": preset, "eps": j["eps"], "triangles": j["triangles"],
+            "trim_edges": j["trim_edges"], "open_edges": j["open_edges"], "cells": j["cells"],
+            "rectangle_faces": j["trim"]["rectangle_faces"], "total_s": j["seconds"]["total"],
+            "max_deviation": c.get("max_deviation", ""), "within_eps": c.get("within_eps", ""),
+            "settings": json.dumps(j.get("preset", {}).get("settings", {}), sort_keys=True)}
+
+
 def rows_of(results):
-    t2, t3, t4, oc = [], [], [], []
+    t2, t3, t4, oc, pr = [], [], [], [], []
     for r in results:
         runs, n = r["runs"], r["name"]
-        for key, split in (("kd_g", "midpoint"), ("kd_g_arb", "arbitrary")):
+        for key, name in (("kd_g", "default"), (PAPER[0], "paper")):
+            if runs.get(key):
+                pr.append(preset_row(n, name, runs[key]))
+        for key, split, run in (("kd_g", "midpoint", "default"), ("kd_g_arb", "arbitrary", "arbitrary split"),
+                                (PAPER[0], "midpoint", "paper")):
             j = runs.get(key)
             if j:
                 tr = j["trim"]
-                t2.append({"model": n, "faces": j["faces"], "split": split, "curve_pieces": tr["curve_pieces"],
+                t2.append({"model": n, "faces": j["faces"], "run": run, "split": split,
+                           "curve_pieces": tr["curve_pieces"],
                            "conversion_s": j["seconds"]["conversion"],
                            "approximation_s": j["seconds"]["trim_approximation"],
                            "edges_before": tr["edges_before_simplification"],
@@ -250,7 +278,7 @@ def rows_of(results):
                            "same_occt_triangles": same["triangles"] if same else "",
                            "same_occt_s": same["seconds"] if same else "",
                            "same_matched": same["matched"] if same else ""})
-    return t2, t3, t4, oc
+    return t2, t3, t4, oc, pr
 
 
 def bars(path, title, models, series, ylabel, log_scale=True):
@@ -275,8 +303,8 @@ def bars(path, title, models, series, ylabel, log_scale=True):
     log(f"  wrote {path}")
 
 
-def plots(out, t2, t3, t4, oc):
-    mid = [r for r in t2 if r["split"] == "midpoint"]
+def plots(out, t2, t3, t4, oc, pr):
+    mid = [r for r in t2 if r["run"] == "default"]
     bars(os.path.join(out, "table2.png"), "Trim edges before / after simplification (midpoint split)",
          [r["model"] for r in mid], [("before", [r["edges_before"] for r in mid]),
                                      ("after", [r["edges_after"] for r in mid])], "trim edges")
@@ -290,21 +318,26 @@ def plots(out, t2, t3, t4, oc):
     bars(os.path.join(out, "table4.png"), "Quadtree [Kah02] vs ours (kd-tree), guaranteed error",
          [r["model"] for r in t4], [("quadtree", [r["quadtree_triangles"] for r in t4]),
                                     ("ours", [r["ours_triangles"] for r in t4])], "triangles")
+    models = sorted({r["model"] for r in pr}, key=[r["model"] for r in pr].index)
+    bars(os.path.join(out, "presets.png"), "Triangles per preset (guaranteed error)", models,
+         [(p, [next((r["triangles"] for r in pr if r["model"] == m and r["preset"] == p), None) for m in models])
+          for p in ("default", "paper")], "triangles")
     bars(os.path.join(out, "occt.png"), "Triangles at equal measured deviation", [r["model"] for r in oc],
          [("ours", [r["ours_triangles"] for r in oc]), ("OCCT BRepMesh", [r["occt_triangles"] for r in oc])],
          "triangles")
 
 
-def summary(a, results, t2, t3, t4, oc):
+def summary(a, results, t2, t3, t4, oc, pr):
     eps_of = {r["name"]: j["eps"] for r in results for j in [r["runs"].get("kd_g") or r["runs"].get("kd_g_net")] if j}
     L = [f"Tessellation experiments: eps = {a.eps:g} x model size, check {a.check_samples}^2 samples "
          f"per face, OCCT angular deflection {a.angular:g} rad{', parallel' if a.occt_parallel else ''}; "
          f"{os.cpu_count()} CPU cores (shared: times are indicative)", ""]
-    L.append("Table 2 (trim curves)")
-    L.append(f"  {'model':<28}{'split':<10}{'pieces':>8}{'conv s':>9}{'approx s':>10}{'edges before':>14}"
+    L.append("Table 2 (trim curves; default and arbitrary split: the default's other switches; paper: --paper, "
+             "whose loops also run along rectangle-bounded faces' boundaries)")
+    L.append(f"  {'model':<28}{'run':<16}{'pieces':>8}{'conv s':>9}{'approx s':>10}{'edges before':>14}"
              f"{'after':>8}{'ratio':>7}")
     for r in t2:
-        L.append(f"  {r['model']:<28}{r['split']:<10}{r['curve_pieces']:>8}{r['conversion_s']:>9.3f}"
+        L.append(f"  {r['model']:<28}{r['run']:<16}{r['curve_pieces']:>8}{r['conversion_s']:>9.3f}"
                  f"{r['approximation_s']:>10.3f}{r['edges_before']:>14}{r['edges_after']:>8}{r['reduction']:>7.2f}")
     L += ["", "Table 3 (subdivision x error estimate)"]
     L.append("  (conservative: the cells' bound with Filip's (default); conservative-net: the paper's control-net "
@@ -325,6 +358,13 @@ def summary(a, results, t2, t3, t4, oc):
         L.append(f"  {r['model']:<28}{r['quadtree_s']:>9.3f}{r['ours_s']:>9.3f}{r['quadtree_triangles']:>11}"
                  f"{r['ours_triangles']:>11}{r['triangle_ratio']:>7.2f}{fmt(r['net_triangle_ratio']):>10}"
                  f"{fmt(r['paper_quadtree_over_ours']):>19}{r['quadtree_trim_edges']:>12}{r['ours_trim_edges']:>12}")
+    L += ["", "Presets (paper: tessellate --paper; default: no switch; dev / eps measured by --check)"]
+    L.append(f"  {'model':<28}{'preset':<9}{'triangles':>10}{'trim edges':>11}{'open edges':>11}{'rect faces':>11}"
+             f"{'dev/eps':>8}{'total s':>9}")
+    for r in pr:
+        dev = "" if r["max_deviation"] == "" else f"{r['max_deviation'] / r['eps']:.2f}"
+        L.append(f"  {r['model']:<28}{r['preset']:<9}{r['triangles']:>10}{r['trim_edges']:>11}{r['open_edges']:>11}"
+                 f"{r['rectangle_faces']:>11}{dev:>8}{r['total_s']:>9.3f}")
     L += ["", "OpenCASCADE BRepMesh at equal measured deviation"]
     L.append(f"  {'model':<28}{'eps':>10}{'ours dev':>10}{'ours tris':>10}{'ours s':>8}{'deflection':>11}"
              f"{'OCCT dev':>10}{'OCCT tris':>10}{'OCCT s':>8}{'OCCT/ours':>10}")
@@ -424,13 +464,13 @@ def main():
 
 
 def write_outputs(a, results, final):
-    t2, t3, t4, oc = rows_of(results)
-    for name, rows in (("table2", t2), ("table3", t3), ("table4", t4), ("occt", oc)):
+    t2, t3, t4, oc, pr = rows_of(results)
+    for name, rows in (("table2", t2), ("table3", t3), ("table4", t4), ("presets", pr), ("occt", oc)):
         write_csv(os.path.join(a.out, f"{name}.csv"), rows)
     tries = [dict(model=res["name"], **t) for res in results for t in res.get("occt_tries", [])]
     write_csv(os.path.join(a.out, "occt_bisection.csv"), tries)
-    plots(a.out, t2, t3, t4, oc)
-    text = summary(a, results, t2, t3, t4, oc)
+    plots(a.out, t2, t3, t4, oc, pr)
+    text = summary(a, results, t2, t3, t4, oc, pr)
     with open(os.path.join(a.out, "summary.txt"), "w") as f:
         f.write(text if final else text + "\n(partial: the run is still going)\n")
 

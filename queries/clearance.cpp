@@ -27,6 +27,16 @@
 #include "queries/refine.h"
 
 namespace queries {
+
+bool upper_from_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
+  if (limits.upper != ClearanceLimits::Upper::Auto) return limits.upper == ClearanceLimits::Upper::Samples;
+  return coarse_to_fine;
+}
+
+long long host_pairs_used(const ClearanceLimits& limits, bool coarse_to_fine) {
+  return limits.host_pairs >= 0 ? limits.host_pairs : coarse_to_fine ? 65536 : 0;
+}
+
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -43,12 +53,6 @@ gpgpu::Program& merge_program(gpgpu::Gpu& gpu, bool samples) {
 gpgpu::Program& pairs_program(gpgpu::Gpu& gpu, bool samples) {
   return samples ? gpu.program("aabb_pairs_minmax.frag", {{"SAMPLE_UPPER", "1"}})
                  : gpu.program("aabb_pairs_minmax.frag");
-}
-
-/// Whether the descent bounds U with face samples (ClearanceLimits::upper).
-bool use_samples(const ClearanceLimits& limits, bool coarse_to_fine) {
-  if (limits.upper != ClearanceLimits::Upper::Auto) return limits.upper == ClearanceLimits::Upper::Samples;
-  return coarse_to_fine;
 }
 
 /// A box hierarchy: level 0 = the leaves (one per atlas texel), the last level 1 x 1; with the
@@ -354,7 +358,7 @@ void compile_clearance_programs(gpgpu::Gpu& gpu, const ClearanceLimits& limits, 
   gpgpu::Texture* out[] = {&points};
   gpu.run("surface_eval_atlas_first_draw", atlas_program(gpu), in, out);
   if (trimmed) gpgpu::compile_polygon_fill(gpu);  // trim masks
-  const bool samples = use_samples(limits, search == Search::CoarseToFine);
+  const bool samples = upper_from_samples(limits, search == Search::CoarseToFine);
   leaf_program(gpu, samples);
   merge_program(gpu, samples);
   pairs_program(gpu, samples);
@@ -463,8 +467,8 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
   std::vector<Hierarchy> own_a;
   const bool cached = cache && !faces_a;
   const bool coarse_to_fine = a.search == Search::CoarseToFine || b.search == Search::CoarseToFine;
-  const bool samples = use_samples(limits, coarse_to_fine);
-  const long long host_pairs = limits.host_pairs >= 0 ? limits.host_pairs : coarse_to_fine ? 65536 : 0;
+  const bool samples = upper_from_samples(limits, coarse_to_fine);
+  const long long host_pairs = host_pairs_used(limits, coarse_to_fine);
   if (cached && (cache->impl->a != &a || cache->impl->samples != samples)) {
     cache->impl->ha = build_all(gpu, a, glm::dmat4(1.0), origin, nullptr, samples);
     cache->impl->a = &a;

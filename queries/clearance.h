@@ -85,6 +85,13 @@ struct ClearanceLimits {
   long long host_pairs = -1;
 };
 
+/// Whether the descent bounds U with face samples: ClearanceLimits::upper, Auto resolved for the
+/// search (samples with coarse-to-fine, boxes with the faithful path).
+[[nodiscard]] bool upper_from_samples(const ClearanceLimits& limits, bool coarse_to_fine);
+/// ClearanceLimits::host_pairs, -1 resolved for the search (65536 with coarse-to-fine, 0 with the
+/// faithful path).
+[[nodiscard]] long long host_pairs_used(const ClearanceLimits& limits, bool coarse_to_fine);
+
 /// Model A's box hierarchy kept between the queries of a motion sequence (A does not move): pass the
 /// same cache to every clearance() call; it is built on the first and reused while `a` is the same
 /// model and no face filter `faces_a` is given (a filter builds a fresh hierarchy, uncached). It

@@ -101,7 +101,7 @@ PointDistanceQuery::PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::Trimm
 
 PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   PointDistance r;
-  const long long host_cells = host_cells_ >= 0 ? host_cells_ : m_.search == Search::CoarseToFine ? 65536 : 0;
+  const long long host_cells = host_cells_used();
   auto on_host = [&](const FaceAtlas& at) {
     return static_cast<long long>(at.plan.width) * at.plan.height <= host_cells;
   };

@@ -63,6 +63,10 @@ class PointDistanceQuery {
   /// ClearanceLimits::host_pairs). 0: always on the GPU; -1 (the default): 65536 with the
   /// coarse-to-fine search, 0 with the faithful path.
   void set_host_cells(long long cells) { host_cells_ = cells; }
+  /// The host-cell limit in force: set_host_cells' value, -1 resolved for the search.
+  [[nodiscard]] long long host_cells_used() const {
+    return host_cells_ >= 0 ? host_cells_ : m_.search == Search::CoarseToFine ? 65536 : 0;
+  }
 
   [[nodiscard]] const std::vector<nurbs::CertifiedGrid>& grids() const { return m_.grids; }
   [[nodiscard]] size_t atlases() const { return m_.atlases.size(); }

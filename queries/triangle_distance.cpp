@@ -48,7 +48,10 @@ bool segment_hits_triangle(glm::dvec3 p, glm::dvec3 q, const glm::dvec3 tri[3], 
   const glm::dvec3 d = q - p, e1 = tri[1] - tri[0], e2 = tri[2] - tri[0];
   const glm::dvec3 h = glm::cross(d, e2);
   const double det = glm::dot(e1, h);
-  if (std::abs(det) < 1e-300) return false;
+  // Parallel to the plane or in it: no crossing. |det| <= |d| |e1| |e2|, and in the plane rounding
+  // leaves it near 1e-16 of that, with u, v and the crossing meaningless (a segment 333 away taken
+  // to cross); the closest pairs of ends and edges give the distance then, 0 where they meet.
+  if (!(std::abs(det) > 1e-12 * glm::length(d) * glm::length(e1) * glm::length(e2))) return false;
   const glm::dvec3 sv = p - tri[0];
   const double u = glm::dot(sv, h) / det;
   if (u < 0 || u > 1) return false;
