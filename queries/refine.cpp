@@ -109,15 +109,9 @@ double box_box(const Cell& a, const Cell& b) {
   return glm::length(glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0)));
 }
 
-/// How loose a cell's bounds are: K_e inside the trim, the box diagonal on a trim edge. Where one
-/// straight edge cuts the cell, its pieces make the lower bound as tight as inside (K_e), but its
-/// material corners, the upper bound's samples, still lie up to the cell's size from the edge: a
-/// quarter of the diagonal, at least K_e.
-double slack(const Cell& c) {
-  if (c.material == 15u) return c.k;
-  const double diagonal = glm::length(c.hi - c.lo);
-  return c.pieces > 0 ? std::max(c.k, 0.25 * diagonal) : diagonal;
-}
+/// How loose a cell's bounds are: K_e inside the trim and where one straight edge cuts the cell
+/// (its pieces), the box diagonal on other trim edges.
+double slack(const Cell& c) { return c.material == 15u || c.pieces > 0 ? c.k : glm::length(c.hi - c.lo); }
 
 /// The cells of one model (mapped by a rigid motion), created from grid cells and split on demand.
 class Cells {
@@ -182,6 +176,10 @@ class Cells {
     glm::dvec3 p{0.0};
     bool material = false;
   };
+  /// Whether uv of `face` is material (no evaluation).
+  [[nodiscard]] bool material_uv(int face, glm::dvec2 uv) const {
+    return m_.faces[size_t(face)].loops.empty() || banded_[size_t(face)]->is_material(uv);
+  }
   Sample at(int face, glm::dvec2 uv) const {
     const nurbs::TrimmedSurface& f = m_.faces[size_t(face)];
     const glm::dvec3 q = glm::dvec3(motion_ * glm::dvec4(nurbs::surface_point(f.surface, uv.x, uv.y), 1.0));
@@ -432,6 +430,16 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
 
 namespace {
 
+/// Whether uv of `face`, or a point a tiny step from it towards `centre`, is material: a point of a
+/// cut cell's piece often lies on the cutting trim edge itself, where the classification may go
+/// either way.
+bool material_near(const Cells& cells, int face, glm::dvec2 uv, glm::dvec2 centre) {
+  if (cells.material_uv(face, uv)) return true;
+  for (double t : {1e-9, 1e-6, 1e-3})
+    if (cells.material_uv(face, uv + t * (centre - uv))) return true;
+  return false;
+}
+
 /// The pair search of refine_pairs from the cell pairs `pairs` (indices into ca.all, cb.all).
 Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint32_t>> pairs, double tolerance,
                      const RefineLimits& limits) {
@@ -484,6 +492,7 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
       double d = kInf;
       size_t pair = 0;
       glm::dvec2 a{0.0}, b{0.0};
+      glm::dvec2 a_centre{0.0}, b_centre{0.0};  ///< (u, v) centroids of the two triangles
     };
     std::vector<Nearest> nearests(shares);
     const double split_below = r.distance - tolerance;
@@ -502,7 +511,13 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
             y.bound_triangle(t, tb);
             const double d = triangle_distance(ta, tb, pa, pb, wa, wb);
             tri_low = std::min(tri_low, d);
-            if (d < near.d) near = {d, n, x.bound_uv_at(s, wa), y.bound_uv_at(t, wb)};
+            // The nearest triangle points whose (u, v) are material on both sides (a whole cell's
+            // triangles reach into its trimmed part, whose points give no upper bound).
+            if (d < near.d) {
+              const glm::dvec2 ua = x.bound_uv_at(s, wa), ub = y.bound_uv_at(t, wb);
+              const glm::dvec2 ca_ = x.bound_uv_at(s, glm::dvec3(1.0 / 3.0)), cb_ = y.bound_uv_at(t, glm::dvec3(1.0 / 3.0));
+              if (material_near(ca, x.face, ua, ca_) && material_near(cb, y.face, ub, cb_)) near = {d, n, ua, ub, ca_, cb_};
+            }
             // Split for certain (its least triangle distance can only be lower): the box is its
             // lower bound, and the pair's other triangles are left to its children.
             split = low[n] < split_below && d - x.k - y.k < split_below;
@@ -510,14 +525,26 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
         if (!split) low[n] = std::max(low[n], tri_low - x.k - y.k);
       }
     });
-    double nearest = kInf;
-    size_t near_pair = 0;
-    glm::dvec2 near_a(0.0), near_b(0.0);
+    Nearest nearest;
     for (const Nearest& n : nearests)
-      if (n.d < nearest) nearest = n.d, near_pair = n.pair, near_a = n.a, near_b = n.b;
-    if (std::isfinite(nearest)) {
-      const auto [i, j] = pairs[near_pair];
-      const Cells::Sample qa = ca.at(ca.all[i].face, near_a), qb = cb.at(cb.all[j].face, near_b);
+      if (n.d < nearest.d) nearest = n;
+    if (std::isfinite(nearest.d)) {
+      const auto [i, j] = pairs[nearest.pair];
+      // The triangles' nearest points, true surface points at their (u, v). A point of a cut cell's
+      // piece often lies on the cutting trim edge itself, where the classification may go either
+      // way: it is moved towards its triangle's centroid until material (a tiny step first).
+      auto material = [](Cells& cells, int face, glm::dvec2& uv, glm::dvec2 centre) {
+        Cells::Sample s = cells.at(face, uv);
+        for (double t : {1e-9, 1e-6, 1e-3}) {
+          if (s.material) break;
+          const glm::dvec2 moved = uv + t * (centre - uv);
+          if ((s = cells.at(face, moved)).material) uv = moved;
+        }
+        return s;
+      };
+      glm::dvec2 near_a = nearest.a, near_b = nearest.b;
+      const Cells::Sample qa = material(ca, ca.all[i].face, near_a, nearest.a_centre);
+      const Cells::Sample qb = material(cb, cb.all[j].face, near_b, nearest.b_centre);
       if (qa.material && qb.material) offer(qa.p, qb.p, near_a, near_b, i, j);
       // A tighter upper bound: alternating Newton projections from the best pair so far, each
       // step a pair of true surface points (kept only where both are material).
