@@ -19,9 +19,11 @@ namespace {
 int run(int argc, char** argv) {
   viewer::ViewerOptions o;
   CLI::App app("nurbsgl-viewer: trimmed NURBS models, clearance, tessellation and thickness on the GPU.\n"
-               "nurbsgl-viewer [OPTIONS] A [B]: one model, or two for clearance (B defaults to a copy of A)",
+               "One model, or two for clearance (B defaults to a copy of A).",
                "nurbsgl-viewer");
-  app.add_option("MODEL", o.models, "Model file(s): A, and B (default: a copy of A)")->required()->expected(1, 2);
+  std::string model_a, model_b;
+  app.add_option("A", model_a, "Model file")->required();
+  app.add_option("B", model_b, "Second model file, for clearance (default: a copy of A)");
   app.add_option("--frames", o.frames, "Scripted run: N frames of B sliding past A to its placement, then exit")
       ->check(CLI::Range(1, 100000));
   app.add_option("--screenshot", o.screenshot, "With --frames: write the last frame as PNG");
@@ -54,6 +56,8 @@ int run(int argc, char** argv) {
   app.add_option("--height", o.height, "Window height")->check(CLI::Range(64, 8192))->capture_default_str();
   try {
     app.parse(argc, argv);
+    o.models = {model_a};
+    if (!model_b.empty()) o.models.push_back(model_b);
     double v[4];
     if (!o.move_b.empty() && !viewer::parse_numbers(o.move_b, 3, v))
       throw CLI::ValidationError("--move-b", "'" + o.move_b + "' is not 3 finite numbers");
