@@ -83,7 +83,7 @@ sweep --voxels --gl osmesa clearance "$sphere" "$sphere" --move-b 30,0,0 --first
 sweep_list --move-b X,0,0 --gl osmesa clearance "$sphere" "$sphere" --
 sweep_list --rotate-b 0,0,1,X --gl osmesa clearance "$sphere" "$sphere" --move-b 30,0,0 --
 sweep_list --rotate-b X,0,0,30 --gl osmesa clearance "$sphere" "$sphere" --move-b 30,0,0 --
-for o in --eps --loop-share --face --threads; do sweep $o tessellate "$sphere" --; done
+for o in --eps --loop-share --face --threads --max-cells; do sweep $o tessellate "$sphere" --; done
 sweep --eps tessellate "$sphere" --relative --
 sweep --check-samples tessellate "$sphere" --check --
 for o in --eps --samples --threads; do sweep $o deviation "$sphere" "$mesh" --; done
