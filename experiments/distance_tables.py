@@ -758,7 +758,7 @@ def publish(a, info, left_out):
         q = [r["query_s"] for r in csvs["table5"] if r["method"] == "default"]
         rows.append(("Table 5, object clearance per pair (other models)",
                      f"GPU {PAPER_TABLE5_GPU[0]}-{PAPER_TABLE5_GPU[1]} s over five pairs (Table 5)",
-                     f"default {1e3 * min(q):.1f}-{1e3 * max(q):.1f} ms over {len(q)} pairs" if q else "not run"))
+                     f"default {1e3 * min(q):.1f}-{1e3 * max(q):.1f} ms (pairs: {len(q)})" if q else "not run"))
     if fig16:
         rows.append(("Fig. 16, time per frame of the moving pair", "see paper, Fig. 16",
                      "; ".join(f"{p['method']} {p['median_ms_per_frame']:.1f} ms" for p in per)))

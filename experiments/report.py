@@ -43,10 +43,11 @@ def cpu_model():
 
 
 def markdown_table(rows, columns=None):
-    """A Markdown table of rows (dicts), the given columns (default all), columns empty on every row left out;
-    floats to 4 significant digits."""
-    columns = [c for c in (columns or list(dict.fromkeys(k for r in rows for k in r))) if any(r.get(c, "") != "" for r in rows)]
-    cell = lambda v: (f"{v:.0f}" if abs(v) >= 1e4 else f"{v:.4g}") if isinstance(v, float) else str(v).replace("|", "/")
+    """A Markdown table of rows (dicts), the given columns (default all), columns empty (or 'n/a': a peer's
+    verdict without the peer) on every row left out; floats to 6 significant digits."""
+    columns = [c for c in (columns or list(dict.fromkeys(k for r in rows for k in r)))
+               if any(r.get(c, "") not in ("", "n/a") for r in rows)]
+    cell = lambda v: (f"{v:.0f}" if abs(v) >= 1e6 else f"{v:.6g}") if isinstance(v, float) else str(v).replace("|", "/")
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     lines += ["| " + " | ".join(cell(r.get(c, "")) for c in columns) + " |" for r in rows]
     return "\n".join(lines)
