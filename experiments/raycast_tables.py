@@ -81,7 +81,7 @@ def head(path, count, out):
 
 
 # Lemasson et al.'s reported accuracy (Fig. 13 and its text): the share of hits within 1e-3 mm.
-PAPER_FIG13_WITHIN_1UM = {"GPU (32-bit floats)": 55, "CPU reference (64-bit, tessellated)": 15}  # percent
+PAPER_FIG13_WITHIN_1UM = {"GPU (32-bit floats)": 55, "CPU method (64-bit floats)": 15}  # percent
 
 
 def main():
