@@ -34,14 +34,14 @@ import math
 import os
 import random
 import re
+import shlex
 import statistics
 import subprocess
 import sys
 
-import matplotlib
+import report
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402 (after the backend is chosen)
+plt = report.pyplot()  # None without matplotlib: the plots are skipped
 
 # The runs of each experiment, by name: the options each adds to `clearance`.
 METHODS = {"paper": ["--paper"], "faithful": ["--search", "faithful"], "default": []}
@@ -56,6 +56,24 @@ POSITIONS = [
     ("wall", (150, -30, 8, 0, 1, 0, -90), "B upright on A: B's lower edge over A's crest"),
     ("below", (60, 60, 8, 1, 0, 0, 180), "B flipped under A: interior against interior"),
 ]
+
+
+# Krishnamurthy et al.'s reported figures (GPU time, ACIS time, in seconds), for REPRODUCTION.md.
+PAPER_TABLE1 = [(0.218, 64.4), (0.109, 65.4), (0.093, 66.9), (0.171, 66.2)]  # Table 1, positions 1-4
+PAPER_TABLE3 = [(0.234, 55.9), (0.125, 57.7), (0.109, 59.1), (0.187, 58.5)]  # Table 3, positions 1-4
+PAPER_TABLE2_TOTAL = 0.221  # Table 2, "Total computation time" (s)
+PAPER_TABLE5_GPU = (0.382, 1.501)  # Table 5, the fastest and slowest GPU time of its five pairs (s)
+
+# Columns of each CSV that docs/benchmarks.md shows (the CSVs keep them all).
+SHOWN = {
+    "table1": ["position", "method", "distance", "bound_over_size", "prepare_s", "first_query_s", "query_s",
+               "occt_distance", "occt_s", "occt_over_ours", "within"],
+    "table2": ["method", "pass", "calls", "gpu_ms", "cpu_ms"],
+    "table5": ["pair", "method", "distance", "bound", "prepare_s", "first_query_s", "query_s", "occt_distance",
+               "occt_s", "occt_over_ours", "within"],
+    "points_summary": ["method", "points", "prepare_s", "query_s", "ms_per_point", "points_per_s"],
+}
+SHOWN["table3"] = SHOWN["table1"]
 
 
 def log(msg):
@@ -86,7 +104,7 @@ def write_csv(path, rows):
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
-        w.writerows(rows)
+        w.writerows(report.no_blank(rows))
     log(f"  wrote {path}")
 
 
@@ -125,6 +143,11 @@ def verdicts(values):
             key = re.sub(r" [0-9.e+-]+ off", " off", v)
             counts[key] = counts.get(key, 0) + 1
     return "; ".join(f"{n} x {k}" for k, n in counts.items()) or "none"
+
+
+def num(x, spec):
+    """x formatted by spec, or '-' in its width when x is empty (a peer column without the peer)."""
+    return format(x, spec) if isinstance(x, (int, float)) else format("-", re.match(r"[<>^]?\d*", spec).group())
 
 
 def fmt_xyz(p):
@@ -176,7 +199,8 @@ class Runner:
         return min(self.a.reps, self.a.paper_reps) if method == "paper" else self.a.reps
 
     def peer(self, *args):
-        return run_json([self.a.peer, *args])
+        """The peer's JSON, or None when the peer was not built (its columns then stay empty)."""
+        return run_json([self.a.peer, *args]) if self.a.peer else None
 
     def occt_shapes(self, name, a, b, frames, witnesses, repeat):
         """BRepExtrema_DistShapeShape per frame (motion lines); witnesses: (frame, point_a, point_b) of
@@ -185,6 +209,10 @@ class Runner:
         write_lines(motion, frames)
         write_lines(wfile, [f"{k} {fmt_xyz(pa)} {fmt_xyz(pb)}" for k, pa, pb in witnesses])
         j = self.peer("shapes", a, b, "--motion", motion, "--witness", wfile, "--repeat", str(repeat))
+        if j is None:
+            j = {"results": [{"seconds": math.nan, "first_seconds": math.nan} for _ in frames],
+                 "tolerance": math.nan, "read_seconds": math.nan,
+                 "witnesses": [{"gap_a": "", "gap_b": ""} for _ in witnesses]}
         return j, [(w["gap_a"], w["gap_b"]) for w in j["witnesses"]]
 
     def our_gaps(self, a, b, occt_result, motion):
@@ -280,11 +308,13 @@ class Runner:
             prep = f"{1e3 * r['prepare_s']:.0f}" if r["prepare_s"] != "" else ""
             print(f"{r['position']:<8} {r['method']:<15} {r['distance']:>12.6f} {r['bound_over_size']:>10.2e} "
                   f"{prep:>8} {1e3 * r['first_query_s']:>8.1f} {1e3 * r['query_s']:>9.1f} "
-                  f"{r['occt_distance']:>12.6f} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>8.2f}x "
+                  f"{num(r['occt_distance'], '>12.6f')} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>8.2f}x "
                   f"{r['within']}{not_met(r)}")
         return rows
 
     def plot_pair_table(self, table, rows, positions):
+        if plt is None:
+            return
         fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
         names = [p[0] for p in positions]
         series = [(m, "query_s", [m]) for m in METHODS] + [("OCCT", "occt_s", list(METHODS))]
@@ -313,6 +343,8 @@ class Runner:
         plt.close(fig)
 
     def plot_levels(self, table, levels, positions):
+        if plt is None:
+            return
         fig, ax = plt.subplots(figsize=(6, 4))
         for name, _, _ in positions:
             for m, ls in zip(METHODS, ("-", "--", ":")):
@@ -369,19 +401,20 @@ class Runner:
         write_csv(self.path("table2.csv"), rows)
         passes = [r for r in rows if isinstance(r["calls"], int)]
         names = list(dict.fromkeys(r["pass"] for r in passes))
-        fig, ax = plt.subplots(figsize=(7, 4))
         methods = list(dict.fromkeys(r["method"] for r in rows))
-        bottom = [0.0] * len(methods)
-        for n in names:
-            ys = [sum(r["gpu_ms"] for r in passes if r["pass"] == n and r["method"] == m) for m in methods]
-            ax.bar(methods, ys, 0.5, bottom=bottom, label=n)
-            bottom = [b0 + y for b0, y in zip(bottom, ys)]
-        ax.set_ylabel("GPU ms (GL_TIME_ELAPSED)")
-        ax.set_title(f"Table 2: passes of one query (Table 1, position '{name}')")
-        ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(self.path("table2.png"), dpi=110)
-        plt.close(fig)
+        if plt is not None:
+            fig, ax = plt.subplots(figsize=(7, 4))
+            bottom = [0.0] * len(methods)
+            for n in names:
+                ys = [sum(r["gpu_ms"] for r in passes if r["pass"] == n and r["method"] == m) for m in methods]
+                ax.bar(methods, ys, 0.5, bottom=bottom, label=n)
+                bottom = [b0 + y for b0, y in zip(bottom, ys)]
+            ax.set_ylabel("GPU ms (GL_TIME_ELAPSED)")
+            ax.set_title(f"Table 2: passes of one query (Table 1, position '{name}')")
+            ax.legend(fontsize=7)
+            fig.tight_layout()
+            fig.savefig(self.path("table2.png"), dpi=110)
+            plt.close(fig)
         print(f"\ntable2: passes of one clearance query, Table 1 position '{name}' (ms, synchronised)")
         print(f"{'pass':<36} " + " ".join(f"{m + ' gpu':>20} {m + ' cpu':>20}" for m in methods))
         for n in list(dict.fromkeys(r["pass"] for r in rows)):
@@ -438,31 +471,32 @@ class Runner:
             row["ours_gap_a"], row["ours_gap_b"] = back.get(k, ("", ""))
             rows.append(row)
         write_csv(self.path("fig16.csv"), rows)
-        fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-        x = [r["frame"] for r in rows]
-        for m in ours:
-            ran = [r for r in rows if r[f"{m}_s"] != ""]
-            style = "o-" if len(ran) < len(rows) else "-"
-            ax0.plot([r["frame"] for r in ran], [1e3 * r[f"{m}_s"] for r in ran], style, ms=3, label=m)
-            ax1.plot([r["frame"] for r in ran], [r[f"{m}_bound"] for r in ran], style, ms=3, label=f"bound, {m}")
-        ax0.plot(x, [1e3 * r["occt_s"] for r in rows], label="OCCT")
-        ax0.set_yscale("log")
-        ax0.set_ylabel("ms per frame")
-        ax0.set_title("Fig. 16: 199x33 vs 100x105 moving")
-        ax0.legend()
-        ax1.set_ylabel("bound (absolute)")
-        ax1.set_xlabel("frame")
-        ax2 = ax1.twinx()
-        shown = next((m for m in ("default", "faithful", "paper") if m in ours), None)
-        if shown:
-            ax2.plot(x, [r[f"{shown}_distance"] for r in rows], "k:", label=f"distance ({shown})")
-        ax2.plot(x, [r["occt_distance"] for r in rows], "kx", ms=3, label="distance (OCCT)")
-        ax2.set_ylabel("distance")
-        ax1.legend(loc="upper left", fontsize=8)
-        ax2.legend(loc="upper right", fontsize=8)
-        fig.tight_layout()
-        fig.savefig(self.path("fig16.png"), dpi=110)
-        plt.close(fig)
+        if plt is not None:
+            fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+            x = [r["frame"] for r in rows]
+            for m in ours:
+                ran = [r for r in rows if r[f"{m}_s"] != ""]
+                style = "o-" if len(ran) < len(rows) else "-"
+                ax0.plot([r["frame"] for r in ran], [1e3 * r[f"{m}_s"] for r in ran], style, ms=3, label=m)
+                ax1.plot([r["frame"] for r in ran], [r[f"{m}_bound"] for r in ran], style, ms=3, label=f"bound, {m}")
+            ax0.plot(x, [1e3 * r["occt_s"] for r in rows], label="OCCT")
+            ax0.set_yscale("log")
+            ax0.set_ylabel("ms per frame")
+            ax0.set_title("Fig. 16: 199x33 vs 100x105 moving")
+            ax0.legend()
+            ax1.set_ylabel("bound (absolute)")
+            ax1.set_xlabel("frame")
+            ax2 = ax1.twinx()
+            shown = next((m for m in ("default", "faithful", "paper") if m in ours), None)
+            if shown:
+                ax2.plot(x, [r[f"{shown}_distance"] for r in rows], "k:", label=f"distance ({shown})")
+            ax2.plot(x, [r["occt_distance"] for r in rows], "kx", ms=3, label="distance (OCCT)")
+            ax2.set_ylabel("distance")
+            ax1.legend(loc="upper left", fontsize=8)
+            ax2.legend(loc="upper right", fontsize=8)
+            fig.tight_layout()
+            fig.savefig(self.path("fig16.png"), dpi=110)
+            plt.close(fig)
         occt_ms = 1e3 * statistics.median(r["occt_s"] for r in rows)
         print(f"\nfig16: {frames} frames, tol {self.a.tol:g} x model size (median ms per frame; bound min-max)")
         for m in ours:
@@ -548,32 +582,33 @@ class Runner:
             return
         write_csv(self.path("table5.csv"), rows)
         names = list(dict.fromkeys(r["pair"] for r in rows))
-        fig, ax = plt.subplots(figsize=(9, 4))
-        series = [(f"{what}, {m}", m, key) for m in METHODS
-                  for what, key in (("prepare + 1st", "first_total_s"), ("query", "query_s"))]
-        series.append((f"query, {VOXELS}", VOXELS, "query_s"))
-        w = 0.8 / (len(series) + 1)
-        for i, (label, m, key) in enumerate(series):
-            ys = [1e3 * next((r[key] for r in rows if r["pair"] == n and r["method"] == m), math.nan) for n in names]
-            ax.bar([x + (i - len(series) / 2) * w for x in range(len(names))], ys, w, label=label)
-        ys = [1e3 * next(r["occt_s"] for r in rows if r["pair"] == n) for n in names]
-        ax.bar([x + len(series) / 2 * w for x in range(len(names))], ys, w, label="OCCT")
-        ax.set_xticks(range(len(names)), names)
-        ax.set_yscale("log")
-        ax.set_ylim(bottom=1)
-        ax.set_ylabel("ms")
-        ax.set_title("Table 5: object clearance")
-        ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(self.path("table5.png"), dpi=110)
-        plt.close(fig)
+        if plt is not None:
+            fig, ax = plt.subplots(figsize=(9, 4))
+            series = [(f"{what}, {m}", m, key) for m in METHODS
+                      for what, key in (("prepare + 1st", "first_total_s"), ("query", "query_s"))]
+            series.append((f"query, {VOXELS}", VOXELS, "query_s"))
+            w = 0.8 / (len(series) + 1)
+            for i, (label, m, key) in enumerate(series):
+                ys = [1e3 * next((r[key] for r in rows if r["pair"] == n and r["method"] == m), math.nan) for n in names]
+                ax.bar([x + (i - len(series) / 2) * w for x in range(len(names))], ys, w, label=label)
+            ys = [1e3 * next(r["occt_s"] for r in rows if r["pair"] == n) for n in names]
+            ax.bar([x + len(series) / 2 * w for x in range(len(names))], ys, w, label="OCCT")
+            ax.set_xticks(range(len(names)), names)
+            ax.set_yscale("log")
+            ax.set_ylim(bottom=1)
+            ax.set_ylabel("ms")
+            ax.set_title("Table 5: object clearance")
+            ax.legend(fontsize=7)
+            fig.tight_layout()
+            fig.savefig(self.path("table5.png"), dpi=110)
+            plt.close(fig)
         print(f"\ntable5: object pairs, tol {self.a.tol:g} x the larger model size")
         print(f"{'pair':<15} {'method':<15} {'distance':>10} {'bound':>9} {'prep ms':>8} {'1st ms':>8} {'query ms':>9} "
               f"{'OCCT d':>10} {'OCCT ms':>8} {'OCCT/query':>10} {'OCCT/(prep+1st)':>15} within")
         for r in rows:
             print(f"{r['pair']:<15} {r['method']:<15} {r['distance']:>10.5f} {r['bound']:>9.2e} "
                   f"{1e3 * r['prepare_s']:>8.0f} {1e3 * r['first_query_s']:>8.1f} {1e3 * r['query_s']:>9.1f} "
-                  f"{r['occt_distance']:>10.5f} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>9.2f}x "
+                  f"{num(r['occt_distance'], '>10.5f')} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>9.2f}x "
                   f"{r['occt_over_first_total']:>14.2f}x {r['within']}{not_met(r)}")
 
     # --- points ------------------------------------------------------------------------------------
@@ -606,7 +641,8 @@ class Runner:
                 print(f"\npoints: {label} failed: {e}")
         if not runs:
             return
-        occt = self.peer("points", model, "--points", file, "--repeat", "3")
+        occt = self.peer("points", model, "--points", file, "--repeat", "3") or {
+            "results": [{"distance": None}] * n, "init_seconds": math.nan, "seconds": math.nan}
         big = 2000 if self.a.quick else self.a.batch_points
         if big > n and "points" in runs:  # throughput at scale: the batched path only (OCCT is per point anyway)
             big_file = self.path("points_input_large.txt")
@@ -638,32 +674,34 @@ class Runner:
             summary.append({"method": j["label"], "key": key, "points": count, "prepare_s": j["prepare_seconds"],
                             "query_s": j["seconds"], "ms_per_point": 1e3 * j["seconds"] / count,
                             "points_per_s": count / j["seconds"]})
-        summary.append({"method": "OCCT GeomAPI_ProjectPointOnSurf", "key": "occt", "points": n,
-                        "prepare_s": occt["init_seconds"], "query_s": occt["seconds"],
-                        "ms_per_point": 1e3 * occt["seconds"] / n, "points_per_s": n / occt["seconds"]})
+        if self.a.peer:
+            summary.append({"method": "OCCT GeomAPI_ProjectPointOnSurf", "key": "occt", "points": n,
+                            "prepare_s": occt["init_seconds"], "query_s": occt["seconds"],
+                            "ms_per_point": 1e3 * occt["seconds"] / n, "points_per_s": n / occt["seconds"]})
         write_csv(self.path("points_summary.csv"), summary)
-        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
-        labels = [s["method"].replace(" (", "\n(").replace(", ", ",\n").replace("OCCT GeomAPI_", "OCCT\n")
-                  for s in summary]
-        ax0.bar(labels, [s["ms_per_point"] for s in summary])
-        ax0.set_yscale("log")
-        ax0.set_ylabel("ms per point")
-        ax0.set_title("points near the 100x105 surface")
-        for key, j in runs.items():
-            if key == "large":
-                continue
-            ratios = [r[f"{key}_diff_occt"] / r[f"{key}_bound"] for r in rows if r[f"{key}_diff_occt"] != ""]
-            ax1.hist(ratios, bins=40, range=(-3, 3), alpha=0.5, label=j["label"])
-        ax1.set_xlabel("(d_OCCT - d) / bound (within the bound: |x| <= 1; beyond +-3 not shown)")
-        ax1.set_ylabel("points")
-        ax1.legend()
-        fig.tight_layout()
-        fig.savefig(self.path("points.png"), dpi=110)
-        plt.close(fig)
+        if plt is not None:
+            fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
+            labels = [s["method"].replace(" (", "\n(").replace(", ", ",\n").replace("OCCT GeomAPI_", "OCCT\n")
+                      for s in summary]
+            ax0.bar(labels, [s["ms_per_point"] for s in summary])
+            ax0.set_yscale("log")
+            ax0.set_ylabel("ms per point")
+            ax0.set_title("points near the 100x105 surface")
+            for key, j in runs.items():
+                if key == "large":
+                    continue
+                ratios = [r[f"{key}_diff_occt"] / r[f"{key}_bound"] for r in rows if r[f"{key}_diff_occt"] != ""]
+                ax1.hist(ratios, bins=40, range=(-3, 3), alpha=0.5, label=j["label"])
+            ax1.set_xlabel("(d_OCCT - d) / bound (within the bound: |x| <= 1; beyond +-3 not shown)")
+            ax1.set_ylabel("points")
+            ax1.legend()
+            fig.tight_layout()
+            fig.savefig(self.path("points.png"), dpi=110)
+            plt.close(fig)
         occt_ms = 1e3 * occt["seconds"] / n
         none = sum(r["occt_distance"] == "" for r in rows)
         print(f"\npoints: {n} random points near the 100x105 surface, tol {self.a.tol:g} x model size")
-        for s in summary[:-1]:
+        for s in summary[:-1] if self.a.peer else summary:
             m = s["key"]
             if m == "large":
                 print(f"  {s['method']:<40} prepare {1e3 * s['prepare_s']:.0f} ms, {s['ms_per_point']:.4f} ms/point "
@@ -674,14 +712,58 @@ class Runner:
             print(f"  {s['method']:<40} {s['points']} points, prepare {1e3 * s['prepare_s']:.0f} ms, "
                   f"{s['ms_per_point']:.3f} ms/point "
                   f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.2f}x, "
-                  f"max |d - d_OCCT| {max(diffs):.2e}, OCCT outside our bound: {bad}")
+                  f"max |d - d_OCCT| {max(diffs, default=math.nan):.2e}, OCCT outside our bound: {bad}")
         pairs = [(r["points_distance"] - r["paper_distance"], r["points_bound"] + r["paper_bound"]) for r in rows
                  if "points" in runs and "paper" in runs and r["paper_distance"] != ""]
         if pairs:
             print(f"  default --points vs the paper preset on {len(pairs)} points: max |diff| "
                   f"{max(abs(d) for d, _ in pairs):.2e}, beyond both bounds on {sum(abs(d) > b for d, b in pairs)}")
-        print(f"  {'OCCT':<40} {n} points, init {1e3 * occt['init_seconds']:.2f} ms, {occt_ms:.3f} ms/point, "
-              f"no projection found for {none} points")
+        if self.a.peer:
+            print(f"  {'OCCT':<40} {n} points, init {1e3 * occt['init_seconds']:.2f} ms, {occt_ms:.3f} ms/point, "
+                  f"no projection found for {none} points")
+
+
+def ms(rows, **match):
+    """'12.3 ms' of the query_s of the row matching every key, or 'not run'."""
+    r = next((r for r in rows if all(r.get(k) == v for k, v in match.items())), None)
+    return f"{1e3 * r['query_s']:.1f} ms" if r and r.get("query_s", "") != "" else "not run"
+
+
+def publish(a, info, left_out):
+    """docs/benchmarks.md and REPRODUCTION.md sections of this run, from the CSVs in a.out."""
+    command = a.command or shlex.join(["experiments/distance_tables.py", *sys.argv[1:]])
+    csvs = {name: report.read_csv(os.path.join(a.out, name + ".csv")) for name in SHOWN}
+    fig16 = report.read_csv(os.path.join(a.out, "fig16.csv"))
+    tables = [(f"`{name}.csv`:", report.markdown_table(rows, SHOWN[name])) for name, rows in csvs.items() if rows]
+    if fig16:
+        per = [{"method": m, "frames": len(ran), "median_ms_per_frame": 1e3 * statistics.median(ran),
+                "occt_median_ms": 1e3 * statistics.median(r["occt_s"] for r in fig16) if a.peer else ""}
+               for m in METHODS for ran in [[r[f"{m}_s"] for r in fig16 if r.get(f"{m}_s", "") != ""]] if ran]
+        tables.append(("`fig16.csv` (per method):", report.markdown_table(per)))
+    report.write_benchmarks("Distance (Krishnamurthy et al.)", command, info, tables, left_out)
+    rows = []
+    for table, paper in (("table1", PAPER_TABLE1), ("table3", PAPER_TABLE3)):
+        for k, (name, _, _) in enumerate(POSITIONS):
+            if any(r["position"] == name for r in csvs[table]):
+                rows.append((f"Table {table[-1]}, position {k + 1} (ours: '{name}')",
+                             f"GPU {paper[k][0]} s, ACIS {paper[k][1]} s (Table {table[-1]})",
+                             f"paper preset {ms(csvs[table], position=name, method='paper')}, default "
+                             f"{ms(csvs[table], position=name, method='default')}"))
+    if csvs["table2"]:
+        wall = lambda m: next((f"{r['cpu_ms']:.1f} ms" for r in csvs["table2"]
+                               if r["method"] == m and str(r["pass"]).startswith("query")), "not run")
+        rows.append(("Table 2, total computation time", f"{PAPER_TABLE2_TOTAL} s (Table 2)",
+                     f"paper preset {wall('paper')}, default {wall('default')}"))
+    if csvs["table5"]:
+        q = [r["query_s"] for r in csvs["table5"] if r["method"] == "default"]
+        rows.append(("Table 5, object clearance per pair (other models)",
+                     f"GPU {PAPER_TABLE5_GPU[0]}-{PAPER_TABLE5_GPU[1]} s over five pairs (Table 5)",
+                     f"default {1e3 * min(q):.1f}-{1e3 * max(q):.1f} ms (pairs: {len(q)})" if q else "not run"))
+    if fig16:
+        rows.append(("Fig. 16, time per frame of the moving pair", "see paper, Fig. 16",
+                     "; ".join(f"{p['method']} {p['median_ms_per_frame']:.1f} ms" for p in per)))
+    if rows:
+        report.write_reproduction("Distance (Krishnamurthy et al.)", rows, command)
 
 
 def main():
@@ -705,15 +787,19 @@ def main():
     p.add_argument("--paper-frames", type=int, default=10, help="frames of Fig. 16 that the paper preset runs")
     p.add_argument("--gl", help="GL backend passed to nurbsgl")
     p.add_argument("--quick", action="store_true", help="one position, fewer frames and points")
+    p.add_argument("--command", help="the command line to name in docs/benchmarks.md and REPRODUCTION.md")
+    p.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md and REPRODUCTION.md alone")
     a = p.parse_args()
     a.nurbsgl = a.nurbsgl or os.path.join(a.build, "cli", "nurbsgl")
-    a.peer = a.peer or os.path.join(a.build, "experiments", "peer_occt_distance")
+    a.peer = os.path.join(a.build, "experiments", "peer_occt_distance") if a.peer is None else a.peer
+    if a.peer and not os.path.exists(a.peer):
+        a.peer = ""  # not built: the OCCT columns stay empty
     a.out = a.out or os.path.join(a.build, "experiments")
     r = Runner(a)
     info = r.nurbsgl("gpu-info", "--json")
     commit = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
     print(f"nurbsgl {commit.stdout.strip() or '(no git)'} on {info['renderer']} ({info['backend']}), "
-          f"{os.cpu_count()} CPU cores; OCCT on one core")
+          f"{os.cpu_count()} CPU cores; " + ("OCCT on one core" if a.peer else "no OCCT peer"))
     every = ["tables", "table2", "fig16", "table5", "points"]
     todo = every if not a.experiments or "all" in a.experiments else a.experiments
     for name in todo:
@@ -722,7 +808,10 @@ def main():
     for name in todo:
         log(f"== {name}")
         getattr(r, name)()
-    print(f"\nCSV and PNG files in {a.out}")
+    left_out = ", ".join(w for w, gone in (("the OCCT columns", not a.peer), ("the plots", plt is None)) if gone)
+    if not a.no_docs:
+        publish(a, info, left_out)
+    print(f"\nCSV{'' if plt is None else ' and PNG'} files in {a.out}")
 
 
 if __name__ == "__main__":

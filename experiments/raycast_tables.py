@@ -30,13 +30,13 @@ import json
 import math
 import os
 import random
+import shlex
 import subprocess
 import sys
 
-import matplotlib
+import report
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402 (after the backend is chosen)
+plt = report.pyplot()  # None without matplotlib: the plots are skipped
 
 MODELS = [
     "generated/vase_shell_t2.igs",
@@ -80,6 +80,10 @@ def head(path, count, out):
             g.write(line)
 
 
+# Lemasson et al.'s reported accuracy (Fig. 13 and its text): the share of hits within 1e-3 mm.
+PAPER_FIG13_WITHIN_1UM = {"GPU (32-bit floats)": 55, "CPU method (64-bit floats)": 15}  # percent
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build-bench")
@@ -89,11 +93,14 @@ def main():
     ap.add_argument("--peer-rays", type=int, default=2000, help="of those, rays through OCCT")
     ap.add_argument("--samples", type=int, default=100000, help="thickness samples per model")
     ap.add_argument("--models", nargs="*", default=None, help="substrings of the model paths to keep")
+    ap.add_argument("--peer", help="peer_occt_distance binary (default BUILD/experiments/peer_occt_distance; '' = no OCCT)")
+    ap.add_argument("--command", help="the command line to name in docs/benchmarks.md")
+    ap.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md alone")
     a = ap.parse_args()
     out = a.out or os.path.join(a.build, "experiments", "raycast")
     os.makedirs(out, exist_ok=True)
     nurbsgl = os.path.join(a.build, "cli", "nurbsgl")
-    peer = os.path.join(a.build, "experiments", "peer_occt_distance")
+    peer = os.path.join(a.build, "experiments", "peer_occt_distance") if a.peer is None else a.peer
     models = [m for m in MODELS if not a.models or any(s in m for s in a.models)]
     rows, acc_rows, th_rows, summary = [], [], [], []
     hist_bicubic, hist_occt, hist_gpu = [], [], []
@@ -135,7 +142,7 @@ def main():
                          "build_seconds": round(j["seconds_build"], 3)})
         peer_rays = os.path.join(out, f"{name}_peer_rays.txt")
         head(rays, a.peer_rays, peer_rays)
-        occt = run_json([peer, "rays", path, "--rays", peer_rays, "--repeat", "1"]) if os.path.exists(peer) else None
+        occt = run_json([peer, "rays", path, "--rays", peer_rays, "--repeat", "1"]) if peer and os.path.exists(peer) else None
         if occt is not None:
             rows.append({"model": name, "method": "occt", "device": "cpu (1 thread)", "rays": occt["rays"],
                          "hits": sum(1 for t in occt["t"] if t >= 0),
@@ -208,6 +215,7 @@ def main():
             best = max(dacrt_rows, key=lambda r: r["rays_per_second"])
             summary.append(f"DACRT thresholds on {name}: best patch leaf {best['patch_leaf']}, ray leaf "
                            f"{best['ray_leaf']}: {best['rays_per_second']} rays/s")
+        if dacrt_rows and plt is not None:
             fig, axes = plt.subplots(1, 2, figsize=(10, 4))
             for rl in (2, 8, 32, 128):
                 pts = [r for r in dacrt_rows if r["ray_leaf"] == rl]
@@ -231,21 +239,22 @@ def main():
                 w = csv.DictWriter(f, fieldnames=keys)
                 w.writeheader()
                 w.writerows(data)
-    fig, ax = plt.subplots(figsize=(7, 4))
-    bins = [10.0 ** e for e in range(-16, 1)]
-    for data, label in ((hist_bicubic, "|t_bicubic - t| (bicubic hit vs exact NURBS hit)"),
-                        (hist_gpu, "|t_gpu - t| (the float GPU pass vs exact NURBS hit)"),
-                        (hist_occt, "|t - t_OCCT| (ours vs OpenCASCADE)")):
-        if data:
-            ax.hist([max(x, 1e-16) for x in data], bins=bins, alpha=0.6, label=label)
-    ax.set_xscale("log")
-    ax.axvline(1e-3, color="k", linestyle="--", linewidth=1)
-    ax.set_xlabel("distance error (model units, mm)")
-    ax.set_ylabel("rays")
-    ax.set_title("Hit accuracy (Lemasson et al. Fig. 13 style)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "accuracy.png"), dpi=120)
+    if plt is not None:
+        fig, ax = plt.subplots(figsize=(7, 4))
+        bins = [10.0 ** e for e in range(-16, 1)]
+        for data, label in ((hist_bicubic, "|t_bicubic - t| (bicubic hit vs exact NURBS hit)"),
+                            (hist_gpu, "|t_gpu - t| (the float GPU pass vs exact NURBS hit)"),
+                            (hist_occt, "|t - t_OCCT| (ours vs OpenCASCADE)")):
+            if data:
+                ax.hist([max(x, 1e-16) for x in data], bins=bins, alpha=0.6, label=label)
+        ax.set_xscale("log")
+        ax.axvline(1e-3, color="k", linestyle="--", linewidth=1)
+        ax.set_xlabel("distance error (model units, mm)")
+        ax.set_ylabel("rays")
+        ax.set_title("Hit accuracy (Lemasson et al. Fig. 13 style)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "accuracy.png"), dpi=120)
     # Rays per second of every run, the presets named (default: no switch; paper: --paper).
     summary += ["", f"{'model':<28}{'preset':<9}{'method':<7}{'device':<16}{'bvh build':<10}{'rays/s':>10}"
                     f"{'boxes/ray':>10}{'patches/ray':>12}{'build s':>9}"]
@@ -257,6 +266,19 @@ def main():
     with open(os.path.join(out, "summary.txt"), "w") as f:
         f.write(text + "\n")
     print(text)
+    if not a.no_docs and rows:
+        info = run_json([nurbsgl, "gpu-info", "--json"]) or {}
+        left_out = ", ".join(w for w, gone in (("the OCCT rows", not any(r["method"] == "occt" for r in rows)),
+                                               ("the plots", plt is None)) if gone)
+        tables = [(f"`{f}`:", report.markdown_table(d)) for f, d in (("rays.csv", rows), ("thickness.csv", th_rows))
+                  if d]
+        command = a.command or shlex.join(["experiments/raycast_tables.py", *sys.argv[1:]])
+        report.write_benchmarks("Ray casting and thickness (Lemasson et al.)", command, info, tables, left_out)
+        share = lambda d: f"{100 * sum(x <= 1e-3 for x in d) / len(d):.0f} % of {len(d)} hits" if d else "not run"
+        report.write_reproduction("Ray casting (Lemasson et al.)", [
+            ("Fig. 13, hits within 1e-3 mm of the exact NURBS hit",
+             ", ".join(f"{k} {v} %" for k, v in PAPER_FIG13_WITHIN_1UM.items()) + " (Fig. 13)",
+             f"float GPU pass {share(hist_gpu)}; bicubic {share(hist_bicubic)}")], command)
 
 
 if __name__ == "__main__":

@@ -28,15 +28,15 @@ import glob
 import json
 import math
 import os
+import shlex
 import shutil
 import subprocess
 import sys
 import tempfile
 
-import matplotlib
+import report
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402 (after the backend is chosen)
+plt = report.pyplot()  # None without matplotlib: the plots are skipped
 
 GENERATED = ["sphere", "torus", "cylinder", "paper-100x105-trimmed"]
 VARIANTS = [  # key, --method, --mode, --split, --cell-bound (guaranteed mode: filip, or the paper's net)
@@ -283,7 +283,7 @@ def rows_of(results):
 
 def bars(path, title, models, series, ylabel, log_scale=True):
     """Grouped bars: series = [(label, [value per model or None])]."""
-    if not models:
+    if not models or plt is None:
         return
     fig, ax = plt.subplots(figsize=(max(6, 1.1 * len(models) + 2), 4.5))
     width = 0.8 / len(series)
@@ -435,6 +435,8 @@ def main():
     p.add_argument("--bisect-steps", type=int, default=10, help="OCCT meshes tried per model at most")
     p.add_argument("--timeout", type=int, default=600, help="seconds per command")
     p.add_argument("--models", nargs="*", help="only models whose file name contains one of these")
+    p.add_argument("--command", help="the command line to name in docs/benchmarks.md and REPRODUCTION.md")
+    p.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md and REPRODUCTION.md alone")
     a = p.parse_args()
     a.nurbsgl = a.nurbsgl or os.path.join(a.build, "cli", "nurbsgl")
     a.peer = os.path.join(a.build, "experiments", "peer_occt_mesh") if a.peer is None else a.peer
@@ -460,7 +462,44 @@ def main():
         write_outputs(a, results, final=m == models[-1])  # after every model: a long run leaves tables behind
     shutil.rmtree(r.tmp, ignore_errors=True)  # the last mesh files
     print(open(os.path.join(a.out, "summary.txt")).read(), end="")
-    print(f"\nCSV, PNG and summary.txt in {a.out}")
+    if not a.no_docs and results:
+        publish(a, rows_of(results))
+    print(f"\nCSV{'' if plt is None else ', PNG'} and summary.txt in {a.out}")
+
+
+# Balazs, Guthe and Klein's reported figures, for REPRODUCTION.md.
+PAPER_TABLE2_EDGES = (170484, 151234)  # Table 2 (Golf): 3d Bezier, midpoint, eps_line edges, then + simpl.
+PAPER_TABLE3_KD_APPROX = (101.3, 464354)  # Table 3 (Golf): kd-tree, eps_approx: time (s), triangles
+PAPER_TABLE4_TRIANGLES = {"Golf": (2058739, 464354), "vent. con.": (562949, 29113),  # Table 4: quadtree,
+                          "Beetle": (3153954, 593652)}  # ours (triangles)
+
+
+def span(values, unit="", scale=1.0):
+    """'lo-hi UNIT over N models' of the numbers in values, or 'not run'."""
+    v = [scale * x for x in values if isinstance(x, (int, float))]
+    return f"{min(v):.3g}-{max(v):.3g}{unit} over {len(v)} runs" if v else "not run"
+
+
+def publish(a, tables):
+    """docs/benchmarks.md and REPRODUCTION.md sections of this run (Balazs et al. Tables 2, 3, 4)."""
+    t2, t3, t4, oc, pr = tables
+    command = a.command or shlex.join(["experiments/tessellation_tables.py", *sys.argv[1:]])
+    info = run_json([a.nurbsgl, "gpu-info", "--json"], a.timeout)
+    left_out = ", ".join(w for w, gone in (("the OCCT columns", not a.peer), ("the plots", plt is None)) if gone)
+    shown = [(f"`{n}.csv`:", report.markdown_table(rows)) for n, rows in
+             (("table2", t2), ("table3", t3), ("table4", t4), ("presets", pr), ("occt", oc)) if rows]
+    report.write_benchmarks("Tessellation (Balazs, Guthe and Klein)", command, info, shown, left_out)
+    report.write_reproduction("Tessellation (Balazs, Guthe and Klein)", [
+        ("Table 2, trim edges before / after simplification",
+         f"{PAPER_TABLE2_EDGES[0] / PAPER_TABLE2_EDGES[1]:.2f}x ({PAPER_TABLE2_EDGES[0]:,} / {PAPER_TABLE2_EDGES[1]:,}"
+         ", Golf, Table 2)",
+         span([r["reduction"] for r in t2], "x")),
+        ("Table 3, tessellation time (kd-tree, approximate error)",
+         f"{PAPER_TABLE3_KD_APPROX[0]} s, {PAPER_TABLE3_KD_APPROX[1]:,} triangles (Golf, Table 3)",
+         span([r["total_s"] for r in t3], " ms", 1e3)),
+        ("Table 4, quadtree triangles / ours",
+         ", ".join(f"{m} {q / k:.1f}x" for m, (q, k) in PAPER_TABLE4_TRIANGLES.items()) + " (Table 4)",
+         span([r["triangle_ratio"] for r in t4], "x"))], command)
 
 
 def write_outputs(a, results, final):
