@@ -66,10 +66,13 @@ struct Cell {
   }
 };
 
+/// cross(b - a, p - a): positive left of the line ab, negative right.
+double side_of(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); }
+
 /// Cuts the cell's two triangles by the straight trim edge ab, keeping the side `side` (the sign of
-/// cross(b - a, p - a) on the material side); fills c.pieces (0 when nothing is left).
+/// side_of on the material side); fills c.pieces (0 when nothing is left).
 void cut_by_edge(Cell& c, glm::dvec2 a, glm::dvec2 b, double side) {
-  const auto sign = [&](glm::dvec2 p) { return side * ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)); };
+  const auto sign = [&](glm::dvec2 p) { return side * side_of(a, b, p); };
   c.pieces = 0;
   for (int t = 0; t < 2; ++t) {
     glm::dvec2 in[3];
@@ -259,22 +262,15 @@ class Cells {
       const auto edges = b->edges_in_box({c.u0, c.v0}, {c.u1, c.v1}, 2);
       if (edges.size() == 1) {
         const auto [a, e] = edges.front();
-        double side = 0.0;
-        bool consistent = true;
+        // The material side: that of the material corners, every trimmed corner on the other side.
+        double r[4], side = 0.0;
         for (int k = 0; k < 4; ++k) {
-          const glm::dvec2 p = c.uv(k);
-          const double r = (e.x - a.x) * (p.y - a.y) - (e.y - a.y) * (p.x - a.x);
-          if ((c.material >> k) & 1u) {
-            if (side == 0.0 && r != 0.0) side = r > 0.0 ? 1.0 : -1.0;
-            consistent = consistent && side * r >= 0.0;
-          }
+          r[k] = side_of(a, e, c.uv(k));
+          if (((c.material >> k) & 1u) && side == 0.0 && r[k] != 0.0) side = r[k] > 0.0 ? 1.0 : -1.0;
         }
-        for (int k = 0; k < 4 && consistent; ++k) {
-          const glm::dvec2 p = c.uv(k);
-          const double r = (e.x - a.x) * (p.y - a.y) - (e.y - a.y) * (p.x - a.x);
-          if (!((c.material >> k) & 1u)) consistent = side * r <= 0.0;
-        }
-        if (consistent && side != 0.0) cut_by_edge(c, a, e, side);
+        bool consistent = side != 0.0;
+        for (int k = 0; k < 4; ++k) consistent = consistent && ((c.material >> k) & 1u ? side * r[k] >= 0.0 : side * r[k] <= 0.0);
+        if (consistent) cut_by_edge(c, a, e, side);
         if (c.pieces > 0) {
           glm::dvec3 lo(kInf), hi(-kInf);
           for (int t = 0; t < c.pieces; ++t)
@@ -430,14 +426,14 @@ Refined refine_point(const PreparedModel& m, const std::vector<FaceCell>& start,
 
 namespace {
 
-/// Whether uv of `face`, or a point a tiny step from it towards `centre`, is material: a point of a
-/// cut cell's piece often lies on the cutting trim edge itself, where the classification may go
-/// either way.
-bool material_near(const Cells& cells, int face, glm::dvec2 uv, glm::dvec2 centre) {
-  if (cells.material_uv(face, uv)) return true;
+/// uv of `face` if material, else the first material point a tiny step from it towards `centre`
+/// (nullopt: none): a point of a cut cell's piece often lies on the cutting trim edge itself, where
+/// the classification may go either way.
+std::optional<glm::dvec2> material_near(const Cells& cells, int face, glm::dvec2 uv, glm::dvec2 centre) {
+  if (cells.material_uv(face, uv)) return uv;
   for (double t : {1e-9, 1e-6, 1e-3})
-    if (cells.material_uv(face, uv + t * (centre - uv))) return true;
-  return false;
+    if (const glm::dvec2 moved = uv + t * (centre - uv); cells.material_uv(face, moved)) return moved;
+  return std::nullopt;
 }
 
 /// The pair search of refine_pairs from the cell pairs `pairs` (indices into ca.all, cb.all).
@@ -491,8 +487,7 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
     struct Nearest {
       double d = kInf;
       size_t pair = 0;
-      glm::dvec2 a{0.0}, b{0.0};
-      glm::dvec2 a_centre{0.0}, b_centre{0.0};  ///< (u, v) centroids of the two triangles
+      glm::dvec2 a{0.0}, b{0.0};  ///< material (u, v) at (or a tiny step inside from) the nearest points
     };
     std::vector<Nearest> nearests(shares);
     const double split_below = r.distance - tolerance;
@@ -514,9 +509,11 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
             // The nearest triangle points whose (u, v) are material on both sides (a whole cell's
             // triangles reach into its trimmed part, whose points give no upper bound).
             if (d < near.d) {
-              const glm::dvec2 ua = x.bound_uv_at(s, wa), ub = y.bound_uv_at(t, wb);
-              const glm::dvec2 ca_ = x.bound_uv_at(s, glm::dvec3(1.0 / 3.0)), cb_ = y.bound_uv_at(t, glm::dvec3(1.0 / 3.0));
-              if (material_near(ca, x.face, ua, ca_) && material_near(cb, y.face, ub, cb_)) near = {d, n, ua, ub, ca_, cb_};
+              const glm::dvec3 third(1.0 / 3.0);
+              const auto ua = material_near(ca, x.face, x.bound_uv_at(s, wa), x.bound_uv_at(s, third));
+              const auto ub = ua ? material_near(cb, y.face, y.bound_uv_at(t, wb), y.bound_uv_at(t, third))
+                                 : std::nullopt;
+              if (ub) near = {d, n, *ua, *ub};
             }
             // Split for certain (its least triangle distance can only be lower): the box is its
             // lower bound, and the pair's other triangles are left to its children.
@@ -530,22 +527,9 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
       if (n.d < nearest.d) nearest = n;
     if (std::isfinite(nearest.d)) {
       const auto [i, j] = pairs[nearest.pair];
-      // The triangles' nearest points, true surface points at their (u, v). A point of a cut cell's
-      // piece often lies on the cutting trim edge itself, where the classification may go either
-      // way: it is moved towards its triangle's centroid until material (a tiny step first).
-      auto material = [](Cells& cells, int face, glm::dvec2& uv, glm::dvec2 centre) {
-        Cells::Sample s = cells.at(face, uv);
-        for (double t : {1e-9, 1e-6, 1e-3}) {
-          if (s.material) break;
-          const glm::dvec2 moved = uv + t * (centre - uv);
-          if ((s = cells.at(face, moved)).material) uv = moved;
-        }
-        return s;
-      };
-      glm::dvec2 near_a = nearest.a, near_b = nearest.b;
-      const Cells::Sample qa = material(ca, ca.all[i].face, near_a, nearest.a_centre);
-      const Cells::Sample qb = material(cb, cb.all[j].face, near_b, nearest.b_centre);
-      if (qa.material && qb.material) offer(qa.p, qb.p, near_a, near_b, i, j);
+      // The triangles' nearest points with material (u, v) (material_near): true surface points there.
+      const Cells::Sample qa = ca.at(ca.all[i].face, nearest.a), qb = cb.at(cb.all[j].face, nearest.b);
+      if (qa.material && qb.material) offer(qa.p, qb.p, nearest.a, nearest.b, i, j);
       // A tighter upper bound: alternating Newton projections from the best pair so far, each
       // step a pair of true surface points (kept only where both are material).
       glm::dvec2 ua = r.uv_a, ub = r.uv_b;
