@@ -1,8 +1,8 @@
 // `nurbsgl clearance A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG]`: minimum distance between two
 // models with the bound K_a + K_b (queries/clearance.h), within --tol x the larger model size (found and
 // meets_tolerance in JSON; exit 1 when the bound is over it). B is first rotated by DEG degrees about
-// the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_a, point_b,
-// face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
+// the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_bound, point_a,
+// point_b, face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
 // one query per line of FILE (DX DY DZ AX AY AZ DEG: B rotated, then moved), B's hierarchy refitted
 // each time (the paper's Fig. 16): JSON {"frames", "prepare_seconds", "tolerance", "results": [...]}.
 // `engine` (JSON: requested, used, cpu_queries, gpu_queries): small models run on the CPU alone
@@ -48,6 +48,7 @@ struct Options {
   int reduce_block = queries::ClearanceLimits{}.reduce_block;
   int compact_fanout = queries::ClearanceLimits{}.compact_fanout;
   long long host_pairs = queries::ClearanceLimits{}.host_pairs;
+  long long start_pairs = queries::ClearanceLimits{}.start_pairs;
   std::string upper = "auto";
   long long max_samples = 1LL << 22;  ///< per face grid
   bool json = false, timings = false;
@@ -121,6 +122,7 @@ nlohmann::json result_json(const queries::Clearance& c, double seconds, double t
   nlohmann::json j = {{"found", c.found},
           {"distance", c.distance},
           {"bound", c.bound},
+          {"point_bound", c.point_bound()},
           {"point_a", {c.point_a.x, c.point_a.y, c.point_a.z}},
           {"point_b", {c.point_b.x, c.point_b.y, c.point_b.z}},
           {"face_a", c.face_a},
@@ -202,6 +204,7 @@ void run(const GlobalOptions& global, const Options& o) {
   limits.reduce_block = o.reduce_block;
   limits.compact_fanout = o.compact_fanout;
   limits.host_pairs = o.host_pairs;
+  limits.start_pairs = o.start_pairs;
   using Upper = queries::ClearanceLimits::Upper;
   limits.upper = o.upper == "boxes" ? Upper::Boxes : o.upper == "samples" ? Upper::Samples : Upper::Auto;
   // The query's programs compile on this thread while the geometry threads work.
@@ -354,6 +357,7 @@ void run(const GlobalOptions& global, const Options& o) {
                           {"reduce-block", on_gpu(o.reduce_block)},
                           {"compact-fanout", on_gpu(o.compact_fanout)},
                           {"host-pairs", on_gpu(queries::host_pairs_used(limits, c2f))},
+                          {"start-pairs", on_gpu(o.start_pairs)},
                           {"gpu-upper", on_gpu(queries::upper_from_samples(limits, c2f) ? "samples" : "boxes")}});
   };
   auto query = [&](const glm::dmat4& motion) {
@@ -419,9 +423,9 @@ void run(const GlobalOptions& global, const Options& o) {
     o.preset.print_text();
     fmt::print(
         "clearance {:.9g} +- {:.3g} {} between face {} of A at ({:.6g}, {:.6g}, {:.6g}) and face {} of B at "
-        "({:.6g}, {:.6g}, {:.6g})\n",
+        "({:.6g}, {:.6g}, {:.6g}); each point within {:.3g} of its surface's nearest point to the other\n",
         c.distance, c.bound, unit, c.face_a, c.point_a.x, c.point_a.y, c.point_a.z, c.face_b, c.point_b.x, c.point_b.y,
-        c.point_b.z);
+        c.point_b.z, c.point_bound());
     if (cpu_frames > 0)
       fmt::print("prepared {} of {} faces of A, {} of {} of B in {:.3f} s (coarse grids); query {:.3f} s on the CPU, "
                  "{} cells refined in {} rounds\n",
@@ -501,6 +505,11 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
                   "on the GPU, as the paper; -1: 65536 with coarse-to-fine, 0 with faithful")
       ->check(CLI::Range(-1LL, 1LL << 40))
       ->capture_default_str();
+  auto* start_opt = cmd->add_option("--start-pairs", o->start_pairs,
+                  "The descent starts at the finest levels whose box pairs number at most this (all of them kept); "
+                  "1: at the roots, as the paper (the pairs per level from the root, Fig. 12)")
+      ->check(CLI::Range(1LL, 1LL << 40))
+      ->capture_default_str();
   auto* upper_opt = cmd->add_option("--gpu-upper", o->upper,
                   "Least upper bound of each level of the descent: boxes (the paper's farthest box points), "
                   "samples (also a face sample per node: far fewer pairs survive; the same answer) or auto "
@@ -531,7 +540,7 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   // --paper: faithful grids (5.1), every face prepared and the voxel first stage of 5.4 at the
   // 40^3 grid of the paper's tests (6), the descent on the GPU (5.1) with its log2 reductions of 2 x 2
   // texels and the stream reduction's 4-texel count pyramid (1.1), every level on the GPU (5.1), U
-  // from the boxes' farthest points (5.2, Eqs. 13-16).
+  // from the boxes' farthest points (5.2, Eqs. 13-16), the descent from the roots (5.1).
   auto& preset = o->preset;
   preset.add_flag(cmd, "Krishnamurthy et al.");
   govern_search(preset, search, o->search, "§5.1");
@@ -543,12 +552,13 @@ void add_clearance(CLI::App& app, const GlobalOptions& global) {
   preset.govern(fanout_opt, o->compact_fanout, 4, "§1.1");
   preset.govern(host_pairs_opt, o->host_pairs, 0LL, "§5.1");
   preset.govern(upper_opt, o->upper, std::string("boxes"), "§5.2");
+  preset.govern(start_opt, o->start_pairs, 1LL, "§5.1");
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o, voxels, reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt] {
+  cmd->callback([&global, o, voxels, reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt, start_opt] {
     o->preset.apply();
     if (voxels->count() > 0 && o->first_stage != "voxels") throw BadInput("--voxels needs --first-stage voxels");
     // The options of the GPU descent ask for it: auto runs on the GPU, cpu is refused.
-    for (const CLI::Option* g : {reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt})
+    for (const CLI::Option* g : {reduce_block_opt, fanout_opt, host_pairs_opt, upper_opt, start_opt})
       if (g->count() > 0) {
         if (o->engine == "cpu")
           throw BadInput(fmt::format("{} sets the GPU descent; not with --engine cpu", g->get_name()));

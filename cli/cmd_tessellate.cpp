@@ -24,7 +24,8 @@ struct TessArgs {
   std::string path, output;
   double eps = 1e-3;
   bool relative = false, eps_given = false;
-  std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip";
+  std::string mode = "guaranteed", method = "kdtree", split = "midpoint", cell_bound = "filip",
+              evaluation = "coherent";
   bool no_simplify = false, check = false, json = false, watertight = false, paper_rectangles = false;
   int check_samples = 48, threads = 0;
   long long max_cells = nurbs::tess::TessellateOptions{}.max_cells;
@@ -77,6 +78,7 @@ void run(const TessArgs& a) {
   o.cell_bound = a.cell_bound == "net" ? nurbs::tess::CellBound::ControlNet : nurbs::tess::CellBound::Filip;
   o.split = a.split == "arbitrary" ? nurbs::tess::CurveSplit::Arbitrary : nurbs::tess::CurveSplit::Midpoint;
   o.simplify = !a.no_simplify;
+  o.coherent_evaluation = a.evaluation == "coherent";
   o.loop_share = a.loop_share;
   o.threads = a.threads;
   o.watertight = a.watertight;
@@ -321,15 +323,24 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
                     "Approximate the boundary of a face bounded by its parameter rectangle by loop polylines, as the "
                     "paper does any loop (default: the cells' edges are that boundary, with no loop error)");
   auto* no_simplify = cmd->add_flag("--no-simplify", a->no_simplify, "Skip the trim loop simplification (§5)");
+  auto* evaluation =
+      cmd->add_option("--evaluation", a->evaluation,
+                      "Mesh vertices on the surface (§8): coherent = basis functions and inner sums reused between "
+                      "neighbouring vertices; direct = every vertex evaluated on its own (the same mesh; Table 3's two "
+                      "time columns)")
+          ->check(CLI::IsMember({"coherent", "direct"}))
+          ->capture_default_str();
   // --paper: the kd-tree (5.2) with the control-net bound (5.2, the conservative error), trim curves
   // split at their midpoint (5.1, Table 2) and their loops simplified (5.1), every loop approximated
-  // by polylines (5.1), each face on its own (3). --mode stays free: the paper gives both errors.
+  // by polylines (5.1), each face on its own (3), vertices evaluated coherently (8). --mode stays
+  // free: the paper gives both errors.
   auto& preset = a->preset;
   preset.add_flag(cmd, "Balazs, Guthe, Klein");
   preset.govern(method, a->method, std::string("kdtree"), "§5.2");
   preset.govern(cell_bound, a->cell_bound, std::string("net"), "§5.2");
   preset.govern(split, a->split, std::string("midpoint"), "§5.1");
   preset.govern(no_simplify, a->no_simplify, false, "§5.1");
+  preset.govern(evaluation, a->evaluation, std::string("coherent"), "§8");
   preset.govern(paper_rectangles, a->paper_rectangles, true, "§5.1");
   preset.govern(watertight, a->watertight, false, "§3");
   cmd->add_option("-o,--output", a->output, "Write the mesh: .obj, .ply or .stl");

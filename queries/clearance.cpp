@@ -186,10 +186,9 @@ namespace {
 /// `upper` carries the least upper bound U across atlas pairs (any pair's U bounds the distance).
 std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy& hb, const ClearanceLimits& limits,
                            long long host_pairs, double& shared_upper, std::vector<long long>& per_level) {
-  // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts below
-  // the roots, at the finest levels whose node pairs number at most kStartPairs, with all of them
-  // (the levels above prune little and cost a pair pass, a reduction and a compaction each).
-  constexpr long long kStartPairs = 4096;
+  // The surviving pairs: records (xa, ya, xb, yb) at the current levels. The search starts at the
+  // finest levels whose node pairs number at most limits.start_pairs (the roots when 1).
+  const long long start_pairs = std::max(1LL, limits.start_pairs);
   int la = int(ha.lo.size()) - 1, lb = int(hb.lo.size()) - 1;
   auto nodes = [](const Hierarchy& h, int l) {
     return static_cast<long long>(h.lo[size_t(l)].width()) * h.lo[size_t(l)].height();
@@ -197,7 +196,7 @@ std::vector<float> descend(gpgpu::Gpu& gpu, const Hierarchy& ha, const Hierarchy
   while (la > 0 || lb > 0) {
     const bool down_a = la > 0 && (la >= lb || lb == 0);
     const int na = down_a ? la - 1 : la, nb = down_a ? lb : lb - 1;
-    if (nodes(ha, na) * nodes(hb, nb) > kStartPairs) break;
+    if (nodes(ha, na) * nodes(hb, nb) > start_pairs) break;
     la = na, lb = nb;
   }
   std::vector<float> start;

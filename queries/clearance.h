@@ -27,6 +27,7 @@
 #include <glm/vec3.hpp>
 #include <limits>
 #include <memory>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -58,6 +59,11 @@ struct Clearance {
   bool intersecting = false;
   glm::dvec3 intersection{0.0};        ///< that point
   double intersection_residual = 0.0;  ///< the distance of the two surface points it joins
+
+  /// Theorem 2 with the other model's closest point as the query point: A's nearest point to
+  /// point_b lies within sqrt(4 K d + K^2) of point_a (K = bound, d = distance), and likewise for
+  /// B; the paper's "position tolerance" (Fig. 16(b)).
+  [[nodiscard]] double point_bound() const { return std::sqrt(4.0 * bound * distance + bound * bound); }
 };
 
 /// Texture budget of the faithful descent: a level of more surviving pairs than `chunk_pairs` (or
@@ -83,6 +89,10 @@ struct ClearanceLimits {
   /// small levels cost more than their data (beyond the paper). 0: every level on the GPU; -1
   /// (auto): 65536 with the coarse-to-fine search, 0 with the faithful path (the paper's passes).
   long long host_pairs = -1;
+  /// The descent starts at the finest levels whose node pairs number at most this, with all of
+  /// them: the levels above prune little and cost a pair pass, a reduction and a compaction each
+  /// (beyond the paper). 1: at the two roots, as the paper (§5.1, the pairs per level of Fig. 12).
+  long long start_pairs = 4096;
 };
 
 /// Whether the descent bounds U with face samples: ClearanceLimits::upper, Auto resolved for the

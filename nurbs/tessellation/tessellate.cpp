@@ -147,7 +147,10 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
       }
       tri[c] = r;
     }
-  evaluate_coherent(face.surface, m.uv, m.position, m.normal);
+  if (o.coherent_evaluation)
+    evaluate_coherent(face.surface, m.uv, m.position, m.normal);
+  else
+    evaluate_direct(face.surface, m.uv, m.position, m.normal);
   if (o.watertight) boundary_positions(loops, m, m.position);
   // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface)
   // cover nothing; they are dropped and counted.

@@ -39,6 +39,10 @@ struct TessellateOptions {
   /// (the trimmed 100x105: 10620 triangles at 1/2, 8032 at 0.45, same measured deviation 0.45 eps).
   double loop_share = 0.45;
   bool simplify = true;  ///< §5 loop simplification
+  /// §8: evaluate the vertices coherently (basis functions and inner sums reused between vertices
+  /// sharing v or a u span: the paper's Table 3 "time³" column); false: plain direct evaluation of
+  /// Eq. 1 per vertex (the "time" column). The same mesh either way, up to roundoff.
+  bool coherent_evaluation = true;
   int threads = 0;       ///< 0 = all hardware threads
   /// Beyond the paper: faces sharing an edge in space get the same boundary vertices (the loops are
   /// matched across faces, the trimming's crossing points put on the loops' 3D chords and T-junctions

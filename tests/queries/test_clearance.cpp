@@ -129,6 +129,11 @@ TEST_CASE("clearance: two exact spheres, and a rigid motion of the second") {
     CHECK(std::abs(c.distance - gap) < c.bound);
     CHECK(c.bound <= 2e-3);
     CHECK(glm::length(c.point_a - dir) < 0.1);  // near the true closest point of the first sphere
+    // Theorem 2 (position bound): each sphere's nearest point to the other's closest point lies
+    // within point_bound() of the point found on it.
+    CHECK(glm::length(c.point_a - glm::normalize(c.point_b)) <= c.point_bound());
+    const glm::dvec3 centre_b = (3.0 + gap) * dir;
+    CHECK(glm::length(c.point_b - (centre_b + 2.0 * glm::normalize(c.point_a - centre_b))) <= c.point_bound());
     MESSAGE("gap " << gap << ": distance " << c.distance << " +- " << c.bound << ", pairs per level "
                    << c.pairs_per_level.size() << " levels, " << c.leaf_pairs << " leaf pairs");
   }

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
@@ -127,6 +128,24 @@ TEST_CASE("tessellate: the output does not depend on the thread count") {
   CHECK(one.mesh.positions == three.mesh.positions);
   CHECK(one.mesh.triangle_face.back() == 2);
   CHECK(one.mesh.triangles.size() > 5000);  // 7,856: enough faces and cells for the threads to interleave
+}
+
+TEST_CASE("tessellate: direct evaluation (§8 without coherence) gives the coherent mesh up to roundoff") {
+  const std::vector<nurbs::TrimmedSurface> faces{face_of(models::rational_sphere(3.0)),
+                                                 face_of(models::rational_torus(8.0, 2.0)),
+                                                 models::trimmed_wavy_surface_100x105()};
+  TessellateOptions o;
+  o.eps = 0.05;
+  const auto coherent = nurbs::tess::tessellate(faces, o);
+  o.coherent_evaluation = false;
+  const auto direct = nurbs::tess::tessellate(faces, o);
+  CHECK(direct.mesh.triangles == coherent.mesh.triangles);
+  REQUIRE(direct.mesh.positions.size() == coherent.mesh.positions.size());
+  double worst = 0.0;
+  for (size_t k = 0; k < direct.mesh.positions.size(); ++k)
+    worst = std::max(worst, glm::length(direct.mesh.positions[k] - coherent.mesh.positions[k]));
+  CHECK(worst < 1e-9);
+  CHECK(direct.mesh.triangles.size() > 1000);
 }
 
 TEST_CASE("tessellate: work over max_cells is refused before it starts, with the eps that fits") {
