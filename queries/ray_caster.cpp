@@ -69,6 +69,7 @@ void RayCaster::rays_start_on_surfaces() {
   if (!gpu_caster_) return;
   figures_.near_guard = 4.0 * options_.tolerance * scene_.size;
   gpu_caster_->set_near_guard(figures_.near_guard);
+  gpu_caster_->set_recast_misses(true);
 }
 
 std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min,

@@ -54,7 +54,9 @@ class RayCaster {
 
   /// For rays that start on the surface (thickness): the GPU pass ignores hits within 4 x the
   /// bicubic tolerance of the origin (its own face; raycast_gpu.h), else every such ray would go
-  /// back to the CPU. Walls thinner than that guard are not seen on the GPU. No effect on the CPU.
+  /// back to the CPU; a ray it finds no hit for is cast again on the CPU (a ray from inside a solid
+  /// must leave it: a grazing hit at an edge can hide from the float pass). Walls thinner than the
+  /// guard are not seen on the GPU where a farther hit exists. No effect on the CPU.
   void rays_start_on_surfaces();
 
   [[nodiscard]] const nurbs::ray::Scene& scene() const { return scene_; }

@@ -231,7 +231,7 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
     return nurbs::ray::cast_ray(scene_, ray, t_min);
   };
   if (raw.doubt || raw.cut) return again();
-  if (raw.patch < 0) return {};
+  if (raw.patch < 0) return recast_misses_ ? again() : Hit{};
   const nurbs::ray::BicubicPatch& p = scene_.patches[size_t(raw.patch)];
   const glm::dvec2 uv(p.range_u.min + double(raw.s) * (p.range_u.max - p.range_u.min),
                       p.range_v.min + double(raw.t_param) * (p.range_v.max - p.range_v.min));

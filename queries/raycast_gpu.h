@@ -101,6 +101,11 @@ class GpuRaycaster {
   void set_near_guard(double g) { near_guard_ = g; }
   [[nodiscard]] double near_guard() const { return near_guard_; }
 
+  /// Rays that start inside a closed solid (thickness) must leave it: with this set, a ray the pass
+  /// finds no hit for is cast again by cast_ray (a fallback). The guard above, or a grazing hit on
+  /// the face beside the ray's own at an edge, can hide from the float pass the hit the twin finds.
+  void set_recast_misses(bool on) { recast_misses_ = on; }
+
   /// Walk steps after which the pass gives a ray up as cut (it then goes to the CPU); 0 = the
   /// guard 4 x nodes + 16, which only an endless walk reaches. Tests lower it to force the cut
   /// path that llvmpipe's loop limit takes on scenes of ~10^5 overlapping patches.
@@ -129,6 +134,7 @@ class GpuRaycaster {
   std::vector<int> leaf_patch_;  ///< BvhBuild::Gpu: scene patch of the pass's leaf k (empty: the same)
   size_t rays_per_pass_ = size_t(1) << 20;
   double near_guard_ = 0.0;
+  bool recast_misses_ = false;
   int threads_ = 0;  ///< set_threads
   int max_steps_ = 0;
 };
