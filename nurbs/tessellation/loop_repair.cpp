@@ -54,6 +54,44 @@ std::vector<Hit> find_crossings(const std::vector<LoopPolyline>& loops) {
   return hits;
 }
 
+/// Twice the signed area of a closed polyline, about its first vertex (slivers keep their sign).
+double area2(const std::vector<glm::dvec2>& uv) {
+  double a = 0.0;
+  for (size_t i = 1; i + 1 < uv.size(); ++i) a += orient(uv[0], uv[i], uv[i + 1]);
+  return a;
+}
+
+/// The vertices [first, last) of `l` (indices mod its size) as a loop of their own.
+LoopPolyline piece(const LoopPolyline& l, size_t first, size_t last) {
+  LoopPolyline out;
+  out.outer = l.outer;
+  const bool edges = l.edge.size() == l.uv.size();
+  for (size_t k = first; k != last; k = (k + 1) % l.uv.size()) {
+    out.uv.push_back(l.uv[k]);
+    out.xyz.push_back(l.xyz[k]);
+    if (edges) out.edge.push_back(l.edge[k]);
+  }
+  return out;
+}
+
+/// A loop that crosses itself (a crossing vertex twice in it) cut there into simple pieces; the
+/// pieces turning against the whole loop (`sign`: its signed area's) are the lobes that the
+/// polylines' error folded over, and are dropped, as are pieces of no area. Appends the kept pieces
+/// to `out`; returns the lobes dropped.
+size_t untangle(const LoopPolyline& l, double sign, std::vector<LoopPolyline>& out) {
+  for (size_t i = 0; i < l.uv.size(); ++i)
+    for (size_t j = i + 1; j < l.uv.size(); ++j)
+      if (l.uv[i] == l.uv[j]) {
+        size_t dropped = untangle(piece(l, i, j), sign, out);
+        return dropped + untangle(piece(l, j, i), sign, out);
+      }
+  if (l.uv.size() >= 3 && area2(l.uv) * sign > 0.0) {
+    out.push_back(l);
+    return 0;
+  }
+  return 1;
+}
+
 }  // namespace
 
 size_t count_crossings(const std::vector<LoopPolyline>& loops) { return find_crossings(loops).size() / 2; }
@@ -82,6 +120,19 @@ size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface
     }
     loops[l] = std::move(out);
   }
+  // Self-crossings: each such loop is cut at its crossings and its folded lobes dropped.
+  std::vector<bool> self(loops.size(), false);
+  for (size_t k = 0; k + 1 < hits.size(); ++k)
+    for (size_t m = k + 1; m < hits.size(); ++m)
+      if (hits[k].loop == hits[m].loop && hits[k].p == hits[m].p) self[hits[k].loop] = true;
+  std::vector<LoopPolyline> untangled;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    if (self[l])
+      untangle(loops[l], area2(loops[l].uv), untangled);
+    else
+      untangled.push_back(std::move(loops[l]));
+  }
+  loops = std::move(untangled);
   return hits.size() / 2;
 }
 

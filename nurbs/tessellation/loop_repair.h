@@ -3,8 +3,12 @@
 /// §5's crossing correction (Balázs, Guthe, Klein 2004): trim loops that cross in (u, v) (modelling
 /// errors) get a vertex at each crossing, so that edges of the loops meet only at shared vertices.
 /// Found by a sweep over u (Bentley-Ottmann style: edges sorted by their smallest u, an active list
-/// pruned by largest u, a v-interval test before the exact segment test). Splitting a self-touching
-/// loop into separate loops is left to the half-edge stage (§6), which handles shared vertices.
+/// pruned by largest u, a v-interval test before the exact segment test). A loop that crosses
+/// itself (a polyline folded over where its curve runs close to another part of the loop, e.g. along
+/// the domain's edge) is cut at its crossings into simple loops, and the lobes that turn against it
+/// are dropped: their area lies within the polylines' error of the curves, and a folded lobe left in
+/// would flip the material side of the half-edge flood (§6). Splitting a self-touching loop into
+/// separate loops is left to the half-edge stage, which handles shared vertices.
 #include <vector>
 
 #include "nurbs/surface.h"
@@ -14,8 +18,9 @@ namespace nurbs::tess {
 
 /// Inserts a vertex (uv at the crossing, xyz = S(uv)) into both edges at every proper crossing
 /// (interiors cross, strictly opposite orientations) between two edges of `loops`, any loop with any
-/// other or itself. Touching, collinear overlap and vertex-on-edge cases are not crossings.
-/// Returns the number of crossings found.
+/// other or itself. Touching, collinear overlap and vertex-on-edge cases are not crossings. A loop
+/// with a crossing of its own is then cut there into simple loops, those turning against the whole
+/// loop (the sign of its area) dropped. Returns the number of crossings found.
 size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface);
 
 /// Number of proper crossings among the edges of `loops` (the same sweep, nothing changed).

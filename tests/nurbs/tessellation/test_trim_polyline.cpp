@@ -270,6 +270,29 @@ TEST_CASE("trim: crossing loops get a vertex at each crossing") {
   CHECK(found);
 }
 
+TEST_CASE("trim: a loop folded over itself is cut at its crossing and the folded lobe dropped") {
+  // The outer loop runs down from (0.1, 0.9) to (0.2, 0.1), across A's first side y = 0.2: the lobe
+  // below that side turns clockwise against the loop (as a polyline folded near a boundary does).
+  TrimmedSurface face;
+  face.surface = flat_bicubic();
+  face.loops.push_back(polygon({{0.1, 0.2}, {0.9, 0.2}, {0.9, 0.9}, {0.1, 0.9}, {0.2, 0.1}, {0.1, 0.1}}, true));
+  TrimApproxOptions opt;
+  opt.eps = 0.01;
+  TrimApproxStats st;
+  const auto out = approximate_trim_loops(face, opt, &st);
+  CHECK(st.crossings_fixed == 1);
+  REQUIRE(out.size() == 1);
+  CHECK(count_crossings(out) == 0);
+  double area = 0.0;
+  for (size_t k = 0; k < out[0].uv.size(); ++k) {
+    const glm::dvec2 a = out[0].uv[k], b = out[0].uv[(k + 1) % out[0].uv.size()];
+    area += 0.5 * (a.x * b.y - a.y * b.x);
+    CHECK(a.y >= 0.2 - 1e-12);  // nothing of the lobe below y = 0.2
+  }
+  // The kept part: the quadrilateral (0.1875, 0.2), (0.9, 0.2), (0.9, 0.9), (0.1, 0.9).
+  CHECK(area == doctest::Approx(0.5 * 0.7 * ((0.9 - 0.1875) + 0.8)).epsilon(1e-9));
+}
+
 TEST_CASE("trim: a face without loops gives its domain rectangle, counter-clockwise") {
   const TrimmedSurface face{models::random_surface(9, 3, 2, true), {}, 0, "", false};
   TrimApproxOptions opt;
