@@ -145,9 +145,17 @@ def verdicts(values):
     return "; ".join(f"{n} x {k}" for k, n in counts.items()) or "none"
 
 
-def num(x, spec):
-    """x formatted by spec, or '-' in its width when x is empty (a peer column without the peer)."""
-    return format(x, spec) if isinstance(x, (int, float)) else format("-", re.match(r"[<>^]?\d*", spec).group())
+def num(x, spec, unit=""):
+    """x formatted by spec (then unit), or '-' in its width when x is empty or NaN (a peer column
+    without the peer)."""
+    if isinstance(x, (int, float)) and not (isinstance(x, float) and math.isnan(x)):
+        return format(x, spec) + unit
+    return format("-", re.match(r"[<>^]?\d*", spec).group()) + " " * len(unit)
+
+
+def peer_ratio(occt, ours, spec):
+    """', OCCT/ours 12.3x' (spec formats the ratio), or '' without the peer."""
+    return f", OCCT/ours {occt / ours:{spec}}x" if occt == occt and ours > 0 else ""
 
 
 def fmt_xyz(p):
@@ -308,7 +316,7 @@ class Runner:
             prep = f"{1e3 * r['prepare_s']:.0f}" if r["prepare_s"] != "" else ""
             print(f"{r['position']:<8} {r['method']:<15} {r['distance']:>12.6f} {r['bound_over_size']:>10.2e} "
                   f"{prep:>8} {1e3 * r['first_query_s']:>8.1f} {1e3 * r['query_s']:>9.1f} "
-                  f"{num(r['occt_distance'], '>12.6f')} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>8.2f}x "
+                  f"{num(r['occt_distance'], '>12.6f')} {num(1e3 * r['occt_s'], '>8.1f')} {num(r['occt_over_ours'], '>8.2f', 'x')} "
                   f"{r['within']}{not_met(r)}")
         return rows
 
@@ -465,6 +473,10 @@ class Runner:
                 row[f"{m}_s"] = r["seconds"] if r else ""
                 row[f"{m}_distance"] = r["distance"] if r else ""
                 row[f"{m}_bound"] = r["bound"] if r else ""
+                # Fig. 16(b): the distance and position tolerances as fractions of the model size.
+                size = ours[m]["tolerance"] / self.a.tol
+                row[f"{m}_bound_over_size"] = r["bound"] / size if r else ""
+                row[f"{m}_point_bound_over_size"] = r["point_bound"] / size if r else ""
                 row[f"{m}_meets_tolerance"] = r.get("meets_tolerance", "") if r else ""
                 row[f"{m}_within"] = within(r["distance"], r["bound"], o.get("distance"), occt["tolerance"],
                                             gaps[(m, k)], back.get(k)) if r else ""
@@ -478,22 +490,20 @@ class Runner:
                 ran = [r for r in rows if r[f"{m}_s"] != ""]
                 style = "o-" if len(ran) < len(rows) else "-"
                 ax0.plot([r["frame"] for r in ran], [1e3 * r[f"{m}_s"] for r in ran], style, ms=3, label=m)
-                ax1.plot([r["frame"] for r in ran], [r[f"{m}_bound"] for r in ran], style, ms=3, label=f"bound, {m}")
+                ax1.plot([r["frame"] for r in ran], [r[f"{m}_bound_over_size"] for r in ran], style, ms=3,
+                         label=f"distance, {m}")
+                ax1.plot([r["frame"] for r in ran], [r[f"{m}_point_bound_over_size"] for r in ran], "--", ms=3,
+                         label=f"position, {m}")
             ax0.plot(x, [1e3 * r["occt_s"] for r in rows], label="OCCT")
             ax0.set_yscale("log")
             ax0.set_ylabel("ms per frame")
             ax0.set_title("Fig. 16: 199x33 vs 100x105 moving")
             ax0.legend()
-            ax1.set_ylabel("bound (absolute)")
+            ax1.set_yscale("log")
+            ax1.set_ylabel("tolerance / model size")
             ax1.set_xlabel("frame")
-            ax2 = ax1.twinx()
-            shown = next((m for m in ("default", "faithful", "paper") if m in ours), None)
-            if shown:
-                ax2.plot(x, [r[f"{shown}_distance"] for r in rows], "k:", label=f"distance ({shown})")
-            ax2.plot(x, [r["occt_distance"] for r in rows], "kx", ms=3, label="distance (OCCT)")
-            ax2.set_ylabel("distance")
-            ax1.legend(loc="upper left", fontsize=8)
-            ax2.legend(loc="upper right", fontsize=8)
+            ax1.set_title("Fig. 16(b): distance tolerance K and position tolerance sqrt(4Kd + K^2)", fontsize=9)
+            ax1.legend(loc="upper left", fontsize=7, ncol=2)
             fig.tight_layout()
             fig.savefig(self.path("fig16.png"), dpi=110)
             plt.close(fig)
@@ -503,12 +513,15 @@ class Runner:
             ran = [r for r in rows if r[f"{m}_s"] != ""]
             ms = 1e3 * statistics.median(r[f"{m}_s"] for r in ran)
             bounds = [r[f"{m}_bound"] for r in ran]
+            position = [r[f"{m}_point_bound_over_size"] for r in ran]
             bad = verdicts(r[f"{m}_within"] for r in ran)
             n_unmet = sum(r[f"{m}_meets_tolerance"] is False for r in ran)
             unmet = f"; tolerance not met on {n_unmet} frames" if n_unmet else ""
             print(f"  {m:<15} {len(ran):>3} frames, prepare {1e3 * ours[m]['prepare_seconds']:.0f} ms, {ms:.1f} "
-                  f"ms/frame, bound {min(bounds):.3g}-{max(bounds):.3g}, OCCT {occt_ms:.1f} ms/frame, OCCT/ours "
-                  f"{occt_ms / ms:.2f}x, OCCT outside our bound: {bad}{unmet}")
+                  f"ms/frame, bound {min(bounds):.3g}-{max(bounds):.3g}"
+                  + (f", OCCT {occt_ms:.1f} ms/frame" if occt_ms == occt_ms else "") + peer_ratio(occt_ms, ms, ".2f")
+                  + f", OCCT outside our bound: {bad}{unmet}; position tolerance / size "
+                  f"{min(position):.2g}-{max(position):.2g}")
 
     # --- Table 5 -----------------------------------------------------------------------------------
     def table5(self):
@@ -608,8 +621,9 @@ class Runner:
         for r in rows:
             print(f"{r['pair']:<15} {r['method']:<15} {r['distance']:>10.5f} {r['bound']:>9.2e} "
                   f"{1e3 * r['prepare_s']:>8.0f} {1e3 * r['first_query_s']:>8.1f} {1e3 * r['query_s']:>9.1f} "
-                  f"{num(r['occt_distance'], '>10.5f')} {1e3 * r['occt_s']:>8.1f} {r['occt_over_ours']:>9.2f}x "
-                  f"{r['occt_over_first_total']:>14.2f}x {r['within']}{not_met(r)}")
+                  f"{num(r['occt_distance'], '>10.5f')} {num(1e3 * r['occt_s'], '>8.1f')} "
+                  f"{num(r['occt_over_ours'], '>9.2f', 'x')} {num(r['occt_over_first_total'], '>14.2f', 'x')} "
+                  f"{r['within']}{not_met(r)}")
 
     # --- points ------------------------------------------------------------------------------------
     def points(self):
@@ -705,14 +719,14 @@ class Runner:
             m = s["key"]
             if m == "large":
                 print(f"  {s['method']:<40} prepare {1e3 * s['prepare_s']:.0f} ms, {s['ms_per_point']:.4f} ms/point "
-                      f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.1f}x")
+                      f"({s['points_per_s']:.0f} points/s){peer_ratio(occt_ms, s['ms_per_point'], '.1f')}")
                 continue
             diffs = [abs(r[f"{m}_diff_occt"]) for r in rows if r[f"{m}_diff_occt"] != ""]
             bad = verdicts(r[f"{m}_within"] for r in rows if r[f"{m}_within"])
             print(f"  {s['method']:<40} {s['points']} points, prepare {1e3 * s['prepare_s']:.0f} ms, "
                   f"{s['ms_per_point']:.3f} ms/point "
-                  f"({s['points_per_s']:.0f} points/s), OCCT/ours {occt_ms / s['ms_per_point']:.2f}x, "
-                  f"max |d - d_OCCT| {max(diffs, default=math.nan):.2e}, OCCT outside our bound: {bad}")
+                  f"({s['points_per_s']:.0f} points/s){peer_ratio(occt_ms, s['ms_per_point'], '.2f')}"
+                  + (f", max |d - d_OCCT| {max(diffs):.2e}, OCCT outside our bound: {bad}" if diffs else ""))
         pairs = [(r["points_distance"] - r["paper_distance"], r["points_bound"] + r["paper_bound"]) for r in rows
                  if "points" in runs and "paper" in runs and r["paper_distance"] != ""]
         if pairs:
@@ -729,17 +743,25 @@ def ms(rows, **match):
     return f"{1e3 * r['query_s']:.1f} ms" if r and r.get("query_s", "") != "" else "not run"
 
 
-def publish(a, info, left_out):
-    """docs/benchmarks.md and REPRODUCTION.md sections of this run, from the CSVs in a.out."""
+# The CSVs each experiment writes (those docs/benchmarks.md shows).
+WRITES = {"tables": ("table1", "table3", "table1_fig12_pairs_per_level"), "table2": ("table2",),
+          "fig16": ("fig16",), "table5": ("table5",), "points": ("points_summary",)}
+
+
+def publish(a, info, left_out, done):
+    """docs/benchmarks.md and REPRODUCTION.md: the tables and rows of the experiments run (done), from
+    the CSVs in a.out; a --quick run's tables are captioned apart, so they never replace a full run's."""
     command = a.command or shlex.join(["experiments/distance_tables.py", *sys.argv[1:]])
-    csvs = {name: report.read_csv(os.path.join(a.out, name + ".csv")) for name in SHOWN}
-    fig16 = report.read_csv(os.path.join(a.out, "fig16.csv"))
-    tables = [(f"`{name}.csv`:", report.markdown_table(rows, SHOWN[name])) for name, rows in csvs.items() if rows]
+    ran = {name for e in done for name in WRITES[e]}
+    csvs = {name: report.read_csv(os.path.join(a.out, name + ".csv")) if name in ran else [] for name in SHOWN}
+    fig16 = report.read_csv(os.path.join(a.out, "fig16.csv")) if "fig16" in ran else []
+    quick = " (--quick)" if a.quick else ""
+    tables = [(f"`{name}.csv`{quick}", report.markdown_table(rows, SHOWN[name])) for name, rows in csvs.items() if rows]
     if fig16:
         per = [{"method": m, "frames": len(ran), "median_ms_per_frame": 1e3 * statistics.median(ran),
                 "occt_median_ms": 1e3 * statistics.median(r["occt_s"] for r in fig16) if a.peer else ""}
                for m in METHODS for ran in [[r[f"{m}_s"] for r in fig16 if r.get(f"{m}_s", "") != ""]] if ran]
-        tables.append(("`fig16.csv` (per method):", report.markdown_table(per)))
+        tables.append((f"`fig16.csv` (per method){quick}", report.markdown_table(per)))
     report.write_benchmarks("Distance (Krishnamurthy et al.)", command, info, tables, left_out)
     rows = []
     for table, paper in (("table1", PAPER_TABLE1), ("table3", PAPER_TABLE3)):
@@ -760,8 +782,23 @@ def publish(a, info, left_out):
                      f"GPU {PAPER_TABLE5_GPU[0]}-{PAPER_TABLE5_GPU[1]} s over five pairs (Table 5)",
                      f"default {1e3 * min(q):.1f}-{1e3 * max(q):.1f} ms (pairs: {len(q)})" if q else "not run"))
     if fig16:
-        rows.append(("Fig. 16, time per frame of the moving pair", "see paper, Fig. 16",
+        rows.append(("Fig. 16(a), time per frame of the moving pair",
+                     "under 0.15 s for most frames, 9.07 frames/s on average (Fig. 16(a))",
                      "; ".join(f"{p['method']} {p['median_ms_per_frame']:.1f} ms" for p in per)))
+        tol = lambda m, what: [r[f"{m}_{what}_over_size"] for r in fig16 if r.get(f"{m}_{what}_over_size", "") != ""]
+        rows.append(("Fig. 16(b), distance and position tolerances / model size",
+                     "position tolerances below 4e-2 of the model size, the tolerance ACIS was run at (Fig. 16(b))",
+                     "; ".join(f"{m}: distance {min(d):.2g}-{max(d):.2g}, position {min(q):.2g}-{max(q):.2g}"
+                               for m in METHODS for d, q in [(tol(m, "bound"), tol(m, "point_bound"))] if d and q)))
+    levels = report.read_csv(os.path.join(a.out, "table1_fig12_pairs_per_level.csv")) if "tables" in done else []
+    if levels:
+        first = levels[0]["position"]
+        per_method = {m: [int(r["pairs"]) for r in levels if r["method"] == m and r["position"] == first]
+                      for m in METHODS}
+        rows.append(("Fig. 12, box pairs per level from the root (Table 1's pair)",
+                     "rising over the first levels, then about constant, a few thousand, after level 3 (Fig. 12)",
+                     "; ".join(f"{m} {', '.join(str(n) for n in p)}" for m, p in per_method.items() if p)
+                     + f" (position '{first}')"))
     if rows:
         report.write_reproduction("Distance (Krishnamurthy et al.)", rows, command)
 
@@ -810,7 +847,7 @@ def main():
         getattr(r, name)()
     left_out = ", ".join(w for w, gone in (("the OCCT columns", not a.peer), ("the plots", plt is None)) if gone)
     if not a.no_docs:
-        publish(a, info, left_out)
+        publish(a, info, left_out, todo)
     print(f"\nCSV{'' if plt is None else ' and PNG'} files in {a.out}")
 
 

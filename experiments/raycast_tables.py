@@ -19,9 +19,14 @@ in the same run on the same machine. Per model:
             thickness.
   dacrt     Figs. 8-9: DACRT's rays per second and tests per ray over its two brute-force thresholds
             (patch set, ray set) on the first model.
+  scaling   Figs. 10-12 on the first model: for growing ray counts (--scaling), the whole process's time
+            (reading, preparation and tracing, as Fig. 10 counts pre-processing) and peak memory (Fig.
+            12) of the BVH on one CPU thread, on every core, DACRT, the GPU pass and the paper preset;
+            the ratio of the one-thread time to each (Fig. 10's CPU / GPU ratio), and the structures'
+            bytes (Fig. 11).
 
-Writes rays.csv, accuracy.csv, thickness.csv, dacrt.csv, accuracy.png (histograms), dacrt.png and
-summary.txt (also on
+Writes rays.csv, accuracy.csv, thickness.csv, dacrt.csv, scaling.csv, accuracy.png (histograms),
+dacrt.png, scaling.png and summary.txt (also on
 stdout). Benchmarks, not tests: nothing fails on a slow figure; a command that fails is reported.
 """
 import argparse
@@ -33,6 +38,8 @@ import random
 import shlex
 import subprocess
 import sys
+import tempfile
+import time
 
 import report
 
@@ -72,6 +79,76 @@ def make_rays(info, count, seed, path):
             f.write(" ".join(f"{x:.17g}" for x in o + [t - a for t, a in zip(target, o)]) + "\n")
 
 
+def run_measured(cmd):
+    """(JSON of cmd, wall seconds, peak resident MB) of one process, or (None, ...) when it fails. The
+    output goes through files and the child is reaped by os.wait4, whose resource usage is the child's
+    own (ru_maxrss in kB on Linux)."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        start = time.perf_counter()
+        p = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
+        _, status, usage = os.wait4(p.pid, 0)
+        wall = time.perf_counter() - start
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        if p.returncode != 0:
+            print(f"  failed ({p.returncode}): {' '.join(cmd)}\n  {err.read().strip()[-400:]}", file=sys.stderr)
+            return None, wall, usage.ru_maxrss / 1024
+        return json.loads(out.read()), wall, usage.ru_maxrss / 1024
+
+
+# The runs of the scaling experiment: key, label, options of `nurbsgl raycast`.
+SCALING = [("bvh_1", "BVH, CPU, 1 thread", ["--threads", "1"]),
+           ("bvh", "BVH, CPU, every core", []),
+           ("dacrt", "DACRT, CPU, every core", ["--method", "dacrt"]),
+           ("gpu", "BVH, GPU pass", ["--device", "gpu"]),
+           ("paper", "paper preset (BVH built on the GPU)", ["--paper"])]
+
+
+def scaling(nurbsgl, path, name, counts, out):
+    """Figs. 10-12: one process per run and ray count; rows with time, memory and the structures' bytes."""
+    rows = []
+    info = run_json([nurbsgl, "info", path, "--json"])
+    if info is None:
+        return rows
+    for n in counts:
+        rays = os.path.join(out, f"{name}_scaling_{n}.txt")
+        make_rays(info, n, 11, rays)
+        for key, label, options in SCALING:
+            print(f"  scaling: {n} rays, {label}", file=sys.stderr)
+            j, wall, peak = run_measured([nurbsgl, "raycast", path, "--rays", rays, *options, "--json"])
+            if j is None:
+                continue
+            b = j["memory_bytes"]
+            rows.append({"model": name, "rays": n, "run": key, "label": label, "process_s": round(wall, 3),
+                         "build_s": round(j["seconds_build"], 3), "rays_per_second": round(j["rays_per_second"]),
+                         "peak_mb": round(peak, 1), "bvh_mb": round(b["bvh"] / 2**20, 2),
+                         "patches_mb": round(b["patches"] / 2**20, 2), "trims_mb": round(b["trims"] / 2**20, 2),
+                         "hits": j["hits"]})
+        os.remove(rays)
+    for r in rows:  # Fig. 10's ratio: the one-thread CPU run over this run, at the same ray count
+        one = next((x["process_s"] for x in rows if x["rays"] == r["rays"] and x["run"] == "bvh_1"), None)
+        r["one_thread_over_this"] = round(one / r["process_s"], 2) if one and r["process_s"] > 0 else ""
+    if rows and plt is not None:
+        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
+        for key, label, _ in SCALING:
+            pts = [r for r in rows if r["run"] == key]
+            ax0.plot([r["rays"] for r in pts], [r["process_s"] for r in pts], "o-", label=label)
+            ax1.plot([r["rays"] for r in pts], [r["peak_mb"] for r in pts], "o-", label=label)
+        for ax, yl, title in ((ax0, "seconds, whole process", "Fig. 10: time with pre-processing"),
+                              (ax1, "peak resident MB", "Fig. 12: memory")):
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("rays")
+            ax.set_ylabel(yl)
+            ax.set_title(f"{title}, {name}", fontsize=9)
+            ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "scaling.png"), dpi=120)
+        plt.close(fig)
+    return rows
+
+
 def head(path, count, out):
     with open(path) as f, open(out, "w") as g:
         for k, line in enumerate(f):
@@ -82,6 +159,12 @@ def head(path, count, out):
 
 # Lemasson et al.'s reported accuracy (Fig. 13 and its text): the share of hits within 1e-3 mm.
 PAPER_FIG13_WITHIN_1UM = {"GPU (32-bit floats)": 55, "CPU method (64-bit floats)": 15}  # percent
+# Fig. 10 (Lens): the CPU software's time over the GPU BVH's and GPU DACRT's, at 2.11 M and 7.50 M rays.
+PAPER_FIG10_LENS = {2.11e6: (4.52, 3.42), 7.50e6: (19.06, 10.79)}
+# Fig. 12 (Lens): memory in MB of the CPU software and of DACRT at 2.11 M and 7.50 M rays; Fig. 11: the
+# BVH method's memory, 37.90 MB whatever the number of rays.
+PAPER_FIG12_LENS = {2.11e6: (1615.0, 773.1), 7.50e6: (5749.6, 2749.4)}
+PAPER_FIG11_LENS_BVH_MB = 37.90
 
 
 def main():
@@ -94,6 +177,8 @@ def main():
     ap.add_argument("--samples", type=int, default=100000, help="thickness samples per model")
     ap.add_argument("--models", nargs="*", default=None, help="substrings of the model paths to keep")
     ap.add_argument("--peer", help="peer_occt_distance binary (default BUILD/experiments/peer_occt_distance; '' = no OCCT)")
+    ap.add_argument("--scaling", type=int, nargs="*", default=[10000, 30000, 100000, 300000],
+                    help="ray counts of the scaling experiment (Figs. 10-12) on the first model; none to skip it")
     ap.add_argument("--command", help="the command line to name in docs/benchmarks.md")
     ap.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md alone")
     a = ap.parse_args()
@@ -231,8 +316,21 @@ def main():
             fig.suptitle(f"DACRT thresholds, {name} (Lemasson et al. Figs. 8-9)")
             fig.tight_layout()
             fig.savefig(os.path.join(out, "dacrt.png"), dpi=120)
+    scaling_rows = []
+    if models and a.scaling and os.path.exists(os.path.join(a.shared, models[0])):
+        name = os.path.splitext(os.path.basename(models[0]))[0]
+        print(f"{name}: scaling (Figs. 10-12)", file=sys.stderr)
+        scaling_rows = scaling(nurbsgl, os.path.join(a.shared, models[0]), name, a.scaling, out)
+        if scaling_rows:
+            summary += ["", f"Figs. 10-12 on {name}: whole process (reading, preparation, tracing), peak memory",
+                        f"{'rays':>9}  {'run':<38}{'process s':>10}{'1 thread / this':>16}{'peak MB':>9}"
+                        f"{'BVH + patches + trims MB':>26}"]
+            for r in scaling_rows:
+                summary.append(f"{r['rays']:>9}  {r['label']:<38}{r['process_s']:>10.2f}"
+                               f"{r['one_thread_over_this']:>16}{r['peak_mb']:>9.0f}"
+                               f"{r['bvh_mb'] + r['patches_mb'] + r['trims_mb']:>26.1f}")
     for fname, data in (("rays.csv", rows), ("accuracy.csv", acc_rows), ("thickness.csv", th_rows),
-                        ("dacrt.csv", dacrt_rows)):
+                        ("dacrt.csv", dacrt_rows), ("scaling.csv", scaling_rows)):
         if data:
             keys = list(dict.fromkeys(k for r in data for k in r))
             with open(os.path.join(out, fname), "w", newline="") as f:
@@ -270,15 +368,42 @@ def main():
         info = run_json([nurbsgl, "gpu-info", "--json"]) or {}
         left_out = ", ".join(w for w, gone in (("the OCCT rows", not any(r["method"] == "occt" for r in rows)),
                                                ("the plots", plt is None)) if gone)
-        tables = [(f"`{f}`:", report.markdown_table(d)) for f, d in (("rays.csv", rows), ("thickness.csv", th_rows))
-                  if d]
+        tables = [(f"`{f}`:", report.markdown_table(d)) for f, d in
+                  (("rays.csv", rows), ("thickness.csv", th_rows), ("scaling.csv", scaling_rows)) if d]
         command = a.command or shlex.join(["experiments/raycast_tables.py", *sys.argv[1:]])
         report.write_benchmarks("Ray casting and thickness (Lemasson et al.)", command, info, tables, left_out)
         share = lambda d: f"{100 * sum(x <= 1e-3 for x in d) / len(d):.0f} % of {len(d)} hits" if d else "not run"
-        report.write_reproduction("Ray casting (Lemasson et al.)", [
+        figures = [
             ("Fig. 13, hits within 1e-3 mm of the exact NURBS hit",
              ", ".join(f"{k} {v} %" for k, v in PAPER_FIG13_WITHIN_1UM.items()) + " (Fig. 13)",
-             f"float GPU pass {share(hist_gpu)}; bicubic {share(hist_bicubic)}")], command)
+             f"float GPU pass {share(hist_gpu)}; bicubic {share(hist_bicubic)}")]
+        if scaling_rows:
+            most = max(r["rays"] for r in scaling_rows)
+            at = {r["run"]: r for r in scaling_rows if r["rays"] == most}
+            least = {r["run"]: r for r in scaling_rows if r["rays"] == min(x["rays"] for x in scaling_rows)}
+            model = scaling_rows[0]["model"]
+            ratio = lambda k: f"{at[k]['one_thread_over_this']}x" if k in at else "not run"
+            mb = lambda d, k: f"{d[k]['peak_mb']:.0f} MB" if k in d else "not run"
+            figures += [
+                ("Fig. 10, one-thread CPU time over each method's, with pre-processing",
+                 "Lens: CPU / GPU BVH " + ", ".join(f"{v[0]}x at {n / 1e6:.2f} M rays" for n, v in
+                                                    PAPER_FIG10_LENS.items()) + "; CPU / GPU DACRT " +
+                 ", ".join(f"{v[1]}x" for v in PAPER_FIG10_LENS.values()) + " (Fig. 10)",
+                 f"{model}, {most:,} rays: every core {ratio('bvh')}, DACRT {ratio('dacrt')}, GPU pass "
+                 f"{ratio('gpu')}, paper preset {ratio('paper')}"),
+                ("Fig. 11, memory of the BVH method (structures)",
+                 f"Lens {PAPER_FIG11_LENS_BVH_MB} MB, whatever the number of rays (Fig. 11)",
+                 f"{model}: BVH + patches + trims "
+                 f"{at['bvh']['bvh_mb'] + at['bvh']['patches_mb'] + at['bvh']['trims_mb']:.1f} MB" if "bvh" in at
+                 else "not run"),
+                ("Fig. 12, memory against the number of rays",
+                 "Lens: CPU software " + ", ".join(f"{v[0]:.0f} MB" for v in PAPER_FIG12_LENS.values()) +
+                 ", DACRT " + ", ".join(f"{v[1]:.0f} MB" for v in PAPER_FIG12_LENS.values()) + " at " +
+                 ", ".join(f"{n / 1e6:.2f} M" for n in PAPER_FIG12_LENS) + " rays (Fig. 12)",
+                 f"{model}, peak of the whole process at {min(least.values(), key=lambda r: r['rays'])['rays']:,} / "
+                 f"{most:,} rays: BVH {mb(least, 'bvh')} / {mb(at, 'bvh')}, DACRT {mb(least, 'dacrt')} / "
+                 f"{mb(at, 'dacrt')}, GPU pass {mb(least, 'gpu')} / {mb(at, 'gpu')}")]
+        report.write_reproduction("Ray casting (Lemasson et al.)", figures, command)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
-"""Optional plotting and the generated Markdown of the experiments: docs/benchmarks.md (machine, date,
-command, tables; a section per experiment script, rewritten by each run) and REPRODUCTION.md (the
-papers' reported figures beside ours and the command). Shared by distance_tables.py,
+"""Optional plotting and the generated Markdown of the experiments: docs/benchmarks.md (a section per
+experiment script, a table per experiment with the machine, date and command of the run that wrote
+it) and REPRODUCTION.md (the papers' reported figures beside ours and the command, a row per figure).
+A run replaces only the tables and rows it measured. Shared by distance_tables.py,
 tessellation_tables.py and raycast_tables.py."""
 import csv
 import datetime
@@ -66,33 +67,61 @@ def read_csv(path):
         return [{k: num(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
+def _split(text, level):
+    """(head, [(title, body)]) of text cut at its headings of the given level ('## ', '### ')."""
+    parts = re.split(rf"(?m)^(?={re.escape(level)})", text)
+    head, rest = (parts[0], parts[1:]) if parts and not parts[0].startswith(level) else ("", parts)
+    return head, [(p.split("\n", 1)[0][len(level):], p.split("\n", 1)[1] if "\n" in p else "") for p in rest]
+
+
 def _replace_section(path, title, body):
     """Writes path with the section '## title' replaced by body (appended when new), header first."""
     text = open(path).read() if os.path.exists(path) else ""
-    sections = re.split(r"(?m)^(?=## )", text[len(HEADER):] if text.startswith(HEADER) else text)
-    head, rest = (sections[0], sections[1:]) if sections and not sections[0].startswith("## ") else ("", sections)
-    rest = [s for s in rest if not s.startswith(f"## {title}\n")] + [f"## {title}\n\n{body.strip()}\n\n"]
+    head, sections = _split(text[len(HEADER):] if text.startswith(HEADER) else text, "## ")
+    sections = [(t, b) for t, b in sections if t != title] + [(title, f"\n{body.strip()}\n\n")]
     with open(path, "w") as f:
-        f.write(HEADER + (head or f"# {TITLES[os.path.basename(path)]}\n\n") + "".join(rest))
+        f.write(HEADER + (head or f"# {TITLES[os.path.basename(path)]}\n\n") +
+                "".join(f"## {t}\n{b}" for t, b in sections))
+
+
+def _section(path, title):
+    """The body of '## title' in path, or ''."""
+    text = open(path).read() if os.path.exists(path) else ""
+    return next((b for t, b in _split(text, "## ")[1] if t == title), "")
 
 
 def write_benchmarks(title, command, info, tables, left_out, root=ROOT):
-    """Rewrites the section `title` of docs/benchmarks.md: machine (CPU model, cores, the GL renderer of
-    `nurbsgl gpu-info --json` in info), date, command, what was left out, and tables ((caption, markdown))."""
-    body = [f"- machine: {cpu_model()}, {os.cpu_count()} cores; GL: {info.get('renderer', '?')} "
-            f"({info.get('backend', '?')})",
-            f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
-            f"- command: `{command}`"]
+    """Writes the tables ((caption, markdown)) of this run into the section `title` of
+    docs/benchmarks.md, each under its caption with the machine (CPU model, cores, the GL renderer of
+    `nurbsgl gpu-info --json` in info), date, command and what was left out. Tables of earlier runs
+    whose captions this run did not write stay, so a run of one experiment, or on fewer models, does
+    not erase the others (each table names the run that wrote it)."""
+    path = os.path.join(root, "docs", "benchmarks.md")
+    run = [f"- machine: {cpu_model()}, {os.cpu_count()} cores; GL: {info.get('renderer', '?')} "
+           f"({info.get('backend', '?')})",
+           f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
+           f"- command: `{command}`"]
     if left_out:
-        body.append(f"- left out: {left_out}")
-    for caption, table in tables:
-        body += ["", f"{caption}", "", table]
-    _replace_section(os.path.join(root, "docs", "benchmarks.md"), title, "\n".join(body))
+        run.append(f"- left out: {left_out}")
+    new = {caption.rstrip(":"): "\n".join(run + ["", table]) for caption, table in tables}
+    _, old = _split(_section(path, title), "### ")
+    kept = [(t, b.strip()) for t, b in old if t not in new]
+    body = "\n\n".join(f"### {t}\n\n{b}" for t, b in kept + list(new.items()))
+    _replace_section(path, title, body)
 
 
 def write_reproduction(title, rows, command, root=ROOT):
-    """Rewrites the section `title` of REPRODUCTION.md; rows: (what, paper's figure with its table or
-    figure number, ours)."""
-    body = [f"Command: `{command}`", "", "| figure | paper | ours |", "|---|---|---|"]
-    body += [f"| {what} | {paper} | {ours} |" for what, paper, ours in rows]
-    _replace_section(os.path.join(root, "REPRODUCTION.md"), title, "\n".join(body))
+    """Writes the rows ((what, the paper's figure with its table or figure number, ours)) of this run
+    into the section `title` of REPRODUCTION.md, each with its command; rows of earlier runs for
+    figures this run did not measure stay."""
+    path = os.path.join(root, "REPRODUCTION.md")
+    old = []
+    for line in _section(path, title).splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
+        if line.startswith("| ") and len(cells) == 4 and cells[0] not in ("figure", "---"):
+            old.append(tuple(cells))
+    new = [(what, paper, ours, f"`{command}`") for what, paper, ours in rows]
+    measured = {r[0] for r in new}
+    body = ["| figure | paper | ours | command |", "|---|---|---|---|"]
+    body += [f"| {' | '.join(r)} |" for r in [r for r in old if r[0] not in measured] + new]
+    _replace_section(path, title, "\n".join(body))

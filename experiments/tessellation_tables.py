@@ -8,7 +8,8 @@ machine. Per model, at eps = EPS x model size (default 1e-3):
   table2   trim curves (paper Table 2): conversion and approximation time, trim edges before and after
            the simplification (5), midpoint vs arbitrary split.
   table3   subdivision (Table 3): kd-tree vs quadtree x conservative (guaranteed) vs approximate error:
-           triangles and times.
+           triangles and times; the paper's four rows also with direct evaluation (`--evaluation
+           direct`), for its two time columns (direct, and coherent as every other run).
   table4   quadtree baseline [Kah02] vs ours (Table 4): time, triangles, trim edges (both guaranteed).
   presets  the CLI's presets side by side, measured by --check: `paper` (`tessellate --paper`: the kd-tree
            with the control-net bound, midpoint split, simplified loops, loop polylines on every
@@ -49,6 +50,9 @@ VARIANTS = [  # key, --method, --mode, --split, --cell-bound (guaranteed mode: f
     ("kd_g_arb", "kdtree", "guaranteed", "arbitrary", "filip"),
 ]
 TABLE3 = ("kd_g", "kd_a", "quad_g", "quad_a", "kd_g_net", "quad_g_net")
+# Table 3's two time columns: the paper's four rows run again with `--evaluation direct` (every vertex
+# evaluated on its own); the runs above evaluate coherently (the column marked 3 in the paper).
+DIRECT = ("kd_g_net", "kd_a", "quad_g_net", "quad_a")
 # The presets compared: key, the options it adds. kd_g (above) is the default run; this is `--paper`.
 PAPER = ("paper", ["--paper"])
 
@@ -100,8 +104,8 @@ class Runner:
         self.a = a
         self.tmp = tempfile.mkdtemp(prefix="tess_exp_")
 
-    def tessellate(self, model, method, mode, split, bound, check=False, output=None):
-        options = ["--method", method, "--mode", mode, "--split", split, "--cell-bound", bound]
+    def tessellate(self, model, method, mode, split, bound, check=False, output=None, more=()):
+        options = ["--method", method, "--mode", mode, "--split", split, "--cell-bound", bound, *more]
         return self.tessellate_with(model, options, check, output)
 
     def tessellate_with(self, model, options, check=False, output=None):
@@ -177,6 +181,9 @@ class Runner:
                 check = key in ("kd_g", "kd_g_net")
                 out = os.path.join(self.tmp, "ours.ply") if key == "kd_g" else None
                 runs[key] = self.tessellate(path, method, mode, split, bound, check=check, output=out)
+                if key in DIRECT:
+                    runs[key + "_direct"] = self.tessellate(path, method, mode, split, bound,
+                                                            more=("--evaluation", "direct"))
             except Failed as e:
                 errors.append(f"{key}: {e}")
                 log(f"  {key}: {e}")
@@ -243,12 +250,15 @@ def rows_of(results):
             if j:
                 s = j["seconds"]
                 error = ("conservative" if bound == "filip" else "conservative-net") if mode == "guaranteed" else mode
+                d = runs.get(key + "_direct")
                 t3.append({"model": n, "method": method, "error": error,
                            "max_deviation": j["check"]["max_deviation"] if "check" in j else "",
                            "triangles": j["triangles"], "vertices": j["vertices"], "cells": j["cells"],
                            "failed_faces": j["failed_faces"], "total_s": s["total"],
+                           "direct_total_s": d["seconds"]["total"] if d else "",
                            "surface_s": s["surface_approximation"], "trimming_s": s["trimming"],
-                           "triangulation_s": s["triangulation"], "evaluation_s": s["evaluation"]})
+                           "triangulation_s": s["triangulation"], "evaluation_s": s["evaluation"],
+                           "direct_evaluation_s": d["seconds"]["evaluation"] if d else ""})
         q, k = runs.get("quad_g"), runs.get("kd_g")
         qn, kn = runs.get("quad_g_net"), runs.get("kd_g_net")
         if q and k:
@@ -342,13 +352,15 @@ def summary(a, results, t2, t3, t4, oc, pr):
     L += ["", "Table 3 (subdivision x error estimate)"]
     L.append("  (conservative: the cells' bound with Filip's (default); conservative-net: the paper's control-net "
              "test alone; dev / eps: measured by --check, kd-tree guaranteed only)")
-    L.append(f"  {'model':<28}{'method':<10}{'error':<18}{'triangles':>10}{'dev/eps':>8}{'total s':>9}{'surface s':>10}"
-             f"{'trim s':>8}{'tri s':>8}{'eval s':>8}")
+    L.append("  (total s, eval s: vertices evaluated coherently, the paper's column 3; direct: `--evaluation direct`, "
+             "the paper's first time column, on its four rows; eval: CPU seconds summed over faces)")
+    L.append(f"  {'model':<28}{'method':<10}{'error':<18}{'triangles':>10}{'dev/eps':>8}{'total s':>9}{'direct s':>9}"
+             f"{'surface s':>10}{'trim s':>8}{'tri s':>8}{'eval s':>8}{'direct eval s':>14}")
     for r in t3:
         dev = "" if r["max_deviation"] == "" else f"{r['max_deviation'] / eps_of[r['model']]:.2f}"
         L.append(f"  {r['model']:<28}{r['method']:<10}{r['error']:<18}{r['triangles']:>10}{dev:>8}{r['total_s']:>9.3f}"
-                 f"{r['surface_s']:>10.3f}{r['trimming_s']:>8.3f}{r['triangulation_s']:>8.3f}"
-                 f"{r['evaluation_s']:>8.3f}")
+                 f"{fmt(r['direct_total_s'], '.3f'):>9}{r['surface_s']:>10.3f}{r['trimming_s']:>8.3f}"
+                 f"{r['triangulation_s']:>8.3f}{r['evaluation_s']:>8.3f}{fmt(r['direct_evaluation_s'], '.3f'):>14}")
     L += ["", "Table 4 (quadtree [Kah02] vs ours, guaranteed; ratio = quadtree / kd-tree triangles with the same "
           "cell bound: Filip's, then the paper's net; 'paper quad / ours' = the quadtree with the paper's bound "
           "against our default)"]
@@ -470,6 +482,8 @@ def main():
 # Balazs, Guthe and Klein's reported figures, for REPRODUCTION.md.
 PAPER_TABLE2_EDGES = (170484, 151234)  # Table 2 (Golf): 3d Bezier, midpoint, eps_line edges, then + simpl.
 PAPER_TABLE3_KD_APPROX = (101.3, 464354)  # Table 3 (Golf): kd-tree, eps_approx: time (s), triangles
+PAPER_TABLE3_TIMES = {"kd-tree, conservative": (100.1, 96.9), "kd-tree, approx.": (101.3, 97.3),  # Table 3:
+                      "quadtree, conservative": (183.6, 175.2), "quadtree, approx.": (191.7, 184.6)}  # direct, coherent
 PAPER_TABLE4_TRIANGLES = {"Golf": (2058739, 464354), "vent. con.": (562949, 29113),  # Table 4: quadtree,
                           "Beetle": (3153954, 593652)}  # ours (triangles)
 
@@ -497,6 +511,12 @@ def publish(a, tables):
         ("Table 3, tessellation time (kd-tree, approximate error)",
          f"{PAPER_TABLE3_KD_APPROX[0]} s, {PAPER_TABLE3_KD_APPROX[1]:,} triangles (Golf, Table 3)",
          span([r["total_s"] for r in t3], " ms", 1e3)),
+        ("Table 3, time with direct / with coherent evaluation (the column marked 3)",
+         ", ".join(f"{k} {d / c:.3f}x" for k, (d, c) in PAPER_TABLE3_TIMES.items()) + " (Golf, Table 3)",
+         span([r["direct_total_s"] / r["total_s"] for r in t3 if r["direct_total_s"] != "" and r["total_s"] > 0], "x")
+         + "; evaluation stage alone " +
+         span([r["direct_evaluation_s"] / r["evaluation_s"] for r in t3
+               if r["direct_evaluation_s"] != "" and r["evaluation_s"] > 0], "x")),
         ("Table 4, quadtree triangles / ours",
          ", ".join(f"{m} {q / k:.1f}x" for m, (q, k) in PAPER_TABLE4_TRIANGLES.items()) + " (Table 4)",
          span([r["triangle_ratio"] for r in t4], "x"))], command)
