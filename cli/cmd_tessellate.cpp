@@ -102,15 +102,20 @@ void run(const TessArgs& a) {
   // vertices, and the count welds as the tessellator does (the file's resolution, at least 1e-9 of
   // the largest face's control box; with 1e-9 of the sampled model size, smaller, the vase shell
   // showed 4 seam cracks of 2e-7).
-  // Guaranteed mode, always: triangles whose centroid or edge midpoints lie off their face's
-  // surface by more than eps (nurbs::tess::triangles_off_surface: one evaluation per sample), on
-  // each face's own vertices (before a weld gives a seam vertex one side's (u, v)).
-  std::vector<nurbs::tess::OutsideTrim> off_surface;
-  double surface_check_seconds = 0.0;
+  // Guaranteed mode, always, on each face's own vertices (before a weld gives a seam vertex one
+  // side's (u, v): a triangle beside the seam would then span the domain): triangles whose centroid
+  // or edge midpoints lie off their face's surface by more than eps (triangles_off_surface: one
+  // evaluation per sample), or outside its trim farther than eps from its boundary
+  // (triangles_outside_trim, cheap); such a face fails the command, named.
+  std::vector<nurbs::tess::OutsideTrim> off_surface, outside;
+  double surface_check_seconds = 0.0, trim_check_seconds = 0.0;
   if (o.mode == nurbs::tess::TessMode::Guaranteed) {
-    const auto t0 = std::chrono::steady_clock::now();
+    auto t0 = std::chrono::steady_clock::now();
     off_surface = nurbs::tess::triangles_off_surface(faces, r.mesh, eps);
     surface_check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t0 = std::chrono::steady_clock::now();
+    outside = nurbs::tess::triangles_outside_trim(faces, r.mesh, eps);
+    trim_check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   long long collapsed = 0;
   if (a.watertight) {
@@ -131,16 +136,6 @@ void run(const TessArgs& a) {
   }
   const bool guaranteed = o.mode == nurbs::tess::TessMode::Guaranteed;
   const bool check_failed = a.check && guaranteed && dev.max() > eps;
-  // Guaranteed mode, always: triangles whose centroid or edge midpoints lie outside their face's
-  // trim, farther than eps from its boundary (nurbs::tess::triangles_outside_trim, cheap); such a
-  // face fails the command, named.
-  std::vector<nurbs::tess::OutsideTrim> outside;
-  double trim_check_seconds = 0.0;
-  if (guaranteed) {
-    auto t0 = std::chrono::steady_clock::now();
-    outside = nurbs::tess::triangles_outside_trim(faces, r.mesh, eps);
-    trim_check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
   std::vector<std::string> over_eps, off_eps;
   for (size_t f = 0; f < outside.size(); ++f)
     if (outside[f].triangles > 0)
