@@ -393,7 +393,8 @@ Clearance with_intersection(const PreparedModel& a, const PreparedModel& b, cons
   if (!r.found || r.face_a < 0 || r.face_b < 0 || r.distance > r.bound) return r;
   const auto fa = size_t(r.face_a), fb = size_t(r.face_b);
   const double tol = 1e-3 * (a.tolerance + b.tolerance) + 1e-14 * (glm::length(r.point_a) + glm::length(r.point_b));
-  if (const auto x = find_intersection(a.faces[fa], a.trims[fa], r.uv_a, b.faces[fb], b.trims[fb], r.uv_b, motion_b, tol)) {
+  if (const auto x =
+          find_intersection(a.faces[fa], a.trims[fa], r.uv_a, b.faces[fb], b.trims[fb], r.uv_b, motion_b, tol)) {
     r.intersecting = true;
     r.intersection = x->point;
     r.intersection_residual = x->residual;
@@ -427,7 +428,8 @@ std::vector<glm::vec2> clearance_pair_bounds(gpgpu::Gpu& gpu, const PreparedMode
   gpgpu::Texture in_pairs(in_layout.width, in_layout.height, gpgpu::Format::RGBA32F);
   in_pairs.upload(records);
   const gpgpu::Layout2D out = gpgpu::layout_pow2(std::max<int64_t>(1, 16 * int64_t(pairs.size())), 4096);
-  gpgpu::Texture minmax(out.width, out.height, gpgpu::Format::RGBA32F), recs(out.width, out.height, gpgpu::Format::RGBA32F);
+  gpgpu::Texture minmax(out.width, out.height, gpgpu::Format::RGBA32F),
+      recs(out.width, out.height, gpgpu::Format::RGBA32F);
   gpgpu::Program& prog = pairs_program(gpu, false);
   prog.set("u_pair_count", int(pairs.size()));
   prog.set("u_pair_offset", 0);

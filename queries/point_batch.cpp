@@ -91,7 +91,8 @@ long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxe
   for (const nurbs::CertifiedGrid& cg : m.grids) sizes.emplace_back(int(cg.grid.u.size()), int(cg.grid.v.size()));
   std::vector<int> unpacked;
   long long bytes = kDriver;
-  for (const AtlasPlan& plan : plan_atlases(sizes, atlas_side, static_cast<long long>(atlas_side) * atlas_side, unpacked)) {
+  for (const AtlasPlan& plan :
+       plan_atlases(sizes, atlas_side, static_cast<long long>(atlas_side) * atlas_side, unpacked)) {
     const long long w0 = pow2_at_least(plan.width), h0 = pow2_at_least(plan.height);  // the pyramid's level 0
     bytes += kAtlasTexel * plan.width * plan.height + pyramid_texel * (w0 * h0 * 4 / 3);
   }
@@ -218,14 +219,21 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
     prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
     Atlas& at = atlases_[a];
     ensure_uploaded(at, a);
-    const gpgpu::Input in_aabb[] = {{"u_points", pts.get()},         {"u_lo", &at.lo},
-                                    {"u_hi", &at.hi},                 {"u_samples", &m_.atlases[a].points},
-                                    {"u_trim_cell", &at.trim_cell_tex}, {"u_trim_head", &at.trim_head_tex},
+    const gpgpu::Input in_aabb[] = {{"u_points", pts.get()},
+                                    {"u_lo", &at.lo},
+                                    {"u_hi", &at.hi},
+                                    {"u_samples", &m_.atlases[a].points},
+                                    {"u_trim_cell", &at.trim_cell_tex},
+                                    {"u_trim_head", &at.trim_head_tex},
                                     {"u_trim_segs", &at.trim_segs_tex}};
-    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},           {"u_obb0", &at.obb[0]},
-                                   {"u_obb1", &at.obb[1]},            {"u_obb2", &at.obb[2]},
-                                   {"u_samples", &m_.atlases[a].points}, {"u_trim_cell", &at.trim_cell_tex},
-                                   {"u_trim_head", &at.trim_head_tex}, {"u_trim_segs", &at.trim_segs_tex}};
+    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},
+                                   {"u_obb0", &at.obb[0]},
+                                   {"u_obb1", &at.obb[1]},
+                                   {"u_obb2", &at.obb[2]},
+                                   {"u_samples", &m_.atlases[a].points},
+                                   {"u_trim_cell", &at.trim_cell_tex},
+                                   {"u_trim_head", &at.trim_head_tex},
+                                   {"u_trim_segs", &at.trim_segs_tex}};
     gpgpu::Texture* target[] = {res.get()};
     if (oriented)
       gpu_.run("point_batch", prog, in_obb, target);
@@ -404,7 +412,8 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState 
     : gpu_(gpu), m_(m), boxes_(PointBoxes::Oriented) {
   if (m.search != Search::Faithful)
     throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
-  if (state.atlases.size() != m.atlases.size()) throw std::invalid_argument("PointBatch: the state is of another model");
+  if (state.atlases.size() != m.atlases.size())
+    throw std::invalid_argument("PointBatch: the state is of another model");
   init_model();
   for (PointBatchState::Atlas& sa : state.atlases) {
     Atlas at;

@@ -39,7 +39,8 @@ bool trim_material(glm::dvec2 x, const float* head, const std::vector<float>& se
 }
 
 glm::dvec3 on_cell(glm::dvec2 st, bool lower, const glm::dvec3 c[4]) {
-  return lower ? c[0] + st.x * (c[1] - c[0]) + st.y * (c[3] - c[1]) : c[0] + st.y * (c[2] - c[0]) + st.x * (c[3] - c[2]);
+  return lower ? c[0] + st.x * (c[1] - c[0]) + st.y * (c[3] - c[1])
+               : c[0] + st.y * (c[2] - c[0]) + st.x * (c[3] - c[2]);
 }
 
 /// The ends of a stored piece (s0, t0, s1, t1) on its triangle of the cell with corners c
@@ -54,8 +55,7 @@ void piece_on_cell(const float* piece, const glm::dvec3 c[4], glm::dvec3& a, glm
 /// crossing count from, and the whole cell's when no edge crosses it.
 bool reference_side(const TrimEdges& edges, const nurbs::ParamGrid& g, int i, int j) {
   const double u0 = g.u[size_t(i)], v0 = g.v[size_t(j)];
-  return edges.is_material(
-      {u0 + kTrimRef.x * (g.u[size_t(i) + 1] - u0), v0 + kTrimRef.y * (g.v[size_t(j) + 1] - v0)});
+  return edges.is_material({u0 + kTrimRef.x * (g.u[size_t(i) + 1] - u0), v0 + kTrimRef.y * (g.v[size_t(j) + 1] - v0)});
 }
 
 /// Rows of `kTrimTextureWidth` RGBA texels holding `v` (padded with zeros).
@@ -102,7 +102,8 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
           if (listed[size_t(j) * size_t(g.cells_u()) + size_t(i)] || !pyramid_cell(at, a, x, y)) continue;
           bool all_material = at.crossed[size_t(y) * size_t(plan.width) + size_t(x)] < 0.5f;
           for (int k = 0; k < 4; ++k)
-            all_material = all_material && at.mask[size_t(y + (k >> 1)) * size_t(plan.width) + size_t(x + (k & 1))] > 0.5f;
+            all_material =
+                all_material && at.mask[size_t(y + (k >> 1)) * size_t(plan.width) + size_t(x + (k & 1))] > 0.5f;
           if (!all_material) cells.emplace_back(i, j);
         }
       for (const glm::ivec2 c : cells) {
@@ -115,7 +116,8 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
         part.texels.push_back(size_t(sl.y + c.y) * size_t(plan.width) + size_t(sl.x + c.x));
         part.head.insert(part.head.end(), {float(part.segs.size() / 4), float(crossing.size()), float(pieces.size()),
                                            ref ? 1.0f : 0.0f});
-        for (const glm::dvec4& e : crossing) part.segs.insert(part.segs.end(), {float(e.x), float(e.y), float(e.z), float(e.w)});
+        for (const glm::dvec4& e : crossing)
+          part.segs.insert(part.segs.end(), {float(e.x), float(e.y), float(e.z), float(e.w)});
         for (const TrimPiece& pc : pieces)
           part.segs.insert(part.segs.end(), {float((pc.uv_a.x - u0) / du), float((pc.uv_a.y - v0) / dv),
                                              float((pc.uv_b.x - u0) / du), float((pc.uv_b.y - v0) / dv)});
@@ -127,7 +129,8 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
     for (size_t k = 0; k < part.texels.size(); ++k) {
       at.trim_cell[part.texels[k]] = float(at.trim_head.size() / 4 + 1);
       part.head[4 * k] += first;
-      at.trim_head.insert(at.trim_head.end(), part.head.begin() + ptrdiff_t(4 * k), part.head.begin() + ptrdiff_t(4 * k + 4));
+      at.trim_head.insert(at.trim_head.end(), part.head.begin() + ptrdiff_t(4 * k),
+                          part.head.begin() + ptrdiff_t(4 * k + 4));
     }
     at.trim_segs.insert(at.trim_segs.end(), part.segs.begin(), part.segs.end());
     part = {};

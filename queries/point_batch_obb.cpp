@@ -128,7 +128,8 @@ std::vector<float> PointBatch::expand_level(const Atlas::ObbLevel& level, int k,
   std::vector<float> out(4 * n);
   for (size_t i = 0; i < n; ++i) std::copy_n(one[size_t(k)].begin(), 4, out.begin() + ptrdiff_t(4 * i));
   for (size_t b = 0; b < level.texels.size(); ++b)
-    std::copy_n(level.boxes[size_t(k)].begin() + ptrdiff_t(4 * b), 4, out.begin() + ptrdiff_t(4 * size_t(level.texels[b])));
+    std::copy_n(level.boxes[size_t(k)].begin() + ptrdiff_t(4 * b), 4,
+                out.begin() + ptrdiff_t(4 * size_t(level.texels[b])));
   return out;
 }
 
@@ -221,7 +222,8 @@ void PointBatch::upload_oriented_pyramid(Atlas& at) {
   for (int k = 0; k < 3; ++k) at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, at.levels);
   for (int l = 0; l < at.levels; ++l)
     for (int k = 0; k < 3; ++k) {
-      std::vector<float> level = expand_level(at.cpu_obb[size_t(l)], k, size_t(at.level_width(l)) * size_t(at.level_height(l)));
+      std::vector<float> level =
+          expand_level(at.cpu_obb[size_t(l)], k, size_t(at.level_width(l)) * size_t(at.level_height(l)));
       at.obb[size_t(k)].upload_level(l, level);
     }
 }

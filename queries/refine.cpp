@@ -67,7 +67,9 @@ struct Cell {
 };
 
 /// cross(b - a, p - a): positive left of the line ab, negative right.
-double side_of(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); }
+double side_of(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
+  return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+}
 
 /// Cuts the cell's two triangles by the straight trim edge ab, keeping the side `side` (the sign of
 /// side_of on the material side); fills c.pieces (0 when nothing is left).
@@ -120,7 +122,11 @@ double slack(const Cell& c) { return c.material == 15u || c.pieces > 0 ? c.k : g
 class Cells {
  public:
   Cells(const PreparedModel& m, const glm::dmat4& motion)
-      : m_(m), motion_(motion), inverse_(glm::inverse(motion)), grid_index_(m.faces.size()), banded_(m.faces.size()),
+      : m_(m),
+        motion_(motion),
+        inverse_(glm::inverse(motion)),
+        grid_index_(m.faces.size()),
+        banded_(m.faces.size()),
         material_rect_(m.faces.size()) {
     // Per trimmed face, the (u, v) box of its outer loops: no material lies outside it.
     for (size_t f = 0; f < m.faces.size(); ++f) {
@@ -269,7 +275,8 @@ class Cells {
           if (((c.material >> k) & 1u) && side == 0.0 && r[k] != 0.0) side = r[k] > 0.0 ? 1.0 : -1.0;
         }
         bool consistent = side != 0.0;
-        for (int k = 0; k < 4; ++k) consistent = consistent && ((c.material >> k) & 1u ? side * r[k] >= 0.0 : side * r[k] <= 0.0);
+        for (int k = 0; k < 4; ++k)
+          consistent = consistent && ((c.material >> k) & 1u ? side * r[k] >= 0.0 : side * r[k] <= 0.0);
         if (consistent) cut_by_edge(c, a, e, side);
         if (c.pieces > 0) {
           glm::dvec3 lo(kInf), hi(-kInf);
@@ -511,8 +518,8 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
             if (d < near.d) {
               const glm::dvec3 third(1.0 / 3.0);
               const auto ua = material_near(ca, x.face, x.bound_uv_at(s, wa), x.bound_uv_at(s, third));
-              const auto ub = ua ? material_near(cb, y.face, y.bound_uv_at(t, wb), y.bound_uv_at(t, third))
-                                 : std::nullopt;
+              const auto ub =
+                  ua ? material_near(cb, y.face, y.bound_uv_at(t, wb), y.bound_uv_at(t, third)) : std::nullopt;
               if (ub) near = {d, n, *ua, *ub};
             }
             // Split for certain (its least triangle distance can only be lower): the box is its
@@ -613,7 +620,8 @@ long long grid_cell_count(const PreparedModel& m) {
 }
 
 std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedModel& b, const glm::dmat4& motion_b,
-                                        double tolerance, double upper, long long max_start_pairs, RefineLimits limits) {
+                                        double tolerance, double upper, long long max_start_pairs,
+                                        RefineLimits limits) {
   Cells ca(a, glm::dmat4(1.0)), cb(b, motion_b);
   // Every grid cell that holds material (a material corner, or a trim edge crossing it).
   auto cells_of = [](const PreparedModel& m, Cells& cells) {
@@ -637,7 +645,8 @@ std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedMo
     for (uint32_t k : index)
       for (int c = 0; c < 4; ++c)
         if (cells.all[k].material & (1u << c))
-          if (const double d = glm::length(cells.all[k].corner[c] - to); d < best) best = d, at = cells.all[k].corner[c];
+          if (const double d = glm::length(cells.all[k].corner[c] - to); d < best)
+            best = d, at = cells.all[k].corner[c];
     return at;
   };
   glm::dvec3 centre(0.0);
@@ -655,7 +664,8 @@ std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedMo
                       const std::vector<uint32_t>& other_index) {
     Cell box;
     box.lo = glm::dvec3(kInf), box.hi = glm::dvec3(-kInf);
-    for (uint32_t k : other_index) box.lo = glm::min(box.lo, other.all[k].lo), box.hi = glm::max(box.hi, other.all[k].hi);
+    for (uint32_t k : other_index)
+      box.lo = glm::min(box.lo, other.all[k].lo), box.hi = glm::max(box.hi, other.all[k].hi);
     std::erase_if(index, [&](uint32_t k) { return box_box(cells.all[k], box) > upper; });
   };
   near_box(ca, xs, cb, ys);

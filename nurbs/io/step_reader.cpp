@@ -67,9 +67,7 @@ glm::dmat4 frame_matrix(const Frame& f) {
   return m;
 }
 
-double wrap_near(double a, double ref) {
-  return a + 2 * kPi * std::round((ref - a) / (2 * kPi));
-}
+double wrap_near(double a, double ref) { return a + 2 * kPi * std::round((ref - a) / (2 * kPi)); }
 
 // An analytic surface by its STEP parameters ("natural" (u, v): angles in radians, lengths in file
 // units, curve parameters), with the inverse map from a point on it.
@@ -77,10 +75,10 @@ struct Analytic {
   enum Type { Plane, Cylinder, Cone, Sphere, Torus, Revolution, Extrusion } type = Plane;
   Frame f;
   double r = 0.0, r2 = 0.0, tan_angle = 0.0;
-  Curve3 curve;           // revolution: profile; extrusion: directrix
-  Curve3 flat;            // extrusion: the directrix projected along dir
-  double accept = 0.0;    // a curve point this near a point of the surface is its parameter
-  bool line = false;      // the curve is a LINE: unbounded, its parameter in closed form
+  Curve3 curve;         // revolution: profile; extrusion: directrix
+  Curve3 flat;          // extrusion: the directrix projected along dir
+  double accept = 0.0;  // a curve point this near a point of the surface is its parameter
+  bool line = false;    // the curve is a LINE: unbounded, its parameter in closed form
 
   // The swept curve's point at t (a LINE's beyond its unit segment too).
   [[nodiscard]] glm::dvec3 curve_at(double t) const {
@@ -93,8 +91,8 @@ struct Analytic {
     const double dd = glm::dot(d, d);
     return dd > 0 ? glm::dot(p - c.points[0], d) / dd : 0.0;
   }
-  double phi0 = 0.0;      // revolution: angle of the profile about the axis
-  glm::dvec3 dir{0.0};    // extrusion: unit direction
+  double phi0 = 0.0;    // revolution: angle of the profile about the axis
+  glm::dvec3 dir{0.0};  // extrusion: unit direction
   Interval t_range{0, 1};
 
   [[nodiscard]] bool u_angular() const { return type != Plane && type != Extrusion; }
@@ -104,17 +102,23 @@ struct Analytic {
   [[nodiscard]] glm::dvec3 point(glm::dvec2 uv) const {
     const double cu = std::cos(uv.x), su = std::sin(uv.x);
     switch (type) {
-      case Plane: return f.o + uv.x * f.x + uv.y * f.y;
-      case Cylinder: return f.o + r * (cu * f.x + su * f.y) + uv.y * f.z;
-      case Cone: return f.o + (r + uv.y * tan_angle) * (cu * f.x + su * f.y) + uv.y * f.z;
-      case Sphere: return f.o + r * std::cos(uv.y) * (cu * f.x + su * f.y) + r * std::sin(uv.y) * f.z;
-      case Torus: return f.o + (r + r2 * std::cos(uv.y)) * (cu * f.x + su * f.y) + r2 * std::sin(uv.y) * f.z;
+      case Plane:
+        return f.o + uv.x * f.x + uv.y * f.y;
+      case Cylinder:
+        return f.o + r * (cu * f.x + su * f.y) + uv.y * f.z;
+      case Cone:
+        return f.o + (r + uv.y * tan_angle) * (cu * f.x + su * f.y) + uv.y * f.z;
+      case Sphere:
+        return f.o + r * std::cos(uv.y) * (cu * f.x + su * f.y) + r * std::sin(uv.y) * f.z;
+      case Torus:
+        return f.o + (r + r2 * std::cos(uv.y)) * (cu * f.x + su * f.y) + r2 * std::sin(uv.y) * f.z;
       case Revolution: {
         const glm::dvec3 d = curve_at(uv.y) - f.o;
         const glm::dvec3 along = glm::dot(d, f.z) * f.z, rr = d - along;
         return f.o + along + cu * rr + su * glm::cross(f.z, rr);
       }
-      case Extrusion: return curve_at(uv.x) + uv.y * dir;
+      case Extrusion:
+        return curve_at(uv.x) + uv.y * dir;
     }
     return {};
   }
@@ -159,7 +163,8 @@ struct Analytic {
     glm::dvec2 uv;
     const double rho = std::hypot(x, y);
     switch (type) {
-      case Plane: return {x, y};
+      case Plane:
+        return {x, y};
       case Extrusion: {
         // The directrix point whose line along dir passes nearest p: nearest in the plane normal to dir.
         const double t = line ? line_t(flat, p - glm::dot(p, dir) * dir)
@@ -168,9 +173,15 @@ struct Analytic {
         return {t, glm::dot(p - curve_at(t), dir)};
       }
       case Cylinder:
-      case Cone: uv = {std::atan2(y, x), z}; break;
-      case Sphere: uv = {std::atan2(y, x), std::atan2(z, rho)}; break;
-      case Torus: uv = {std::atan2(y, x), std::atan2(z, rho - r)}; break;
+      case Cone:
+        uv = {std::atan2(y, x), z};
+        break;
+      case Sphere:
+        uv = {std::atan2(y, x), std::atan2(z, rho)};
+        break;
+      case Torus:
+        uv = {std::atan2(y, x), std::atan2(z, rho - r)};
+        break;
       case Revolution: {
         const double u = std::atan2(y, x) - phi0;
         // Turn p back by u into the profile's half-plane, then the nearest profile point.
@@ -191,7 +202,9 @@ struct Analytic {
 
   // The curve on [a, b] within its domain (the same parameters).
   Curve3 part(const Curve3& c, double a, double b) const {
-    if (line) return segment(c.points[0] + a * (c.points[1] - c.points[0]), c.points[0] + b * (c.points[1] - c.points[0]), a, b);
+    if (line)
+      return segment(c.points[0] + a * (c.points[1] - c.points[0]), c.points[0] + b * (c.points[1] - c.points[0]), a,
+                     b);
     const Interval d = curve_domain(c);
     a = std::max(a, d.min), b = std::min(b, d.max);
     return a <= d.min && b >= d.max ? c : restrict_curve(c, a, b);
@@ -202,7 +215,9 @@ struct Analytic {
     AnalyticSurface out;
     const double du = hi.x - lo.x, dv = hi.y - lo.y;
     switch (type) {
-      case Plane: out.surface = plane_patch(f.o, f.x, f.y, lo, hi); return out;
+      case Plane:
+        out.surface = plane_patch(f.o, f.x, f.y, lo, hi);
+        return out;
       case Cylinder:
       case Cone: {
         const Curve3 profile = segment(point({0.0, lo.y}), point({0.0, hi.y}), lo.y, hi.y);
@@ -248,7 +263,7 @@ struct Chart {
   std::function<glm::dvec2(glm::dvec3, const std::optional<glm::dvec2>&)> natural;
   std::function<glm::dvec3(glm::dvec2)> point;
   std::function<SurfaceDerivatives(glm::dvec2)> derivatives;  ///< B-spline charts only
-  glm::dvec2 period{0.0};  ///< 0 = not periodic
+  glm::dvec2 period{0.0};                                     ///< 0 = not periodic
 };
 
 // The chart of an analytic surface's NURBS `as`: parameters of a point in closed form (Analytic::
@@ -295,7 +310,7 @@ Chart bspline_chart(const Surface& s, double accept) {
     double best_d = std::numeric_limits<double>::infinity();
     auto attempt = [&](glm::dvec2 start) {
       const std::array<glm::dvec2, 2> sides = {start, glm::dvec2(start.x <= u.min + 0.5 * u.width() ? u.max : u.min,
-                                                                   start.y <= v.min + 0.5 * v.width() ? v.max : v.min)};
+                                                                 start.y <= v.min + 0.5 * v.width() ? v.max : v.min)};
       for (int k = 0; k < 4; ++k) {
         const bool flip_u = k & 1, flip_v = k & 2;
         if ((flip_u && !(period.x > 0 && std::min(start.x - u.min, u.max - start.x) < 0.05 * u.width())) ||
@@ -422,7 +437,8 @@ class StepReader {
     const StepValue* x = &v;
     if (x->kind == Kind::Typed && x->items.size() == 1) x = &x->items.front();
     if (x->kind != Kind::Real && x->kind != Kind::Integer) fail(e, fmt::format("{} is not a number", what));
-    if (!(std::abs(x->number) <= kMaxCoordinate)) fail(e, fmt::format("{} {} is beyond {:g}", what, x->number, kMaxCoordinate));
+    if (!(std::abs(x->number) <= kMaxCoordinate))
+      fail(e, fmt::format("{} {} is beyond {:g}", what, x->number, kMaxCoordinate));
     return x->number;
   }
   double real(const StepEntity& e, const StepRecord& r, size_t i, const char* what) const {
@@ -463,7 +479,8 @@ class StepReader {
   };
   SplineRecords spline_records(const StepEntity& e, const std::string& type) const;
   /// Knots from multiplicities and distinct values (parameters mults_at and knots_at of r).
-  std::vector<double> knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at, int degree) const;
+  std::vector<double> knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at,
+                                  int degree) const;
   Curve3 bspline_curve(const StepEntity& e);
   Surface bspline_surface(const StepEntity& e);
   /// The curve entity as NURBS (conics over their full turn), with a frame for conics.
@@ -596,7 +613,8 @@ std::vector<double> StepReader::knot_vector(const StepEntity& e, const StepRecor
                                             int degree) const {
   const auto& mults = list(e, param(e, r, mults_at, "knot multiplicities"), "knot multiplicities");
   const auto& knots = list(e, param(e, r, knots_at, "knots"), "knots");
-  if (mults.size() != knots.size()) fail(e, fmt::format("has {} knot multiplicities for {} knots", mults.size(), knots.size()));
+  if (mults.size() != knots.size())
+    fail(e, fmt::format("has {} knot multiplicities for {} knots", mults.size(), knots.size()));
   std::vector<double> out;
   for (size_t i = 0; i < knots.size(); ++i) {
     const int m = integer(e, mults[i], "knot multiplicity", 1, degree + 1);
@@ -1166,7 +1184,8 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       // A piece is kept when the surface point of its Hermite middle lies within the tolerance of
       // the edge's middle, beyond the edge's own distance from the surface at the piece's ends; else
       // the middle is inverted and both halves are tried.
-      std::function<void(const Sample&, const Sample&, int)> refine = [&](const Sample& s0, const Sample& s1, int depth) {
+      std::function<void(const Sample&, const Sample&, int)> refine = [&](const Sample& s0, const Sample& s1,
+                                                                          int depth) {
         const double h = s1.t - s0.t, tm = 0.5 * (s0.t + s1.t);
         const glm::dvec2 chord = (s1.uv - s0.uv) / h;
         const glm::dvec2 d0 = std::isfinite(s0.duv.x) ? s0.duv : chord, d1 = std::isfinite(s1.duv.x) ? s1.duv : chord;
@@ -1212,7 +1231,8 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
             pts[i]->x = p->x;
         }
     for (const glm::dvec2* q : pts)
-      if (!std::isfinite(q->x) || !std::isfinite(q->y)) throw SkipFace{"an edge point has no parameters on its surface"};
+      if (!std::isfinite(q->x) || !std::isfinite(q->y))
+        throw SkipFace{"an edge point has no parameters on its surface"};
   }
   // Loops shifted by whole periods: onto the first (outer) loop's branch for an analytic surface,
   // whose NURBS is then built over them; into the domain of a B-spline surface.
@@ -1227,8 +1247,10 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     for (auto& loop : lines) {
       const Box2 b = box(loop);
       glm::dvec2 shift(0.0);
-      if (chart.period.x > 0) shift.x = chart.period.x * std::round((su.min + su.max - b.lo.x - b.hi.x) / (2 * chart.period.x));
-      if (chart.period.y > 0) shift.y = chart.period.y * std::round((sv.min + sv.max - b.lo.y - b.hi.y) / (2 * chart.period.y));
+      if (chart.period.x > 0)
+        shift.x = chart.period.x * std::round((su.min + su.max - b.lo.x - b.hi.x) / (2 * chart.period.x));
+      if (chart.period.y > 0)
+        shift.y = chart.period.y * std::round((sv.min + sv.max - b.lo.y - b.hi.y) / (2 * chart.period.y));
       for (auto& l : loop)
         for (glm::dvec2& q : l) q += shift;
     }
@@ -1254,7 +1276,8 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       // in shape, their Bezier form is kept).
       const int pieces = static_cast<int>(line.size() - 1) / c.degree;
       c.knots.assign(static_cast<size_t>(c.degree) + 1, 0.0);
-      for (int i = 1; i < pieces; ++i) c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree), static_cast<double>(i));
+      for (int i = 1; i < pieces; ++i)
+        c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree), static_cast<double>(i));
       c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree) + 1, static_cast<double>(pieces));
       t.curves.push_back(std::move(c));
     }
@@ -1293,9 +1316,11 @@ std::vector<StepReader::FaceJob> StepReader::solid(const StepEntity& e) {
         shell_faces(ref(e, s, "void shell"), e, false, faces);
   } else if (const StepRecord* b = e.record("BREP_WITH_VOIDS")) {
     shell_faces(ref(e, *b, 1, "outer shell"), e, false, faces);
-    for (const StepValue& s : list(e, param(e, *b, 2, "voids"), "voids")) shell_faces(ref(e, s, "void shell"), e, false, faces);
+    for (const StepValue& s : list(e, param(e, *b, 2, "voids"), "voids"))
+      shell_faces(ref(e, s, "void shell"), e, false, faces);
   } else if (const StepRecord* m = e.record("SHELL_BASED_SURFACE_MODEL")) {
-    for (const StepValue& s : list(e, param(e, *m, 1, "shells"), "shells")) shell_faces(ref(e, s, "shell"), e, false, faces);
+    for (const StepValue& s : list(e, param(e, *m, 1, "shells"), "shells"))
+      shell_faces(ref(e, s, "shell"), e, false, faces);
   }
   return faces;
 }
@@ -1306,8 +1331,8 @@ void StepReader::read_units(long context, const StepEntity& from) {
   if (!units) return;
   // SI prefixes of ISO 10303-41.
   static const std::unordered_map<std::string, double> prefixes = {
-      {"EXA", 1e18}, {"PETA", 1e15}, {"TERA", 1e12}, {"GIGA", 1e9},  {"MEGA", 1e6},   {"KILO", 1e3},
-      {"HECTO", 1e2}, {"DECA", 1e1}, {"DECI", 1e-1}, {"CENTI", 1e-2}, {"MILLI", 1e-3}, {"MICRO", 1e-6},
+      {"EXA", 1e18},  {"PETA", 1e15},  {"TERA", 1e12},   {"GIGA", 1e9},   {"MEGA", 1e6},   {"KILO", 1e3},
+      {"HECTO", 1e2}, {"DECA", 1e1},   {"DECI", 1e-1},   {"CENTI", 1e-2}, {"MILLI", 1e-3}, {"MICRO", 1e-6},
       {"NANO", 1e-9}, {"PICO", 1e-12}, {"FEMTO", 1e-15}, {"ATTO", 1e-18}};
   // Size of a unit in SI base units (metre, radian), following conversion-based units.
   std::function<double(const StepEntity&, int)> si = [&](const StepEntity& u, int depth) -> double {
@@ -1361,7 +1386,8 @@ void StepReader::link_representations() {
   std::unordered_map<long, long> pd_of_pds;  // PRODUCT_DEFINITION_SHAPE -> its definition
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);
-    if (const StepRecord* r = e.record("PRODUCT_DEFINITION_SHAPE"); r && r->params.size() >= 3 && r->params[2].kind == Kind::Ref)
+    if (const StepRecord* r = e.record("PRODUCT_DEFINITION_SHAPE");
+        r && r->params.size() >= 3 && r->params[2].kind == Kind::Ref)
       pd_of_pds[id] = r->params[2].ref;
   }
   for (long id : f_.order) {
@@ -1418,7 +1444,8 @@ void StepReader::link_representations() {
         if (name.empty() && nr->params[1].kind == Kind::String) name = nr->params[1].text;
         // The component is the related product definition: if its shape is rep_2, turn round.
         if (nr->params[4].kind == Kind::Ref)
-          if (auto rp = rep_of_pd.find(nr->params[4].ref); rp != rep_of_pd.end() && group(rp->second) == group(p.rep2)) {
+          if (auto rp = rep_of_pd.find(nr->params[4].ref);
+              rp != rep_of_pd.end() && group(rp->second) == group(p.rep2)) {
             std::swap(child, parent);
             m = m1 * glm::inverse(m2);
           }
@@ -1508,7 +1535,8 @@ Model StepReader::read() {
     if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
       name = e.records.front().params[0].text;
     if (name.empty()) name = fmt::format("{} #{}", is(e, "SHELL_BASED_SURFACE_MODEL") ? "surface model" : "solid", id);
-    const std::vector<Instance> placed = rep != rep_of_item.end() ? instances(rep->second, 0) : std::vector<Instance>{{}};
+    const std::vector<Instance> placed =
+        rep != rep_of_item.end() ? instances(rep->second, 0) : std::vector<Instance>{{}};
     const int edges = static_cast<int>(edge_index_.size());
     // Placed copies count against the IGES reader's budget of control points (kMaxPointsBase plus
     // one per byte): an assembly naming a part at every level twice would otherwise grow without
@@ -1579,7 +1607,8 @@ Model StepReader::read() {
     log_.trim_problems.insert(log_.trim_problems.end(), l.trim_problems.begin(), l.trim_problems.end());
   }
   // Geometry and topology the reader did not reach.
-  static const char* kinds[] = {"SURFACE", "CURVE", "FACE", "SHELL", "BREP", "SOLID", "EDGE", "LOOP", "LINE", "CIRCLE", "ELLIPSE", "VERTEX"};
+  static const char* kinds[] = {"SURFACE", "CURVE", "FACE", "SHELL",  "BREP",    "SOLID",
+                                "EDGE",    "LOOP",  "LINE", "CIRCLE", "ELLIPSE", "VERTEX"};
   for (long id : f_.order) {
     if (visited_.count(id)) continue;
     const StepEntity& e = f_.entities.at(id);

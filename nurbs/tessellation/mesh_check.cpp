@@ -241,50 +241,54 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
   }
   // One face at a time on every hardware thread (each writes its own out[f]).
   const int threads = std::max(1, int(std::thread::hardware_concurrency()));
-  parallel_for((long long)faces.size(), threads, [&](long long face, int) {
-    const auto f = size_t(face);
-    if (of_face[f].empty()) return;
-    const Surface& s = faces[f].surface;
-    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
-    // Flattened within 1e-5 of the domain: a sample misjudged by it lies that close to a loop, far
-    // below the estimate's threshold.
-    const TrimPolygons trim = flatten_trim(faces[f], 1e-5 * std::max(du.width(), dv.width()));
-    const BandedTrim banded(trim);
-    std::vector<std::vector<glm::dvec3>> boundary;  // the face's boundary in space, built when first needed
-    // A sample's distance outside the material: 0 when material; else, when its (u, v) distance to
-    // the loops times the larger first derivative there (a cheap estimate) passes a quarter of
-    // `distance`, the distance of its point in space to the face's boundary.
-    const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
-      if (banded.is_material(p)) return 0.0;
-      const double near = distance_to_loops(trim, p);
-      const SurfaceDerivatives sd =
-          surface_derivatives(s, std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max));
-      if (near * std::max(glm::length(sd.su), glm::length(sd.sv)) <= 0.25 * distance) return 0.0;
-      if (boundary.empty()) boundary = face_boundary(faces[f], 1e-3 * distance);
-      double best = 1e300;
-      for (const auto& line : boundary)
-        for (size_t k = 0; k + 1 < line.size(); ++k) {
-          const glm::dvec3 a = line[k], d = line[k + 1] - a;
-          const double len2 = glm::dot(d, d);
-          const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, d) / len2, 0.0, 1.0) : 0.0;
-          best = std::min(best, glm::distance(a + t * d, x));
+  parallel_for(
+      (long long)faces.size(), threads,
+      [&](long long face, int) {
+        const auto f = size_t(face);
+        if (of_face[f].empty()) return;
+        const Surface& s = faces[f].surface;
+        const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+        // Flattened within 1e-5 of the domain: a sample misjudged by it lies that close to a loop, far
+        // below the estimate's threshold.
+        const TrimPolygons trim = flatten_trim(faces[f], 1e-5 * std::max(du.width(), dv.width()));
+        const BandedTrim banded(trim);
+        std::vector<std::vector<glm::dvec3>> boundary;  // the face's boundary in space, built when first needed
+        // A sample's distance outside the material: 0 when material; else, when its (u, v) distance to
+        // the loops times the larger first derivative there (a cheap estimate) passes a quarter of
+        // `distance`, the distance of its point in space to the face's boundary.
+        const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
+          if (banded.is_material(p)) return 0.0;
+          const double near = distance_to_loops(trim, p);
+          const SurfaceDerivatives sd =
+              surface_derivatives(s, std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max));
+          if (near * std::max(glm::length(sd.su), glm::length(sd.sv)) <= 0.25 * distance) return 0.0;
+          if (boundary.empty()) boundary = face_boundary(faces[f], 1e-3 * distance);
+          double best = 1e300;
+          for (const auto& line : boundary)
+            for (size_t k = 0; k + 1 < line.size(); ++k) {
+              const glm::dvec3 a = line[k], d = line[k + 1] - a;
+              const double len2 = glm::dot(d, d);
+              const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, d) / len2, 0.0, 1.0) : 0.0;
+              best = std::min(best, glm::distance(a + t * d, x));
+            }
+          return best;
+        };
+        for (const size_t k : of_face[f]) {
+          const glm::ivec3 t = mesh.triangles[k];
+          if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+              mesh.vertex_face[size_t(t.z)] != int(f))
+            continue;  // a corner shared with another face: its (u, v) is that face's
+          const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
+          const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                           pc = mesh.positions[size_t(t.z)];
+          const double d =
+              std::max({outside((a + b + c) / 3.0, (pa + pb + pc) / 3.0), outside(0.5 * (a + b), 0.5 * (pa + pb)),
+                        outside(0.5 * (b + c), 0.5 * (pb + pc)), outside(0.5 * (c + a), 0.5 * (pc + pa))});
+          out[f].distance = std::max(out[f].distance, d);
+          out[f].triangles += d > distance;
         }
-      return best;
-    };
-    for (const size_t k : of_face[f]) {
-      const glm::ivec3 t = mesh.triangles[k];
-      if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
-          mesh.vertex_face[size_t(t.z)] != int(f))
-        continue;  // a corner shared with another face: its (u, v) is that face's
-      const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
-      const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
-                       pc = mesh.positions[size_t(t.z)];
-      const double d = std::max({outside((a + b + c) / 3.0, (pa + pb + pc) / 3.0), outside(0.5 * (a + b), 0.5 * (pa + pb)),
-                                 outside(0.5 * (b + c), 0.5 * (pb + pc)), outside(0.5 * (c + a), 0.5 * (pc + pa))});
-      out[f].distance = std::max(out[f].distance, d);
-      out[f].triangles += d > distance;
-    }
-  }, 1);
+      },
+      1);
   return out;
 }
 
@@ -298,37 +302,40 @@ std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>
     if (f >= 0 && size_t(f) < faces.size()) of_face[size_t(f)].push_back(k);
   }
   const int threads = std::max(1, int(std::thread::hardware_concurrency()));
-  parallel_for((long long)faces.size(), threads, [&](long long face, int) {
-    const auto f = size_t(face);
-    const Surface& s = faces[f].surface;
-    const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
-    glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
-    const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
-      p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
-      double d = glm::distance(surface_point(s, p.x, p.y), x);
-      // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
-      // one side's (u, v), and the interpolated one then lies across the surface).
-      for (int k = -1; k < 3 && d > distance; ++k) {
-        const glm::dvec2 q = project_point(s, x, k < 0 ? p : corner[k], 20);
-        d = std::min(d, glm::distance(surface_point(s, q.x, q.y), x));
-      }
-      return d;
-    };
-    for (const size_t k : of_face[f]) {
-      const glm::ivec3 t = mesh.triangles[k];
-      if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
-          mesh.vertex_face[size_t(t.z)] != int(f))
-        continue;  // a corner shared with another face: its (u, v) is that face's
-      const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
-      const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
-                       pc = mesh.positions[size_t(t.z)];
-      corner[0] = a, corner[1] = b, corner[2] = c;
-      const double d = std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
+  parallel_for((long long)faces.size(), threads,
+               [&](long long face, int) {
+                 const auto f = size_t(face);
+                 const Surface& s = faces[f].surface;
+                 const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+                 glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
+                 const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
+                   p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
+                   double d = glm::distance(surface_point(s, p.x, p.y), x);
+                   // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
+                   // one side's (u, v), and the interpolated one then lies across the surface).
+                   for (int k = -1; k < 3 && d > distance; ++k) {
+                     const glm::dvec2 q = project_point(s, x, k < 0 ? p : corner[k], 20);
+                     d = std::min(d, glm::distance(surface_point(s, q.x, q.y), x));
+                   }
+                   return d;
+                 };
+                 for (const size_t k : of_face[f]) {
+                   const glm::ivec3 t = mesh.triangles[k];
+                   if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+                       mesh.vertex_face[size_t(t.z)] != int(f))
+                     continue;  // a corner shared with another face: its (u, v) is that face's
+                   const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
+                   const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                                    pc = mesh.positions[size_t(t.z)];
+                   corner[0] = a, corner[1] = b, corner[2] = c;
+                   const double d =
+                       std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
                                  off(0.5 * (b + c), 0.5 * (pb + pc)), off(0.5 * (c + a), 0.5 * (pc + pa))});
-      out[f].distance = std::max(out[f].distance, d);
-      out[f].triangles += d > distance;
-    }
-  }, 1);
+                   out[f].distance = std::max(out[f].distance, d);
+                   out[f].triangles += d > distance;
+                 }
+               },
+               1);
   return out;
 }
 

@@ -80,7 +80,8 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
       out.triangles[k] = glm::ivec3(int(3 * k), int(3 * k + 1), int(3 * k + 2));
       out.triangle_face[k] = face;
       if (face < 0) {  // no foot found: the corners as they are, without a face (measured from the grid)
-        for (int i = 0; i < 3; ++i) out.positions[3 * k + size_t(i)] = corner[i], out.vertex_face[3 * k + size_t(i)] = -1;
+        for (int i = 0; i < 3; ++i)
+          out.positions[3 * k + size_t(i)] = corner[i], out.vertex_face[3 * k + size_t(i)] = -1;
         continue;
       }
       const Surface& s = faces[size_t(face)].surface;

@@ -1,15 +1,16 @@
 #include "nurbs/tessellation/tessellate.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <cmath>
-#include <fmt/format.h>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -115,9 +116,10 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   out.stats.unconverged_cells = cs.unconverged;
   out.stats.seconds_surface = since(t);
   if (guaranteed && cs.unconverged > 0)  // the mesh is still made, but not within eps
-    out.failure = fmt::format("the surface subdivision stopped at its limit ({} nodes, depth {}) with {} cells "
-                              "above eps; a larger eps",
-                              cs.nodes, cs.max_depth, cs.unconverged);
+    out.failure = fmt::format(
+        "the surface subdivision stopped at its limit ({} nodes, depth {}) with {} cells "
+        "above eps; a larger eps",
+        cs.nodes, cs.max_depth, cs.unconverged);
 
   // §6 trimming, §7 triangulation.
   t = Clock::now();
