@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <utility>
 
@@ -97,6 +98,19 @@ long long available_memory() {
   long long value = 0;
   while (f >> key >> value >> unit)
     if (key == "MemAvailable:") return unit == "kB" ? value * 1024 : value;
+  return -1;
+}
+
+long long peak_resident_memory() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::istringstream in(line.substr(6));
+      long long kb = -1;
+      in >> kb;
+      return kb < 0 ? -1 : kb * 1024;
+    }
   return -1;
 }
 

@@ -94,4 +94,7 @@ void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
 /// -1 when unknown.
 long long available_memory();
 
+/// This process's peak resident memory so far (VmHWM of /proc/self/status, bytes); -1 when unknown.
+long long peak_resident_memory();
+
 }  // namespace cli

@@ -117,7 +117,11 @@ nlohmann::json RayEngine::figures() const {
           {"seconds_cast", f.cast_seconds},
           {"rays_per_second", f.cast_seconds > 0 ? double(f.rays) / f.cast_seconds : 0.0},
           {"tests_per_ray", {{"box", double(f.box_tests) * per_ray}, {"patch", double(f.patch_tests) * per_ray}}},
-          {"memory_bytes", {{"bvh", f.bytes_bvh}, {"patches", f.bytes_patches}, {"trims", f.bytes_trims}}}};
+          {"memory_bytes",
+           {{"bvh", f.bytes_bvh},
+            {"patches", f.bytes_patches},
+            {"trims", f.bytes_trims},
+            {"process_peak", peak_resident_memory()}}}};
 }
 
 }  // namespace cli

@@ -46,7 +46,8 @@ class RayEngine {
   std::vector<nurbs::ray::Hit> cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what);
   [[nodiscard]] const nurbs::ray::Scene& scene() const { return caster_->scene(); }
   void rays_start_on_surfaces() { caster_->rays_start_on_surfaces(); }
-  /// Figures: build and cast seconds, rays, tests per ray (the paper's Fig. 7), memory (Fig. 11).
+  /// Figures: build and cast seconds, rays, tests per ray (the paper's Fig. 7), memory (Fig. 11:
+  /// the structures' bytes; process_peak, the process's peak resident bytes so far, for Fig. 12).
   [[nodiscard]] nlohmann::json figures() const;
   [[nodiscard]] double cast_seconds() const { return caster_->figures().cast_seconds; }
   /// The GPU context of --device gpu, else null.

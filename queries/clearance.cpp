@@ -19,11 +19,11 @@
 #include "gpgpu/layout.h"
 #include "gpgpu/polygon_fill.h"
 #include "gpgpu/reduce.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "queries/intersection.h"
 #include "queries/material_distance.h"
-#include "queries/parallel.h"
 #include "queries/refine.h"
 
 namespace queries {
@@ -157,7 +157,7 @@ CellTable cell_table(const PreparedModel& m, std::vector<FaceCell> cells, const 
   t.cells = std::move(cells);
   t.tris.resize(t.cells.size());
   t.k.resize(t.cells.size());
-  for_shares(t.cells.size(), share_count(t.cells.size(), 1024), [&](size_t, size_t begin, size_t end) {
+  nurbs::for_shares(t.cells.size(), nurbs::share_count(t.cells.size(), 1024), [&](size_t, size_t begin, size_t end) {
     for (size_t n = begin; n < end; ++n) {
       const FaceCell& c = t.cells[n];
       t.tris[n] = cell_triangles(m, c, motion);
@@ -532,8 +532,8 @@ Clearance clearance(gpgpu::Gpu& gpu, const PreparedModel& a, const PreparedModel
     return out;
   };
   const std::vector<std::optional<BandedTrim>> banded_a = banded(a, table_a), banded_b = banded(b, table_b);
-  std::vector<Best> shares(share_count(leaves.size(), 4096));
-  for_shares(leaves.size(), shares.size(), [&](size_t share, size_t begin, size_t end) {
+  std::vector<Best> shares(nurbs::share_count(leaves.size(), 4096));
+  nurbs::for_shares(leaves.size(), shares.size(), [&](size_t share, size_t begin, size_t end) {
     Best& s = shares[share];
     for (size_t k = begin; k < end; ++k) {
       const auto& [ca, cb] = leaves[k];

@@ -15,8 +15,8 @@
 
 #include "gpgpu/layout.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/trim_classify.h"
-#include "queries/parallel.h"
 
 namespace queries {
 namespace {
@@ -81,7 +81,7 @@ double BatchFloatFloor::at(const glm::dvec3& p) const {
 }
 
 long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes) {
-  // Per atlas texel: points and normals (RGBA32F) on the GPU, the samples, masks, slot and
+  // Per atlas texel: points (RGBA32F) on the GPU, the samples, masks, slot and
   // trimmed-cell indices again on the CPU, the uploads' staging: about 100 bytes. Per pyramid
   // texel: oriented boxes 3 RGBA32F on the GPU and on the CPU (96 bytes), axis-aligned 2 (64).
   // Each with a fifth more (the measured peaks of the shared models at 1e-4 and 1e-5 lie below).
@@ -361,12 +361,12 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
-  const size_t threads = share_count(points.size(), on_gpu ? 128 : 16);
+  const size_t threads = nurbs::share_count(points.size(), on_gpu ? 128 : 16);
   std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0);
   // The points along a Morton curve, as the GPU pass lays them out: neighbours walk the same boxes
   // and cells, which then stay in the caches (in input order each point fetches its own).
   const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
-  for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
+  nurbs::for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
     std::vector<BatchCell> best(atlases_.size());
     for (size_t k = begin; k < end; ++k) {
       const size_t i = order[k];

@@ -104,7 +104,7 @@ struct BatchFloatFloor {
 
 /// Bytes a batched query over `m` (prepared by prepare_geometry, no atlases yet) will hold at its
 /// peak, from the atlas plan that prepare_atlases will make with atlases of `atlas_side`: per atlas
-/// texel its samples, normals, masks and indices (GPU and CPU copies), per texel of the pyramid's
+/// texel its samples, masks and indices (GPU and CPU copies), per texel of the pyramid's
 /// levels (padded to powers of two) its boxes (GPU and CPU), plus the GL driver's own. An estimate
 /// for refusing a request that cannot fit before the work, not a measurement.
 [[nodiscard]] long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes);

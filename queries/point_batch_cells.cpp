@@ -10,7 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "queries/parallel.h"
+#include "nurbs/parallel.h"
 #include "queries/point_batch.h"
 
 namespace queries {
@@ -80,7 +80,7 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
     std::vector<size_t> texels;
   };
   std::vector<Part> parts(plan.slots.size());
-  for_shares(plan.slots.size(), share_count(plan.slots.size(), 1), [&](size_t, size_t s0, size_t s1) {
+  nurbs::for_shares(plan.slots.size(), nurbs::share_count(plan.slots.size(), 1), [&](size_t, size_t s0, size_t s1) {
     std::vector<glm::dvec4> crossing;
     std::vector<TrimPiece> pieces;
     const glm::dvec3 corners[4]{};  // pieces are stored by their parameters only

@@ -16,7 +16,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "queries/parallel.h"
+#include "nurbs/parallel.h"
 #include "queries/point_batch.h"
 
 namespace queries {
@@ -158,8 +158,8 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
     }
   };
   const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
-  std::vector<Share> shares(share_count(size_t(h), 16));
-  for_shares(size_t(h), shares.size(), [&](size_t s, size_t y0, size_t y1) {
+  std::vector<Share> shares(nurbs::share_count(size_t(h), 16));
+  nurbs::for_shares(size_t(h), shares.size(), [&](size_t s, size_t y0, size_t y1) {
     std::vector<glm::dvec3> hull;
     for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x + 1 < w; ++x) {
@@ -188,8 +188,8 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
     }
     std::sort(parents.begin(), parents.end());
     parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
-    shares.assign(share_count(parents.size(), 256), {});
-    for_shares(parents.size(), shares.size(), [&](size_t s, size_t begin, size_t end) {
+    shares.assign(nurbs::share_count(parents.size(), 256), {});
+    nurbs::for_shares(parents.size(), shares.size(), [&](size_t s, size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) {
         const int x = int(parents[i] % uint32_t(lw)), y = int(parents[i] / uint32_t(lw));
         glm::dvec3 t(0.0), n(0.0);

@@ -13,9 +13,9 @@
 #include <thread>
 
 #include "gpgpu/layout.h"
+#include "nurbs/parallel.h"
 #include "nurbs/trim_classify.h"
 #include "queries/bvh_gpu.h"
-#include "queries/parallel.h"
 
 namespace queries {
 namespace {
@@ -250,10 +250,10 @@ std::vector<Hit> GpuRaycaster::cast(std::span<const Ray> rays, double t_min) {
   // Independent rays: one contiguous share per thread (at least 128 rays each, at most one per
   // hardware thread or set_threads' count), so the result does not depend on the thread count.
   std::vector<Hit> out(rays.size());
-  const size_t threads =
-      threads_ > 0 ? std::min(share_count(rays.size(), 128), size_t(threads_)) : share_count(rays.size(), 128);
+  const size_t threads = threads_ > 0 ? std::min(nurbs::share_count(rays.size(), 128), size_t(threads_))
+                                      : nurbs::share_count(rays.size(), 128);
   std::vector<long long> fallbacks(threads, 0);
-  for_shares(rays.size(), threads, [&](size_t t, size_t begin, size_t end) {
+  nurbs::for_shares(rays.size(), threads, [&](size_t t, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) out[i] = finish(rays[i], raw[i], t_min, fallbacks[t]);
   });
   for (long long f : fallbacks) stats_.fallbacks += f;

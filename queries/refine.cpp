@@ -11,11 +11,11 @@
 #include <optional>
 
 #include "nurbs/filip_bound.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
 #include "nurbs/trim_classify.h"
 #include "queries/clearance.h"
-#include "queries/parallel.h"
 #include "queries/point_batch_trim.h"
 #include "queries/point_distance.h"
 
@@ -170,7 +170,7 @@ class Cells {
       if (const auto f = size_t(c.face); !m_.faces[f].loops.empty() && !banded_[f]) banded_[f].emplace(m_.trims[f]);
     const size_t first = all.size();
     all.resize(first + fresh.size());
-    for_shares(fresh.size(), share_count(fresh.size(), 256), [&](size_t, size_t begin, size_t end) {
+    nurbs::for_shares(fresh.size(), nurbs::share_count(fresh.size(), 256), [&](size_t, size_t begin, size_t end) {
       for (size_t n = begin; n < end; ++n) all[first + n] = grid_cell(fresh[n]);
     });
     for (size_t n = 0; n < fresh.size(); ++n) slot(fresh[n]) = uint32_t(first + n + 1);
@@ -464,7 +464,7 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
     r.most_pairs = std::max(r.most_pairs, static_cast<long long>(pairs.size()));
     // Per pair independent work in contiguous shares over the hardware threads; each share keeps
     // its first strict minimum, merged in share order: the sequential answer at any thread count.
-    const size_t shares = share_count(pairs.size(), 2048);
+    const size_t shares = nurbs::share_count(pairs.size(), 2048);
     // Upper bounds: material corner pairs, then the surfaces at the closest triangle points' (u, v).
     struct Corner {
       double d = kInf;
@@ -473,7 +473,7 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
       uint32_t i = 0, j = 0;
     };
     std::vector<Corner> corners(shares);
-    for_shares(pairs.size(), shares, [&](size_t t, size_t begin, size_t end) {
+    nurbs::for_shares(pairs.size(), shares, [&](size_t t, size_t begin, size_t end) {
       Corner& c = corners[t];
       c.d = r.distance;  // only improvements count
       for (size_t n = begin; n < end; ++n) {
@@ -498,7 +498,7 @@ Refined search_pairs(Cells& ca, Cells& cb, std::vector<std::pair<uint32_t, uint3
     };
     std::vector<Nearest> nearests(shares);
     const double split_below = r.distance - tolerance;
-    for_shares(pairs.size(), shares, [&](size_t share, size_t begin, size_t end) {
+    nurbs::for_shares(pairs.size(), shares, [&](size_t share, size_t begin, size_t end) {
       Nearest& near = nearests[share];
       for (size_t n = begin; n < end; ++n) {
         const Cell &x = ca.all[pairs[n].first], &y = cb.all[pairs[n].second];
@@ -672,8 +672,8 @@ std::optional<Refined> refine_all_pairs(const PreparedModel& a, const PreparedMo
   near_box(cb, ys, ca, xs);
   if (max_start_pairs >= 0 && static_cast<long long>(xs.size()) * static_cast<long long>(ys.size()) > max_start_pairs)
     return std::nullopt;
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> rows(share_count(xs.size(), 64));
-  for_shares(xs.size(), rows.size(), [&](size_t share, size_t begin, size_t end) {
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> rows(nurbs::share_count(xs.size(), 64));
+  nurbs::for_shares(xs.size(), rows.size(), [&](size_t share, size_t begin, size_t end) {
     for (size_t n = begin; n < end; ++n)
       for (uint32_t y : ys)
         if (box_box(ca.all[xs[n]], cb.all[y]) <= upper) rows[share].emplace_back(xs[n], y);

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -18,7 +17,6 @@
 #include <optional>
 #include <set>
 #include <sstream>
-#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -30,6 +28,7 @@
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/step_file.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/project_curve.h"
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
@@ -386,19 +385,6 @@ void mark_outer(TrimmedSurface& f) {
     if (area > best) best = area, outer = &l;
   }
   if (outer) outer->outer = true;
-}
-
-// body(k) for k in [0, n) on every core (an atomic counter hands out the indices).
-void parallel_for(size_t n, const std::function<void(size_t)>& body) {
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t k; (k = next.fetch_add(1)) < n;) body(k);
-  };
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), n);
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
 }
 
 struct Instance {
@@ -1020,7 +1006,7 @@ std::optional<TrimLoop> StepReader::given_loop(const Loop& loop, const Surface& 
 
 std::vector<TrimmedSurface> StepReader::build_faces(std::vector<FaceJob>& jobs) {
   std::vector<std::optional<TrimmedSurface>> built(jobs.size());
-  parallel_for(jobs.size(), [&](size_t k) {
+  parallel_for(jobs.size(), 0, [&](size_t k, int) {
     if (!jobs[k].skipped.empty()) return;
     try {
       built[k] = build_face(jobs[k]);
@@ -1592,13 +1578,13 @@ Model StepReader::read() {
   for (Body& b : model.bodies)
     for (TrimmedSurface& f : b.faces) all.push_back(&f);
   std::vector<Box> boxes(all.size());  // model_size, the faces sampled on every core
-  parallel_for(all.size(), [&](size_t k) { boxes[k] = sampled_box(all[k]->surface); });
+  parallel_for(all.size(), 0, [&](size_t k, int) { boxes[k] = sampled_box(all[k]->surface); });
   Box box = boxes.empty() ? Box{} : boxes.front();
   for (const Box& b : boxes) box.min = glm::min(box.min, b.min), box.max = glm::max(box.max, b.max);
   double size = box.diagonal();
   if (!validate_model_size(size).empty()) size = 0.0;
   std::vector<IgesReadLog> logs(all.size());
-  parallel_for(all.size(), [&](size_t k) { finish_trim_loops(*all[k], size, logs[k]); });
+  parallel_for(all.size(), 0, [&](size_t k, int) { finish_trim_loops(*all[k], size, logs[k]); });
   for (const IgesReadLog& l : logs) {
     log_.reoriented_loops += l.reoriented_loops;
     log_.reordered_loops += l.reordered_loops;

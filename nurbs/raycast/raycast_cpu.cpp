@@ -1,13 +1,12 @@
 #include "nurbs/raycast/raycast_cpu.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
-#include <thread>
 
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 
 namespace nurbs::ray {
@@ -109,22 +108,10 @@ std::vector<Hit> cast_rays(const Scene& scene, const std::vector<Ray>& rays, dou
 std::vector<Hit> cast_rays_parallel(const Scene& scene, const std::vector<Ray>& rays, double t_min, Traversal traversal,
                                     int threads, TraversalStats* stats) {
   std::vector<Hit> out(rays.size());
-  const int n = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
-  constexpr size_t kBlock = 256;
-  std::atomic<size_t> next{0};
-  std::vector<TraversalStats> per(static_cast<size_t>(n));
-  auto work = [&](int id) {
-    for (;;) {
-      const size_t first = next.fetch_add(kBlock);
-      if (first >= rays.size()) return;
-      const size_t last = std::min(rays.size(), first + kBlock);
-      for (size_t i = first; i < last; ++i) out[i] = cast_ray(scene, rays[i], t_min, traversal, &per[id]);
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& t : pool) t.join();
+  std::vector<TraversalStats> per(static_cast<size_t>(thread_count(threads)));
+  parallel_for(
+      rays.size(), threads,
+      [&](size_t i, int t) { out[i] = cast_ray(scene, rays[i], t_min, traversal, &per[size_t(t)]); }, 256);
   if (stats)
     for (const auto& s : per) {
       stats->box_tests += s.box_tests;

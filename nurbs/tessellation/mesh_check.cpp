@@ -1,15 +1,14 @@
 #include "nurbs/tessellation/mesh_check.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <thread>
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
 #include "nurbs/tessellation/triangle_bvh.h"
@@ -69,18 +68,6 @@ std::vector<std::vector<glm::dvec3>> face_boundary(const TrimmedSurface& f, doub
   return lines;
 }
 
-/// body(k, thread) for k in [0, n) on `threads` threads, `chunk` consecutive k at a time.
-void parallel_for(long long n, int threads, const std::function<void(long long, int)>& body, long long chunk = 256) {
-  std::atomic<long long> next{0};
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (long long i; (i = next.fetch_add(chunk)) < n;)
-        for (long long k = i; k < std::min(n, i + chunk); ++k) body(k, t);
-    });
-  for (auto& th : pool) th.join();
-}
-
 }  // namespace
 
 Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
@@ -92,7 +79,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
     size = std::max(size, control_box(f.surface).diagonal());
   }
   const double tol = options.boundary_tolerance > 0 ? options.boundary_tolerance : 1e-6 * size;
-  const int threads = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = thread_count(options.threads);
 
   // Face samples: the material points of a (u, v) grid and the boundary polylines' points.
   std::vector<Sample> samples;
@@ -126,12 +113,14 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   std::vector<int> worst_face(size_t(threads), -1);
   // Per thread and face, the face's worst sample (reduced below).
   std::vector<std::vector<double>> face_worst(size_t(threads), std::vector<double>(faces.size(), 0.0));
-  parallel_for((long long)samples.size(), threads, [&](long long k, int t) {
-    const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
-    const int f = samples[size_t(k)].face >= 0 ? samples[size_t(k)].face : -1 - samples[size_t(k)].face;
-    face_worst[size_t(t)][size_t(f)] = std::max(face_worst[size_t(t)][size_t(f)], d);
-    if (d > worst[size_t(t)]) worst[size_t(t)] = d, worst_face[size_t(t)] = f;
-  });
+  parallel_for((long long)samples.size(), threads,
+               [&](long long k, int t) {
+                 const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
+                 const int f = samples[size_t(k)].face >= 0 ? samples[size_t(k)].face : -1 - samples[size_t(k)].face;
+                 face_worst[size_t(t)][size_t(f)] = std::max(face_worst[size_t(t)][size_t(f)], d);
+                 if (d > worst[size_t(t)]) worst[size_t(t)] = d, worst_face[size_t(t)] = f;
+               },
+               256);
   for (int t = 0; t < threads; ++t)
     if (worst[size_t(t)] >= r.surface_to_mesh)
       r.surface_to_mesh = worst[size_t(t)], r.worst_face = worst_face[size_t(t)];
@@ -169,60 +158,64 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   }
   const long long nt = (long long)mesh.triangles.size();
   std::fill(worst.begin(), worst.end(), 0.0);
-  parallel_for(nt, threads, [&](long long k, int t) {
-    const glm::ivec3 tri = mesh.triangles[size_t(k)];
-    const glm::dvec3 a = mesh.positions[size_t(tri.x)], b = mesh.positions[size_t(tri.y)],
-                     c = mesh.positions[size_t(tri.z)];
-    const glm::dvec3 q[7] = {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0};
-    for (int i = 0; i < 7; ++i) {
-      double d = boundary_bvh.closest(q[i]).distance;
-      auto newton = [&](int face, glm::dvec2 uv) {
-        const TrimmedSurface& f = faces[size_t(face)];
-        auto attempt = [&](glm::dvec2 seed) {
-          const glm::dvec2 foot = project_point(f.surface, q[i], seed, 12);
-          const double e = glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]);
-          if (e < d && (f.loops.empty() || is_material(trims[size_t(face)], foot))) d = e;
-          return e;
-        };
-        // A seed on the far side of a periodic face's seam walks into the domain edge: the seed
-        // mirrored in u (and in v) starts on the near side.
-        const double before = d;
-        attempt(uv);
-        if (!(d < 0.25 * before)) {  // Newton did not get much nearer than the seed's bound
-          const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
-          attempt({du.min + du.max - uv.x, uv.y});
-          attempt({uv.x, dv.min + dv.max - uv.y});
+  parallel_for(
+      nt, threads,
+      [&](long long k, int t) {
+        const glm::ivec3 tri = mesh.triangles[size_t(k)];
+        const glm::dvec3 a = mesh.positions[size_t(tri.x)], b = mesh.positions[size_t(tri.y)],
+                         c = mesh.positions[size_t(tri.z)];
+        const glm::dvec3 q[7] = {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0};
+        for (int i = 0; i < 7; ++i) {
+          double d = boundary_bvh.closest(q[i]).distance;
+          auto newton = [&](int face, glm::dvec2 uv) {
+            const TrimmedSurface& f = faces[size_t(face)];
+            auto attempt = [&](glm::dvec2 seed) {
+              const glm::dvec2 foot = project_point(f.surface, q[i], seed, 12);
+              const double e = glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]);
+              if (e < d && (f.loops.empty() || is_material(trims[size_t(face)], foot))) d = e;
+              return e;
+            };
+            // A seed on the far side of a periodic face's seam walks into the domain edge: the seed
+            // mirrored in u (and in v) starts on the near side.
+            const double before = d;
+            attempt(uv);
+            if (!(d < 0.25 * before)) {  // Newton did not get much nearer than the seed's bound
+              const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+              attempt({du.min + du.max - uv.x, uv.y});
+              attempt({uv.x, dv.min + dv.max - uv.y});
+            }
+          };
+          const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
+          if (near.triangle >= 0) {
+            const Sample& s = grid_samples[size_t(near.triangle)];
+            d = std::min(d, near.distance);
+            newton(s.face, s.uv);
+          }
+          // Every other face whose control box (it holds the face) is nearer than the best so far.
+          for (size_t f = 0; f < faces.size() && d > 0.0; ++f) {
+            const glm::dvec3 gap = glm::max(glm::max(face_box[f][0] - q[i], q[i] - face_box[f][1]), glm::dvec3(0.0));
+            if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
+            const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
+            if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
+          }
+          if (!mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0) {
+            const glm::dvec2 uvs[7] = {
+                mesh.uv[size_t(tri.x)],
+                mesh.uv[size_t(tri.y)],
+                mesh.uv[size_t(tri.z)],
+                0.5 * (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)]),
+                0.5 * (mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]),
+                0.5 * (mesh.uv[size_t(tri.z)] + mesh.uv[size_t(tri.x)]),
+                (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]) / 3.0};
+            newton(mesh.triangle_face[size_t(k)], uvs[i]);
+          }
+          worst[size_t(t)] = std::max(worst[size_t(t)], d);
+          const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];
+          if (own >= 0 && size_t(own) < faces.size())
+            face_worst[size_t(t)][size_t(own)] = std::max(face_worst[size_t(t)][size_t(own)], d);
         }
-      };
-      const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
-      if (near.triangle >= 0) {
-        const Sample& s = grid_samples[size_t(near.triangle)];
-        d = std::min(d, near.distance);
-        newton(s.face, s.uv);
-      }
-      // Every other face whose control box (it holds the face) is nearer than the best so far.
-      for (size_t f = 0; f < faces.size() && d > 0.0; ++f) {
-        const glm::dvec3 gap = glm::max(glm::max(face_box[f][0] - q[i], q[i] - face_box[f][1]), glm::dvec3(0.0));
-        if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
-        const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
-        if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
-      }
-      if (!mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0) {
-        const glm::dvec2 uvs[7] = {mesh.uv[size_t(tri.x)],
-                                   mesh.uv[size_t(tri.y)],
-                                   mesh.uv[size_t(tri.z)],
-                                   0.5 * (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)]),
-                                   0.5 * (mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]),
-                                   0.5 * (mesh.uv[size_t(tri.z)] + mesh.uv[size_t(tri.x)]),
-                                   (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]) / 3.0};
-        newton(mesh.triangle_face[size_t(k)], uvs[i]);
-      }
-      worst[size_t(t)] = std::max(worst[size_t(t)], d);
-      const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];
-      if (own >= 0 && size_t(own) < faces.size())
-        face_worst[size_t(t)][size_t(own)] = std::max(face_worst[size_t(t)][size_t(own)], d);
-    }
-  });
+      },
+      256);
   for (double w : worst) r.mesh_to_surface = std::max(r.mesh_to_surface, w);
   reduce(r.face_mesh_to_surface);
   r.mesh_samples = 7 * nt;
@@ -240,9 +233,8 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
     if (f >= 0 && size_t(f) < faces.size() && !faces[size_t(f)].loops.empty()) of_face[size_t(f)].push_back(k);
   }
   // One face at a time on every hardware thread (each writes its own out[f]).
-  const int threads = std::max(1, int(std::thread::hardware_concurrency()));
   parallel_for(
-      (long long)faces.size(), threads,
+      faces.size(), 0,
       [&](long long face, int) {
         const auto f = size_t(face);
         if (of_face[f].empty()) return;
@@ -301,41 +293,40 @@ std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>
     const int f = mesh.triangle_face[k];
     if (f >= 0 && size_t(f) < faces.size()) of_face[size_t(f)].push_back(k);
   }
-  const int threads = std::max(1, int(std::thread::hardware_concurrency()));
-  parallel_for((long long)faces.size(), threads,
-               [&](long long face, int) {
-                 const auto f = size_t(face);
-                 const Surface& s = faces[f].surface;
-                 const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
-                 glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
-                 const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
-                   p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
-                   double d = glm::distance(surface_point(s, p.x, p.y), x);
-                   // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
-                   // one side's (u, v), and the interpolated one then lies across the surface).
-                   for (int k = -1; k < 3 && d > distance; ++k) {
-                     const glm::dvec2 q = project_point(s, x, k < 0 ? p : corner[k], 20);
-                     d = std::min(d, glm::distance(surface_point(s, q.x, q.y), x));
-                   }
-                   return d;
-                 };
-                 for (const size_t k : of_face[f]) {
-                   const glm::ivec3 t = mesh.triangles[k];
-                   if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
-                       mesh.vertex_face[size_t(t.z)] != int(f))
-                     continue;  // a corner shared with another face: its (u, v) is that face's
-                   const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
-                   const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
-                                    pc = mesh.positions[size_t(t.z)];
-                   corner[0] = a, corner[1] = b, corner[2] = c;
-                   const double d =
-                       std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
-                                 off(0.5 * (b + c), 0.5 * (pb + pc)), off(0.5 * (c + a), 0.5 * (pc + pa))});
-                   out[f].distance = std::max(out[f].distance, d);
-                   out[f].triangles += d > distance;
-                 }
-               },
-               1);
+  parallel_for(
+      faces.size(), 0,
+      [&](long long face, int) {
+        const auto f = size_t(face);
+        const Surface& s = faces[f].surface;
+        const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+        glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
+        const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
+          p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
+          double d = glm::distance(surface_point(s, p.x, p.y), x);
+          // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
+          // one side's (u, v), and the interpolated one then lies across the surface).
+          for (int k = -1; k < 3 && d > distance; ++k) {
+            const glm::dvec2 q = project_point(s, x, k < 0 ? p : corner[k], 20);
+            d = std::min(d, glm::distance(surface_point(s, q.x, q.y), x));
+          }
+          return d;
+        };
+        for (const size_t k : of_face[f]) {
+          const glm::ivec3 t = mesh.triangles[k];
+          if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+              mesh.vertex_face[size_t(t.z)] != int(f))
+            continue;  // a corner shared with another face: its (u, v) is that face's
+          const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
+          const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                           pc = mesh.positions[size_t(t.z)];
+          corner[0] = a, corner[1] = b, corner[2] = c;
+          const double d = std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
+                                     off(0.5 * (b + c), 0.5 * (pb + pc)), off(0.5 * (c + a), 0.5 * (pc + pa))});
+          out[f].distance = std::max(out[f].distance, d);
+          out[f].triangles += d > distance;
+        }
+      },
+      1);
   return out;
 }
 

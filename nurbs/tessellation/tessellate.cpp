@@ -13,9 +13,9 @@
 #include <glm/geometric.hpp>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/coherent_eval.h"
 #include "nurbs/tessellation/half_edge_trim.h"
@@ -183,25 +183,17 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   std::vector<std::vector<LoopPolyline>> loops(faces.size());
   std::vector<TrimApproxStats> trim_stats(faces.size());
   const TrimApproxOptions to = trim_options(options);
-  const int threads = std::max(1, options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
   // Runs body(f) for every face on the worker threads; a face that throws records its failure.
   auto for_faces = [&](const std::function<void(size_t)>& body) {
-    std::atomic<size_t> next{0};
-    auto work = [&] {
-      for (size_t f; (f = next.fetch_add(1)) < faces.size();) {
-        if (!outs[f].failure.empty()) continue;
-        try {
-          body(f);
-        } catch (const std::exception& e) {
-          outs[f] = FaceOut{};
-          outs[f].failure = e.what();
-        }
+    parallel_for(faces.size(), options.threads, [&](size_t f, int) {
+      if (!outs[f].failure.empty()) return;
+      try {
+        body(f);
+      } catch (const std::exception& e) {
+        outs[f] = FaceOut{};
+        outs[f].failure = e.what();
       }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < std::min<int>(threads, int(faces.size())); ++t) pool.emplace_back(work);
-    work();
-    for (auto& th : pool) th.join();
+    });
   };
   // §4-§5: every face's loops first (the watertight step matches them across faces), then the rest.
   for_faces([&](size_t f) {
