@@ -97,6 +97,7 @@ def write_benchmarks(title, command, info, tables, left_out, root=ROOT):
     whose captions this run did not write stay, so a run of one experiment, or on fewer models, does
     not erase the others (each table names the run that wrote it)."""
     path = os.path.join(root, "docs", "benchmarks.md")
+    command = command.strip()
     run = [f"- machine: {cpu_model()}, {os.cpu_count()} cores; GL: {info.get('renderer', '?')} "
            f"({info.get('backend', '?')})",
            f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
@@ -120,8 +121,37 @@ def write_reproduction(title, rows, command, root=ROOT):
         cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
         if line.startswith("| ") and len(cells) == 4 and cells[0] not in ("figure", "---"):
             old.append(tuple(cells))
-    new = [(what, paper, ours, f"`{command}`") for what, paper, ours in rows]
+    new = [(what, paper, ours, f"`{command.strip()}`") for what, paper, ours in rows]
     measured = {r[0] for r in new}
     body = ["| figure | paper | ours | command |", "|---|---|---|---|"]
     body += [f"| {' | '.join(r)} |" for r in [r for r in old if r[0] not in measured] + new]
     _replace_section(path, title, "\n".join(body))
+
+
+HEADLINE_BEGIN = "<!-- headline figures: written by the experiment scripts (experiments/report.py) -->"
+HEADLINE_END = "<!-- end of headline figures -->"
+HEADLINE_COLUMNS = ["query", "model (faces)", "nurbsgl", "OpenCASCADE, same run", "ratio",
+                    "command"]
+
+
+def write_headline(query, model, ours, peer, ratio, command, root=ROOT):
+    """Sets the row `query` of the README's table of headline figures (between HEADLINE_BEGIN and
+    HEADLINE_END): one current figure per query against OpenCASCADE, from the same run, with the
+    command that measured it; the other rows stay."""
+    path = os.path.join(root, "README.md")
+    text = open(path).read()
+    if HEADLINE_BEGIN not in text or HEADLINE_END not in text:
+        return
+    head, rest = text.split(HEADLINE_BEGIN, 1)
+    block, tail = rest.split(HEADLINE_END, 1)
+    rows = []
+    for line in block.strip().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
+        if line.startswith("| ") and len(cells) == len(HEADLINE_COLUMNS) and cells[0] not in ("query", "---"):
+            rows.append(cells)
+    new = [query, model, ours, peer or "not run", ratio or "", f"`{command.strip()}`"]
+    rows = [new if r[0] == query else r for r in rows] if any(r[0] == query for r in rows) else rows + [new]
+    table = ["| " + " | ".join(HEADLINE_COLUMNS) + " |", "|" + "---|" * len(HEADLINE_COLUMNS)]
+    table += ["| " + " | ".join(r) + " |" for r in rows]
+    with open(path, "w") as f:
+        f.write(head + HEADLINE_BEGIN + "\n" + "\n".join(table) + "\n" + HEADLINE_END + tail)
