@@ -1,6 +1,7 @@
 #include "nurbs/tessellation/mesh_check.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <functional>
 #include <glm/common.hpp>
@@ -223,15 +224,50 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   return r;
 }
 
+namespace {
+
+/// The triangles of each face (by triangle_face); faces without trim loops left out when
+/// `trimmed_only`. Empty when the mesh carries no (u, v) or faces.
+std::vector<std::vector<size_t>> triangles_by_face(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
+                                                   bool trimmed_only) {
+  std::vector<std::vector<size_t>> of_face(faces.size());
+  if (mesh.uv.empty() || mesh.triangle_face.empty() || mesh.vertex_face.empty()) return of_face;
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const int f = mesh.triangle_face[k];
+    if (f >= 0 && size_t(f) < faces.size() && (!trimmed_only || !faces[size_t(f)].loops.empty()))
+      of_face[size_t(f)].push_back(k);
+  }
+  return of_face;
+}
+
+/// Over the triangles of face f whose three corners are its own (a shared corner's (u, v) is another
+/// face's): sample(p, x, corners) at the centroid and the edge midpoints ((u, v) p, point x); the
+/// largest value into out.distance, the triangles where it passes `distance` counted.
+template <class Sample>
+void measure_triangles(const TriangleMesh& mesh, const std::vector<size_t>& triangles, size_t f, double distance,
+                       OutsideTrim& out, Sample&& sample) {
+  for (const size_t k : triangles) {
+    const glm::ivec3 t = mesh.triangles[k];
+    if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
+        mesh.vertex_face[size_t(t.z)] != int(f))
+      continue;
+    const std::array<glm::dvec2, 3> c = {mesh.uv[size_t(t.x)], mesh.uv[size_t(t.y)], mesh.uv[size_t(t.z)]};
+    const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
+                     pc = mesh.positions[size_t(t.z)];
+    const double d = std::max(
+        {sample((c[0] + c[1] + c[2]) / 3.0, (pa + pb + pc) / 3.0, c), sample(0.5 * (c[0] + c[1]), 0.5 * (pa + pb), c),
+         sample(0.5 * (c[1] + c[2]), 0.5 * (pb + pc), c), sample(0.5 * (c[2] + c[0]), 0.5 * (pc + pa), c)});
+    out.distance = std::max(out.distance, d);
+    out.triangles += d > distance;
+  }
+}
+
+}  // namespace
+
 std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
                                                 double distance) {
   std::vector<OutsideTrim> out(faces.size());
-  if (mesh.uv.empty() || mesh.triangle_face.empty() || mesh.vertex_face.empty()) return out;
-  std::vector<std::vector<size_t>> of_face(faces.size());
-  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
-    const int f = mesh.triangle_face[k];
-    if (f >= 0 && size_t(f) < faces.size() && !faces[size_t(f)].loops.empty()) of_face[size_t(f)].push_back(k);
-  }
+  const std::vector<std::vector<size_t>> of_face = triangles_by_face(faces, mesh, true);
   // One face at a time on every hardware thread (each writes its own out[f]).
   parallel_for(
       faces.size(), 0,
@@ -248,7 +284,7 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
         // A sample's distance outside the material: 0 when material; else, when its (u, v) distance to
         // the loops times the larger first derivative there (a cheap estimate) passes a quarter of
         // `distance`, the distance of its point in space to the face's boundary.
-        const auto outside = [&](glm::dvec2 p, const glm::dvec3& x) {
+        const auto outside = [&](glm::dvec2 p, const glm::dvec3& x, const std::array<glm::dvec2, 3>&) {
           if (banded.is_material(p)) return 0.0;
           const double near = distance_to_loops(trim, p);
           const SurfaceDerivatives sd =
@@ -265,20 +301,7 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
             }
           return best;
         };
-        for (const size_t k : of_face[f]) {
-          const glm::ivec3 t = mesh.triangles[k];
-          if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
-              mesh.vertex_face[size_t(t.z)] != int(f))
-            continue;  // a corner shared with another face: its (u, v) is that face's
-          const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
-          const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
-                           pc = mesh.positions[size_t(t.z)];
-          const double d =
-              std::max({outside((a + b + c) / 3.0, (pa + pb + pc) / 3.0), outside(0.5 * (a + b), 0.5 * (pa + pb)),
-                        outside(0.5 * (b + c), 0.5 * (pb + pc)), outside(0.5 * (c + a), 0.5 * (pc + pa))});
-          out[f].distance = std::max(out[f].distance, d);
-          out[f].triangles += d > distance;
-        }
+        measure_triangles(mesh, of_face[f], f, distance, out[f], outside);
       },
       1);
   return out;
@@ -287,20 +310,15 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
 std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
                                                double distance) {
   std::vector<OutsideTrim> out(faces.size());
-  if (mesh.uv.empty() || mesh.triangle_face.empty() || mesh.vertex_face.empty()) return out;
-  std::vector<std::vector<size_t>> of_face(faces.size());
-  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
-    const int f = mesh.triangle_face[k];
-    if (f >= 0 && size_t(f) < faces.size()) of_face[size_t(f)].push_back(k);
-  }
+  const std::vector<std::vector<size_t>> of_face = triangles_by_face(faces, mesh, false);
   parallel_for(
       faces.size(), 0,
       [&](long long face, int) {
         const auto f = size_t(face);
         const Surface& s = faces[f].surface;
         const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
-        glm::dvec2 corner[3];  // the triangle's corners' (u, v): Newton's other starts
-        const auto off = [&](glm::dvec2 p, const glm::dvec3& x) {
+        // Newton starts from the sample's (u, v) and the triangle's corners'.
+        const auto off = [&](glm::dvec2 p, const glm::dvec3& x, const std::array<glm::dvec2, 3>& corner) {
           p = {std::clamp(p.x, du.min, du.max), std::clamp(p.y, dv.min, dv.max)};
           double d = glm::distance(surface_point(s, p.x, p.y), x);
           // Over: Newton from there and from each corner (a welded vertex on a periodic seam carries
@@ -311,20 +329,7 @@ std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>
           }
           return d;
         };
-        for (const size_t k : of_face[f]) {
-          const glm::ivec3 t = mesh.triangles[k];
-          if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
-              mesh.vertex_face[size_t(t.z)] != int(f))
-            continue;  // a corner shared with another face: its (u, v) is that face's
-          const glm::dvec2 a = mesh.uv[size_t(t.x)], b = mesh.uv[size_t(t.y)], c = mesh.uv[size_t(t.z)];
-          const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
-                           pc = mesh.positions[size_t(t.z)];
-          corner[0] = a, corner[1] = b, corner[2] = c;
-          const double d = std::max({off((a + b + c) / 3.0, (pa + pb + pc) / 3.0), off(0.5 * (a + b), 0.5 * (pa + pb)),
-                                     off(0.5 * (b + c), 0.5 * (pb + pc)), off(0.5 * (c + a), 0.5 * (pc + pa))});
-          out[f].distance = std::max(out[f].distance, d);
-          out[f].triangles += d > distance;
-        }
+        measure_triangles(mesh, of_face[f], f, distance, out[f], off);
       },
       1);
   return out;
