@@ -54,8 +54,12 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
       }
       results.push_back(one);
     }
-    nlohmann::json j = {{"model", a.model},   {"rays", rays.size()},      {"hits", hit_count},
-                        {"seconds", engine.cast_seconds()}, {"hit_residual", bound}, {"results", results}};
+    nlohmann::json j = {{"model", a.model},
+                        {"rays", rays.size()},
+                        {"hits", hit_count},
+                        {"seconds", engine.cast_seconds()},
+                        {"hit_residual", bound}};
+    j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
     j.update(engine.figures());
     j["preset"] = a.preset.json();
     print_json(j);

@@ -87,7 +87,10 @@ RayEngine::~RayEngine() {
 
 std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
   Progress progress(what, "rays");
-  return caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
+  std::vector<nurbs::ray::Hit> hits =
+      caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
+  peak_after_cast_ = peak_resident_memory();
+  return hits;
 }
 
 nlohmann::json RayEngine::figures() const {
@@ -121,7 +124,7 @@ nlohmann::json RayEngine::figures() const {
            {{"bvh", f.bytes_bvh},
             {"patches", f.bytes_patches},
             {"trims", f.bytes_trims},
-            {"process_peak", peak_resident_memory()}}}};
+            {"process_peak", peak_after_cast_}}}};
 }
 
 }  // namespace cli

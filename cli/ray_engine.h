@@ -47,7 +47,8 @@ class RayEngine {
   [[nodiscard]] const nurbs::ray::Scene& scene() const { return caster_->scene(); }
   void rays_start_on_surfaces() { caster_->rays_start_on_surfaces(); }
   /// Figures: build and cast seconds, rays, tests per ray (the paper's Fig. 7), memory (Fig. 11:
-  /// the structures' bytes; process_peak, the process's peak resident bytes so far, for Fig. 12).
+  /// the structures' bytes; process_peak, the process's peak resident bytes when the last cast
+  /// ended: reading, preparation and tracing, before any answer is written; for Fig. 12).
   [[nodiscard]] nlohmann::json figures() const;
   [[nodiscard]] double cast_seconds() const { return caster_->figures().cast_seconds; }
   /// The GPU context of --device gpu, else null.
@@ -58,6 +59,7 @@ class RayEngine {
   const GlobalOptions& global_;
   std::unique_ptr<gpgpu::Gpu> gpu_;
   std::unique_ptr<queries::RayCaster> caster_;
+  long long peak_after_cast_ = -1;
 };
 
 }  // namespace cli

@@ -12,7 +12,8 @@ import re
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HEADER = ("_Written by the experiment scripts (scripts/experiments.sh, scripts/tessellation_experiments.sh, "
-          "scripts/raycast_experiments.sh), a section each, on every run; do not edit by hand._\n\n")
+          "scripts/raycast_experiments.sh, experiments/real_models.py): each run replaces the tables and rows it "
+          "measured; do not edit by hand._\n\n")
 TITLES = {"benchmarks.md": "Benchmarks", "REPRODUCTION.md": "Reproduction: the papers' figures beside ours"}
 
 
@@ -77,7 +78,9 @@ def _split(text, level):
 def _replace_section(path, title, body):
     """Writes path with the section '## title' replaced by body (appended when new), header first."""
     text = open(path).read() if os.path.exists(path) else ""
-    head, sections = _split(text[len(HEADER):] if text.startswith(HEADER) else text, "## ")
+    if text.startswith("_Written by the experiment scripts"):  # this header, or an earlier wording of it
+        text = text.split("\n\n", 1)[1] if "\n\n" in text else ""
+    head, sections = _split(text, "## ")
     sections = [(t, b) for t, b in sections if t != title] + [(title, f"\n{body.strip()}\n\n")]
     with open(path, "w") as f:
         f.write(HEADER + (head or f"# {TITLES[os.path.basename(path)]}\n\n") +
