@@ -403,6 +403,14 @@ class StepReader {
   [[noreturn]] void fail(const StepEntity& e, const std::string& problem) const {
     throw ReadError(f_.name, fmt::format("line {}: #{} ({})", e.line, e.id, e.type_name()), problem);
   }
+  /// A B-spline curve or surface read from `e`, checked as the IGES reader checks them (knots,
+  /// weights, the magnitude limits): the first problem fails `e`.
+  template <class Geometry>
+  void check_geometry(const StepEntity& e, const Geometry& g) const {
+    std::vector<std::string> problems = validate(g);
+    for (std::string& p : validate_magnitude(g, kMaxCoordinate)) problems.push_back(std::move(p));
+    if (!problems.empty()) fail(e, problems.front());
+  }
   const StepEntity& entity(long id, const StepEntity& from) {
     const StepEntity* e = f_.find(id);
     if (!e) fail(from, fmt::format("refers to #{}, which is not defined", id));
@@ -626,9 +634,7 @@ Curve3 StepReader::bspline_curve(const StepEntity& e) {
   if (c.knots.size() != c.points.size() + static_cast<size_t>(c.degree) + 1)
     fail(e, fmt::format("has {} knots for {} control points of degree {} (needs {})", c.knots.size(), c.points.size(),
                         c.degree, c.points.size() + static_cast<size_t>(c.degree) + 1));
-  std::vector<std::string> problems = validate(c);
-  for (std::string& s : validate_magnitude(c, kMaxCoordinate)) problems.push_back(std::move(s));
-  if (!problems.empty()) fail(e, problems.front());
+  check_geometry(e, c);
   return c;
 }
 
@@ -667,9 +673,7 @@ Surface StepReader::bspline_surface(const StepEntity& e) {
       for (int j = 0; j < s.count_v; ++j) s.weights[static_cast<size_t>(j) * s.count_u + i] = real(e, ws[j], "weight");
     }
   }
-  std::vector<std::string> problems = validate(s);
-  for (std::string& p : validate_magnitude(s, kMaxCoordinate)) problems.push_back(std::move(p));
-  if (!problems.empty()) fail(e, problems.front());
+  check_geometry(e, s);
   return s;
 }
 
