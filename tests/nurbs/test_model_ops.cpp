@@ -36,9 +36,9 @@ TEST_CASE("model ops: a moved rational surface is the moved surface (affine inva
 
 TEST_CASE("model ops: world faces apply body transforms; model size of a sphere") {
   nurbs::Model model;
-  model.bodies.push_back({"a", {{models::rational_sphere(2.0), {}, 0, ""}}, glm::dmat4(1.0)});
+  model.bodies.push_back({"a", {{models::rational_sphere(2.0), {}, 0, ""}}, glm::dmat4(1.0), ""});
   model.bodies.push_back(
-      {"b", {{models::rational_sphere(2.0), {}, 1, ""}}, glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0))});
+      {"b", {{models::rational_sphere(2.0), {}, 1, ""}}, glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0)), ""});
   const auto faces = nurbs::world_faces(model);
   REQUIRE(faces.size() == 2);
   const nurbs::Box box = nurbs::model_box(model);

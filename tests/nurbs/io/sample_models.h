@@ -57,7 +57,7 @@ inline TrimLoop circle_hole(double r, bool clockwise) {
 inline Model small_model() {
   Model m;
   m.source = "small";
-  Body b{"faces", {}, glm::dmat4(1.0)};
+  Body b{"faces", {}, glm::dmat4(1.0), ""};
   TrimmedSurface f1;
   f1.surface = quarter_cylinder();
   f1.loops = {square_loop(0.0, 1.0), circle_hole(0.2, true)};

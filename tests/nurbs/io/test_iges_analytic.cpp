@@ -190,7 +190,7 @@ struct Built {
 
 Built build(const Case& c) {
   nurbs::Model base;  // a loose 128 first (the writer's file frame), then the B-rep
-  base.bodies.push_back({"b", {}, glm::dmat4(1.0)});
+  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
   nurbs::TrimmedSurface bump;
   bump.surface = nurbs::io::test::bump();
   base.bodies[0].faces.push_back(bump);

@@ -21,7 +21,7 @@ namespace {
 /// bounded by the unit circle about the z axis; the plane made independent (status 0).
 IgesEdit plane_file(double zt, int& plane) {
   nurbs::Model m;
-  m.bodies.push_back({"b", {}, glm::dmat4(1.0)});
+  m.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
   nurbs::TrimmedSurface f;
   f.surface = nurbs::io::test::bump();
   m.bodies[0].faces.push_back(f);

@@ -55,7 +55,7 @@ struct BrepFile {
     nurbs::Model m;
     nurbs::TrimmedSurface f;
     f.surface = nurbs::io::test::bump();
-    m.bodies.push_back({"b", {f}, glm::dmat4(1.0)});
+    m.bodies.push_back({"b", {f}, glm::dmat4(1.0), ""});
     e = IgesEdit::parse(nurbs::io::write_iges_text(m));
     surface = e.find(128);
     const glm::dvec3 p00(0, 0, 0), p10(3, 0, 0), p11(3, 3, 0), p01(0, 3, 0);
@@ -209,7 +209,7 @@ TEST_CASE("142 with its curve only in model space: projected onto the surface") 
   nurbs::TrimmedSurface face;
   face.surface = nurbs::io::test::bump();
   face.loops = {nurbs::io::test::square_loop(0.0, 1.0)};
-  model.bodies.push_back({"b", {face}, glm::dmat4(1.0)});
+  model.bodies.push_back({"b", {face}, glm::dmat4(1.0), ""});
   IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(model));
   const int c142 = e.find(142);
   auto model_space_loop = [&](double z) {
@@ -251,7 +251,7 @@ TEST_CASE("141 curves only in model space (143 bounded surface, boundary TYPE 0)
   nurbs::Model model;
   nurbs::TrimmedSurface face;
   face.surface = nurbs::io::test::bump();
-  model.bodies.push_back({"b", {face}, glm::dmat4(1.0)});
+  model.bodies.push_back({"b", {face}, glm::dmat4(1.0), ""});
   IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(model));
   const std::string surface = std::to_string(e.find(128));
   const int c1 = line(e, {0, 0, 0}, {3, 0, 0}), c2 = line(e, {3, 0, 0}, {3, 3, 0});
@@ -331,7 +331,7 @@ nurbs::Model write_and_read(const nurbs::Surface& s, std::vector<nurbs::TrimLoop
   nurbs::TrimmedSurface f;
   f.surface = s;
   f.loops = std::move(loops);
-  model.bodies.push_back({"b", {f}, glm::dmat4(1.0)});
+  model.bodies.push_back({"b", {f}, glm::dmat4(1.0), ""});
   return nurbs::io::read_iges_text(nurbs::io::write_iges_text(model), "seam", {}, &log);
 }
 

@@ -22,7 +22,7 @@ namespace {
 // A file with one bare bicubic 128 (D1) over [0, 1]^2.
 IgesEdit one_surface() {
   nurbs::Model m;
-  m.bodies.push_back({"b", {}, glm::dmat4(1.0)});
+  m.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
   nurbs::TrimmedSurface f;
   f.surface = nurbs::io::test::bump();
   m.bodies[0].faces.push_back(f);

@@ -37,7 +37,7 @@ IgesEdit sample() { return IgesEdit::parse(nurbs::io::write_iges_text(nurbs::io:
 
 nurbs::Model one_face(const nurbs::Surface& s) {
   nurbs::Model m;
-  m.bodies.push_back({"faces", {nurbs::TrimmedSurface{}}, glm::dmat4(1.0)});
+  m.bodies.push_back({"faces", {nurbs::TrimmedSurface{}}, glm::dmat4(1.0), ""});
   m.bodies[0].faces[0].surface = s;
   return m;
 }
