@@ -2,6 +2,7 @@
 // crossing correction (trim_polyline.h, loop_repair.h), checked against dense samples of S(c(t)).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -291,6 +292,52 @@ TEST_CASE("trim: a loop folded over itself is cut at its crossing and the folded
   }
   // The kept part: the quadrilateral (0.1875, 0.2), (0.9, 0.2), (0.9, 0.9), (0.1, 0.9).
   CHECK(area == doctest::Approx(0.5 * 0.7 * ((0.9 - 0.1875) + 0.8)).epsilon(1e-9));
+}
+
+TEST_CASE("trim: repaired random self-crossing loops are simple and keep their orientation") {
+  // Random polygons (most cross themselves many times), counter-clockwise or clockwise overall:
+  // after repair_crossings no two edges cross, every piece is cut at its crossings (no vertex twice)
+  // and every piece kept turns as its loop did.
+  const Surface flat = flat_bicubic();
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> coord(0.05, 0.95);
+  int untangled = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    LoopPolyline l;
+    const int n = 4 + trial % 9;
+    for (int k = 0; k < n; ++k) {
+      l.uv.push_back({coord(rng), coord(rng)});
+      l.xyz.push_back(surface_point(flat, l.uv.back().x, l.uv.back().y));
+    }
+    double area = 0.0;
+    for (size_t k = 0; k < l.uv.size(); ++k) {
+      const glm::dvec2 a = l.uv[k], b = l.uv[(k + 1) % l.uv.size()];
+      area += a.x * b.y - a.y * b.x;
+    }
+    if (std::abs(area) < 1e-6) continue;
+    l.outer = area > 0.0;
+    std::vector<LoopPolyline> loops{l};
+    const size_t crossings = repair_crossings(loops, flat);
+    CAPTURE(trial);
+    CHECK(count_crossings(loops) == 0);
+    for (const LoopPolyline& piece : loops) {
+      double a = 0.0;
+      for (size_t k = 0; k < piece.uv.size(); ++k) {
+        const glm::dvec2 p = piece.uv[k], q = piece.uv[(k + 1) % piece.uv.size()];
+        a += p.x * q.y - p.y * q.x;
+      }
+      CHECK(a * area > 0.0);
+      CHECK(piece.xyz.size() == piece.uv.size());
+      // Cut at its crossings: no vertex twice in a piece (a crossing point is in two pieces).
+      std::vector<glm::dvec2> sorted = piece.uv;
+      std::sort(sorted.begin(), sorted.end(),
+                [](const glm::dvec2& p, const glm::dvec2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
+      CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
+    }
+    untangled += crossings > 0;
+  }
+  MESSAGE(untangled << " of the random loops crossed themselves");
+  CHECK(untangled > 100);
 }
 
 TEST_CASE("trim: a face without loops gives its domain rectangle, counter-clockwise") {
