@@ -160,7 +160,7 @@ TEST_CASE("mesh check: triangles off their surface are found by their face, a go
   faces[0].surface = models::rational_sphere(3.0);
   faces[1].surface = models::rational_torus(8.0, 2.0);
   nurbs::tess::TessellateOptions o;
-  o.eps = 4e-2;
+  o.eps = 0.1;
   const nurbs::tess::TessellateResult r = nurbs::tess::tessellate(faces, o);
   REQUIRE(r.failures.empty());
   const auto good = nurbs::tess::triangles_off_surface(faces, r.mesh, o.eps);
