@@ -77,19 +77,16 @@ LoopPolyline piece(const LoopPolyline& l, size_t first, size_t last) {
 /// A loop that crosses itself (a crossing vertex twice in it) cut there into simple pieces; the
 /// pieces turning against the whole loop (`sign`: its signed area's) are the lobes that the
 /// polylines' error folded over, and are dropped, as are pieces of no area. Appends the kept pieces
-/// to `out`; returns the lobes dropped.
-size_t untangle(const LoopPolyline& l, double sign, std::vector<LoopPolyline>& out) {
+/// to `out`.
+void untangle(const LoopPolyline& l, double sign, std::vector<LoopPolyline>& out) {
   for (size_t i = 0; i < l.uv.size(); ++i)
     for (size_t j = i + 1; j < l.uv.size(); ++j)
       if (l.uv[i] == l.uv[j]) {
-        size_t dropped = untangle(piece(l, i, j), sign, out);
-        return dropped + untangle(piece(l, j, i), sign, out);
+        untangle(piece(l, i, j), sign, out);
+        untangle(piece(l, j, i), sign, out);
+        return;
       }
-  if (l.uv.size() >= 3 && area2(l.uv) * sign > 0.0) {
-    out.push_back(l);
-    return 0;
-  }
-  return 1;
+  if (l.uv.size() >= 3 && area2(l.uv) * sign > 0.0) out.push_back(l);
 }
 
 }  // namespace
@@ -99,6 +96,10 @@ size_t count_crossings(const std::vector<LoopPolyline>& loops) { return find_cro
 size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface) {
   std::vector<Hit> hits = find_crossings(loops);
   if (hits.empty()) return 0;
+  // find_crossings gives each crossing as two consecutive hits: a loop crossing itself has both.
+  std::vector<bool> self(loops.size(), false);
+  for (size_t k = 0; k + 1 < hits.size(); k += 2)
+    if (hits[k].loop == hits[k + 1].loop) self[hits[k].loop] = true;
   std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
     return x.loop != y.loop ? x.loop < y.loop : (x.index != y.index ? x.index < y.index : x.t < y.t);
   });
@@ -121,10 +122,6 @@ size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface
     loops[l] = std::move(out);
   }
   // Self-crossings: each such loop is cut at its crossings and its folded lobes dropped.
-  std::vector<bool> self(loops.size(), false);
-  for (size_t k = 0; k + 1 < hits.size(); ++k)
-    for (size_t m = k + 1; m < hits.size(); ++m)
-      if (hits[k].loop == hits[m].loop && hits[k].p == hits[m].p) self[hits[k].loop] = true;
   std::vector<LoopPolyline> untangled;
   for (size_t l = 0; l < loops.size(); ++l) {
     if (self[l])
