@@ -38,8 +38,6 @@ import random
 import shlex
 import subprocess
 import sys
-import tempfile
-import time
 
 import report
 
@@ -80,21 +78,12 @@ def make_rays(info, count, seed, path):
 
 
 def run_measured(cmd):
-    """(JSON of cmd, wall seconds, peak resident MB) of one process, or (None, ...) when it fails. The
-    output goes through files and the child is reaped by os.wait4, whose resource usage is the child's
-    own (ru_maxrss in kB on Linux)."""
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        start = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(p.pid, 0)
-        wall = time.perf_counter() - start
-        p.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        if p.returncode != 0:
-            print(f"  failed ({p.returncode}): {' '.join(cmd)}\n  {err.read().strip()[-400:]}", file=sys.stderr)
-            return None, wall, usage.ru_maxrss / 1024
-        return json.loads(out.read()), wall, usage.ru_maxrss / 1024
+    """(JSON of cmd, wall seconds, peak resident MB) of one process, or (None, ...) when it fails."""
+    code, out, err, wall, peak = report.run_measured(cmd)
+    if code != 0:
+        print(f"  failed ({code}): {' '.join(cmd)}\n  {err.strip()[-400:]}", file=sys.stderr)
+        return None, wall, peak
+    return json.loads(out), wall, peak
 
 
 # The runs of the scaling experiment: key, label, options of `nurbsgl raycast`.

@@ -29,8 +29,6 @@ import os
 import random
 import subprocess
 import sys
-import tempfile
-import time
 
 import report
 
@@ -41,16 +39,10 @@ DEFAULT_MODELS = ["generated/pythonocc_Ventilator_brep.igs", "generated/gmsh_com
 
 def run(cmd):
     """Runs cmd; returns (stdout, wall seconds, peak resident MB of that child, from os.wait4)."""
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        t0 = time.monotonic()
-        p = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(p.pid, 0)
-        wall = time.monotonic() - t0
-        out.seek(0), err.seek(0)
-        code = os.waitstatus_to_exitcode(status)
-        if code != 0:
-            raise RuntimeError(f"{' '.join(cmd)}: exit {code}: {err.read().strip()[-400:]}")
-        return out.read(), wall, usage.ru_maxrss / 1024.0
+    code, out, err, wall, peak = report.run_measured(cmd)
+    if code != 0:
+        raise RuntimeError(f"{' '.join(cmd)}: exit {code}: {err.strip()[-400:]}")
+    return out, wall, peak
 
 
 def write_points(cli, model, n, path):

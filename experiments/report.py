@@ -9,6 +9,9 @@ import math
 import os
 import platform
 import re
+import subprocess
+import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HEADER = ("_Written by the experiment scripts (scripts/experiments.sh, scripts/tessellation_experiments.sh, "
@@ -26,6 +29,20 @@ def pyplot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
+
+
+def run_measured(cmd):
+    """Runs cmd; returns (exit code, stdout, stderr, wall seconds, peak resident MB from os.wait4). The
+    output goes through files and the child is reaped by os.wait4, whose ru_maxrss is the child's
+    (kB on Linux); it also counts the caller's resident memory, which the child's start copies."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        t0 = time.monotonic()
+        p = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
+        _, status, usage = os.wait4(p.pid, 0)
+        wall = time.monotonic() - t0
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0), err.seek(0)
+        return p.returncode, out.read(), err.read(), wall, usage.ru_maxrss / 1024.0
 
 
 def no_blank(rows):
