@@ -230,43 +230,71 @@ SecondDerivativeBounds polynomial_patch_bounds(const BezierNet& patch, double du
   return {largest(uu.coord), largest(uv.coord), largest(vv.coord), norm(uu), norm(uv), norm(vv)};
 }
 
+/// What the quotient rule needs of a rational patch's net: the centre c of its control-point box (a
+/// translation by c changes no derivative and makes |S - c| <= R smallest), the box's half extent R,
+/// the Euclidean radius Re of the points about c, and the smallest weight.
+struct NetFrame {
+  glm::dvec3 c{0.0}, R{0.0};
+  double Re = 0.0, wmin = kInf;
+};
+NetFrame net_frame(const BezierNet& patch) {
+  glm::dvec3 lo(kInf), hi(-kInf);
+  NetFrame f;
+  for (int j = 0; j <= patch.q; ++j)
+    for (int i = 0; i <= patch.p; ++i) {
+      lo = glm::min(lo, patch.point(i, j));
+      hi = glm::max(hi, patch.point(i, j));
+      f.wmin = std::min(f.wmin, patch.weight(i, j));
+    }
+  f.c = 0.5 * (lo + hi), f.R = 0.5 * (hi - lo);
+  for (int j = 0; j <= patch.q; ++j)
+    for (int i = 0; i <= patch.p; ++i) f.Re = std::max(f.Re, glm::dot(patch.point(i, j) - f.c, patch.point(i, j) - f.c));
+  f.Re = std::sqrt(f.Re);
+  return f;
+}
+
+/// The first-difference nets of N = w (P - c) (A_u, A_v: max |.| and norm) and of the weights
+/// (W_u, W_v), scaled to derivatives wrt the parameters (p / du, q / dv). Unit weights when the
+/// surface is polynomial.
+struct FirstDifferences {
+  MaxAbs Au, Av;
+  double Wu = 0.0, Wv = 0.0;
+};
+FirstDifferences first_differences(const BezierNet& patch, glm::dvec3 c, double du, double dv) {
+  const bool rational = patch.s->rational();
+  auto N = [&](int i, int j) { return (rational ? patch.weight(i, j) : 1.0) * (patch.point(i, j) - c); };
+  auto W = [&](int i, int j) { return rational ? patch.weight(i, j) : 1.0; };
+  FirstDifferences d;
+  const double fu = patch.p / du, fv = patch.q / dv;
+  for (int j = 0; j <= patch.q; ++j)
+    for (int i = 0; i <= patch.p; ++i) {
+      if (i + 1 <= patch.p) {
+        d.Au.add(fu * (N(i + 1, j) - N(i, j)));
+        d.Wu = std::max(d.Wu, std::abs(fu * (W(i + 1, j) - W(i, j))));
+      }
+      if (j + 1 <= patch.q) {
+        d.Av.add(fv * (N(i, j + 1) - N(i, j)));
+        d.Wv = std::max(d.Wv, std::abs(fv * (W(i, j + 1) - W(i, j))));
+      }
+    }
+  d.Au.finish(), d.Av.finish();
+  return d;
+}
+
 }  // namespace
 
 SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv) {
   const int p = patch.p, q = patch.q;
   if (!patch.s->rational()) return polynomial_patch_bounds(patch, du, dv);
-  // Translation by the box centre c: derivatives unchanged, |S - c| <= R smallest.
-  glm::dvec3 lo(kInf), hi(-kInf);
-  double wmin = kInf;
-  for (int j = 0; j <= q; ++j) {
-    for (int i = 0; i <= p; ++i) {
-      lo = glm::min(lo, patch.point(i, j));
-      hi = glm::max(hi, patch.point(i, j));
-      wmin = std::min(wmin, patch.weight(i, j));
-    }
-  }
-  const glm::dvec3 c = 0.5 * (lo + hi), R = 0.5 * (hi - lo);
-  double Re = 0.0;  // Euclidean radius about the same c
-  for (int j = 0; j <= q; ++j) {
-    for (int i = 0; i <= p; ++i) Re = std::max(Re, glm::dot(patch.point(i, j) - c, patch.point(i, j) - c));
-  }
-  Re = std::sqrt(Re);
+  const auto [c, R, Re, wmin] = net_frame(patch);
   auto N = [&](int i, int j) { return patch.weight(i, j) * (patch.point(i, j) - c); };
   auto W = [&](int i, int j) { return patch.weight(i, j); };
-  MaxAbs Au, Av, Auu, Auv, Avv;
-  double Wu = 0, Wv = 0, Wuu = 0, Wuv = 0, Wvv = 0;
-  const double fu = p / du, fv = q / dv;
+  const auto [Au, Av, Wu, Wv] = first_differences(patch, c, du, dv);
+  MaxAbs Auu, Auv, Avv;
+  double Wuu = 0, Wuv = 0, Wvv = 0;
   const double fuu = p * (p - 1) / (du * du), fvv = q * (q - 1) / (dv * dv), fuv = p * q / (du * dv);
   for (int j = 0; j <= q; ++j) {
     for (int i = 0; i <= p; ++i) {
-      if (i + 1 <= p) {
-        Au.add(fu * (N(i + 1, j) - N(i, j)));
-        Wu = std::max(Wu, std::abs(fu * (W(i + 1, j) - W(i, j))));
-      }
-      if (j + 1 <= q) {
-        Av.add(fv * (N(i, j + 1) - N(i, j)));
-        Wv = std::max(Wv, std::abs(fv * (W(i, j + 1) - W(i, j))));
-      }
       if (i + 2 <= p) {
         Auu.add(fuu * (N(i + 2, j) - 2.0 * N(i + 1, j) + N(i, j)));
         Wuu = std::max(Wuu, std::abs(fuu * (W(i + 2, j) - 2.0 * W(i + 1, j) + W(i, j))));
@@ -281,7 +309,7 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
       }
     }
   }
-  for (MaxAbs* m : {&Au, &Av, &Auu, &Auv, &Avv}) m->finish();
+  for (MaxAbs* m : {&Auu, &Auv, &Avv}) m->finish();
   const glm::dvec3 Du = (Au.coord + Wu * R) / wmin, Dv = (Av.coord + Wv * R) / wmin;
   const glm::dvec3 Muu = (Auu.coord + 2.0 * Wu * Du + Wuu * R) / wmin;
   const glm::dvec3 Muv = (Auv.coord + Wu * Dv + Wv * Du + Wuv * R) / wmin;
@@ -305,6 +333,18 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
   return {std::min(quotient.m1, exact.m1),           std::min(quotient.m2, exact.m2),
           std::min(quotient.m3, exact.m3),           std::min(quotient.m1_norm, exact.m1_norm),
           std::min(quotient.m2_norm, exact.m2_norm), std::min(quotient.m3_norm, exact.m3_norm)};
+}
+
+double FirstDerivativeBounds::lipschitz() const { return std::sqrt(su * su + sv * sv); }
+
+FirstDerivativeBounds first_derivative_bounds(const BezierNet& patch, double du, double dv) {
+  if (!patch.s->rational()) {
+    const FirstDifferences d = first_differences(patch, glm::dvec3(0.0), du, dv);
+    return {d.Au.norm, d.Av.norm};
+  }
+  const NetFrame f = net_frame(patch);
+  const FirstDifferences d = first_differences(patch, f.c, du, dv);
+  return {(d.Au.norm + d.Wu * f.Re) / f.wmin, (d.Av.norm + d.Wv * f.Re) / f.wmin};
 }
 
 bool FilipBound::c1() const {

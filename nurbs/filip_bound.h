@@ -101,6 +101,16 @@ struct SecondDerivativeBounds {
 /// The same for a patch read in place (patch (a, b) of a refined surface): no copy of its net.
 [[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv);
 
+/// Bounds of the first derivatives' norms ||S_u||, ||S_v|| over one Bézier patch of width du x dv.
+/// Polynomial: the max norm over the difference nets p/du (P_{i+1,j} - P_ij) (convex hull). Rational:
+/// the quotient rule of the file comment with norms, D_u = (A_u + W_u R) / w_min. With them S is
+/// Lipschitz in (u, v): ||S(a) - S(b)|| <= sqrt(D_u^2 + D_v^2) ||a - b|| on the patch (Cauchy-Schwarz).
+struct FirstDerivativeBounds {
+  double su = 0.0, sv = 0.0;
+  [[nodiscard]] double lipschitz() const;
+};
+[[nodiscard]] FirstDerivativeBounds first_derivative_bounds(const BezierNet& patch, double du, double dv);
+
 /// When adaptive_patch_bounds stops splitting (see there).
 struct AdaptiveRefinement {
   int max_pieces = 64;    ///< at most this many sub-patches per Bézier patch (8 x 8 if uniform)

@@ -43,6 +43,7 @@ TrimApproxOptions trim_options(const TessellateOptions& o) {
   to.gamma = o.gamma;
   to.split = o.split;
   to.simplify = o.simplify;
+  if (!o.thin_polylines) to.thinning = 0.0;
   to.edges = o.watertight;
   return to;
 }

@@ -39,6 +39,9 @@ struct TessellateOptions {
   /// (the trimmed 100x105: 10620 triangles at 1/2, 8032 at 0.45, same measured deviation 0.45 eps).
   double loop_share = 0.45;
   bool simplify = true;  ///< §5 loop simplification
+  /// Beyond the paper (trim_thinning.h): dense polyline trim curves thinned in (u, v) before §4,
+  /// within a quarter of the simplification's share of the loop budget; false lifts every segment.
+  bool thin_polylines = true;
   /// §8: evaluate the vertices coherently (basis functions and inner sums reused between vertices
   /// sharing v or a u span: the paper's Table 3 "time³" column); false: plain direct evaluation of
   /// Eq. 1 per vertex (the "time" column). The same mesh either way, up to roundoff.

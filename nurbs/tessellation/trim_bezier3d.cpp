@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <glm/geometric.hpp>
 #include <unordered_map>
 
@@ -16,19 +17,31 @@ namespace {
 
 using V4 = glm::dvec4;
 
-/// Bernstein basis B^n_0..n(s) by the triangular recurrence (exact partition of unity).
-std::vector<double> bernstein(int n, double s) {
-  std::vector<double> b(static_cast<size_t>(n + 1), 0.0);
+/// Bernstein basis B^n_0..n(s) into b[0..n] by the triangular recurrence (exact partition of unity).
+void bernstein(int n, double s, double* b) {
   b[0] = 1.0;
-  for (int k = 1; k <= n; ++k)
-    for (int j = k; j >= 0; --j) b[size_t(j)] = (1.0 - s) * b[size_t(j)] + (j > 0 ? s * b[size_t(j - 1)] : 0.0);
+  for (int k = 1; k <= n; ++k) {
+    b[k] = s * b[k - 1];
+    for (int j = k - 1; j >= 1; --j) b[j] = (1.0 - s) * b[j] + s * b[j - 1];
+    b[0] *= 1.0 - s;
+  }
+}
+
+std::vector<double> bernstein(int n, double s) {
+  std::vector<double> b(static_cast<size_t>(n + 1));
+  bernstein(n, s, b.data());
   return b;
 }
 
-/// Binomial row C(n, 0..n) by the multiplicative recurrence.
-std::vector<double> binomial_row(int n) {
-  std::vector<double> c(size_t(n + 1), 1.0);
-  for (int k = 1; k <= n; ++k) c[size_t(k)] = c[size_t(k - 1)] * double(n - k + 1) / double(k);
+/// Binomial row C(n, 0..n) by the multiplicative recurrence, computed once per n and thread.
+const std::vector<double>& binomial_row(int n) {
+  thread_local std::deque<std::vector<double>> rows;  // growing keeps references to earlier rows valid
+  if (rows.size() <= size_t(n)) rows.resize(size_t(n + 1));
+  std::vector<double>& c = rows[size_t(n)];
+  if (c.empty()) {
+    c.assign(size_t(n + 1), 1.0);
+    for (int k = 1; k <= n; ++k) c[size_t(k)] = c[size_t(k - 1)] * double(n - k + 1) / double(k);
+  }
   return c;
 }
 
@@ -37,7 +50,7 @@ std::vector<double> binomial_row(int n) {
 template <class T>
 std::vector<T> multiply(const std::vector<double>& f, const std::vector<T>& g) {
   const int m = int(f.size()) - 1, n = int(g.size()) - 1;
-  const auto cm = binomial_row(m), cn = binomial_row(n), cmn = binomial_row(m + n);
+  const auto &cm = binomial_row(m), &cn = binomial_row(n), &cmn = binomial_row(m + n);
   std::vector<T> out(size_t(m + n + 1), T(0.0));
   for (int i = 0; i <= m; ++i)
     for (int j = 0; j <= n; ++j)
@@ -58,11 +71,16 @@ V4 homogeneous_point(const Surface& s, int i, int j) { return V4(s.point(i, j) *
 /// polynomial, continued slightly past its rectangle where rounding puts a piece).
 V4 patch_point_w(const BezierPatch& patch, double u, double v) {
   const Surface& s = patch.surface;
-  const auto bu = bernstein(s.degree_u, (u - patch.range_u.min) / patch.range_u.width());
-  const auto bv = bernstein(s.degree_v, (v - patch.range_v.min) / patch.range_v.width());
+  thread_local std::vector<double> bu, bv;
+  bu.resize(size_t(s.degree_u + 1)), bv.resize(size_t(s.degree_v + 1));
+  bernstein(s.degree_u, (u - patch.range_u.min) / patch.range_u.width(), bu.data());
+  bernstein(s.degree_v, (v - patch.range_v.min) / patch.range_v.width(), bv.data());
   V4 out(0.0);
-  for (int j = 0; j <= s.degree_v; ++j)
-    for (int i = 0; i <= s.degree_u; ++i) out += (bu[size_t(i)] * bv[size_t(j)]) * homogeneous_point(s, i, j);
+  for (int j = 0; j <= s.degree_v; ++j) {
+    V4 row(0.0);
+    for (int i = 0; i <= s.degree_u; ++i) row += bu[size_t(i)] * homogeneous_point(s, i, j);
+    out += bv[size_t(j)] * row;
+  }
   return out;
 }
 
@@ -242,16 +260,16 @@ HomogeneousCurve elevate_bezier(const HomogeneousCurve& b) {
 }
 
 HomogeneousCurve reduce_degree_lossless(const HomogeneousCurve& bezier, double rel_tol) {
-  HomogeneousCurve cur = bezier;
   double scale = 0.0;
   for (const auto& p : bezier.points) scale = std::max(scale, glm::length(p));
   const Interval range{bezier.knots.front(), bezier.knots.back()};
-  while (cur.degree > 1) {
-    const int n = cur.degree;
-    const auto& P = cur.points;
-    // Farin's forward (exact near P_0) and backward (exact near P_n) inverses of degree elevation.
+  // P: the current control points (degree n = P.size() - 1); each step's candidate in q.
+  std::vector<V4> P = bezier.points, fwd, bwd, q;
+  while (P.size() > 2) {
+    const int n = int(P.size()) - 1;
     const auto nn = static_cast<size_t>(n);
-    std::vector<V4> fwd(nn), bwd(nn), q(nn);
+    fwd.resize(nn), bwd.resize(nn), q.resize(nn);
+    // Farin's forward (exact near P_0) and backward (exact near P_n) inverses of degree elevation.
     fwd[0] = P[0];
     for (int i = 1; i < n; ++i)
       fwd[size_t(i)] = (double(n) * P[size_t(i)] - double(i) * fwd[size_t(i - 1)]) / double(n - i);
@@ -261,21 +279,41 @@ HomogeneousCurve reduce_degree_lossless(const HomogeneousCurve& bezier, double r
     for (int i = 0; i < n; ++i)  // the paper's lambda blend: forward on the first half, backward on the second
       q[size_t(i)] =
           2 * i < n - 1 ? fwd[size_t(i)] : (2 * i > n - 1 ? bwd[size_t(i)] : 0.5 * (fwd[size_t(i)] + bwd[size_t(i)]));
-    HomogeneousCurve red = bezier_curve(n - 1, range, std::move(q));
-    // Lossless test: elevated back, the control points (hence the curve, by partition of unity) move
-    // by at most rel_tol * max |P|.
-    const HomogeneousCurve back = elevate_bezier(red);
-    double dev = 0.0;
-    for (int i = 0; i <= n; ++i) dev = std::max(dev, glm::length(back.points[size_t(i)] - P[size_t(i)]));
+    // Lossless test: elevated back (elevate_bezier's formula), the control points (hence the curve,
+    // by partition of unity) move by at most rel_tol * max |P|.
+    double dev = std::max(glm::length(q[0] - P[0]), glm::length(q[nn - 1] - P[nn]));
+    for (int i = 1; i < n; ++i) {
+      const V4 back = (double(i) / n) * q[size_t(i - 1)] + (1.0 - double(i) / n) * q[size_t(i)];
+      dev = std::max(dev, glm::length(back - P[size_t(i)]));
+    }
     if (!(dev <= rel_tol * scale)) break;
-    cur = std::move(red);
+    std::swap(P, q);
   }
-  return cur;
+  const int degree = int(P.size()) - 1;
+  return bezier_curve(degree, range, std::move(P));
 }
 
 glm::dvec3 bezier_point3(const HomogeneousCurve& b, double t) {
-  const V4 p = casteljau(b.points, (t - b.knots.front()) / (b.knots.back() - b.knots.front()));
-  return glm::dvec3(p) / p.w;
+  // Horner in r = s / (1 - s) (or (1 - s) / s past the middle, from the other end, so r <= 1):
+  // sum C(n, i) s^i (1 - s)^(n - i) P_i = (1 - s)^n sum C(n, i) r^i P_i, O(n) where de Casteljau is
+  // O(n^2) (the check of every lifted piece, up to degree 30, evaluates it 18 times). Every term is a
+  // Bernstein weight times P_i, so the rounding is of the order of de Casteljau's.
+  const double s = (t - b.knots.front()) / (b.knots.back() - b.knots.front());
+  const int n = b.degree;
+  const std::vector<double>& c = binomial_row(n);
+  V4 acc;
+  if (s <= 0.5) {
+    const double r = s / (1.0 - s);
+    acc = b.points[size_t(n)];
+    for (int i = n - 1; i >= 0; --i) acc = acc * r + c[size_t(i)] * b.points[size_t(i)];
+    acc *= std::pow(1.0 - s, n);
+  } else {
+    const double r = (1.0 - s) / s;
+    acc = b.points[0];
+    for (int i = 1; i <= n; ++i) acc = acc * r + c[size_t(i)] * b.points[size_t(i)];
+    acc *= std::pow(s, n);
+  }
+  return glm::dvec3(acc) / acc.w;
 }
 
 glm::dvec2 piece_uv(const Surface& surface, const Curve2& piece, double t) {

@@ -9,7 +9,9 @@
 #include <utility>
 
 #include "nurbs/surface_eval.h"
+#include "nurbs/tessellation/douglas_peucker.h"
 #include "nurbs/tessellation/loop_repair.h"
+#include "nurbs/tessellation/trim_thinning.h"
 
 namespace nurbs::tess {
 namespace {
@@ -28,17 +30,6 @@ std::pair<HomogeneousCurve, HomogeneousCurve> split_bezier(const HomogeneousCurv
   left.knots.assign(n, t0), left.knots.insert(left.knots.end(), n, tm);
   right.knots.assign(n, tm), right.knots.insert(right.knots.end(), n, t1);
   return {std::move(left), std::move(right)};
-}
-
-double seg_dist(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
-  const glm::dvec3 d = b - a;
-  const double l2 = glm::dot(d, d);
-  const double lam = l2 > 0.0 ? std::clamp(glm::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
-  return glm::length(p - a - lam * d);
-}
-
-double seg_dist(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-  return seg_dist(glm::dvec3(p, 0.0), glm::dvec3(a, 0.0), glm::dvec3(b, 0.0));
 }
 
 void subdivide(const Surface& surface, const TrimCurve3& piece, const HomogeneousCurve& bez, double tol, double floor,
@@ -117,6 +108,7 @@ void add(TrimApproxStats& a, const TrimApproxStats& b) {
   a.edges_before += b.edges_before;
   a.edges_after += b.edges_after;
   a.crossings_fixed += b.crossings_fixed;
+  a.thinned_points += b.thinned_points;
   a.rectangle_faces += b.rectangle_faces;
   a.seconds_conversion += b.seconds_conversion;
   a.seconds_approximation += b.seconds_approximation;
@@ -125,7 +117,6 @@ void add(TrimApproxStats& a, const TrimApproxStats& b) {
 size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
   const size_t m = loop.uv.size();
   if (m < 4 || !(tol > 0.0)) return 0;
-  auto at = [&](size_t k) { return k % m; };
   size_t f = 0;
   double fd = 0.0;
   for (size_t k = 1; k < m; ++k) {
@@ -138,29 +129,11 @@ size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv) {
   const bool edges = loop.edge.size() == m;
   if (edges)
     for (size_t k = 0; k < m; ++k) keep[k] = keep[k] || loop.edge[k] != loop.edge[(k + m - 1) % m];
-  std::vector<std::pair<size_t, size_t>> stack;
-  for (size_t a = 0; a < m;) {  // the chains between kept vertices, the last one back to vertex 0 (= m)
-    size_t b = a + 1;
-    while (b < m && !keep[b]) ++b;
-    stack.push_back({a, b});
-    a = b;
-  }
-  while (!stack.empty()) {
-    const auto [a, b] = stack.back();
-    stack.pop_back();
-    double worst = 0.0;
-    size_t wk = a;
-    for (size_t k = a + 1; k < b; ++k) {
-      const double d3 = seg_dist(loop.xyz[k], loop.xyz[at(a)], loop.xyz[at(b)]) / tol;
-      const double duv = seg_dist(loop.uv[k], loop.uv[at(a)], loop.uv[at(b)]);
-      const double r = std::max(d3, tol_uv > 0.0 ? duv / tol_uv : (duv > 0.0 ? HUGE_VAL : 0.0));
-      if (r > worst) worst = r, wk = k;
-    }
-    if (worst <= 1.0) continue;
-    keep[wk] = true;
-    stack.push_back({a, wk});
-    stack.push_back({wk, b});
-  }
+  douglas_peucker(keep, true, [&](size_t k, size_t a, size_t b) {
+    const double d3 = segment_distance(loop.xyz[k], loop.xyz[a], loop.xyz[b]) / tol;
+    const double duv = segment_distance(loop.uv[k], loop.uv[a], loop.uv[b]);
+    return std::max(d3, tol_uv > 0.0 ? duv / tol_uv : (duv > 0.0 ? HUGE_VAL : 0.0));
+  });
   if (std::count(keep.begin(), keep.end(), true) < 3) return 0;  // would collapse the loop's area
   LoopPolyline out;
   out.outer = loop.outer;
@@ -183,8 +156,8 @@ std::vector<TrimLoop> loops_to_approximate(const TrimmedSurface& face) {
 
 std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, const TrimApproxOptions& opt,
                                                  TrimApproxStats* stats) {
-  if (!(opt.eps > 0.0) || !(opt.gamma > 0.0 && opt.gamma <= 1.0))
-    throw std::invalid_argument("approximate_trim_loops: eps must be > 0 and gamma in (0, 1]");
+  if (!(opt.eps > 0.0) || !(opt.gamma > 0.0 && opt.gamma <= 1.0) || !(opt.thinning >= 0.0 && opt.thinning < 1.0))
+    throw std::invalid_argument("approximate_trim_loops: eps must be > 0, gamma in (0, 1] and thinning in [0, 1)");
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   const Surface& s = face.surface;
@@ -197,9 +170,17 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
   std::vector<std::vector<int>> piece_edge(loops.size());  // Curve::edge of each piece's trim curve
   TrimApproxStats st;
   const auto given = [&](size_t l) { return opt.outer_polyline && loops[l].outer; };
+  const double thinning = opt.thinning * (1.0 - opt.gamma) * opt.eps;  // in space (trim_thinning.h)
+  double tol_thin = -1.0;  // in (u, v); found when a curve needs it
   for (size_t l = 0; l < loops.size(); ++l) {
     if (given(l)) continue;
-    for (const Curve2& c : loops[l].curves) {
+    for (const Curve2& file_curve : loops[l].curves) {
+      const bool thin = thinning > 0.0 && file_curve.degree == 1 && file_curve.points.size() > 2;
+      if (thin && tol_thin < 0.0) {
+        const double lip = uv_lipschitz(patches);
+        tol_thin = lip > 0.0 && std::isfinite(lip) ? thinning / lip : 0.0;
+      }
+      const Curve2 c = thin ? thin_polyline(file_curve, tol_thin, &st.thinned_points) : file_curve;
       for (TrimCurve3& p : convert_trim_curve(s, patches, c, lift)) {
         st.lifted_degree_max = std::max(st.lifted_degree_max, p.lifted_degree);
         st.reduced_degree_max = std::max(st.reduced_degree_max, p.xyz.degree);
@@ -244,7 +225,7 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
     st.edges_before += pl.uv.size();
     out.push_back(std::move(pl));
   }
-  const double simplify_tol = (1.0 - opt.gamma) * opt.eps;
+  const double simplify_tol = (1.0 - opt.gamma) * opt.eps - (tol_thin > 0.0 ? thinning : 0.0);
   if (opt.simplify && simplify_tol > 0.0) {
     // uv safeguard: the 3D tolerance over the largest 3D / uv stretch seen on the loops' edges.
     double stretch = 0.0;

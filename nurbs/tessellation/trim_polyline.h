@@ -3,7 +3,8 @@
 /// §5 "Trimming Loops" of Balázs, Guthe, Klein (WSCG 2004): the 3D trim curves of a face (§4,
 /// trim_bezier3d.h) approximated by closed polylines whose 3D Hausdorff distance to the curves is at
 /// most eps: gamma * eps for the subdivision of each 3D Bézier piece (ε_line bound), (1 - gamma) * eps
-/// for the line simplification of each loop; then the crossing correction (loop_repair.h).
+/// for the line simplification of each loop (less the share of the thinning of polyline trim curves
+/// before §4, trim_thinning.h, where there are such curves); then the crossing correction (loop_repair.h).
 ///
 /// ε_line (two-sided Hausdorff distance between a Bézier curve and its chord P_0 P_n). Let
 /// e_i = P_i - (P_0 + λ_i (P_n - P_0)) with λ_i the clamped projection parameter of the paper, so
@@ -35,7 +36,11 @@ struct TrimApproxOptions {
   double eps = 0.1;     ///< absolute 3D tolerance of the loops, model units
   double gamma = 0.75;  ///< share of eps for the curve subdivision; the rest for the simplification
   CurveSplit split = CurveSplit::Midpoint;
-  bool simplify = true;  ///< run the loop simplification with (1 - gamma) eps
+  bool simplify = true;  ///< run the loop simplification with (1 - gamma) eps (less the thinning's share)
+  /// Beyond the paper (trim_thinning.h): dense degree-1 trim curves are thinned in (u, v) before §4
+  /// within `thinning` x (1 - gamma) x eps in space, taken from the simplification's share; 0 lifts
+  /// every segment as the paper does.
+  double thinning = 0.25;
   bool repair = true;    ///< run the crossing correction (loop_repair.h)
   int max_degree = 20;   ///< highest lifted degree solved by collocation (§4); above: exact composition
   LiftMethod lift = LiftMethod::Auto;
@@ -59,6 +64,7 @@ struct TrimApproxStats {
   size_t edges_before = 0;      ///< polyline edges after the subdivision
   size_t edges_after = 0;       ///< after simplification and crossing correction
   size_t crossings_fixed = 0;
+  size_t thinned_points = 0;           ///< points of polyline trim curves dropped before §4 (trim_thinning.h)
   size_t rectangle_faces = 0;          ///< faces whose outer loop is their parameter rectangle (outer_polyline)
   double seconds_conversion = 0.0;     ///< §4
   double seconds_approximation = 0.0;  ///< §5 (subdivision, simplification, repair)

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <random>
 #include <vector>
 
 #include "models/exact_shapes.h"
@@ -338,4 +339,44 @@ TEST_CASE("filip_bound reads each patch in place: the bounds of the extracted pa
   }
   MESSAGE(compared, " bounds compared");
   CHECK(compared > 1000);
+}
+
+TEST_CASE("first_derivative_bounds bound the sampled |S_u| and |S_v| of random surfaces, and the Lipschitz step") {
+  // Degrees 1-5, rational and not: every Bézier patch's bounds against |S_u|, |S_v| sampled on a
+  // 9 x 9 grid of it (inset by 1e-9 of its widths: on a knot line the evaluation takes the next
+  // span's one-sided derivative, which differs where the surface is only C0), and
+  // |S(a) - S(b)| <= L |a - b| for random point pairs of the patch.
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int patches = 0;
+  double tightest = 0.0;  // the largest sampled / bound: the bound is not vacuous
+  for (int seed = 0; seed < 200; ++seed) {
+    const int p = 1 + seed % 5, q = 1 + (seed / 5) % 5;
+    const bool rational = seed % 2 == 0;
+    const nurbs::Surface s = models::random_surface(static_cast<std::uint64_t>(seed) + 9300, p, q, rational);
+    for (const nurbs::BezierPatch& patch : nurbs::extract_bezier_patches(s)) {
+      const nurbs::FirstDerivativeBounds b = nurbs::first_derivative_bounds(
+          nurbs::BezierNet::of(patch.surface), patch.range_u.width(), patch.range_v.width());
+      auto at = [&](double a, double c) {
+        return glm::dvec2(patch.range_u.min + a * patch.range_u.width(), patch.range_v.min + c * patch.range_v.width());
+      };
+      for (int j = 0; j <= 8; ++j)
+        for (int i = 0; i <= 8; ++i) {
+          const glm::dvec2 uv = at(1e-9 + (1 - 2e-9) * i / 8.0, 1e-9 + (1 - 2e-9) * j / 8.0);
+          const nurbs::SurfaceDerivatives d = nurbs::surface_derivatives(s, uv.x, uv.y);
+          CHECK(within(glm::length(d.su), b.su));
+          CHECK(within(glm::length(d.sv), b.sv));
+          tightest = std::max({tightest, glm::length(d.su) / b.su, glm::length(d.sv) / b.sv});
+        }
+      for (int k = 0; k < 20; ++k) {
+        const glm::dvec2 a = at(unit(rng), unit(rng)), c = at(unit(rng), unit(rng));
+        const double moved = glm::length(nurbs::surface_point(s, a.x, a.y) - nurbs::surface_point(s, c.x, c.y));
+        CHECK(within(moved, b.lipschitz() * glm::length(a - c)));
+      }
+      ++patches;
+    }
+  }
+  MESSAGE(patches, " patches, largest sampled / bound ", tightest);
+  CHECK(patches > 500);
+  CHECK(tightest > 0.5);
 }

@@ -19,6 +19,7 @@
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/loop_repair.h"
 #include "nurbs/tessellation/trim_polyline.h"
+#include "nurbs/tessellation/trim_thinning.h"
 #include "shared_models.h"
 
 using namespace nurbs;
@@ -245,6 +246,107 @@ TEST_CASE("trim: with B-rep edges recorded, the simplification keeps the vertice
     CHECK(out[0].edge[k] == edge_ids[c]);
   }
   CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 100) <= 0.0);
+}
+
+namespace {
+
+/// The curve as a degree-1 polyline of `points` points at equally spaced parameters (each point at
+/// its own parameter, ends exact): how B-rep writers often store pcurves.
+Curve2 as_polyline(const Curve2& c, int points) {
+  const Interval r = curve_domain(c);
+  Curve2 out;
+  out.degree = 1;
+  out.edge = c.edge;
+  out.knots.push_back(r.min);
+  for (int k = 0; k < points; ++k) {
+    const double t = k == points - 1 ? r.max : r.min + r.width() * k / (points - 1);
+    out.points.push_back(k == 0 ? start_point(c) : (k == points - 1 ? end_point(c) : curve_point(c, t)));
+    out.knots.push_back(t);
+  }
+  out.knots.push_back(r.max);
+  return out;
+}
+
+double to_polyline_uv(glm::dvec2 p, const std::vector<glm::dvec2>& line) {
+  double d = HUGE_VAL;
+  for (size_t k = 0; k + 1 < line.size(); ++k)
+    d = std::min(d, seg_dist(glm::dvec3(p, 0.0), glm::dvec3(line[k], 0.0), glm::dvec3(line[k + 1], 0.0)));
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("trim: thin_polyline keeps the ends and the kept points' parameters, within tol_uv both ways") {
+  // A quarter circle of radius 0.4 sampled at 400 points, then a straight run of 200 points with
+  // 1e-9 of noise across it.
+  Curve2 c;
+  c.degree = 1;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> noise(-1e-9, 1e-9);
+  c.knots.push_back(0.0);
+  for (int k = 0; k < 400; ++k) {
+    const double a = 0.5 * M_PI * k / 399;
+    c.points.push_back({0.5 + 0.4 * std::cos(a), 0.1 + 0.4 * std::sin(a)});
+    c.knots.push_back(double(k));
+  }
+  for (int k = 1; k <= 200; ++k) {
+    c.points.push_back({0.5 - 0.4 * k / 200.0, 0.5 + noise(rng)});
+    c.knots.push_back(double(399 + k));
+  }
+  c.knots.push_back(c.knots.back());
+  c.edge = 7;
+  for (double tol : {1e-2, 1e-4, 1e-6}) {
+    size_t removed = 0;
+    const Curve2 t = thin_polyline(c, tol, &removed);
+    CAPTURE(tol);
+    CHECK(t.edge == 7);
+    CHECK(removed == c.points.size() - t.points.size());
+    CHECK(t.points.size() + 199 <= c.points.size());  // the straight run is one segment at any of them
+    if (tol >= 1e-2) CHECK(t.points.size() < 20);
+    CHECK(t.points.front() == c.points.front());
+    CHECK(t.points.back() == c.points.back());
+    REQUIRE(t.knots.size() == t.points.size() + 2);
+    for (size_t k = 0; k < t.points.size(); ++k) CHECK(curve_point(c, t.knots[k + 1]) == t.points[k]);
+    for (const glm::dvec2& p : c.points) CHECK(to_polyline_uv(p, t.points) <= tol);
+    for (size_t k = 0; k + 1 < t.points.size(); ++k)
+      for (double a : {0.1, 0.3, 0.5, 0.7, 0.9})
+        CHECK(to_polyline_uv(t.points[k] + a * (t.points[k + 1] - t.points[k]), c.points) <= tol);
+    MESSAGE("tol_uv ", tol, ": ", c.points.size(), " -> ", t.points.size(), " points");
+  }
+  // Curves of other degrees, and rational ones, are left as they are.
+  const Curve2 cubic = models::trim_line({0.1, 0.1}, {0.9, 0.2});
+  Curve2 rational = c;
+  rational.weights.assign(c.points.size(), 1.0);
+  CHECK(thin_polyline(rational, 1e-2).points.size() == c.points.size());
+  CHECK(thin_polyline(cubic, 1e-2).points.size() == cubic.points.size());
+}
+
+TEST_CASE("trim: faces whose trims are dense polylines meet eps with and without the thinning") {
+  // Random trimmed faces (rational and not) with every trim curve written as a 150-point polyline:
+  // the loops against the polylines' images, the thinning's share charged to the budget.
+  size_t pieces[2] = {0, 0}, thinned = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    TrimmedSurface face = models::random_trimmed_surface(seed);
+    for (TrimLoop& l : face.loops)
+      for (Curve2& c : l.curves) c = as_polyline(c, 150);
+    const double eps = 2e-3 * net_size(face.surface);
+    for (int thin = 0; thin < 2; ++thin) {
+      TrimApproxOptions opt;
+      opt.eps = eps;
+      opt.thinning = thin ? 0.25 : 0.0;
+      TrimApproxStats st;
+      const auto out = approximate_trim_loops(face, opt, &st);
+      CAPTURE(seed);
+      CAPTURE(thin);
+      CHECK(hausdorff_excess(face, out, eps * (1 + 1e-9), 600) <= 0.0);  // rounding, as above
+      pieces[thin] += st.curve_pieces;
+      if (thin) thinned += st.thinned_points;
+      else CHECK(st.thinned_points == 0);
+    }
+  }
+  MESSAGE("pieces lifted: ", pieces[0], " as written, ", pieces[1], " thinned (", thinned, " points dropped)");
+  CHECK(thinned > 0);
+  CHECK(pieces[1] * 2 < pieces[0]);
 }
 
 TEST_CASE("trim: crossing loops get a vertex at each crossing") {
