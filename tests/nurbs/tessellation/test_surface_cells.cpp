@@ -456,3 +456,32 @@ TEST_CASE("surface cells: kd-tree vs quadtree figures (Table 3 style)" * test::s
     MESSAGE(line);
   }
 }
+
+TEST_CASE("surface cells: a domain end a rounding away from a knot does not drive the cuts beside the knot") {
+  // Degree 5 in v with a triple knot at 0.5 (C2 there). Loops that start at v = 4.3e-16 instead of 0
+  // put the midpoints at 0.5 + 2.2e-16: without the snap to the knot every node beside it held a
+  // span 2.2e-16 wide, whose Filip bound grows as 1/width^2, and the kd-tree halved v to its depth
+  // limit (40) with cells still above eps.
+  Surface s = models::random_surface(21, 3, 5, false);
+  s.knots_v = {0, 0, 0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1, 1, 1};
+  s.count_v = 9;
+  s.points.resize(size_t(s.count_u * s.count_v));
+  for (int j = 0; j < s.count_v; ++j)
+    for (int i = 0; i < s.count_u; ++i)
+      s.points[size_t(j * s.count_u + i)] = {double(i), double(j) / 8.0, 0.3 * std::sin(double(i + 2 * j))};
+  const Interval du = surface_domain_u(s);
+  for (Subdivision method : {Subdivision::KdTree, Subdivision::Quadtree}) {
+    CellOptions o = options(2e-3, SurfaceError::Conservative, method);
+    CellStats exact, off;
+    o.domain_u = du;
+    o.domain_v = Interval{0.0, 1.0};
+    const auto a = subdivide_surface(s, o, &exact);
+    o.domain_v = Interval{4.316496732e-16, 1.0};
+    const auto b = subdivide_surface(s, o, &off);
+    CAPTURE(method == Subdivision::KdTree);
+    CHECK(off.unconverged == 0);
+    CHECK(off.max_depth < 20);
+    CHECK(off.leaves == exact.leaves);
+    CHECK(exact.unconverged == 0);
+  }
+}
