@@ -7,13 +7,6 @@
 namespace nurbs {
 namespace {
 
-/// Binomial coefficients C(n, 0..n) as a row.
-std::vector<double> binomials(int n) {
-  std::vector<double> r(size_t(n + 1));
-  for (int k = 0; k <= n; ++k) r[size_t(k)] = binomial(n, k);
-  return r;
-}
-
 template <class S, class T>
 BernsteinPoly<T> product(const BernsteinPoly<S>& f, const BernsteinPoly<T>& g) {
   // h_kl = sum C(a,i) C(c,i') / C(a+c,k) * C(b,j) C(d,j') / C(b+d,l) f_ij g_i'j' over i + i' = k, j + j' = l:
@@ -22,7 +15,7 @@ BernsteinPoly<T> product(const BernsteinPoly<S>& f, const BernsteinPoly<T>& g) {
   h.a = f.a + g.a;
   h.b = f.b + g.b;
   h.c.assign(size_t(h.a + 1) * size_t(h.b + 1), T(0.0));
-  const auto fa = binomials(f.a), fb = binomials(f.b), ga = binomials(g.a), gb = binomials(g.b);
+  const auto &fa = binomial_row(f.a), &fb = binomial_row(f.b), &ga = binomial_row(g.a), &gb = binomial_row(g.b);
   std::vector<T> gs(g.c.size());
   for (int jj = 0; jj <= g.b; ++jj)
     for (int ii = 0; ii <= g.a; ++ii)
@@ -36,7 +29,7 @@ BernsteinPoly<T> product(const BernsteinPoly<S>& f, const BernsteinPoly<T>& g) {
         for (int ii = 0; ii <= g.a; ++ii) out[ii] += fij * in[ii];
       }
     }
-  const auto ha = binomials(h.a), hb = binomials(h.b);
+  const auto &ha = binomial_row(h.a), &hb = binomial_row(h.b);
   for (int l = 0; l <= h.b; ++l)
     for (int k = 0; k <= h.a; ++k) h.at(k, l) /= ha[size_t(k)] * hb[size_t(l)];
   return h;

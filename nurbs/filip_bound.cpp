@@ -283,7 +283,7 @@ FirstDifferences first_differences(const BezierNet& patch, glm::dvec3 c, double 
 
 }  // namespace
 
-SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv) {
+SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv, bool exact_form) {
   const int p = patch.p, q = patch.q;
   if (!patch.s->rational()) return polynomial_patch_bounds(patch, du, dv);
   const auto [c, R, Re, wmin] = net_frame(patch);
@@ -329,7 +329,7 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
                                         norm_bound(Muu_e, Muu), norm_bound(Muv_e, Muv), norm_bound(Mvv_e, Mvv)};
   // Rational patches with varying weights: also the exact-form bound; both hold, keep the smaller.
   SecondDerivativeBounds exact;
-  if ((Wu == 0 && Wv == 0) || !numerator_bounds(patch, du, dv, c, exact)) return quotient;
+  if (!exact_form || (Wu == 0 && Wv == 0) || !numerator_bounds(patch, du, dv, c, exact)) return quotient;
   return {std::min(quotient.m1, exact.m1),           std::min(quotient.m2, exact.m2),
           std::min(quotient.m3, exact.m3),           std::min(quotient.m1_norm, exact.m1_norm),
           std::min(quotient.m2_norm, exact.m2_norm), std::min(quotient.m3_norm, exact.m3_norm)};

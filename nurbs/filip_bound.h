@@ -99,7 +99,11 @@ struct SecondDerivativeBounds {
 /// rectangle of width du x dv (see the file comment for the polynomial and rational formulas).
 [[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const Surface& patch, double du, double dv);
 /// The same for a patch read in place (patch (a, b) of a refined surface): no copy of its net.
-[[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv);
+/// `exact_form` false skips the exact-form bound of rational patches (the quotient rule's alone:
+/// still a bound, larger, at a fraction of the cost; for a caller that needs only a bound below a
+/// target and tries the cheap one first).
+[[nodiscard]] SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, double dv,
+                                                         bool exact_form = true);
 
 /// Bounds of the first derivatives' norms ||S_u||, ||S_v|| over one Bézier patch of width du x dv.
 /// Polynomial: the max norm over the difference nets p/du (P_{i+1,j} - P_ij) (convex hull). Rational:

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 namespace nurbs {
 
@@ -174,6 +175,15 @@ double binomial(int n, int k) {
   double r = 1.0;
   for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
   return r;
+}
+
+const std::vector<double>& binomial_row(int n) {
+  thread_local std::deque<std::vector<double>> rows;  // growing keeps references to earlier rows valid
+  if (rows.size() <= size_t(n)) rows.resize(size_t(n + 1));
+  std::vector<double>& c = rows[size_t(n)];
+  if (c.empty())
+    for (int k = 0; k <= n; ++k) c.push_back(binomial(n, k));
+  return c;
 }
 
 }  // namespace nurbs

@@ -84,5 +84,7 @@ class SmallBuffer {
 
 /// Binomial coefficient C(n, k) as a double (used by A4.2/A4.4 and degree elevation).
 [[nodiscard]] double binomial(int n, int k);
+/// The row C(n, 0..n), computed once per n and thread; the reference stays valid for the thread's life.
+[[nodiscard]] const std::vector<double>& binomial_row(int n);
 
 }  // namespace nurbs

@@ -72,13 +72,31 @@ struct NodeFilip {
   double k = std::numeric_limits<double>::infinity();  ///< +inf: a C0 knot line crosses the node
   SecondDerivativeBounds m;
 };
-NodeFilip filip_node_bound(const Node& node) {
+NodeFilip filip_node_bound(const Node& node, double target) {
   const Surface& s = node.net;
   NodeFilip r;
   if (has_c0_knot(s.knots_u, s.degree_u, s.count_u) || has_c0_knot(s.knots_v, s.degree_v, s.count_v)) return r;
-  for (const BezierPatch& piece : extract_bezier_patches(s))
-    r.m = max_of(r.m, bezier_patch_bounds(piece.surface, piece.range_u.width(), piece.range_v.width()));
-  r.k = filip_k(r.m, node.u.width(), node.v.width(), KNorm::Euclidean);
+  // The node's Bézier pieces read in place (BezierNet): the node's own net when it is one span (most
+  // nodes below the first levels), else its refinement to Bézier form, over each span's widths.
+  const bool one_span = s.count_u == s.degree_u + 1 && s.count_v == s.degree_v + 1;
+  const Surface refined = one_span ? Surface{} : refine_surface_to_bezier(s);
+  const Surface& bez = one_span ? s : refined;
+  std::vector<double> bu, bv;  // the distinct knots, ends included
+  for (double k : bez.knots_u)
+    if (bu.empty() || bu.back() != k) bu.push_back(k);
+  for (double k : bez.knots_v)
+    if (bv.empty() || bv.back() != k) bv.push_back(k);
+  // A rational node tries the quotient rule's bound first: when it already meets `target`, the
+  // exact form (five times its cost) is not needed.
+  for (const bool exact_form : {!s.rational(), true}) {
+    r.m = {};
+    for (size_t b = 0; b + 1 < bv.size(); ++b)
+      for (size_t a = 0; a + 1 < bu.size(); ++a)
+        r.m = max_of(r.m, bezier_patch_bounds(BezierNet::in_refined(bez, int(a), int(b)), bu[a + 1] - bu[a],
+                                              bv[b + 1] - bv[b], exact_form));
+    r.k = filip_k(r.m, node.u.width(), node.v.width(), KNorm::Euclidean);
+    if (exact_form || r.k <= target) break;
+  }
   return r;
 }
 
@@ -159,7 +177,7 @@ class Subdivider {
     double err = opt_.bilinear_factor * me.bilinear + me.twist * (0.25 + extra);
     NodeFilip filip;
     if (opt_.error == SurfaceError::Conservative && opt_.bound == CellBound::Filip && err > opt_.eps_surface) {
-      filip = filip_node_bound(node);
+      filip = filip_node_bound(node, opt_.eps_surface);
       err = std::min(err, filip.k);
     }
     const bool capped = node.depth >= opt_.max_depth || stats_.nodes >= opt_.max_nodes;

@@ -3,7 +3,6 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <glm/geometric.hpp>
 #include <unordered_map>
 
@@ -31,18 +30,6 @@ std::vector<double> bernstein(int n, double s) {
   std::vector<double> b(static_cast<size_t>(n + 1));
   bernstein(n, s, b.data());
   return b;
-}
-
-/// Binomial row C(n, 0..n) by the multiplicative recurrence, computed once per n and thread.
-const std::vector<double>& binomial_row(int n) {
-  thread_local std::deque<std::vector<double>> rows;  // growing keeps references to earlier rows valid
-  if (rows.size() <= size_t(n)) rows.resize(size_t(n + 1));
-  std::vector<double>& c = rows[size_t(n)];
-  if (c.empty()) {
-    c.assign(size_t(n + 1), 1.0);
-    for (int k = 1; k <= n; ++k) c[size_t(k)] = c[size_t(k - 1)] * double(n - k + 1) / double(k);
-  }
-  return c;
 }
 
 /// Product of two Bernstein polynomials on one interval: coefficient k of f g (degree m + n) is
