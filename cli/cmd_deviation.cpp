@@ -10,13 +10,13 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "cli/commands.h"
 #include "cli/validators.h"
 #include "nurbs/io/mesh_reader.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
 #include "nurbs/tessellation/mesh_check.h"
@@ -58,7 +58,7 @@ void run(const DeviationArgs& a) {
   o.boundary_tolerance = a.eps_given ? 1e-3 * std::max(eps, nurbs::tess::kMinRelativeEps * size) : 0.0;
   o.threads = a.threads;
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
-  const int threads = a.threads > 0 ? a.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = nurbs::thread_count(a.threads);
   const auto t_uv = std::chrono::steady_clock::now();
   const nurbs::TriangleMesh measured =
       a.no_parameters ? mesh : nurbs::tess::with_face_parameters(faces, mesh, std::max(64, a.samples), threads);

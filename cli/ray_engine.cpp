@@ -8,11 +8,11 @@
 #include <glm/geometric.hpp>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
 #include "cli/validators.h"
 #include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 
 namespace cli {
 
@@ -112,7 +112,7 @@ nlohmann::json RayEngine::figures() const {
           {"dacrt", dacrt},
           {"device", args_.device},
           {"gpu", gpu},
-          {"threads", args_.threads > 0 ? args_.threads : int(std::thread::hardware_concurrency())},
+          {"threads", nurbs::thread_count(args_.threads)},
           {"faces", scene().faces.size()},
           {"patches", scene().patches.size()},
           {"bicubic_tolerance", args_.tolerance * scene().size},

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "nurbs/parallel.h"
 #include "nurbs/raycast/thickness.h"
 #include "queries/raycast_gpu.h"
 
@@ -78,7 +79,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   std::vector<nurbs::ray::Hit> out;
   out.reserve(rays.size());
   const size_t chunk_rays = gpu_caster_ ? gpu_caster_->rays_per_pass() : size_t(1) << 14;
-  const int threads = std::max(1, options_.threads > 0 ? options_.threads : int(std::thread::hardware_concurrency()));
+  const int threads = nurbs::thread_count(options_.threads);
   RayCasterFigures& f = figures_;
   for (size_t first = 0; first < rays.size(); first += chunk_rays) {
     const std::vector<nurbs::ray::Ray> chunk(rays.begin() + long(first),
