@@ -149,6 +149,12 @@ void run(const TessArgs& a) {
                                     off_surface[f].triangles, off_surface[f].distance));
 
   if (a.json) {
+    // Watertight: the faces that still have open edges (where the file's faces do not meet within the
+    // loops' tolerance), with their counts; empty without --watertight, where every face's border is open.
+    nlohmann::json open_edge_faces = nlohmann::json::array();
+    if (a.watertight)
+      for (const auto& [f, n] : edges.open_by_face)
+        open_edge_faces.push_back({{"face", f}, {"face_id", f >= 0 ? faces[size_t(f)].face_id : -1}, {"open_edges", n}});
     nlohmann::json j = {{"model", a.path},
                         {"eps", eps},
                         {"eps_relative", eps / size},
@@ -168,6 +174,7 @@ void run(const TessArgs& a) {
                         {"collapsed_triangles", r.stats.collapsed_triangles},
                         {"watertight",
                          {{"enabled", a.watertight},
+                          {"open_edge_faces", open_edge_faces},
                           {"collapsed_triangles", collapsed},
                           {"shared_vertices", r.stats.shared_vertices},
                           {"t_junction_splits", r.stats.t_junction_splits}}},
@@ -243,6 +250,11 @@ void run(const TessArgs& a) {
     fmt::print("eps          {:.6g} ({:.3g} of the size), {} error, {}\n", eps, eps / size, a.mode, a.method);
     fmt::print("triangles    {}  vertices {}  trim edges {}  open edges {}\n", r.stats.triangles, r.stats.vertices,
                r.stats.trim_edges, edges.open);
+    if (a.watertight && edges.open > 0) {  // where the cracks are, by face
+      std::string list;
+      for (const auto& [f, n] : edges.open_by_face) list += fmt::format("{}{} ({})", list.empty() ? "" : ", ", f, n);
+      fmt::print("open edges   on {} faces: {}\n", edges.open_by_face.size(), list);
+    }
     fmt::print(
         "seconds      {:.3f} (CPU: conversion {:.3f}, trim loops {:.3f}, surface {:.3f}, trimming {:.3f}, "
         "triangulation {:.3f}, evaluation {:.3f})\n",

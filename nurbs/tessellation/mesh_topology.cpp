@@ -46,19 +46,24 @@ namespace {
 EdgeCounts count_edges_of(const TriangleMesh& mesh, const std::vector<int>& id) {
   EdgeCounts r;
   for (size_t i = 0; i < id.size(); ++i) r.welded_vertices += id[i] == int(i) ? 1 : 0;
-  std::map<std::pair<int, int>, int> uses;
-  for (const glm::ivec3& t : mesh.triangles) {
+  std::map<std::pair<int, int>, std::pair<int, size_t>> uses;  // edge -> (triangles, the first one)
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const glm::ivec3& t = mesh.triangles[k];
     const int v[3] = {id[size_t(t.x)], id[size_t(t.y)], id[size_t(t.z)]};
     for (int e = 0; e < 3; ++e) {
       const int a = v[e], b = v[(e + 1) % 3];
       if (a == b) continue;  // collapsed by the weld
-      ++uses[{std::min(a, b), std::max(a, b)}];
+      auto [it, added] = uses.try_emplace({std::min(a, b), std::max(a, b)}, 0, k);
+      ++it->second.first;
     }
   }
   r.edges = (long long)uses.size();
-  for (const auto& [edge, n] : uses) {
-    if (n == 1) ++r.open;
-    if (n >= 3) ++r.nonmanifold;
+  for (const auto& [edge, use] : uses) {
+    if (use.first == 1) {
+      ++r.open;
+      ++r.open_by_face[use.second < mesh.triangle_face.size() ? mesh.triangle_face[use.second] : -1];
+    }
+    if (use.first >= 3) ++r.nonmanifold;
   }
   return r;
 }

@@ -3,6 +3,7 @@
 /// Edge counts of a triangle mesh whose faces were tessellated separately: vertices closer than a
 /// weld tolerance are one point, then each undirected edge is counted by its triangles. An open edge
 /// (one triangle) is a crack or the border of an open sheet; a closed solid has none.
+#include <map>
 #include <vector>
 
 #include "nurbs/triangle_mesh.h"
@@ -14,6 +15,9 @@ struct EdgeCounts {
   long long open = 0;         ///< used by one triangle
   long long nonmanifold = 0;  ///< used by three or more
   long long welded_vertices = 0;
+  /// Open edges per face (TriangleMesh::triangle_face of the edge's triangle; face -1 when the mesh
+  /// has no faces): where a watertight mesh still has cracks.
+  std::map<int, long long> open_by_face;
 };
 
 /// Weld: for each vertex, the index of the first earlier vertex within `tol` of it (itself when there

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <glm/geometric.hpp>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -202,6 +203,11 @@ TEST_CASE("mesh check: open edges after welding") {
   CHECK(e.open == 0);
   tet.triangles.pop_back();
   CHECK(nurbs::tess::count_edges(tet, 1e-9).open == 3);
+  // By face: without faces all three under -1; with them, one on each face beside the missing one.
+  CHECK(nurbs::tess::count_edges(tet, 1e-9).open_by_face == std::map<int, long long>{{-1, 3}});
+  tet.triangle_face = {10, 11, 12};
+  CHECK(nurbs::tess::count_edges(tet, 1e-9).open_by_face == std::map<int, long long>{{10, 1}, {11, 1}, {12, 1}});
+  tet.triangle_face.clear();
   // A weld tolerance below the offsets keeps the faces apart: every edge is open.
   CHECK(nurbs::tess::count_edges(tet, 1e-13).open == 9);
   // As indexed (as a file holds it) the separate triangles are open; welded into one mesh, closed.
