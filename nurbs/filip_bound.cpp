@@ -36,15 +36,6 @@ struct MaxAbs {
 /// The largest coordinate of a vector of magnitudes.
 double largest(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
 
-/// Distinct knot values within the domain, ends included.
-std::vector<double> breaks(const std::vector<double>& knots, Interval d) {
-  std::vector<double> out;
-  for (double k : knots) {
-    if (k >= d.min && k <= d.max && (out.empty() || out.back() != k)) out.push_back(k);
-  }
-  return out;
-}
-
 /// Bounds of a Bézier patch split into parts x parts equal sub-patches (max over the pieces): the
 /// difference nets of smaller pieces converge to the derivatives, tightening mostly the rational bound.
 SecondDerivativeBounds split_patch_bounds(const BezierPatch& patch, int parts) {
@@ -356,8 +347,8 @@ FilipBound filip_bound(const Surface& s, int subdivisions) {
   FilipBound b;
   b.domain_u = surface_domain_u(s);
   b.domain_v = surface_domain_v(s);
-  b.breaks_u = breaks(s.knots_u, b.domain_u);
-  b.breaks_v = breaks(s.knots_v, b.domain_v);
+  b.breaks_u = knot_breaks(s.knots_u, b.domain_u);
+  b.breaks_v = knot_breaks(s.knots_v, b.domain_v);
   const size_t nu = b.breaks_u.size() - 1, nv = b.breaks_v.size() - 1;
   // One patch per knot rectangle, read in place from the surface refined to Bézier form (patch
   // objects are copied out only for the subdivided and adaptive bounds, which split them).

@@ -177,6 +177,13 @@ double binomial(int n, int k) {
   return r;
 }
 
+std::vector<double> knot_breaks(const std::vector<double>& knots, Interval domain) {
+  std::vector<double> out;
+  for (double k : knots)
+    if (k >= domain.min && k <= domain.max && (out.empty() || out.back() != k)) out.push_back(k);
+  return out;
+}
+
 const std::vector<double>& binomial_row(int n) {
   thread_local std::deque<std::vector<double>> rows;  // growing keeps references to earlier rows valid
   if (rows.size() <= size_t(n)) rows.resize(size_t(n + 1));

@@ -32,6 +32,9 @@ struct Interval {
 
 /// Parameter domain [U[p], U[count]] of a valid knot vector.
 [[nodiscard]] Interval knot_domain(const std::vector<double>& knots, int degree, int count);
+/// The distinct knot values inside `domain`, its ends included when they are knots (the breaks
+/// between a spline's Bézier pieces).
+[[nodiscard]] std::vector<double> knot_breaks(const std::vector<double>& knots, Interval domain);
 
 /// Number of times `u` occurs in `knots` (exact comparison: knots are data, not computed values).
 [[nodiscard]] int knot_multiplicity(const std::vector<double>& knots, double u);

@@ -81,11 +81,8 @@ NodeFilip filip_node_bound(const Node& node, double target) {
   const bool one_span = s.count_u == s.degree_u + 1 && s.count_v == s.degree_v + 1;
   const Surface refined = one_span ? Surface{} : refine_surface_to_bezier(s);
   const Surface& bez = one_span ? s : refined;
-  std::vector<double> bu, bv;  // the distinct knots, ends included
-  for (double k : bez.knots_u)
-    if (bu.empty() || bu.back() != k) bu.push_back(k);
-  for (double k : bez.knots_v)
-    if (bv.empty() || bv.back() != k) bv.push_back(k);
+  const std::vector<double> bu = knot_breaks(bez.knots_u, surface_domain_u(bez));
+  const std::vector<double> bv = knot_breaks(bez.knots_v, surface_domain_v(bez));
   // A rational node tries the quotient rule's bound first: when it already meets `target`, the
   // exact form (five times its cost) is not needed.
   for (const bool exact_form : {!s.rational(), true}) {
@@ -153,10 +150,8 @@ double split_fraction(double g) {
 struct KnotSnap {
   std::vector<double> knots;
   double tol = 0.0;
-  KnotSnap(const std::vector<double>& all, Interval domain) : tol(1e-12 * domain.width()) {
-    for (double k : all)
-      if (k >= domain.min && k <= domain.max && (knots.empty() || knots.back() != k)) knots.push_back(k);
-  }
+  KnotSnap(const std::vector<double>& all, Interval domain)
+      : knots(knot_breaks(all, domain)), tol(1e-12 * domain.width()) {}
   [[nodiscard]] double operator()(double t) const {
     const auto it = std::lower_bound(knots.begin(), knots.end(), t);
     if (it != knots.end() && *it - t <= tol) return *it;
