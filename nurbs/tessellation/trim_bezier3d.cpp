@@ -71,6 +71,15 @@ V4 patch_point_w(const BezierPatch& patch, double u, double v) {
   return out;
 }
 
+/// Control point i (0 <= i <= n) of the points q of a Bézier curve of degree n - 1 elevated to degree n
+/// (Farin): the ends stay, inner points are (i / n) q_(i-1) + (1 - i / n) q_i.
+V4 elevated_point(const std::vector<V4>& q, int i) {
+  const int n = int(q.size());
+  if (i == 0) return q.front();
+  if (i == n) return q.back();
+  return (double(i) / n) * q[size_t(i - 1)] + (1.0 - double(i) / n) * q[size_t(i)];
+}
+
 HomogeneousCurve bezier_curve(int degree, Interval range, std::vector<V4> points) {
   HomogeneousCurve h;
   h.degree = degree;
@@ -239,10 +248,7 @@ HomogeneousCurve lift_by_composition(const BezierPatch& patch, const Curve2& pie
 HomogeneousCurve elevate_bezier(const HomogeneousCurve& b) {
   const int n = b.degree + 1;
   std::vector<V4> e(size_t(n + 1));
-  e[0] = b.points.front();
-  e[size_t(n)] = b.points.back();
-  for (int i = 1; i < n; ++i)
-    e[size_t(i)] = (double(i) / n) * b.points[size_t(i - 1)] + (1.0 - double(i) / n) * b.points[size_t(i)];
+  for (int i = 0; i <= n; ++i) e[size_t(i)] = elevated_point(b.points, i);
   return bezier_curve(n, {b.knots.front(), b.knots.back()}, std::move(e));
 }
 
@@ -266,13 +272,10 @@ HomogeneousCurve reduce_degree_lossless(const HomogeneousCurve& bezier, double r
     for (int i = 0; i < n; ++i)  // the paper's lambda blend: forward on the first half, backward on the second
       q[size_t(i)] =
           2 * i < n - 1 ? fwd[size_t(i)] : (2 * i > n - 1 ? bwd[size_t(i)] : 0.5 * (fwd[size_t(i)] + bwd[size_t(i)]));
-    // Lossless test: elevated back (elevate_bezier's formula), the control points (hence the curve,
-    // by partition of unity) move by at most rel_tol * max |P|.
-    double dev = std::max(glm::length(q[0] - P[0]), glm::length(q[nn - 1] - P[nn]));
-    for (int i = 1; i < n; ++i) {
-      const V4 back = (double(i) / n) * q[size_t(i - 1)] + (1.0 - double(i) / n) * q[size_t(i)];
-      dev = std::max(dev, glm::length(back - P[size_t(i)]));
-    }
+    // Lossless test: elevated back, the control points (hence the curve, by partition of unity) move
+    // by at most rel_tol * max |P|.
+    double dev = 0.0;
+    for (int i = 0; i <= n; ++i) dev = std::max(dev, glm::length(elevated_point(q, i) - P[size_t(i)]));
     if (!(dev <= rel_tol * scale)) break;
     std::swap(P, q);
   }
