@@ -53,8 +53,7 @@ EdgeCounts count_edges_of(const TriangleMesh& mesh, const std::vector<int>& id) 
     for (int e = 0; e < 3; ++e) {
       const int a = v[e], b = v[(e + 1) % 3];
       if (a == b) continue;  // collapsed by the weld
-      auto [it, added] = uses.try_emplace({std::min(a, b), std::max(a, b)}, 0, k);
-      ++it->second.first;
+      ++uses.try_emplace({std::min(a, b), std::max(a, b)}, 0, k).first->second.first;
     }
   }
   r.edges = (long long)uses.size();
