@@ -131,8 +131,15 @@ void run(const GlobalOptions& global, const Options& o) {
         const auto c0 = std::chrono::steady_clock::now();
         key = queries::batch_cache_key(o.path, geometry.tolerance, o.max_samples, side, gpu->info().renderer);
         file = queries::batch_cache_file(dir, key);
-        state = queries::load_batch_state(file, key);
-        if (state && !queries::state_matches(geometry, *state)) state.reset();
+        queries::BatchCacheRead read = queries::load_batch_state(file, key);
+        if (read.state && !queries::state_matches(geometry, *read.state))
+          read = {std::nullopt, "its atlases do not match the model's grids"};
+        if (!read.problem.empty()) {  // rebuilt below and written over it
+          fmt::print(stderr, "distance: warning: the cache file {} is not used: {}; the preparation is rebuilt\n",
+                     file.string(), read.problem);
+          cache_json["problem"] = read.problem;
+        }
+        state = std::move(read.state);
         cache_json["file"] = file.string();
         cache_json["hit"] = state.has_value();
         cache_json["read_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();

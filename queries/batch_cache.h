@@ -9,8 +9,11 @@
 ///  - Key: the cache format, the program (version, and the size and time of the running
 ///    executable: a rebuild starts afresh), the model file's bytes (FNV-1a 64 and length), the
 ///    grid tolerance (exact bits), the sample limit, the atlas side and the GL renderer (its float
-///    evaluation made the samples). The file holds the key; a file whose key differs, that is
-///    truncated or whose arrays do not fit is a miss, never an error.
+///    evaluation made the samples).
+///  - Trust: the file holds the key and ends with a 64-bit checksum of every byte before it. A
+///    file is used only when its magic, format, checksum and key agree, and its counts and
+///    indices fit the bytes and the arrays they describe; any other file is a miss with a reason
+///    (the caller warns and rebuilds it), never an error and never a partly read state.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -37,10 +40,18 @@ inline constexpr std::uintmax_t kBatchCacheBytes = std::uintmax_t(2) << 30;
 /// The cache file of `key` in `directory`.
 [[nodiscard]] std::filesystem::path batch_cache_file(const std::filesystem::path& directory, const std::string& key);
 
-/// The state stored under `key` in `file`; nullopt when there is none (absent, another key,
-/// truncated, inconsistent).
-[[nodiscard]] std::optional<PointBatchState> load_batch_state(const std::filesystem::path& file,
-                                                              const std::string& key);
+/// What load_batch_state found in a cache file.
+struct BatchCacheRead {
+  std::optional<PointBatchState> state;  ///< the stored state, when the file verified
+  /// Why an existing file was not used (truncated, checksum, format, key, inconsistent content);
+  /// empty when it was used or when there is no file.
+  std::string problem;
+};
+
+/// The state stored under `key` in `file`: read only after the whole file's checksum, magic,
+/// format and key agree, and checked for counts and indices that fit (so that no damage can make
+/// a query read outside an array or allocate beyond the file's size).
+[[nodiscard]] BatchCacheRead load_batch_state(const std::filesystem::path& file, const std::string& key);
 
 /// Writes `state` under `key` to `file` (creating its folder), then removes the folder's oldest
 /// cache files beyond `max_bytes`. Returns an empty string, or why the file could not be written.

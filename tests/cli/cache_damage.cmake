@@ -1,0 +1,83 @@
+# ctest helper: the batched preparation's cache file damaged in several ways (a byte flipped in
+# its header, its middle and its last byte; cut short; one byte appended). Each time `CMD` (a
+# ;-list: nurbsgl distance MODEL --points FILE, without --json) run with XDG_CACHE_HOME=CACHE_HOME
+# must warn on stderr naming the file and the reason, exit 0 with the results of --no-cache, and
+# leave a rebuilt file that the next run reads as a hit.
+set(env ${CMAKE_COMMAND} -E env XDG_CACHE_HOME=${CACHE_HOME})
+file(REMOVE_RECURSE ${CACHE_HOME})
+
+# The results of `args` (and its stderr in `err_var`); fails on a nonzero exit.
+function(run_distance out_var err_var)
+  execute_process(COMMAND ${env} ${CMD} --json ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 300)
+  if(NOT rc STREQUAL "0")
+    message(FATAL_ERROR "exit code ${rc} (${ARGN})\n--- stdout ---\n${out}\n--- stderr ---\n${err}")
+  endif()
+  string(JSON results GET "${out}" results)
+  string(JSON hit GET "${out}" cache hit)
+  set(${out_var} "${results}" PARENT_SCOPE)
+  set(${err_var} "${err}" PARENT_SCOPE)
+  set(last_hit "${hit}" PARENT_SCOPE)
+endfunction()
+
+run_distance(reference err --no-cache)
+run_distance(first err)
+file(GLOB files ${CACHE_HOME}/nurbsgl/*.batch)
+list(LENGTH files count)
+if(NOT count EQUAL 1)
+  message(FATAL_ERROR "expected one cache file in ${CACHE_HOME}/nurbsgl, found '${files}'")
+endif()
+set(file ${files})
+
+# Overwrites the byte at `offset` of the cache file with another value.
+function(flip offset)
+  file(READ ${file} old OFFSET ${offset} LIMIT 1 HEX)
+  if(old STREQUAL "a5")
+    set(byte "\\132")
+  else()
+    set(byte "\\245")
+  endif()
+  execute_process(COMMAND sh -c "printf '${byte}' | dd of='${file}' bs=1 seek=${offset} conv=notrunc status=none"
+                  RESULT_VARIABLE rc)
+  file(READ ${file} new OFFSET ${offset} LIMIT 1 HEX)
+  if(NOT rc STREQUAL "0" OR new STREQUAL old)
+    message(FATAL_ERROR "could not change byte ${offset} of ${file}")
+  endif()
+endfunction()
+
+foreach(damage flip_header flip_middle flip_last truncate append)
+  file(SIZE ${file} size)
+  if(damage STREQUAL "flip_header")
+    flip(16)  # the key's length
+  elseif(damage STREQUAL "flip_middle")
+    math(EXPR at "${size} / 2")
+    flip(${at})
+  elseif(damage STREQUAL "flip_last")
+    math(EXPR at "${size} - 1")
+    flip(${at})
+  elseif(damage STREQUAL "truncate")
+    math(EXPR at "${size} - 100")
+    execute_process(COMMAND truncate -s ${at} ${file} RESULT_VARIABLE rc)
+  else()
+    file(APPEND ${file} "x")
+  endif()
+  run_distance(got err)
+  set(warning "distance: warning: the cache file ${file} is not used: its checksum does not match")
+  string(FIND "${err}" "${warning}" found)
+  if(found EQUAL -1 OR NOT err MATCHES "the preparation is rebuilt\n")
+    message(FATAL_ERROR "${damage}: no warning '${warning}...' on stderr\n--- stderr ---\n${err}")
+  endif()
+  if(last_hit)
+    message(FATAL_ERROR "${damage}: the damaged file was read as a hit")
+  endif()
+  string(JSON same EQUAL "${reference}" "${got}")
+  if(NOT same)
+    message(FATAL_ERROR "${damage}: results differ from --no-cache\n--- --no-cache ---\n${reference}\n--- got ---\n${got}")
+  endif()
+  run_distance(again err)  # the file was rebuilt: a hit, the same results, no warning
+  string(JSON same EQUAL "${reference}" "${again}")
+  if(NOT last_hit OR NOT same OR err MATCHES "warning")
+    message(FATAL_ERROR "${damage}: the rebuilt file gave hit=${last_hit}, the same results: ${same}\n${err}")
+  endif()
+  message(STATUS "${damage}: warned, rebuilt, same results")
+endforeach()
