@@ -182,11 +182,18 @@ nurbs::Model select_body(nurbs::Model model, const std::string& spec, const std:
 
 void run(const GlobalOptions& global, const Options& o) {
   // B read (and sized) again only when it is another file or another body of it.
-  const nurbs::Model ma = select_body(nurbs::io::read_model(o.a), o.body_a, "--body-a", o.a);
+  LoadedModel la = load_model(o.a, "clearance");
+  const nurbs::ModelReport report_a = la.report;
+  const nurbs::Model ma = select_body(std::move(la.model), o.body_a, "--body-a", o.a);
+  const bool same_file = o.b == o.a;
+  std::optional<LoadedModel> lb;
+  if (!same_file) lb.emplace(load_model(o.b, "clearance"));
+  const nurbs::ModelReport& report_b = lb ? lb->report : report_a;
   const std::optional<nurbs::Model> other_b =
-      o.b == o.a && o.body_b == o.body_a
+      same_file && o.body_b == o.body_a
           ? std::nullopt
-          : std::optional<nurbs::Model>(select_body(nurbs::io::read_model(o.b), o.body_b, "--body-b", o.b));
+          : std::optional<nurbs::Model>(select_body(lb ? std::move(lb->model) : nurbs::io::read_model(o.b), o.body_b,
+                                                    "--body-b", o.b));
   const nurbs::Model& mb = other_b ? *other_b : ma;
   const double size_a = checked_model_size(ma, o.a);
   const double size =  // in A's unit
@@ -213,6 +220,39 @@ void run(const GlobalOptions& global, const Options& o) {
   if (const double k = mb.unit_scale_to_mm / ma.unit_scale_to_mm; k != 1.0)
     for (nurbs::TrimmedSurface& f : fb)
       for (glm::dvec3& p : f.surface.points) p *= k;
+  // The reader's doubts of either side (nurbs/model_report.h), judged per answer against the other
+  // side's box in the answer's frame.
+  const nurbs::FaceDoubts doubts_a(fa), doubts_b(fb);
+  const auto moved = [](const nurbs::Box& b, const glm::dmat4& m) {  // the box of b's corners mapped by m
+    nurbs::Box out{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 q(m * glm::dvec4((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                                        (k & 4) ? b.max.z : b.min.z, 1.0));
+      out.min = glm::min(out.min, q), out.max = glm::max(out.max, q);
+    }
+    return out;
+  };
+  const auto faces_box = [](const std::vector<nurbs::TrimmedSurface>& faces) {
+    nurbs::Box box{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+    for (const nurbs::TrimmedSurface& f : faces) {
+      const nurbs::Box c = nurbs::control_box(f.surface);
+      box.min = glm::min(box.min, c.min), box.max = glm::max(box.max, c.max);
+    }
+    return box;
+  };
+  const nurbs::Box box_a = faces_box(fa), box_b = faces_box(fb);
+  std::string model_reason = report_a.uncertified_reason(global.accept_partial);
+  if (model_reason.empty() && lb) model_reason = report_b.uncertified_reason(global.accept_partial);
+  // Widens c's bound by the gaps within reach and returns why it is not certified (empty: it may be).
+  const auto judge = [&](queries::Clearance& c, const glm::dmat4& motion) -> std::string {
+    if (doubts_a.empty() && doubts_b.empty()) return model_reason;
+    const double reach = c.distance + c.bound;
+    const nurbs::FaceDoubts::Verdict va = doubts_a.near(moved(box_b, motion), reach);
+    const nurbs::FaceDoubts::Verdict vb = doubts_b.near(moved(box_a, glm::inverse(motion)), reach);
+    c.bound += std::max(va.widen, vb.widen);
+    if (!model_reason.empty()) return model_reason;
+    return !va.reason.empty() ? "A: " + va.reason : !vb.reason.empty() ? "B: " + vb.reason : "";
+  };
   // Before any grid: the faces that can hold the closest pair (for every frame); the answers
   // name faces by their index in the model.
   const size_t faces_a = fa.size(), faces_b = fb.size();
@@ -360,8 +400,12 @@ void run(const GlobalOptions& global, const Options& o) {
                           {"start-pairs", on_gpu(o.start_pairs)},
                           {"gpu-upper", on_gpu(queries::upper_from_samples(limits, c2f) ? "samples" : "boxes")}});
   };
+  std::string last_reason;  // why the last answer is not certified (the reader's doubts), empty if it may be
+  size_t uncertified = 0;
   auto query = [&](const glm::dmat4& motion) {
     queries::Clearance c = query_kept(motion);
+    last_reason = judge(c, motion);
+    if (!last_reason.empty()) c.meets_tolerance = false;
     if (c.face_a >= 0) c.face_a = index_a[size_t(c.face_a)];
     if (c.face_b >= 0) c.face_b = index_b[size_t(c.face_b)];
     return c;
@@ -380,7 +424,8 @@ void run(const GlobalOptions& global, const Options& o) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
       if (!c.found) throw CommandFailed(fmt::format("frame {}: no pair of surface points found", k + 1));
       results.push_back(result_json(c, s, tolerance));
-      over += !meets(c, tolerance);
+      if (!last_reason.empty()) results.back()["uncertified"] = last_reason, ++uncertified;
+      over += last_reason.empty() && !meets(c, tolerance);
       if (voxel) results.back()["first_stage"] = stage;
       if (progress) fmt::print(stderr, "\r[{}/{}] frames", k + 1, frames.size());
       if (!o.json)
@@ -397,8 +442,15 @@ void run(const GlobalOptions& global, const Options& o) {
                                 {"preset", preset_json()},
                                 {"tolerance", tolerance},
                                 {"unit", unit},
+                                {"uncertified", uncertified},
+                                {"model_a", model_json(report_a, global)},
+                                {"model_b", model_json(report_b, global)},
                                 {"results", results}});
     if (gpu) report_profile(*gpu, global);
+    require_certified(report_a, global);
+    require_certified(report_b, global);
+    if (uncertified > 0)
+      throw CommandFailed(fmt::format("{} of {} frames not certified: {}", uncertified, frames.size(), last_reason));
     if (over > 0)
       throw CommandFailed(fmt::format("{} of {} frames with a bound over the tolerance {:.3g}", over, frames.size(),
                                       tolerance));
@@ -418,6 +470,9 @@ void run(const GlobalOptions& global, const Options& o) {
     j["preset"] = preset_json();
     j["tolerance"] = tolerance;
     j["unit"] = unit;
+    if (!last_reason.empty()) j["uncertified"] = last_reason;
+    j["model_a"] = model_json(report_a, global);
+    j["model_b"] = model_json(report_b, global);
     print_json(j);
   } else {
     o.preset.print_text();
@@ -438,7 +493,10 @@ void run(const GlobalOptions& global, const Options& o) {
     if (c.intersecting)
       fmt::print("the models intersect: faces {} and {} meet at ({:.9g}, {:.9g}, {:.9g})\n", c.face_a, c.face_b,
                  c.intersection.x, c.intersection.y, c.intersection.z);
-    if (!meets(c, tolerance)) fmt::print("the bound {:.3g} is over the tolerance {:.3g}\n", c.bound, tolerance);
+    if (!last_reason.empty())
+      fmt::print("not certified: {}\n", last_reason);
+    else if (!meets(c, tolerance))
+      fmt::print("the bound {:.3g} is over the tolerance {:.3g}\n", c.bound, tolerance);
   }
   if (o.timings) {
     std::string levels;
@@ -453,6 +511,9 @@ void run(const GlobalOptions& global, const Options& o) {
   } else if (gpu) {
     report_profile(*gpu, global);
   }
+  require_certified(report_a, global);
+  require_certified(report_b, global);
+  if (!last_reason.empty()) throw CommandFailed("the answer is not certified: " + last_reason);
   if (!meets(c, tolerance))
     throw CommandFailed(fmt::format("the bound {:.3g} is over the tolerance {:.3g} (the refinement's budget ran out)",
                                     c.bound, tolerance));

@@ -37,10 +37,11 @@ struct DeviationArgs {
   int samples = 48, threads = 0;
 };
 
-void run(const DeviationArgs& a) {
+void run(const GlobalOptions& global, const DeviationArgs& a) {
   if (a.relative && !a.eps_given) throw BadInput("--relative: needs --eps");
   const auto start = std::chrono::steady_clock::now();
-  const nurbs::Model model = nurbs::io::read_model(a.model);
+  const LoadedModel loaded = load_model(a.model, "deviation");
+  const nurbs::Model& model = loaded.model;
   const double size = checked_model_size(model, a.model);
   const double eps = a.relative ? a.eps * size : a.eps;
   if (a.eps_given && (!(eps > 0) || !std::isfinite(eps)))
@@ -84,6 +85,7 @@ void run(const DeviationArgs& a) {
                         {"read_seconds", read_seconds},
                         {"parameter_seconds", uv_seconds}};
     if (a.eps_given) j["eps"] = eps, j["within_eps"] = !above;
+    add_model_json(j, loaded.report, global);
     print_json(j);
   } else {
     fmt::print("model        {} ({} faces, size {:.6g})\n", a.model, faces.size(), size);
@@ -96,11 +98,12 @@ void run(const DeviationArgs& a) {
     if (a.eps_given) fmt::print("eps          {:.6g}: {}\n", eps, above ? "ABOVE" : "within");
   }
   if (above) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", d.max(), eps));
+  require_certified(loaded.report, global);
 }
 
 }  // namespace cmd_deviation_impl
 
-void add_deviation(CLI::App& app, const GlobalOptions& /*global*/) {
+void add_deviation(CLI::App& app, const GlobalOptions& global) {
   using namespace cmd_deviation_impl;
   auto* cmd = app.add_subcommand(
       "deviation", "Measure how far a triangle mesh (.stl/.ply/.obj, from any program) lies from a model's faces");
@@ -120,7 +123,7 @@ void add_deviation(CLI::App& app, const GlobalOptions& /*global*/) {
   cmd->add_flag("--no-parameters", a->no_parameters,
                 "Measure the mesh as it is, without first finding each vertex's face and (u, v) by projection");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
-  cmd->callback([a] { run(*a); });
+  cmd->callback([&global, a] { run(global, *a); });
 }
 
 }  // namespace cli

@@ -56,10 +56,10 @@ bool meets(const queries::PointDistance& d, double tolerance) {
 }
 
 nlohmann::json result_json(const queries::PointDistance& d, const glm::dvec3& query, double tolerance,
-                           const std::vector<nurbs::TrimmedSurface>& faces) {
+                           const std::vector<nurbs::TrimmedSurface>& faces, const std::string& uncertified) {
   if (!d.found)
     return {{"found", false}, {"meets_tolerance", false}, {"query", {query.x, query.y, query.z}}, {"distance", nullptr}};
-  return {{"found", true},
+  nlohmann::json j = {{"found", true},
           {"meets_tolerance", meets(d, tolerance)},
           {"query", {query.x, query.y, query.z}},
           {"distance", d.distance},
@@ -71,11 +71,14 @@ nlohmann::json result_json(const queries::PointDistance& d, const glm::dvec3& qu
           {"uv", {d.uv.x, d.uv.y}},
           {"on_trim_edge", d.on_trim_edge},
           {"candidates", d.candidates}};
+  if (!uncertified.empty()) j["uncertified"] = uncertified;
+  return j;
 }
 
 void run(const GlobalOptions& global, const Options& o) {
   if (o.point.empty() == o.points.empty()) throw BadInput("give exactly one of --point X,Y,Z and --points FILE");
-  const nurbs::Model model = nurbs::io::read_model(o.path);
+  const LoadedModel loaded = load_model(o.path, "distance");
+  const nurbs::Model& model = loaded.model;
   const double size = checked_model_size(model, o.path);
   const double limit = nurbs::coordinate_limit(nurbs::model_box(model));
   const std::vector<glm::dvec3> points =
@@ -203,17 +206,36 @@ void run(const GlobalOptions& global, const Options& o) {
   // found (exit 1), never printed as a distance.
   for (auto& r : results)
     if (r.found && (r.face < 0 || !std::isfinite(r.distance) || !std::isfinite(r.bound))) r.found = false;
+  // The reader's doubts (nurbs/model_report.h): a face within reach whose edges lie off its surface
+  // widens the bound by the gap; one whose trim could not be made valid, or a model that lost faces,
+  // leaves the answer uncertified.
+  const nurbs::FaceDoubts doubts(faces);
+  const std::string model_reason = loaded.report.uncertified_reason(global.accept_partial);
+  std::vector<std::string> reasons(results.size());
+  for (size_t k = 0; k < results.size(); ++k) {
+    auto& r = results[k];
+    if (!r.found) continue;
+    const nurbs::FaceDoubts::Verdict v = doubts.at(points[k], r.distance, r.bound);
+    r.bound += v.widen;
+    reasons[k] = !model_reason.empty() ? model_reason : v.reason;
+    if (!reasons[k].empty()) r.meets_tolerance = false;
+  }
+  size_t uncertified = 0;
+  for (const std::string& why : reasons) uncertified += !why.empty();
   size_t not_found = 0, over = 0;
-  for (const auto& r : results) not_found += !r.found, over += r.found && !meets(r, tolerance);
+  for (size_t k = 0; k < results.size(); ++k)
+    not_found += !results[k].found, over += results[k].found && reasons[k].empty() && !meets(results[k], tolerance);
   if (o.json) {
     nlohmann::json j;
     if (!o.point.empty()) {
-      j = result_json(results.front(), points.front(), tolerance, faces);
+      j = result_json(results.front(), points.front(), tolerance, faces, reasons.front());
       j["seconds"] = query_s;
     } else {
       j = {{"points", points.size()}, {"seconds", query_s}};
       j["not_found"] = not_found, j["over_tolerance"] = over;
     }
+    j["uncertified"] = uncertified;
+    add_model_json(j, loaded.report, global);
     j["prepare_seconds"] = prepare_s;
     // The switches of --paper as used; null where the batched projection does not use them.
     const auto one_at_a_time = [&](const nlohmann::json& v) { return batched ? nlohmann::json() : v; };
@@ -241,7 +263,7 @@ void run(const GlobalOptions& global, const Options& o) {
     }
     if (o.point.empty())
       print_json_streamed(std::move(j), "results", results.size(),
-                          [&](size_t k) { return result_json(results[k], points[k], tolerance, faces); });
+                          [&](size_t k) { return result_json(results[k], points[k], tolerance, faces, reasons[k]); });
     else
       print_json(j);
   } else {
@@ -262,7 +284,10 @@ void run(const GlobalOptions& global, const Options& o) {
           points[k].x, points[k].y, points[k].z, r.distance, r.bound, r.point.x, r.point.y, r.point.z, r.point_bound,
           r.face, r.uv.x, r.uv.y, r.on_trim_edge ? " on a trim edge" : "", r.candidates,
           batched ? "cells tested" : "candidate cells");
-      if (!meets(r, tolerance)) fmt::print("  its bound {:.3g} is over the tolerance {:.3g}\n", r.bound, tolerance);
+      if (!reasons[k].empty())
+        fmt::print("  not certified: {}\n", reasons[k]);
+      else if (!meets(r, tolerance))
+        fmt::print("  its bound {:.3g} is over the tolerance {:.3g}\n", r.bound, tolerance);
     }
     std::vector<double> d;
     for (const auto& r : results)
@@ -279,6 +304,11 @@ void run(const GlobalOptions& global, const Options& o) {
                        : "");
   }
   report_profile(*gpu, global);
+  require_certified(loaded.report, global);
+  if (uncertified > 0)
+    throw CommandFailed(fmt::format("{} of {} answers not certified: {}", uncertified, results.size(),
+                                    *std::find_if(reasons.begin(), reasons.end(),
+                                                  [](const std::string& w) { return !w.empty(); })));
   if (not_found > 0 || over > 0)
     throw CommandFailed(fmt::format(
         "{} of {} answers not found, {} with a bound over the tolerance {:.3g} (a point far from the model: the "

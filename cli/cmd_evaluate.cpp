@@ -115,7 +115,8 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
 void run(const GlobalOptions& global, const Options& o) {
   // --obj is checked before the work, in a --dump folder once that exists.
   if (global.dump_dir.empty()) check_output(o.obj, "--obj");
-  const nurbs::Model model = nurbs::io::read_model(o.path);
+  const LoadedModel loaded = load_model(o.path, "evaluate");
+  const nurbs::Model& model = loaded.model;
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
   const double size = checked_model_size(model, o.path);
   std::vector<int> chosen = o.faces;
@@ -266,7 +267,7 @@ void run(const GlobalOptions& global, const Options& o) {
   }
   if (!o.obj.empty()) nurbs::io::write_obj_file(o.obj, grids);
   if (o.json) {
-    print_json(nlohmann::json{{"model", o.path},
+    nlohmann::json j{{"model", o.path},
                                       {"model_size", size},
                                       {"tolerance", tolerance},
                                       {"backend", gpu->info().backend},
@@ -277,7 +278,9 @@ void run(const GlobalOptions& global, const Options& o) {
                                       {"gpu_ms", total_ms},
                                       {"batches", batches},
                                       {"faces_alone", alone.size()},
-                                      {"faces", rows}});
+                                      {"faces", rows}};
+    add_model_json(j, loaded.report, global);
+    print_json(j);
   } else {
     fmt::print(
         "{}/{} faces meet the tolerance; {} samples in all, largest grid {}; GPU {:.1f} ms ({} batches, {} "

@@ -16,7 +16,7 @@
 
 namespace cli {
 
-void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
+void add_info(CLI::App& app, const GlobalOptions& global) {
   auto* cmd = app.add_subcommand("info", "Describe a model file (.igs/.iges/.stp/.step/.bpt): faces, bodies, degrees, trims, size");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
@@ -31,12 +31,13 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
       ->capture_default_str();
   cmd->add_flag("--json", *json, "Print one JSON object instead of text");
   cmd->add_flag("--faces", *per_face, "Also list every face");
-  cmd->callback([path, json, per_face, bounds, tolerance] {
+  cmd->callback([&global, path, json, per_face, bounds, tolerance] {
     nurbs::io::IgesReadLog log;
     const auto t0 = std::chrono::steady_clock::now();
     const nurbs::Model model = nurbs::io::read_model(*path, &log);
     const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const nurbs::io::ModelSummary s = nurbs::io::summarize(model);
+    const nurbs::ModelReport report = nurbs::model_report(model);
     // A size that no tolerance can refer to (0, or overflowed) is bad input, as queries treat it.
     if (const auto problems = nurbs::validate_model_size(s.size); s.faces > 0 && !problems.empty())
       throw nurbs::io::ReadError(model.source, "", problems.front());
@@ -48,6 +49,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
                      {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings},
                      {"seconds", read_seconds}};
       if (*bounds) j["bounds"] = bounds_report(model, *tolerance, false);
+      add_model_json(j, report, global);
       print_json(j);
       return;
     }
@@ -60,7 +62,7 @@ void add_info(CLI::App& app, const GlobalOptions& /*global*/) {
     fmt::print("trim problems      {}\n", log.trim_problems.size());
     for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);
     if (log.trim_problems.size() > 20) fmt::print("  ... ({} more; --json lists all)\n", log.trim_problems.size() - 20);
-    for (const std::string& w : log.warnings) fmt::print("dropped            {}\n", w);
+    for (const std::string& line : report.lines(20)) fmt::print("read               {}\n", line);
     if (*bounds) fmt::print("{}", bounds_text(bounds_report(model, *tolerance, s.faces > 20 && isatty(STDERR_FILENO))));
   });
 }

@@ -24,15 +24,23 @@ struct RaycastArgs {
 };
 
 void run(const GlobalOptions& global, const RaycastArgs& a) {
-  const nurbs::Model model = nurbs::io::read_model(a.model);
+  const LoadedModel loaded = load_model(a.model, "raycast");
+  const nurbs::Model& model = loaded.model;
   (void)checked_model_size(model, a.model);
+  // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may hide or add a hit
+  // anywhere; an edge gap widens where a hit near an edge lies.
+  const nurbs::FaceDoubts::Verdict doubt = nurbs::FaceDoubts(nurbs::world_faces(model)).any();
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
   RayEngine engine(model, a.engine, global);
   const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
   long long hit_count = 0;
   for (const auto& h : hits) hit_count += h.face >= 0 ? 1 : 0;
   // Residual of the exact step (raycast_cpu.h): the hit point is on the face within it.
-  const double bound = engine.scene().options.exact_residual * engine.scene().size;
+  const double bound = engine.scene().options.exact_residual * engine.scene().size + doubt.widen;
+  const auto certify = [&] {
+    require_certified(loaded.report, global);
+    if (!doubt.reason.empty()) throw CommandFailed("the hits are not certified: " + doubt.reason);
+  };
 
   if (a.json) {
     // One object per ray in input order, as distance gives one per point: the ray echoed, hit, and
@@ -62,7 +70,10 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
     j.update(engine.figures());
     j["preset"] = a.preset.json();
+    if (!doubt.reason.empty()) j["uncertified"] = doubt.reason;
+    add_model_json(j, loaded.report, global);
     print_json(j);
+    certify();
     return;
   }
   const nlohmann::json f = engine.figures();
@@ -88,6 +99,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
       fmt::print("{:>8} {:>14.9g} {:>6} {:>12.6g} {:>12.6g}\n", i, h.t, h.face, h.uv.x, h.uv.y);
   }
   if (shown < hits.size()) fmt::print("... {} more (--json lists all)\n", hits.size() - shown);
+  certify();
 }
 
 }  // namespace cmd_raycast_impl

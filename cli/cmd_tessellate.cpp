@@ -45,8 +45,9 @@ nlohmann::json stats_json(const nurbs::tess::TessellateStats& s) {
           {"total", s.seconds}};
 }
 
-void run(const TessArgs& a) {
-  const nurbs::Model model = nurbs::io::read_model(a.path);
+void run(const GlobalOptions& global, const TessArgs& a) {
+  const LoadedModel loaded = load_model(a.path, "tessellate");
+  const nurbs::Model& model = loaded.model;
   const double size = checked_model_size(model, a.path);
   // Without --eps: 1e-3 of the model size, the reference setting of the experiments.
   const double eps = a.eps_given ? (a.relative ? a.eps * size : a.eps) : 1e-3 * size;
@@ -138,6 +139,16 @@ void run(const TessArgs& a) {
   }
   const bool guaranteed = o.mode == nurbs::tess::TessMode::Guaranteed;
   const bool check_failed = a.check && guaranteed && dev.max() > eps;
+  // Faces whose trim the reader could not make valid: their mesh is not certified (the material
+  // region is not known); faces whose file edges lie off the surface: the mesh is within eps of the
+  // face as read, and within eps plus the gap of the file's edges (nurbs/model_report.h).
+  std::vector<std::string> uncertified;
+  double gap = 0.0;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    gap = std::max(gap, faces[f].edge_gap);
+    if (!faces[f].trim_problem.empty())
+      uncertified.push_back(fmt::format("face {} (id {}): {}", f, faces[f].face_id, faces[f].trim_problem));
+  }
   std::vector<std::string> over_eps, off_eps;
   for (size_t f = 0; f < outside.size(); ++f)
     if (outside[f].triangles > 0)
@@ -188,6 +199,9 @@ void run(const TessArgs& a) {
                           {"lifted_degree_max", r.stats.trim.lifted_degree_max},
                           {"lift_error_max", r.stats.trim.lift_error_max}}},
                         {"seconds", stats_json(r.stats)}};
+    j["bound"] = eps + gap;  // of the mesh from the file's faces: eps, plus the largest edge gap
+    j["uncertified_faces"] = uncertified;
+    add_model_json(j, loaded.report, global);
     // The switches of --paper as used: the cell bound is guaranteed mode's; watertight meshes loop
     // every boundary, as --paper-rectangles does.
     j["preset"] = a.preset.json({{"cell-bound", guaranteed ? nlohmann::json(a.cell_bound) : nlohmann::json()},
@@ -271,6 +285,10 @@ void run(const TessArgs& a) {
     for (const std::string& f : off_eps) fmt::print("off surface  {}  ABOVE eps\n", f);
     if (!a.output.empty()) fmt::print("written      {}\n", a.output);
     for (const auto& f : r.failures) fmt::print("failed       face {}: {}\n", f.face, f.reason);
+    for (const std::string& f : uncertified) fmt::print("uncertified  {}\n", f);
+    if (gap > 0.0)
+      fmt::print("edge gap     the file's edges lie up to {:.6g} off their faces: the mesh is within {:.6g} of them\n",
+                 gap, eps + gap);
   }
   for (const auto& f : r.failures)
     fmt::print(stderr, "nurbsgl: tessellate: {}: face {}: {}\n", a.path, f.face, f.reason);
@@ -285,11 +303,16 @@ void run(const TessArgs& a) {
                                     "{:.6g}: {}",
                                     off_eps.size(), eps, fmt::join(off_eps, "; ")));
   if (check_failed) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", dev.max(), eps));
+  require_certified(loaded.report, global);
+  if (!uncertified.empty() && guaranteed)
+    throw CommandFailed(fmt::format("guaranteed mode: {} face(s) with a trim the reader could not make valid, their "
+                                    "mesh not certified: {}",
+                                    uncertified.size(), fmt::join(uncertified, "; ")));
 }
 
 }  // namespace cmd_tessellate_impl
 
-void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
+void add_tessellate(CLI::App& app, const GlobalOptions& global) {
   using namespace cmd_tessellate_impl;
   auto* cmd = app.add_subcommand(
       "tessellate", "Triangulate a model's trimmed faces within a geometric error (Balazs, Guthe, Klein 2004)");
@@ -376,12 +399,12 @@ void add_tessellate(CLI::App& app, const GlobalOptions& /*global*/) {
       ->check(CLI::Range(0LL, 1LL << 40))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
-  cmd->callback([a, check_samples] {
+  cmd->callback([&global, a, check_samples] {
     a->preset.apply();
     // Options that would do nothing are refused.
     if (a->relative && !a->eps_given) throw BadInput("--relative: needs --eps");
     if (check_samples->count() > 0 && !a->check) throw BadInput("--check-samples: needs --check");
-    run(*a);
+    run(global, *a);
   });
 }
 

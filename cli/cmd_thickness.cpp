@@ -19,6 +19,7 @@
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/output_file.h"
 #include "nurbs/io/read_model.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/raycast/thickness.h"
 
 namespace cli {
@@ -76,8 +77,16 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   if (a.samples_given && a.spacing_given) throw BadInput("--samples and --spacing: give one of them");
   if (a.colour == "ball" && !a.ball.enabled) throw BadInput("--colour ball needs --ball");
   const auto start = std::chrono::steady_clock::now();
-  const nurbs::Model model = nurbs::io::read_model(a.model);
+  const LoadedModel loaded = load_model(a.model, "thickness");
+  const nurbs::Model& model = loaded.model;
   const double size = checked_model_size(model, a.model);
+  // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may add or hide a wall
+  // anywhere; an edge gap widens every thickness by the gap.
+  const nurbs::FaceDoubts::Verdict doubt = nurbs::FaceDoubts(nurbs::world_faces(model)).any();
+  const auto certify = [&] {
+    require_certified(loaded.report, global);
+    if (!doubt.reason.empty()) throw CommandFailed("the thickness is not certified: " + doubt.reason);
+  };
   if (!a.output.empty()) try {
       if (nurbs::io::mesh_format_of(a.output) != nurbs::io::MeshFormat::Ply)
         throw BadInput(fmt::format("-o {}: the coloured thickness mesh is written as .ply", a.output));
@@ -171,7 +180,11 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     }
     j.update(f);
     j["preset"] = a.preset.json();
+    j["hit_residual"] = j["hit_residual"].get<double>() + doubt.widen;
+    if (!doubt.reason.empty()) j["uncertified"] = doubt.reason;
+    add_model_json(j, loaded.report, global);
     print_json(j);
+    certify();
     return;
   }
   a.preset.print_text();
@@ -207,6 +220,7 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
              cast_seconds > 0 ? double(n) / cast_seconds : 0.0, a.engine.method, a.engine.device);
   fmt::print("tests      {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
+  certify();
 }
 
 }  // namespace cmd_thickness_impl

@@ -1,5 +1,7 @@
 #include "cli/common.h"
 
+#include "cli/commands.h"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -15,9 +17,40 @@
 #include "nurbs/io/input_file.h"
 #include "nurbs/io/output_file.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {
+
+LoadedModel load_model(const std::string& path, const std::string& command) {
+  LoadedModel m{nurbs::io::read_model(path), {}};
+  m.report = nurbs::model_report(m.model);
+  for (const std::string& line : m.report.lines()) fmt::print(stderr, "{}: {}: {}\n", command, path, line);
+  return m;
+}
+
+nlohmann::json model_json(const nurbs::ModelReport& r, const GlobalOptions& global) {
+  nlohmann::json dropped = nlohmann::json::array(), trims = nlohmann::json::array(), gaps = nlohmann::json::array();
+  for (const nurbs::DroppedFace& d : r.dropped) dropped.push_back({{"entity", d.entity}, {"reason", d.reason}});
+  for (const nurbs::FaceNote& n : r.invalid_trims)
+    trims.push_back({{"face", n.face}, {"face_id", n.face_id}, {"problem", n.problem}});
+  for (const nurbs::FaceNote& n : r.edge_gaps) gaps.push_back({{"face", n.face}, {"face_id", n.face_id}, {"gap", n.gap}});
+  return {{"faces_in_file", r.faces_in_file >= 0 ? nlohmann::json(r.faces_in_file) : nlohmann::json()},
+          {"faces_read", r.faces_read},
+          {"faces_dropped", dropped},
+          {"invalid_trims", trims},
+          {"edge_gaps", gaps},
+          {"read_warnings", r.warnings},
+          {"partial_accepted", r.partial() && global.accept_partial}};
+}
+
+void add_model_json(nlohmann::json& j, const nurbs::ModelReport& report, const GlobalOptions& global) {
+  j.update(model_json(report, global));
+}
+
+void require_certified(const nurbs::ModelReport& report, const GlobalOptions& global) {
+  if (const std::string why = report.uncertified_reason(global.accept_partial); !why.empty()) throw CommandFailed(why);
+}
 
 std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
   gpgpu::ContextOptions ctx;

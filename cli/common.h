@@ -11,6 +11,7 @@
 
 #include "gpgpu/gpu.h"
 #include "nurbs/model.h"
+#include "nurbs/model_report.h"
 
 namespace cli {
 
@@ -34,7 +35,33 @@ struct GlobalOptions {
   std::string dump_dir;  ///< --dump DIR: EXR dumps of the textures a command produces
   bool profile = false;  ///< --profile: per-pass GPU/CPU time table on stderr
   int gl_threads = -1;   ///< --gl-threads: llvmpipe's rasterizer threads (gpgpu::ContextOptions)
+  /// --accept-partial: answers on a model whose reader dropped faces may be certified, on the
+  /// faces read (nurbs::ModelReport::uncertified_reason).
+  bool accept_partial = false;
 };
+
+/// A model read for a command, with the reader's report (nurbs/model_report.h).
+struct LoadedModel {
+  nurbs::Model model;
+  nurbs::ModelReport report;
+};
+
+/// Reads the model file `path` (nurbs::io::read_model) and says on stderr, prefixed by `command`,
+/// what the reader dropped, could not repair or read otherwise than the file says.
+[[nodiscard]] LoadedModel load_model(const std::string& path, const std::string& command);
+
+/// What every command's JSON says about its model (the fields add_model_json lists), as one object:
+/// clearance's "model_a" and "model_b".
+[[nodiscard]] nlohmann::json model_json(const nurbs::ModelReport& report, const GlobalOptions& global);
+
+/// The fields every command's JSON carries about its model: faces_in_file, faces_read,
+/// faces_dropped [{entity, reason}], invalid_trims [{face, face_id, problem}], edge_gaps [{face,
+/// face_id, gap}], read_warnings and partial_accepted.
+void add_model_json(nlohmann::json& j, const nurbs::ModelReport& report, const GlobalOptions& global);
+
+/// Throws CommandFailed (exit 1) with the reason when answers on the model are not certified as a
+/// whole (faces dropped without --accept-partial). Called after a command printed its answers.
+void require_certified(const nurbs::ModelReport& report, const GlobalOptions& global);
 
 /// Starts the GPU for a command (backend from --gl, else NURBSGL_GL, else auto), with dumps and
 /// profiling as asked. Throws BadInput (exit 2) for an unknown NURBSGL_GL and gpgpu::NoGlError

@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
                  "environment's, else one per core). 0 draws on the calling thread: faster for searches of many "
                  "small passes (clearance of the paper pair: about 2x per query), slower for large passes")
       ->check(CLI::Range(0, 256));
+  app.add_flag("--accept-partial", global.accept_partial,
+               "Certify answers on a model whose reader dropped faces, on the faces read (without it such answers "
+               "exit 1; every command names the dropped faces either way)");
   cli::add_gpu_info(app, global);
   cli::add_selftest(app, global);
   cli::add_info(app, global);

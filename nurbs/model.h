@@ -20,6 +20,12 @@ struct Body {
   std::string instance;
 };
 
+/// A face entity of the file that the model does not hold, and why.
+struct DroppedFace {
+  std::string entity;  ///< the file's name for it: "D123" (IGES directory entry), "#45" (STEP instance)
+  std::string reason;
+};
+
 struct Model {
   std::vector<Body> bodies;
   std::string source;             ///< file the model came from, or the generator's name
@@ -29,6 +35,15 @@ struct Model {
   double resolution = 0.0;
   std::map<int, int> skipped_entities;  ///< IGES entity type -> count, for entities not read
   std::map<std::string, int> skipped_types;  ///< STEP entity type -> count, for geometry not read
+  /// Face entities the file defines (read or dropped); -1 when the reader does not count them.
+  int faces_in_file = -1;
+  /// Faces of the file left out of the model, each naming its entity and the reason. A model that
+  /// lost a face is another model: no answer on it is certified unless the caller accepts the
+  /// partial model (model_report.h).
+  std::vector<DroppedFace> dropped_faces;
+  /// What else the reader read differently from the letter of the file (a damaged record the
+  /// geometry never reaches, a string whose count runs past its end), each naming file line or entity.
+  std::vector<std::string> read_warnings;
 };
 
 }  // namespace nurbs

@@ -34,6 +34,7 @@ void App::draw_panels() {
   ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("nurbsgl");
   ImGui::Text("A: %s (%zu faces)", file_name(a_->path).c_str(), a_->faces.size());
+  for (const std::string& line : a_->report.lines(3)) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "A: %s", line.c_str());
   if (options_.models.size() > 1)
     ImGui::Text("B: %s (%zu faces)", file_name(b_->path).c_str(), b_->faces.size());
   else

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <stdexcept>
 
@@ -17,6 +18,8 @@ void load_scene_model(SceneModel& out, const std::string& path) {
   out.faces = nurbs::world_faces(model);
   out.box = nurbs::model_box(model);
   out.size = nurbs::model_size(model);
+  out.report = nurbs::model_report(model);
+  for (const std::string& line : out.report.lines()) std::fprintf(stderr, "%s: %s\n", path.c_str(), line.c_str());
   if (const auto problems = nurbs::validate_model_size(out.size); !problems.empty())
     throw std::runtime_error(path + ": " + problems.front());
 }

@@ -10,6 +10,7 @@
 
 #include "nurbs/model.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/model_report.h"
 #include "nurbs/tessellation/tessellate.h"
 #include "viewer/camera.h"
 #include "viewer/draw_buffers.h"
@@ -21,6 +22,7 @@ struct SceneModel {
   std::vector<nurbs::TrimmedSurface> faces;  ///< nurbs::world_faces of the file
   nurbs::Box box;                            ///< sampled box (nurbs::model_box)
   double size = 0.0;                         ///< nurbs::model_size, the scale of relative tolerances
+  nurbs::ModelReport report;                 ///< what the reader dropped or could not repair
   nurbs::tess::TessellateResult tess;
   glm::dvec3 mesh_min{0.0}, mesh_max{0.0};  ///< box of the tessellation (trimmed material only): framing
   double tess_eps = 0.0;                    ///< absolute eps of `tess`

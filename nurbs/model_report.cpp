@@ -1,0 +1,135 @@
+#include "nurbs/model_report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace nurbs {
+
+namespace {
+
+double box_distance(const Box& b, const glm::dvec3& p) {
+  const glm::dvec3 d = glm::max(glm::max(b.min - p, p - b.max), glm::dvec3(0.0));
+  return glm::length(d);
+}
+
+double box_box_distance(const Box& a, const Box& b) {
+  const glm::dvec3 d = glm::max(glm::max(a.min - b.max, b.min - a.max), glm::dvec3(0.0));
+  return glm::length(d);
+}
+
+std::string face_name(const FaceNote& n) { return fmt::format("face {} (id {})", n.face, n.face_id); }
+
+}  // namespace
+
+double ModelReport::largest_gap() const {
+  double g = 0.0;
+  for (const FaceNote& n : edge_gaps) g = std::max(g, n.gap);
+  return g;
+}
+
+std::string ModelReport::uncertified_reason(bool accept_partial) const {
+  if (!partial() || accept_partial) return "";
+  return fmt::format(
+      "the reader dropped {} of {} faces of {}: answers on the rest are not answers on the file's model (accept the "
+      "partial model explicitly to certify them on it)",
+      dropped.size(), faces_in_file >= 0 ? faces_in_file : faces_read + int(dropped.size()), source);
+}
+
+std::vector<std::string> ModelReport::lines(size_t max_items) const {
+  std::vector<std::string> out;
+  if (partial()) {
+    std::map<std::string, int> by_reason;
+    for (const DroppedFace& d : dropped) ++by_reason[d.reason];
+    out.push_back(fmt::format("{} of {} faces of the file dropped by the reader", dropped.size(),
+                              faces_in_file >= 0 ? faces_in_file : faces_read + int(dropped.size())));
+    for (size_t k = 0; k < dropped.size() && k < max_items; ++k)
+      out.push_back(fmt::format("  face {} dropped: {}", dropped[k].entity, dropped[k].reason));
+    if (dropped.size() > max_items) out.push_back(fmt::format("  ... and {} more", dropped.size() - max_items));
+  }
+  if (!invalid_trims.empty()) {
+    out.push_back(fmt::format("{} faces kept with trim loops that could not be made valid: answers that may depend "
+                              "on them are not certified",
+                              invalid_trims.size()));
+    for (size_t k = 0; k < invalid_trims.size() && k < max_items; ++k)
+      out.push_back(fmt::format("  {}: {}", face_name(invalid_trims[k]), invalid_trims[k].problem));
+    if (invalid_trims.size() > max_items)
+      out.push_back(fmt::format("  ... and {} more", invalid_trims.size() - max_items));
+  }
+  if (!edge_gaps.empty()) {
+    out.push_back(fmt::format("{} faces kept whose file edges lie off their surface, up to {:.3g}: bounds that may "
+                              "depend on them are widened by the gap",
+                              edge_gaps.size(), largest_gap()));
+    std::vector<FaceNote> worst = edge_gaps;
+    std::sort(worst.begin(), worst.end(), [](const FaceNote& a, const FaceNote& b) { return a.gap > b.gap; });
+    for (size_t k = 0; k < worst.size() && k < max_items; ++k)
+      out.push_back(fmt::format("  {}: edges up to {:.3g} off the surface", face_name(worst[k]), worst[k].gap));
+    if (worst.size() > max_items) out.push_back(fmt::format("  ... and {} more", worst.size() - max_items));
+  }
+  for (size_t k = 0; k < warnings.size() && k < max_items; ++k) out.push_back(warnings[k]);
+  if (warnings.size() > max_items) out.push_back(fmt::format("... and {} more warnings", warnings.size() - max_items));
+  return out;
+}
+
+ModelReport model_report(const Model& model) {
+  ModelReport r;
+  r.source = model.source;
+  r.faces_in_file = model.faces_in_file;
+  r.dropped = model.dropped_faces;
+  r.warnings = model.read_warnings;
+  int index = 0;
+  for (const Body& b : model.bodies)
+    for (const TrimmedSurface& f : b.faces) {
+      if (!f.trim_problem.empty()) r.invalid_trims.push_back({index, f.face_id, f.trim_problem, f.edge_gap});
+      if (f.edge_gap > 0.0) r.edge_gaps.push_back({index, f.face_id, "", f.edge_gap});
+      ++index;
+    }
+  r.faces_read = index;
+  return r;
+}
+
+FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
+  for (size_t k = 0; k < faces.size(); ++k) {
+    const TrimmedSurface& f = faces[k];
+    if (f.trim_problem.empty() && !(f.edge_gap > 0.0)) continue;
+    doubts_.push_back({control_box(f.surface), int(k), f.face_id, f.edge_gap, f.trim_problem});
+  }
+}
+
+template <class Within>
+FaceDoubts::Verdict FaceDoubts::judge(Within within) const {
+  Verdict v;
+  // Gaps first: a widened bound reaches farther, to faces an invalid trim may hold.
+  for (const Doubt& d : doubts_)
+    if (d.gap > 0.0 && within(d.box, d.gap)) v.widen = std::max(v.widen, d.gap);
+  for (const Doubt& d : doubts_)
+    if (!d.problem.empty() && within(d.box, v.widen)) {
+      v.invalid_face = d.face;
+      v.reason = fmt::format("face {} (id {}) may hold the answer and its trim could not be made valid: {}", d.face,
+                             d.face_id, d.problem);
+      break;
+    }
+  return v;
+}
+
+FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b) const {
+  if (doubts_.empty()) return {};
+  // A non-finite answer reaches every face.
+  const double reach = std::isfinite(d + b) ? d + b : std::numeric_limits<double>::infinity();
+  return judge([&](const Box& box, double extra) { return box_distance(box, p) <= reach + extra; });
+}
+
+FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {
+  if (doubts_.empty()) return {};
+  const double r = std::isfinite(reach) ? reach : std::numeric_limits<double>::infinity();
+  return judge([&](const Box& box, double extra) { return box_box_distance(box, other) <= r + extra; });
+}
+
+FaceDoubts::Verdict FaceDoubts::any() const {
+  return judge([](const Box&, double) { return true; });
+}
+
+}  // namespace nurbs
