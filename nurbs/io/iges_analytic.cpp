@@ -3,8 +3,6 @@
 // of a profile and those arcs (§8.5).
 #include "nurbs/io/iges_analytic.h"
 
-#include "nurbs/io/analytic_nurbs.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -16,6 +14,7 @@
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
+#include "nurbs/io/analytic_nurbs.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
@@ -205,7 +204,17 @@ TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int
   return loop;
 }
 
-void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f) {
+std::optional<std::pair<glm::dvec2, glm::dvec2>> analytic_range(IgesGeometry& g, int de) {
+  const IgesDirectoryEntry& e = g.file().entry(de);
+  if (e.type == 122) return std::pair{glm::dvec2(0.0), glm::dvec2(1.0)};
+  if (e.type != 120) return std::nullopt;
+  EntityParams p(g.file(), e);
+  const Interval u = curve_domain(single_curve(g, p, 2, glm::dmat4(1.0)));
+  return std::pair{glm::dvec2(u.min, p.real(3)), glm::dvec2(u.max, p.real(4))};
+}
+
+void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f,
+                          const std::optional<std::pair<glm::dvec2, glm::dvec2>>& range) {
   // Extent of the control points (which bound the curves): each direction is flattened in its own
   // units, so a face 360 degrees round and 0.01 mm high keeps its height.
   glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
@@ -213,10 +222,12 @@ void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, Tri
     for (const Curve2& c : loop.curves)
       for (const glm::dvec2& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
   const glm::dvec2 extent = hi - lo;
-  if (!(extent.x > 0.0 && extent.y > 0.0) || !std::isfinite(extent.x + extent.y))
+  const bool no_curves = lo.x > hi.x;
+  if (!(no_curves && range) && (!(extent.x > 0.0 && extent.y > 0.0) || !std::isfinite(extent.x + extent.y)))
     g.fail(de, "its face's trim curves span no area of its parameter plane");
   std::vector<std::vector<std::vector<glm::dvec2>>> polylines(f.loops.size());
   glm::dvec2 box_lo(std::numeric_limits<double>::max()), box_hi(std::numeric_limits<double>::lowest());
+  if (range) box_lo = range->first, box_hi = range->second;
   for (size_t l = 0; l < f.loops.size(); ++l)
     for (Curve2 c : f.loops[l].curves) {
       for (glm::dvec2& q : c.points) q = (q - lo) / extent;  // affine: exact for rational curves

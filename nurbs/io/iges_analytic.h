@@ -21,6 +21,8 @@
 ///   122  S(u, v) = C(t0 + u (t1 - t0)) + v (G - C(t0)), (u, v) in [0, 1]^2, G the generatrix end.
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+#include <optional>
+#include <utility>
 
 #include "nurbs/io/analytic_nurbs.h"
 #include "nurbs/io/iges_geometry.h"
@@ -37,13 +39,20 @@ bool is_analytic_surface_type(int type);
 AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, glm::dvec2 box_min,
                                  glm::dvec2 box_max);
 
-/// Face hook of the B-rep reader (510 on an analytic surface): `f.loops` hold the 508 parameter
-/// curves in IGES (u, v); builds f.surface over their box and maps every loop into (s, t). Each
+/// The whole IGES parameter box of a bounded analytic surface: 120 the generatrix's parameter range
+/// x [SA, TA], 122 [0, 1]^2; nullopt for 190-198, whose parameters are unbounded.
+std::optional<std::pair<glm::dvec2, glm::dvec2>> analytic_range(IgesGeometry& g, int de);
+
+/// Face hook of the readers of 510 and 144 faces on an analytic surface: `f.loops` hold the
+/// parameter curves in IGES (u, v); builds f.surface over their box, grown to `range` when given
+/// (a 144 without outer boundary is bounded by its surface's range), and maps every loop into
+/// (s, t). Each
 /// curve is flattened in (u, v) within 1e-7 of the loops' extent (flatten_curve) and every vertex
 /// mapped exactly, so the trims become degree-1 polylines within that flattening tolerance of the
 /// exact trims (segments parallel to a parameter axis map exactly); when both directions are
 /// linear the control points are mapped instead, which is exact.
-void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f);
+void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f,
+                          const std::optional<std::pair<glm::dvec2, glm::dvec2>>& range = std::nullopt);
 
 /// A 508 loop of a face on a 190 plane `plane_de` (mapped by `parent` as the face), in the plane's
 /// IGES (u, v): each edge's model-space curve (504) projected onto the plane, reversed where the

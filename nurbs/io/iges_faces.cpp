@@ -122,8 +122,10 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
     log.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
-    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons))
+    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons)) {
+      if (f.trim_problem.empty()) f.trim_problem = problem;
       log.trim_problems.push_back(std::move(problem));
+    }
     log.reoriented_loops += orient_trim_loops(f, polygons);
   }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });
@@ -138,9 +140,13 @@ void IgesFaces::no_parameter_curve(int de, const std::string& what) {
   g_.fail(de, what);
 }
 
-// 144: PTS, N1 (0 = outer boundary is the domain boundary), N2, PTO, PTI(1..N2).
+// 144: PTS, N1 (0 = outer boundary is the domain boundary), N2, PTO, PTI(1..N2). PTS may be a 128
+// or an analytic surface (OpenCASCADE 6.5 writes 144s over 120 surfaces of revolution): the 142s'
+// parameter curves are then in the analytic surface's IGES (u, v), mapped with it
+// (set_analytic_surface).
 TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
-  const int pts = g_.expect(p, 1, {128}, "a surface");
+  const int pts = g_.expect(p, 1, {128, 120, 122, 190, 192, 194, 196, 198}, "a surface");
+  const bool analytic = is_analytic_surface_type(g_.file().entry(pts).type);
   const int n1 = p.integer(2, 0, 1, "outer boundary flag N1");
   const int n2 = p.integer(3, 0, std::max(0, p.size() - 4), "number of inner boundaries N2");
   const int pto = n1 == 1 ? g_.expect(p, 4, {142}, "a curve on a parametric surface") : p.integer(4);
@@ -160,6 +166,23 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
                [](const ParameterRef& r) { return r.de != 0; });
   reject_repeats(p, given, "the parameter-space curve of loop");
   TrimmedSurface f;
+  if (analytic) {
+    // The range bounds a face without outer boundary; 190-198 have none (unbounded parameters).
+    const auto range = n1 == 0 ? analytic_range(g_, pts) : std::nullopt;
+    if (n1 == 0 && !range)
+      g_.fail(p.entry().de, fmt::format("has no outer boundary (N1 = 0) and its surface D{} "
+                                        "is unbounded",
+                                        pts));
+    for (size_t k = 0; k < curves.size(); ++k) {
+      if (curves[k].de == 0)
+        no_parameter_curve(loops[k].de, fmt::format("has no parameter-space curve (BPTR = 0) and its face's surface "
+                                                    "D{} is analytic (model-space curves are projected onto 128s only)",
+                                                    pts));
+      f.loops.push_back({g_.parameter_curves(curves[k].de), n1 == 1 && k == 0});
+    }
+    set_analytic_surface(g_, pts, m, f, range);
+    return f;
+  }
   f.surface = g_.surface(pts, m, /*restrict_to_range=*/n1 == 0);  // N1 = 0: the range is the outer boundary
   for (size_t k = 0; k < curves.size(); ++k) {
     TrimLoop loop;

@@ -23,6 +23,9 @@ struct IgesGlobal {
   double unit_scale_to_mm = 25.4;  ///< length of one file unit in millimetres
   double resolution = 0.0;         ///< G19: minimum user-intended resolution, file units
   int version = 0;                 ///< G23: 11 = IGES 5.3
+  /// What was read differently from the letter of the section (a Hollerith count that does not
+  /// match its string), each "line L: global parameter k: ...".
+  std::vector<std::string> warnings;
 };
 
 /// One directory entry: two 80-column lines of 8-column fields (spec §2.2.4.4).
@@ -71,7 +74,9 @@ struct IgesFile {
 IgesFile parse_iges_file(std::string text, std::string name);
 
 /// Parses the Global section text (columns 1-72 of all G lines, concatenated); `first_line` is
-/// the physical line of the first G line, for messages.
+/// the physical line of the first G line, for messages, which name the line holding the problem.
+/// A Hollerith string whose count runs past it is read up to the next delimiter, as OpenCASCADE
+/// reads Rhino's files, with a line in IgesGlobal::warnings.
 IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int first_line);
 
 /// Length of one IGES unit (G14 flag, or G15 name when the flag is 3) in millimetres; returns

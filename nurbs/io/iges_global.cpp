@@ -50,9 +50,10 @@ double iges_unit_to_mm(int flag, std::string_view name) {
 IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int first_line) {
   IgesGlobal g;
   // Line of a character offset: G records contribute 72 columns each.
-  auto where = [&](size_t offset) {
-    return fmt::format("line {}: global section", first_line + static_cast<int>(offset / 72));
+  auto line_of = [&](size_t offset) {
+    return first_line + static_cast<int>(std::min(offset, text.empty() ? 0 : text.size() - 1) / 72);
   };
+  auto where = [&](size_t offset) { return fmt::format("line {}: global section", line_of(offset)); };
   // G1 and G2 define the delimiters themselves, so they are read before general tokenizing.
   size_t pos = 0;
   auto read_delimiter = [&](char fallback, int index) {
@@ -73,8 +74,13 @@ IgesGlobal parse_iges_global(std::string_view text, const std::string& name, int
   g.record_delimiter = read_delimiter(';', 2);
   if (g.record_delimiter == g.parameter_delimiter)
     throw ReadError(name, where(0), "parameter and record delimiters are the same character");
-  IgesTokens tokens = tokenize_iges(text, pos, g.parameter_delimiter, g.record_delimiter);
+  IgesTokens tokens = tokenize_iges(text, pos, g.parameter_delimiter, g.record_delimiter, /*lenient_hollerith=*/true);
   if (!tokens.error.empty()) throw ReadError(name, where(tokens.error_offset), tokens.error);
+  for (const IgesHollerithRepair& r : tokens.repairs)
+    g.warnings.push_back(fmt::format(
+        "line {}: global parameter {}: Hollerith count {} {} its string; read up to the "
+        "delimiter",
+        line_of(r.offset), r.field + 2, r.count, r.count > r.length ? "runs past" : "ends before the end of"));
   if (!tokens.terminated) throw ReadError(name, where(text.size()), "no record delimiter (section truncated?)");
   // tokens.fields[0] is the (empty) remainder of G2, so G-number k is fields[k - 2].
   const auto& f = tokens.fields;

@@ -32,7 +32,7 @@ bool is_read_type(int type) {
     case 144:
     case 186:
     case 108:  // bounded planes (form 1) are faces; 108 under a 143/144 is not read
-    case 120:  // 120, 122, 190-198: analytic surfaces, read for the 510 faces on them (iges_analytic.h)
+    case 120:  // 120, 122, 190-198: analytic surfaces, read for the 144 and 510 faces on them (iges_analytic.h)
     case 122:
     case 190:
     case 192:
@@ -61,29 +61,41 @@ class ModelBuilder {
   std::vector<Body> build();
   /// After build(): entries of types the reader does not convert that nothing read used, by type.
   [[nodiscard]] std::map<int, int> skipped() const;
+  /// After build(): the face entities tried (read or dropped) and those dropped, with the reason.
+  [[nodiscard]] int faces_tried() const { return faces_tried_; }
+  [[nodiscard]] const std::vector<DroppedFace>& dropped() const { return dropped_; }
 
  private:
   size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
   void add_face(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
   void add_shell(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
+  void drop(int de, const std::string& reason);
 
   const IgesFile& file_;
   IgesGeometry g_;
   IgesFaces faces_;
   IgesReadLog& log_;
   std::vector<char> used_;  // entry already part of a body (shells, faces, their surfaces)
+  int faces_tried_ = 0;
+  std::vector<DroppedFace> dropped_;
 };
 
 void ModelBuilder::add_face(Body& body, int de, const glm::dmat4& parent, bool reversed) {
   used_[index(de)] = 1;
+  ++faces_tried_;
   try {
     body.faces.push_back(faces_.face(de, parent));
     body.faces.back().reversed = reversed;
   } catch (const UnsupportedEntity& u) {
-    log_.warnings.push_back(fmt::format("face D{} dropped: it needs D{} of unsupported type {}", de, u.de, u.type));
+    drop(de, fmt::format("it needs D{} of unsupported type {}", u.de, u.type));
   } catch (const SkipFace& s) {
-    log_.warnings.push_back(fmt::format("face D{} dropped: {}", de, s.reason));
+    drop(de, s.reason);
   }
+}
+
+void ModelBuilder::drop(int de, const std::string& reason) {
+  log_.warnings.push_back(fmt::format("face D{} dropped: {}", de, reason));
+  dropped_.push_back({fmt::format("D{}", de), reason});
 }
 
 // 514: N, then N pairs (FACE pointer to a 510, OF orientation flag: 1 = the face's outward side is
@@ -176,6 +188,9 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
   ModelBuilder builder(file, options, lg);
   model.bodies = builder.build();
   model.skipped_entities = builder.skipped();
+  model.faces_in_file = builder.faces_tried();
+  model.dropped_faces = builder.dropped();
+  model.read_warnings.insert(model.read_warnings.begin(), file.global.warnings.begin(), file.global.warnings.end());
   if (options.convert_to_mm && model.unit_scale_to_mm != 1.0) {
     for (Body& b : model.bodies)
       for (TrimmedSurface& f : b.faces)

@@ -2,7 +2,8 @@
 /// \file iges_reader.h
 /// Native IGES 5.3 reader: trimmed NURBS faces of a file as a nurbs::Model.
 ///
-/// Read: 128 surfaces; faces from 144 (trimmed surface), 143 (bounded surface), 510 (B-rep face,
+/// Read: 128 surfaces, and 120, 122, 190-198 as exact rational NURBS under 144 and 510 faces
+/// (iges_analytic.h); faces from 144 (trimmed surface), 143 (bounded surface), 510 (B-rep face,
 /// grouped by 514 shells and 186 solids into bodies) and independent 128s; trim loops from 142,
 /// 141 and 508 as parameter-space curves of types 100, 102, 104, 110 and 126, all as Curve2 in the
 /// surface's (u, v) plane. 124 transforms are applied to model-space geometry (chained, parents

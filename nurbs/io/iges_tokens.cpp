@@ -17,7 +17,7 @@ std::string_view trim(std::string_view s) {
 
 }  // namespace
 
-IgesTokens tokenize_iges(std::string_view text, size_t start, char pd, char rd) {
+IgesTokens tokenize_iges(std::string_view text, size_t start, char pd, char rd, bool lenient_hollerith) {
   IgesTokens out;
   size_t pos = start;
   while (pos < text.size()) {
@@ -29,21 +29,27 @@ IgesTokens tokenize_iges(std::string_view text, size_t start, char pd, char rd) 
     if (digits_end > pos && digits_end < text.size() && (text[digits_end] == 'H' || text[digits_end] == 'h')) {
       size_t n = 0;
       std::from_chars(text.data() + pos, text.data() + digits_end, n);
-      size_t content = digits_end + 1;
-      if (n > text.size() - content) {
-        out.error = "Hollerith string of " + std::to_string(n) + " characters runs past the end of the record";
-        out.error_offset = field_start;
-        return out;
+      const size_t content = digits_end + 1;
+      size_t after = n <= text.size() - content ? content + n : text.size();
+      while (after < text.size() && is_space(text[after])) ++after;
+      const bool fits = n <= text.size() - content && (after >= text.size() || text[after] == pd || text[after] == rd);
+      size_t length = n;
+      if (!fits) {
+        const size_t delimiter = text.find_first_of(std::string{pd, rd}, content);
+        if (!lenient_hollerith || delimiter == std::string_view::npos) {
+          out.error = n > text.size() - content
+                          ? "Hollerith string of " + std::to_string(n) + " characters runs past the end of the record"
+                          : "unexpected character after Hollerith string";
+          out.error_offset = n > text.size() - content ? pos : after;
+          return out;
+        }
+        length = delimiter - content;
+        out.repairs.push_back({out.fields.size(), pos, n, length});
       }
-      out.fields.push_back({text.substr(content, n), field_start, true});
-      pos = content + n;
+      out.fields.push_back({text.substr(content, length), field_start, true});
+      pos = content + length;
       while (pos < text.size() && is_space(text[pos])) ++pos;
       if (pos >= text.size()) break;
-      if (text[pos] != pd && text[pos] != rd) {
-        out.error = "unexpected character after Hollerith string";
-        out.error_offset = pos;
-        return out;
-      }
     } else {
       while (pos < text.size() && text[pos] != pd && text[pos] != rd) ++pos;
       out.fields.push_back({trim(text.substr(field_start, pos - field_start)), field_start, false});

@@ -16,15 +16,28 @@ struct IgesToken {
   bool hollerith = false;
 };
 
+/// A Hollerith field whose count does not match its string, read up to the next delimiter instead.
+struct IgesHollerithRepair {
+  size_t field = 0;   ///< index in IgesTokens::fields
+  size_t offset = 0;  ///< offset of the count's first digit in the tokenized text
+  size_t count = 0;   ///< the count the file gives
+  size_t length = 0;  ///< the characters read: up to the next delimiter
+};
+
 struct IgesTokens {
   std::vector<IgesToken> fields;
-  bool terminated = false;  ///< the record delimiter was found
-  std::string error;        ///< non-empty: what is malformed (then `error_offset` says where)
+  std::vector<IgesHollerithRepair> repairs;  ///< only with `lenient_hollerith`
+  bool terminated = false;                   ///< the record delimiter was found
+  std::string error;                         ///< non-empty: what is malformed (then `error_offset` says where)
   size_t error_offset = 0;
 };
 
-/// Tokenizes `text` from `start` until the record delimiter (or the end of `text`).
-IgesTokens tokenize_iges(std::string_view text, size_t start, char parameter_delimiter, char record_delimiter);
+/// Tokenizes `text` from `start` until the record delimiter (or the end of `text`). A Hollerith count
+/// that runs past the end of `text`, or is not followed by a delimiter, is an error; with
+/// `lenient_hollerith` the string is read up to the next delimiter instead and listed in `repairs`
+/// (as OpenCASCADE reads such Global sections: Rhino writes counts longer than their strings).
+IgesTokens tokenize_iges(std::string_view text, size_t start, char parameter_delimiter, char record_delimiter,
+                         bool lenient_hollerith = false);
 
 /// A real number in IGES form ("1.", "-2.5E-3", "1.0D+01"; empty = 0); nullopt if not a number.
 /// NaN and infinity are returned as such: the caller rejects them with its own context.

@@ -35,6 +35,9 @@ ModelSummary summarize(const Model& model) {
   s.bodies = static_cast<int>(model.bodies.size());
   s.skipped_entities = model.skipped_entities;
   s.skipped_types = model.skipped_types;
+  s.faces_in_file = model.faces_in_file;
+  s.faces_dropped = model.dropped_faces;
+  s.read_warnings = model.read_warnings;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = model.bodies[b];
@@ -76,6 +79,11 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   // "With trim loops" counts every face with a loop, also one on its surface's natural boundary
   // (every face of a B-rep file): other kernels count as trimmed only faces cut inside it.
   out += fmt::format("faces: {} ({} with trim loops, {} rational)\n", s.faces, s.trimmed_faces, s.rational_faces);
+  // Faces the file has but the model lacks come first: every answer on the model is partial.
+  if (s.faces_in_file >= 0)
+    out += fmt::format("faces in file: {} ({} dropped)\n", s.faces_in_file, s.faces_dropped.size());
+  for (const DroppedFace& d : s.faces_dropped) out += fmt::format("dropped face {}: {}\n", d.entity, d.reason);
+  for (const std::string& w : s.read_warnings) out += fmt::format("read warning: {}\n", w);
   out += fmt::format("max degree: {} x {}\ncontrol points: {}\n", s.max_degree_u, s.max_degree_v, s.control_points);
   out += fmt::format("trim loops: {} outer, {} inner, {} curves\n", s.outer_loops, s.inner_loops, s.trim_curves);
   out += fmt::format("control-point box: [{:.6g} {:.6g} {:.6g}] - [{:.6g} {:.6g} {:.6g}]\n", s.bbox_min.x, s.bbox_min.y,
@@ -94,8 +102,8 @@ std::string to_text(const ModelSummary& s, bool per_face) {
   if (s.body_list.size() > 1 || (s.body_list.size() == 1 && !s.body_list.front().instance.empty()))
     for (size_t b = 0; b < s.body_list.size(); ++b) {
       const BodySummary& body = s.body_list[b];
-      out += fmt::format("body {}: {}, {} faces{}{}\n", b, body.name, body.faces, body.instance.empty() ? "" : ", instance ",
-                         body.instance);
+      out += fmt::format("body {}: {}, {} faces{}{}\n", b, body.name, body.faces,
+                         body.instance.empty() ? "" : ", instance ", body.instance);
     }
   if (per_face)  // numbered as every command numbers faces (0-based, bodies in order); id: the file's
     for (size_t k = 0; k < s.face_list.size(); ++k) {
@@ -112,8 +120,11 @@ nlohmann::json to_json(const ModelSummary& s) {
   nlohmann::json skipped = nlohmann::json::object();
   for (auto [type, count] : s.skipped_entities) skipped[std::to_string(type)] = count;
   for (const auto& [type, count] : s.skipped_types) skipped[type] = count;
+  nlohmann::json dropped = nlohmann::json::array();
+  for (const DroppedFace& d : s.faces_dropped) dropped.push_back({{"entity", d.entity}, {"reason", d.reason}});
   nlohmann::json bodies = nlohmann::json::array();
-  for (const BodySummary& b : s.body_list) bodies.push_back({{"name", b.name}, {"instance", b.instance}, {"faces", b.faces}});
+  for (const BodySummary& b : s.body_list)
+    bodies.push_back({{"name", b.name}, {"instance", b.instance}, {"faces", b.faces}});
   nlohmann::json faces = nlohmann::json::array();
   for (size_t k = 0; k < s.face_list.size(); ++k) {
     const FaceSummary& f = s.face_list[k];
@@ -133,6 +144,9 @@ nlohmann::json to_json(const ModelSummary& s) {
           {"bodies", s.bodies},
           {"body_list", bodies},
           {"faces", s.faces},
+          {"faces_in_file", s.faces_in_file},
+          {"faces_dropped", dropped},
+          {"read_warnings", s.read_warnings},
           {"trimmed_faces", s.trimmed_faces},
           {"rational_faces", s.rational_faces},
           {"control_points", s.control_points},

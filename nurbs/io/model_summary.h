@@ -2,7 +2,8 @@
 /// \file model_summary.h
 /// What `nurbsgl info MODEL [--json]` prints: faces, degrees, control-point counts, rational or
 /// not, trim loops, bounding box and model size (sampled, with the control-point box diagonal
-/// beside it as an upper bound), skipped IGES entities.
+/// beside it as an upper bound), skipped IGES entities, and what the reader left out or read
+/// differently: the file's face count, the dropped faces with their reasons, the read warnings.
 #include <glm/vec3.hpp>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -52,6 +53,9 @@ struct ModelSummary {
   double control_size = 0.0;
   std::map<int, int> skipped_entities;
   std::map<std::string, int> skipped_types;  ///< STEP entity types not read
+  int faces_in_file = -1;                    ///< Model::faces_in_file (-1: not counted)
+  std::vector<DroppedFace> faces_dropped;    ///< Model::dropped_faces
+  std::vector<std::string> read_warnings;    ///< Model::read_warnings
   std::vector<BodySummary> body_list;
   std::vector<FaceSummary> face_list;
 };
@@ -67,7 +71,8 @@ std::string to_text(const ModelSummary& s, bool per_face = false);
 
 /// JSON object with the same facts ("faces" is the count, "face_list" the per-face array,
 /// "skipped_entities" maps IGES type numbers (as strings) and STEP type names to counts,
-/// "body_list" names each body, its faces and where an assembly places it).
+/// "body_list" names each body, its faces and where an assembly places it, "faces_in_file" the
+/// file's face count, "faces_dropped" [{"entity", "reason"}], "read_warnings" the reader's lines).
 nlohmann::json to_json(const ModelSummary& s);
 
 }  // namespace nurbs::io

@@ -51,3 +51,27 @@ TEST_CASE("summary: body transform moves the bbox") {
   CHECK(s.bbox_min.x == 10.0);
   CHECK(s.bbox_max.x == 13.0);
 }
+
+TEST_CASE("summary: the file's faces, the dropped ones with their reasons, the read warnings") {
+  nurbs::Model m = nurbs::io::test::small_model();
+  m.faces_in_file = 3;
+  m.dropped_faces.push_back({"D41", "it needs D37 of unsupported type 118"});
+  m.read_warnings.push_back(
+      "line 2: global parameter 3: Hollerith count 38 runs past its string; read up to the delimiter");
+  const nurbs::io::ModelSummary s = nurbs::io::summarize(m);
+  const std::string text = nurbs::io::to_text(s);
+  CHECK(text.find("faces in file: 3 (1 dropped)\n") != std::string::npos);
+  CHECK(text.find("dropped face D41: it needs D37 of unsupported type 118\n") != std::string::npos);
+  CHECK(text.find("read warning: line 2: global parameter 3: Hollerith count 38") != std::string::npos);
+  const nlohmann::json j = nurbs::io::to_json(s);
+  CHECK(j["faces_in_file"] == 3);
+  REQUIRE(j["faces_dropped"].size() == 1);
+  CHECK(j["faces_dropped"][0]["entity"] == "D41");
+  CHECK(j["faces_dropped"][0]["reason"] == "it needs D37 of unsupported type 118");
+  REQUIRE(j["read_warnings"].size() == 1);
+  CHECK(j["read_warnings"][0] == m.read_warnings[0]);
+  // A reader that does not count faces says so with -1, and no line claims a count.
+  const nurbs::Model plain = nurbs::io::test::small_model();
+  CHECK(nurbs::io::to_text(nurbs::io::summarize(plain)).find("faces in file") == std::string::npos);
+  CHECK(nurbs::io::to_json(nurbs::io::summarize(plain))["faces_in_file"] == -1);
+}
