@@ -189,7 +189,6 @@ void trim_directory(const std::filesystem::path& dir, std::uintmax_t max_bytes) 
   }
 }
 
-
 /// The per-texel arrays of an atlas (components per texel) and their values outside every slot.
 struct TexelArray {
   std::vector<float> PointBatchState::Atlas::*member;
@@ -359,8 +358,8 @@ std::string file_fingerprint(const std::filesystem::path& file) {
 std::string batch_cache_key(const std::filesystem::path& model, double grid_tolerance, long long max_samples,
                             int atlas_side, const std::string& renderer) {
   return fmt::format("format {} nurbsgl {} exe {} model {} tolerance {:a} max-samples {} atlas-side {} renderer {}",
-                     kFormat, NURBSGL_VERSION, executable_stamp(), file_fingerprint(model), grid_tolerance,
-                     max_samples, atlas_side, renderer);
+                     kFormat, NURBSGL_VERSION, executable_stamp(), file_fingerprint(model), grid_tolerance, max_samples,
+                     atlas_side, renderer);
 }
 
 std::filesystem::path batch_cache_file(const std::filesystem::path& directory, const std::string& key) {
@@ -368,35 +367,34 @@ std::filesystem::path batch_cache_file(const std::filesystem::path& directory, c
 }
 
 BatchCacheRead load_batch_state(const std::filesystem::path& file, const std::string& key) {
-  BatchCacheRead out;
+  const auto miss = [](std::string why) { return BatchCacheRead{std::nullopt, std::move(why)}; };
   std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) return out;  // a first run: nothing to say
+  if (!std::filesystem::exists(file, ec)) return {};  // a first run: nothing to say
   const std::uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec) return out.problem = fmt::format("cannot read its size ({})", ec.message()), out;
+  if (ec) return miss(fmt::format("cannot read its size ({})", ec.message()));
   std::ifstream in(file, std::ios::binary);
-  if (!in) return out.problem = "cannot open it", out;
-  if (size < kLeastBytes) return out.problem = fmt::format("truncated ({} bytes)", size), out;
+  if (!in) return miss("cannot open it");
+  if (size < kLeastBytes) return miss(fmt::format("truncated ({} bytes)", size));
   char magic[sizeof kMagic];
   uint32_t format = 0;
   if (!in.read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0)
-    return out.problem = "not a batch cache file (another magic)", out;
+    return miss("not a batch cache file (another magic)");
   if (!in.read(reinterpret_cast<char*>(&format), sizeof format) || format != kFormat)
-    return out.problem = fmt::format("cache format {}, this program reads {}", format, kFormat), out;
+    return miss(fmt::format("cache format {}, this program reads {}", format, kFormat));
   // Nothing of the content is used before the whole file is known to be what was written.
   if (!checksum_matches(in, size))
-    return out.problem = fmt::format("its checksum does not match its {} bytes (damaged, truncated or extended)", size),
-           out;
+    return miss(fmt::format("its checksum does not match its {} bytes (damaged, truncated or extended)", size));
+  in.clear();
   in.seekg(sizeof kMagic + sizeof kFormat);
   Reader r(in, size - sizeof kMagic - sizeof kFormat - 8);
   std::vector<char> stored_key;
-  if (!r.array(stored_key)) return out.problem = "the key's length exceeds the file", out;
+  if (!r.array(stored_key)) return miss("the key's length exceeds the file");
   if (std::string_view(stored_key.data(), stored_key.size()) != key)
-    return out.problem = "it holds another key (another model, tolerance or program)", out;
+    return miss("it holds another key (another model, tolerance or program)");
   PointBatchState s;
-  if (std::string why = read_atlases(r, s); !why.empty()) return out.problem = "inconsistent content: " + why, out;
-  if (r.left() != 0) return out.problem = fmt::format("{} bytes after the stored state", r.left()), out;
-  out.state = std::move(s);
-  return out;
+  if (std::string why = read_atlases(r, s); !why.empty()) return miss("inconsistent content: " + why);
+  if (r.left() != 0) return miss(fmt::format("{} bytes after the stored state", r.left()));
+  return {std::move(s), {}};
 }
 
 std::string save_batch_state(const std::filesystem::path& file, const std::string& key,
@@ -417,7 +415,8 @@ std::string save_batch_state(const std::filesystem::path& file, const std::strin
     for (const PointBatchStateView::Atlas& at : state.atlases) {
       const AtlasPlan& plan = *at.plan;
       w.value(plan.width), w.value(plan.height), w.value(uint64_t(plan.slots.size()));
-      for (const AtlasSlot& sl : plan.slots) w.value(sl.face), w.value(sl.x), w.value(sl.y), w.value(sl.width), w.value(sl.height);
+      for (const AtlasSlot& sl : plan.slots)
+        w.value(sl.face), w.value(sl.x), w.value(sl.y), w.value(sl.width), w.value(sl.height);
       w.value(at.w0), w.value(at.h0), w.value(at.levels);
       const bool sparse = padding_is_empty(at);
       w.value(uint8_t(sparse));

@@ -3,7 +3,6 @@
 // truncated, extended or damaged file, and a state of other grids are misses with a reason, never
 // errors and never a state.
 #include <doctest/doctest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -64,7 +63,8 @@ TEST_CASE("batch cache: a restored batch answers as the batch it was exported fr
       atlas_texels += static_cast<long long>(at.plan.width) * at.plan.height;
       for (const auto& sl : at.plan.slots) slot_texels += static_cast<long long>(sl.width) * sl.height;
       other += static_cast<long long>(4 * (at.trim_head.size() + at.trim_segs.size()));
-      for (const auto& level : at.obb) other += static_cast<long long>(4 * level.texels.size() + 4 * 12 * level.texels.size());
+      for (const auto& level : at.obb)
+        other += static_cast<long long>(4 * level.texels.size() + 4 * 12 * level.texels.size());
     }
     const auto bytes = static_cast<long long>(std::filesystem::file_size(file));
     MESSAGE("cache file " << bytes << " bytes; " << slot_texels << " slot texels of " << atlas_texels);
@@ -174,7 +174,8 @@ queries::PointBatchState small_state() {
       level.texels = {0u, uint32_t(l < 3 ? 1 : 0)};
       if (l == 3) level.texels.pop_back();
       for (size_t k = 0; k < 3; ++k)
-        for (size_t t = 0; t < 4 * level.texels.size(); ++t) level.boxes[k].push_back(float(l * 100 + int(k) * 10) + float(t));
+        for (size_t t = 0; t < 4 * level.texels.size(); ++t)
+          level.boxes[k].push_back(float(l * 100 + int(k) * 10) + float(t));
     }
   }
   return s;
@@ -230,9 +231,9 @@ TEST_CASE("batch cache: a file that differs from the one written in any byte is 
     size_t at;
     const char* reason;
   };
-  for (const Flip f : {Flip{0, "another magic"}, Flip{8, "cache format"}, Flip{12, "checksum"}, Flip{22, "checksum"},
-                       Flip{n / 3, "checksum"}, Flip{n / 2, "checksum"}, Flip{n - 9, "checksum"},
-                       Flip{n - 1, "checksum"}}) {
+  for (const Flip f :
+       {Flip{0, "another magic"}, Flip{8, "cache format"}, Flip{12, "checksum"}, Flip{22, "checksum"},
+        Flip{n / 3, "checksum"}, Flip{n / 2, "checksum"}, Flip{n - 9, "checksum"}, Flip{n - 1, "checksum"}}) {
     for (const unsigned char mask : {0x01, 0x80, 0xff}) {
       std::string bytes = intact;
       bytes[f.at] = char(bytes[f.at] ^ mask);
@@ -308,7 +309,8 @@ TEST_CASE("batch cache: a file whose checksum matches still reads no index outsi
       {"NaN index", [](queries::PointBatchState& s) { s.atlases[1].slot_of[8] = std::nanf(""); },
        "slot or trimmed-cell index"},
       {"segments", [](queries::PointBatchState& s) { s.atlases[0].trim_head[2] = 2.0f; }, "segments beyond"},
-      {"texel order", [](queries::PointBatchState& s) { std::swap(s.atlases[0].obb[1].texels[0], s.atlases[0].obb[1].texels[1]); },
+      {"texel order",
+       [](queries::PointBatchState& s) { std::swap(s.atlases[0].obb[1].texels[0], s.atlases[0].obb[1].texels[1]); },
        "out of order"},
       {"texel outside", [](queries::PointBatchState& s) { s.atlases[1].obb[2].texels[1] = 4; }, "outside the level"},
       {"boxes", [](queries::PointBatchState& s) { s.atlases[0].obb[0].boxes[2].pop_back(); }, "boxes of another count"},
