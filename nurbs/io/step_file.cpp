@@ -77,22 +77,40 @@ class Scanner {
     if (s_[pos_] == '!') ++pos_;
     if (pos_ >= s_.size() || !std::isalpha(static_cast<unsigned char>(s_[pos_])))
       fail(fmt::format("expected a keyword, found '{}'", quoted(std::string_view(s_).substr(b, 20))));
-    while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_' || s_[pos_] == '-'))
+    while (pos_ < s_.size() &&
+           (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_' || s_[pos_] == '-'))
       ++pos_;
     std::string k = s_.substr(b, pos_ - b);
     for (char& c : k) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     return k;
   }
 
-  // #digits
-  long instance_name() {
+  // A lexical problem inside an instance's parameters: kept as the instance's damage while one is
+  // being read (the token is already consumed, the caller reads it as $), else the file fails.
+  void damaged(const std::string& problem) {
+    if (!damage_) fail(problem);
+    if (damage_->empty()) *damage_ = problem;
+  }
+
+  // Lexical damage of the parameters read next goes to `damage` (null: it fails the file).
+  void keep_damage(std::string* damage) { damage_ = damage; }
+
+  // #digits; 0 for a damaged reference (see damaged) when `in_parameters`.
+  long instance_name(bool in_parameters = false) {
     expect('#');
     const size_t b = pos_;
     while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
     long id = 0;
     const auto r = std::from_chars(s_.data() + b, s_.data() + pos_, id);
-    if (b == pos_ || r.ec != std::errc() || r.ptr != s_.data() + pos_ || id <= 0)
-      fail(fmt::format("bad instance name '#{}'", quoted(std::string_view(s_).substr(b, std::max<size_t>(pos_ - b, 1)))));
+    if (b == pos_ || r.ec != std::errc() || r.ptr != s_.data() + pos_ || id <= 0) {
+      const std::string text = quoted(std::string_view(s_).substr(b, std::max<size_t>(pos_ - b, 1)));
+      const std::string problem = r.ec == std::errc::result_out_of_range
+                                      ? fmt::format("reference #{} out of range", text)
+                                      : fmt::format("bad instance name '#{}'", text);
+      if (!in_parameters) fail(problem);
+      damaged(problem);
+      return 0;
+    }
     return id;
   }
 
@@ -107,8 +125,8 @@ class Scanner {
       ++pos_;
       v.kind = StepValue::Kind::Derived;
     } else if (c == '#') {
-      v.kind = StepValue::Kind::Ref;
-      v.ref = instance_name();
+      v.ref = instance_name(true);
+      v.kind = v.ref > 0 ? StepValue::Kind::Ref : StepValue::Kind::Null;
     } else if (c == '\'') {
       v.kind = StepValue::Kind::String;
       v.text = string();
@@ -198,8 +216,11 @@ class Scanner {
     const char* first = s_.data() + b + (s_[b] == '+' ? 1 : 0);
     double x = 0.0;
     const auto r = std::from_chars(first, s_.data() + pos_, x);
-    if (pos_ == b || r.ec != std::errc() || r.ptr != s_.data() + pos_)
-      fail(fmt::format("bad number '{}'", quoted(std::string_view(s_).substr(b, pos_ - b))));
+    if (pos_ == b || r.ec != std::errc() || r.ptr != s_.data() + pos_) {
+      damaged(fmt::format("bad number '{}'", quoted(std::string_view(s_).substr(b, pos_ - b))));
+      v.kind = StepValue::Kind::Null;
+      return;
+    }
     v.kind = real ? StepValue::Kind::Real : StepValue::Kind::Integer;
     v.number = x;
   }
@@ -211,6 +232,7 @@ class Scanner {
  private:
   const std::string& s_;
   const std::string& name_;
+  std::string* damage_ = nullptr;
   size_t pos_ = 0;
   int line_ = 1;
 };
@@ -243,6 +265,7 @@ void parse_data(Scanner& sc, StepFile& f) {
     e.line = sc.line();
     e.id = sc.instance_name();
     sc.expect('=');
+    sc.keep_damage(&e.damage);
     if (sc.peek() == '(') {  // complex instance: (A(...) B(...) ...)
       sc.expect('(');
       while (!sc.accept(')')) {
@@ -258,6 +281,7 @@ void parse_data(Scanner& sc, StepFile& f) {
       r.params = sc.list(1);
       e.records.push_back(std::move(r));
     }
+    sc.keep_damage(nullptr);
     sc.expect(';');
     const long id = e.id;
     const int line = e.line;

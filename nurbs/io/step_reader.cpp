@@ -387,6 +387,29 @@ void mark_outer(TrimmedSurface& f) {
   if (outer) outer->outer = true;
 }
 
+// Samples of an edge at which the gap between it and its face's trim is measured (besides the
+// samples the trim's construction takes): ends, middle and every 1/32 of its parameter range.
+constexpr int kGapSamples = 32;
+
+// Largest distance from the surface points of the parameter-space curve `pc` (in s's (u, v), z = 0)
+// to its 3D edge `c`, at kGapSamples + 1 points evenly spaced in parameter: at the ends to the
+// edge's ends, inside to the nearest edge point (Newton from the same fraction of the edge, so
+// differently parametrised curves are not taken for a gap). Infinite when a point is not finite.
+double trim_gap(const Curve3& pc, const Curve3& c, const Surface& s) {
+  const Interval dp = curve_domain(pc), dc = curve_domain(c);
+  double worst = 0.0;
+  for (int i = 0; i <= kGapSamples; ++i) {
+    const double x = static_cast<double>(i) / kGapSamples, tc = dc.min + x * dc.width();
+    const glm::dvec3 q = curve_point(pc, dp.min + x * dp.width());
+    const glm::dvec3 p = surface_point(s, q.x, q.y);
+    double d = glm::length(p - curve_point(c, tc));
+    if (i > 0 && i < kGapSamples) d = std::min(d, glm::length(curve_point(c, Analytic::newton_t(c, p, dc, tc)) - p));
+    if (!std::isfinite(d)) return std::numeric_limits<double>::infinity();
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
 struct Instance {
   glm::dmat4 m{1.0};
   std::string path;
@@ -399,6 +422,8 @@ class StepReader {
   Model read();
 
  private:
+  std::vector<DroppedFace> dropped_;  // those dropped, with the reason
+
   // ---- access -------------------------------------------------------------------------------------
   [[noreturn]] void fail(const StepEntity& e, const std::string& problem) const {
     throw ReadError(f_.name, fmt::format("line {}: #{} ({})", e.line, e.id, e.type_name()), problem);
@@ -414,9 +439,22 @@ class StepReader {
   const StepEntity& entity(long id, const StepEntity& from) {
     const StepEntity* e = f_.find(id);
     if (!e) fail(from, fmt::format("refers to #{}, which is not defined", id));
+    intact(*e);
     visited_.insert(id);
     return *e;
   }
+  /// Fails `e` when its parameters were damaged in the file (StepEntity::damage): the reader uses it.
+  void intact(const StepEntity& e) const {
+    if (!e.damage.empty()) fail(e, e.damage);
+  }
+  /// Marks `id` and everything it refers to as reached (up to kMaxDepth references deep, each
+  /// instance once), leaving damaged instances unmarked: the parameter-space geometry of an edge
+  /// that is read.
+  void mark_reached(long id, int depth);
+  /// Marks the PCURVEs of an edge's curve `e` (SURFACE_CURVE, SEAM_CURVE, INTERSECTION_CURVE, also
+  /// through TRIMMED_CURVE) and their curves as reached, whether the reader takes them or not; the
+  /// surfaces they lie on stay unmarked (a surface no face reads is geometry left out).
+  void mark_pcurves(const StepEntity& e, int depth);
   const StepRecord& record(const StepEntity& e, const std::string& type) const {
     const StepRecord* r = e.record(type);
     if (!r) fail(e, fmt::format("is not a {}", type));
@@ -459,6 +497,13 @@ class StepReader {
     fail(e, fmt::format("{} is not .T. or .F.", what));
   }
   static bool is(const StepEntity& e, const char* type) { return e.record(type) != nullptr; }
+  /// The record of a curve on surfaces, whose parameters are (name, curve_3d, associated_geometry,
+  /// master_representation): SURFACE_CURVE or its subtypes SEAM_CURVE and INTERSECTION_CURVE.
+  static const StepRecord* surface_curve(const StepEntity& e) {
+    for (const char* t : {"SURFACE_CURVE", "SEAM_CURVE", "INTERSECTION_CURVE"})
+      if (const StepRecord* r = e.record(t)) return r;
+    return nullptr;
+  }
 
   // ---- geometry -----------------------------------------------------------------------------------
   glm::dvec3 point(long id, const StepEntity& from);
@@ -516,9 +561,14 @@ class StepReader {
   FaceJob face_job(long id, const StepEntity& from);
   /// The face's surface and trims from its job: no shared state, run on worker threads.
   TrimmedSurface build_face(FaceJob& job) const;
-  /// The loop from its edges' parameter-space curves on `s`, when each has one that agrees with its
-  /// edge within `accept` and the loop closes; else none.
-  static std::optional<TrimLoop> given_loop(const Loop& loop, const Surface& s, double accept);
+  /// The loop from its edges' parameter-space curves on `s` (of a seam's two, the one continuing the
+  /// loop) when each edge has one, with the largest distance from their surface points to their
+  /// edges (trim_gap); else none.
+  struct GivenLoop {
+    TrimLoop loop;
+    double gap = 0.0;
+  };
+  static std::optional<GivenLoop> given_loop(const Loop& loop, const Surface& s);
   /// Builds every job on all cores; dropped faces are logged and left out.
   std::vector<TrimmedSurface> build_faces(std::vector<FaceJob>& jobs);
   void shell_faces(long id, const StepEntity& from, bool reversed, std::vector<FaceJob>& out);
@@ -540,8 +590,9 @@ class StepReader {
   const StepFile& f_;
   IgesReadLog& log_;
   std::unordered_set<long> visited_;
-  double length_scale_ = 1.0;  // file length unit in mm (of the representation being read)
-  double angle_scale_ = 1.0;   // file plane angle unit in radians
+  std::unordered_set<long> marked_;  // visited with everything they refer to (mark_reached)
+  double length_scale_ = 1.0;        // file length unit in mm (of the representation being read)
+  double angle_scale_ = 1.0;         // file plane angle unit in radians
   double resolution_ = 0.0;
   bool units_read_ = false;
   std::unordered_map<long, std::vector<EdgePiece>> edges_;
@@ -721,15 +772,42 @@ StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int dep
     return g;
   }
   if (const StepRecord* r = e.record("TRIMMED_CURVE")) return curve(ref(e, *r, 1, "basis curve"), e, depth + 1);
-  if (const StepRecord* r = e.record("SURFACE_CURVE")) return curve(ref(e, *r, 1, "3D curve"), e, depth + 1);
-  if (const StepRecord* r = e.record("SEAM_CURVE")) return curve(ref(e, *r, 1, "3D curve"), e, depth + 1);
+  if (const StepRecord* r = surface_curve(e)) return curve(ref(e, *r, 1, "3D curve"), e, depth + 1);
   throw SkipFace{fmt::format("its edge curve #{} is a {}, which is not read", e.id, e.type_name())};
+}
+
+void StepReader::mark_reached(long id, int depth) {
+  const StepEntity* e = f_.find(id);
+  if (!e || !e->damage.empty() || depth > kMaxDepth || !marked_.insert(id).second) return;
+  visited_.insert(id);
+  std::function<void(const StepValue&)> walk = [&](const StepValue& v) {
+    if (v.kind == Kind::Ref) mark_reached(v.ref, depth + 1);
+    for (const StepValue& item : v.items) walk(item);
+  };
+  for (const StepRecord& r : e->records)
+    for (const StepValue& v : r.params) walk(v);
+}
+
+void StepReader::mark_pcurves(const StepEntity& e, int depth) {
+  if (depth > kMaxDepth) return;
+  if (const StepRecord* t = e.record("TRIMMED_CURVE"); t && t->params.size() > 1 && t->params[1].kind == Kind::Ref) {
+    if (const StepEntity* basis = f_.find(t->params[1].ref)) mark_pcurves(*basis, depth + 1);
+    return;
+  }
+  const StepRecord* r = surface_curve(e);
+  if (!r || r->params.size() < 3 || r->params[2].kind != Kind::List) return;
+  for (const StepValue& gv : r->params[2].items) {
+    const StepEntity* pc = gv.kind == Kind::Ref ? f_.find(gv.ref) : nullptr;
+    const StepRecord* pr = pc ? pc->record("PCURVE") : nullptr;
+    if (!pr || !pc->damage.empty()) continue;
+    visited_.insert(pc->id);
+    if (pr->params.size() > 2 && pr->params[2].kind == Kind::Ref) mark_reached(pr->params[2].ref, depth + 1);
+  }
 }
 
 std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, double t0, double t1) {
   std::vector<std::pair<long, Curve3>> out;
-  const StepRecord* r = e.record("SURFACE_CURVE");
-  if (!r) r = e.record("SEAM_CURVE");
+  const StepRecord* r = surface_curve(e);
   if (!r || r->params.size() < 3 || r->params[2].kind != Kind::List) return out;
   for (const StepValue& gv : r->params[2].items) {
     if (gv.kind != Kind::Ref) continue;
@@ -741,7 +819,12 @@ std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, do
     const StepRecord& drr = dr.records.front();
     const auto& items = list(dr, param(dr, drr, 1, "items"), "items");
     if (items.size() != 1) continue;
-    const CurveGeom g = curve(ref(dr, items.front(), "curve"), dr, 1);
+    CurveGeom g;
+    try {
+      g = curve(ref(dr, items.front(), "curve"), dr, 1);
+    } catch (const SkipFace&) {  // a parameter-space curve of a type not read: the edge is projected
+      continue;
+    }
     if (g.type == CurveGeom::Line) {
       out.emplace_back(surface, segment(g.f.o + t0 * g.f.x, g.f.o + t1 * g.f.x, t0, t1));
     } else if (g.type == CurveGeom::Spline) {
@@ -764,6 +847,7 @@ const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEn
   const glm::dvec3 a = vertex(1), b = vertex(2);
   const long geometry = ref(e, r, 3, "edge geometry");
   const CurveGeom g = curve(geometry, e, 0);
+  mark_pcurves(entity(geometry, e), 0);
   const bool same = logical(e, param(e, r, 4, "same_sense"), "same_sense");
   std::vector<EdgePiece> pieces;
   const double size = std::max(glm::length(a - b), 1e-300);
@@ -919,7 +1003,9 @@ std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face, lon
     loop.outer = outer;
     for (const StepValue& ov : list(le, param(le, record(le, "EDGE_LOOP"), 1, "edge list"), "edge list")) {
       const StepEntity& oe = entity(ref(le, ov, "oriented edge"), le);
-      const StepRecord& orr = record(oe, "ORIENTED_EDGE");
+      // ISO 10303-42 ORIENTED_EDGE (and AP242's SEAM_EDGE, one of them): (name, edge_start,
+      // edge_end (both derived: *), edge_element, orientation[, pcurve_reference]).
+      const StepRecord& orr = oe.record("SEAM_EDGE") ? *oe.record("SEAM_EDGE") : record(oe, "ORIENTED_EDGE");
       const long ec = ref(oe, orr, 3, "edge element");
       const bool forward = logical(oe, param(oe, orr, 4, "orientation"), "orientation");
       const std::vector<EdgePiece>& pieces = edge(ec, oe);
@@ -967,18 +1053,10 @@ StepReader::FaceJob StepReader::face_job(long id, const StepEntity& from) {
   return job;
 }
 
-std::optional<TrimLoop> StepReader::given_loop(const Loop& loop, const Surface& s, double accept) {
+std::optional<StepReader::GivenLoop> StepReader::given_loop(const Loop& loop, const Surface& s) {
   const size_t n = loop.curves.size();
   for (size_t k = 0; k < n; ++k)
     if (loop.pcurves[k].empty()) return std::nullopt;
-  auto on_edge = [&](const Curve3& pc, const Curve3& c) {
-    const Interval dp = curve_domain(pc), dc = curve_domain(c);
-    for (double x : {0.0, 0.5, 1.0}) {
-      const glm::dvec3 q = curve_point(pc, dp.min + x * dp.width());
-      if (!(glm::length(surface_point(s, q.x, q.y) - curve_point(c, dc.min + x * dc.width())) <= accept)) return false;
-    }
-    return true;
-  };
   auto start = [](const Curve3& c) { return glm::dvec2(c.points.front()); };
   auto end = [](const Curve3& c) { return glm::dvec2(c.points.back()); };
   // Each first choice, then the nearest continuation; the choice whose gaps sum least.
@@ -998,12 +1076,12 @@ std::optional<TrimLoop> StepReader::given_loop(const Loop& loop, const Surface& 
     gap += glm::length(start(*chosen.front()) - end(*chosen.back()));
     if (gap < best_gap) best_gap = gap, best = chosen;
   }
-  TrimLoop out;
-  out.outer = loop.outer;
+  GivenLoop out;
+  out.loop.outer = loop.outer;
   for (size_t k = 0; k < n; ++k) {
-    if (!on_edge(*best[k], loop.curves[k])) return std::nullopt;
-    out.curves.push_back(to_2d(*best[k]));
-    out.curves.back().edge = loop.edges[k];
+    out.gap = std::max(out.gap, trim_gap(*best[k], loop.curves[k], s));
+    out.loop.curves.push_back(to_2d(*best[k]));
+    out.loop.curves.back().edge = loop.edges[k];
   }
   return out;
 }
@@ -1020,10 +1098,12 @@ std::vector<TrimmedSurface> StepReader::build_faces(std::vector<FaceJob>& jobs) 
   });
   std::vector<TrimmedSurface> out;
   for (size_t k = 0; k < jobs.size(); ++k) {
-    if (built[k])
+    if (built[k]) {
       out.push_back(std::move(*built[k]));
-    else
+    } else {
       log_.warnings.push_back(fmt::format("face #{} dropped: {}", jobs[k].f.face_id, jobs[k].skipped));
+      dropped_.push_back({fmt::format("#{}", jobs[k].f.face_id), jobs[k].skipped});
+    }
   }
   return out;
 }
@@ -1044,6 +1124,18 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     for (const Curve3& c : l.curves)
       for (const glm::dvec3& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
   const double size = glm::length(hi - lo);
+  // Edges within this distance of the surface (trims' surface points within it of the edges) lie on
+  // it as far as the writer's tolerance goes: TrimmedSurface::edge_gap stays 0.
+  const double lie_off = std::max(1e-4 * size, 10 * resolution_);
+  // The face's edge_gap from the largest gap `off` measured; beyond kStepMaxEdgeGap of the face's size
+  // (or not finite) the face is dropped.
+  auto set_gap = [&](double off) {
+    if (!(off <= kStepMaxEdgeGap * size))
+      throw SkipFace{
+          fmt::format("its edges lie up to {:.3g} from its surface, more than {:g} % of the face's size {:.3g}", off,
+                      100 * kStepMaxEdgeGap, size)};
+    f.edge_gap = off > lie_off ? off : 0.0;
+  };
   if (!fs.bspline && a.type == Analytic::Plane) {
     // Affine: the control points' plane coordinates (exact, weights kept). The patch spans the
     // curves' box (16 samples per knot span, 1 % wider: an arc of a 90-degree span bulges 0.12 %
@@ -1065,6 +1157,15 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     }
     const glm::dvec2 margin = 0.01 * (box.hi - box.lo);
     if (!(margin.x > 0 && margin.y > 0)) throw SkipFace{"its edges span no area of its plane"};
+    // The edges are projected onto the plane along its normal: the gap is their height above it.
+    double off = 0.0;
+    for (const Loop& l : loops)
+      for (const Curve3& c : l.curves) {
+        const Interval d = curve_domain(c);
+        for (int i = 0; i <= kGapSamples; ++i)
+          off = std::max(off, std::abs(glm::dot(curve_point(c, d.min + d.width() * i / kGapSamples) - a.f.o, a.f.z)));
+      }
+    set_gap(off);
     f.surface = a.build(box.lo - margin, box.hi + margin).surface;
     if (std::none_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; })) mark_outer(f);
     return f;
@@ -1134,18 +1235,21 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   // the tolerance from the surface point of the edge's middle.
   const double tol = std::max(kStepTrimTolerance * size, 1e-300);
   std::vector<std::vector<std::vector<glm::dvec2>>> lines(loops.size());
-  double off = 0.0;  // farthest edge sample from the surface
+  std::vector<double> off_loop(loops.size(), 0.0);  // per loop: farthest edge sample from the surface
   // Cubic Hermite pieces in (u, v) through the samples with the edge's (u, v) tangents
   // [Su Sv] (du, dv)' = C'(t) in least squares: few samples for a tight tolerance (error O(h^4));
   // Newton starts from the tangent's prediction.
   // Loops whose every edge has a parameter-space curve on this B-spline surface (files that carry
-  // PCURVEs) take those: exact, no inversion. Each is checked against its 3D edge (both ends and
-  // the middle within the acceptance distance); of a seam's two, the one continuing the loop.
-  std::vector<std::optional<TrimLoop>> given(loops.size());
+  // PCURVEs) take those when their surface points lie on the edges within the acceptance distance:
+  // exact, no inversion. Otherwise the edges are projected; where the projection lies off too (the
+  // edges are not on the surface), the given curves are the face's boundary, as in the writer.
+  std::vector<std::optional<GivenLoop>> given(loops.size());
   if (fs.bspline)
-    for (size_t li = 0; li < loops.size(); ++li) given[li] = given_loop(loops[li], as.surface, accept);
+    for (size_t li = 0; li < loops.size(); ++li) given[li] = given_loop(loops[li], as.surface);
+  auto exact = [&](size_t li) { return given[li] && given[li]->gap <= accept; };
   for (size_t li = 0; li < loops.size(); ++li) {
-    if (given[li]) continue;
+    if (exact(li)) continue;
+    double& off = off_loop[li];
     std::optional<glm::dvec2> prev;
     if (std::isfinite(loop_start[li].x)) prev = loop_start[li];
     for (const Curve3& c : loops[li].curves) {
@@ -1193,18 +1297,39 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       const int n = 2 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
       Sample s0 = at(d.min, prev);
       line.push_back(s0.uv);
+      std::vector<Sample> steps{s0};
       for (int i = 1; i <= n; ++i) {
         const double t1 = d.min + d.width() * i / n;
         const Sample s1 = at(t1, predict(s0, t1));
         refine(s0, s1, 0);
         s0 = s1;
+        steps.push_back(s1);
+      }
+      // The gap between samples as well: the samples above are only as dense as the trim's shape
+      // needs. Each starts from the tangent's prediction of the preceding step sample, as above.
+      for (int i = 1; i < kGapSamples; ++i) {
+        const double t = d.min + d.width() * i / kGapSamples;
+        const size_t k = std::min(steps.size() - 1, static_cast<size_t>((t - d.min) / d.width() * n));
+        (void)at(t, predict(steps[k], t));
       }
       prev = line.back();
       lines[li].push_back(std::move(line));
     }
   }
-  if (off > std::max(1e-4 * size, 10 * resolution_))
-    throw SkipFace{fmt::format("its edges lie up to {:.3g} from its surface (face size {:.3g})", off, size)};
+  // Per loop: the given curves when exact or when the projection lies off (then their gap counts),
+  // else the projection (its gap counts).
+  double off = 0.0;
+  for (size_t li = 0; li < loops.size(); ++li) {
+    if (exact(li)) continue;
+    if (given[li] && off_loop[li] > lie_off && given[li]->gap <= kStepMaxEdgeGap * size) {
+      off = std::max(off, given[li]->gap);
+      lines[li].clear();
+    } else {
+      off = std::max(off, off_loop[li]);
+      given[li].reset();
+    }
+  }
+  set_gap(off);
   // Points on an axis (apex, pole) take the angle of their neighbour along the loop.
   for (auto& loop : lines) {
     std::vector<glm::dvec2*> pts;
@@ -1249,7 +1374,7 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   const Interval su = surface_domain_u(f.surface), sv = surface_domain_v(f.surface);
   for (size_t li = 0; li < loops.size(); ++li) {
     if (given[li]) {
-      f.loops.push_back(std::move(*given[li]));
+      f.loops.push_back(std::move(given[li]->loop));
       continue;
     }
     TrimLoop t;
@@ -1280,10 +1405,14 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
 
 void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std::vector<FaceJob>& out) {
   const StepEntity& e = entity(id, from);
-  if (const StepRecord* r = e.record("ORIENTED_CLOSED_SHELL")) {
-    const bool o = logical(e, param(e, *r, 2, "orientation"), "orientation");
-    const StepEntity& inner = entity(ref(e, *r, 1, "closed shell element"), e);
-    if (is(inner, "ORIENTED_CLOSED_SHELL")) fail(e, "is an oriented shell of an oriented shell");
+  const StepRecord* oriented = e.record("ORIENTED_CLOSED_SHELL");
+  if (!oriented) oriented = e.record("ORIENTED_OPEN_SHELL");
+  if (oriented) {
+    // ISO 10303-42: (name, cfs_faces (derived: *), closed / open_shell_element, orientation).
+    const bool o = logical(e, param(e, *oriented, 3, "orientation"), "orientation");
+    const StepEntity& inner = entity(ref(e, *oriented, 2, "shell element"), e);
+    if (is(inner, "ORIENTED_CLOSED_SHELL") || is(inner, "ORIENTED_OPEN_SHELL"))
+      fail(e, "is an oriented shell of an oriented shell");
     shell_faces(inner.id, e, reversed != !o, out);
     return;
   }
@@ -1291,8 +1420,16 @@ void StepReader::shell_faces(long id, const StepEntity& from, bool reversed, std
   if (!r) r = e.record("OPEN_SHELL");
   if (!r) fail(e, "is not a CLOSED_SHELL or OPEN_SHELL");
   for (const StepValue& fv : list(e, param(e, *r, 1, "faces"), "faces")) {
-    FaceJob job = face_job(ref(e, fv, "face"), e);
-    job.f.reversed = job.f.reversed != reversed;
+    const StepEntity& fe = entity(ref(e, fv, "face"), e);
+    bool flip = reversed;
+    long face = fe.id;
+    if (const StepRecord* o = fe.record("ORIENTED_FACE")) {
+      // ISO 10303-42: (name, bounds (derived: *), face_element, orientation).
+      flip = flip != !logical(fe, param(fe, *o, 3, "orientation"), "orientation");
+      face = ref(fe, *o, 2, "face element");
+    }
+    FaceJob job = face_job(face, fe);
+    job.f.reversed = job.f.reversed != flip;
     out.push_back(std::move(job));
   }
 }
@@ -1328,7 +1465,8 @@ void StepReader::read_units(long context, const StepEntity& from) {
   std::function<double(const StepEntity&, int)> si = [&](const StepEntity& u, int depth) -> double {
     if (depth > kMaxDepth) fail(u, "units nest too deep (a reference cycle?)");
     if (const StepRecord* s = u.record("SI_UNIT")) {
-      const StepValue& p = param(u, *s, 0, "prefix");
+      // (prefix, name) in a complex instance; a simple one leads with NAMED_UNIT's dimensions (*).
+      const StepValue& p = param(u, *s, s->params.size() >= 3 ? 1 : 0, "prefix");
       double f = 1.0;
       if (p.kind == Kind::Enum) {
         const auto it = prefixes.find(p.text);
@@ -1376,12 +1514,15 @@ void StepReader::link_representations() {
   std::unordered_map<long, long> pd_of_pds;  // PRODUCT_DEFINITION_SHAPE -> its definition
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);
-    if (const StepRecord* r = e.record("PRODUCT_DEFINITION_SHAPE");
-        r && r->params.size() >= 3 && r->params[2].kind == Kind::Ref)
-      pd_of_pds[id] = r->params[2].ref;
+    if (const StepRecord* r = e.record("PRODUCT_DEFINITION_SHAPE")) {
+      intact(e);  // the assembly structure places the geometry
+      if (r->params.size() >= 3 && r->params[2].kind == Kind::Ref) pd_of_pds[id] = r->params[2].ref;
+      visited_.insert(id);
+    }
   }
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);
+    if (e.record("SHAPE_DEFINITION_REPRESENTATION")) intact(e);
     if (const StepRecord* r = e.record("SHAPE_DEFINITION_REPRESENTATION");
         r && r->params.size() >= 2 && r->params[0].kind == Kind::Ref && r->params[1].kind == Kind::Ref) {
       if (auto it = pd_of_pds.find(r->params[0].ref); it != pd_of_pds.end()) rep_of_pd[it->second] = r->params[1].ref;
@@ -1398,6 +1539,7 @@ void StepReader::link_representations() {
     const StepEntity& e = f_.entities.at(id);
     const StepRecord* r = e.record("REPRESENTATION_RELATIONSHIP");
     if (!r) r = e.record("SHAPE_REPRESENTATION_RELATIONSHIP");
+    if (r) intact(e);
     if (!r || r->params.size() < 4) continue;
     visited_.insert(id);
     const long a = ref(e, *r, 2, "rep_1"), b = ref(e, *r, 3, "rep_2");
@@ -1414,6 +1556,7 @@ void StepReader::link_representations() {
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);
     const StepRecord* r = e.record("CONTEXT_DEPENDENT_SHAPE_REPRESENTATION");
+    if (r) intact(e);
     if (!r || r->params.size() < 2 || r->params[0].kind != Kind::Ref || r->params[1].kind != Kind::Ref) continue;
     visited_.insert(id);
     if (auto it = pd_of_pds.find(r->params[1].ref); it != pd_of_pds.end()) nauo_of[r->params[0].ref] = it->second;
@@ -1446,11 +1589,13 @@ void StepReader::link_representations() {
   // Products by representation group, for body names.
   for (auto [pd, rep] : rep_of_pd) {
     const StepEntity* e = f_.find(pd);
-    if (!e) continue;
+    if (!e || !e->damage.empty()) continue;
     const StepRecord* r = e->record("PRODUCT_DEFINITION");
     if (!r || r->params.size() < 3 || r->params[2].kind != Kind::Ref) continue;
     const StepEntity* formation = f_.find(r->params[2].ref);
-    if (!formation || formation->records.empty() || formation->records.front().params.size() < 3) continue;
+    if (!formation || !formation->damage.empty() || formation->records.empty() ||
+        formation->records.front().params.size() < 3)
+      continue;
     const StepValue& prod = formation->records.front().params[2];
     if (prod.kind == Kind::Ref) product_of_group_.emplace(group(rep), prod.ref);
   }
@@ -1475,7 +1620,7 @@ std::string StepReader::product_name(long rep) {
   const auto it = product_of_group_.find(group(rep));
   if (it == product_of_group_.end()) return {};
   const StepEntity* p = f_.find(it->second);
-  if (!p) return {};
+  if (!p || !p->damage.empty()) return {};
   const StepRecord* r = p->record("PRODUCT");
   if (!r || r->params.size() < 2) return {};
   const std::string& name = r->params[1].kind == Kind::String ? r->params[1].text : std::string();
@@ -1499,7 +1644,7 @@ Model StepReader::read() {
       for (const StepValue& item : r.params[1].items)
         if (item.kind == Kind::Ref) rep_of_item.emplace(item.ref, id);
       if (r.params[2].kind == Kind::Ref) context_of_rep[id] = r.params[2].ref;
-      visited_.insert(id);
+      if (e.damage.empty()) visited_.insert(id);
     }
   }
   int edge_base = 0;
@@ -1509,8 +1654,10 @@ Model StepReader::read() {
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);
     if (!is(e, "MANIFOLD_SOLID_BREP") && !is(e, "BREP_WITH_VOIDS") && !is(e, "SHELL_BASED_SURFACE_MODEL")) continue;
+    intact(e);
     visited_.insert(id);
     const auto rep = rep_of_item.find(id);
+    if (rep != rep_of_item.end()) entity(rep->second, e);  // its units and placements
     length_scale_ = 1.0;
     angle_scale_ = 1.0;
     if (rep != rep_of_item.end())
@@ -1546,6 +1693,7 @@ Model StepReader::read() {
       if (to_model != 1.0) m = glm::scale(glm::dmat4(1.0), glm::dvec3(to_model)) * m;
       for (const TrimmedSurface& f : faces) {
         TrimmedSurface g = m == glm::dmat4(1.0) ? f : transformed(f, m);
+        g.edge_gap = f.edge_gap * to_model;  // placements are rigid: only the unit scales it
         for (TrimLoop& l : g.loops)
           for (Curve2& c : l.curves) c.edge += edge_base;
         body.faces.push_back(std::move(g));
@@ -1577,6 +1725,10 @@ Model StepReader::read() {
   if (!loose.faces.empty()) model.bodies.push_back(std::move(loose));
   model.unit_scale_to_mm = model_scale == 0.0 ? 1.0 : model_scale;
   model.resolution = resolution_;
+  // Faces as placed: a solid an assembly places twice counts its faces twice, as the model holds them.
+  model.faces_in_file = int(dropped_.size());
+  for (const Body& b : model.bodies) model.faces_in_file += int(b.faces.size());
+  model.dropped_faces = dropped_;
   // Loops finished once the model size is known (as the IGES reader does).
   std::vector<TrimmedSurface*> all;  // placements are in the geometry: no body transform
   for (Body& b : model.bodies)
@@ -1604,12 +1756,20 @@ Model StepReader::read() {
     const StepEntity& e = f_.entities.at(id);
     const std::string t = e.type_name();
     if (t == "CARTESIAN_POINT" || t == "DIRECTION" || t == "VECTOR" || t == "AXIS2_PLACEMENT_3D") continue;
+    if (t.find("UNIT") != std::string::npos) continue;  // SOLID_ANGLE_UNIT and the like: not geometry
     for (const char* k : kinds)
       if (t.find(k) != std::string::npos && t.find("REPRESENTATION") == std::string::npos &&
           t.find("STYLE") == std::string::npos && t.find("PRESENTATION") == std::string::npos) {
         ++model.skipped_types[t];
         break;
       }
+  }
+  // Damaged records the geometry never reached (a reached one failed the read).
+  for (long id : f_.order) {
+    const StepEntity& e = f_.entities.at(id);
+    if (!e.damage.empty() && !visited_.count(id))
+      model.read_warnings.push_back(fmt::format("line {}: #{} ({}): {}; the record is not used by the geometry", e.line,
+                                                id, e.type_name(), e.damage));
   }
   return model;
 }

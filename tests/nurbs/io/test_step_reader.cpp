@@ -1,12 +1,15 @@
 // STEP (Part 21) parser and B-rep reader: syntax, units, faces on planes and cylinders with their
-// edges brought into (u, v), hostile input, and the shared STEP files against their IGES twins.
+// edges brought into (u, v), hostile input, damaged records the geometry does not reach, derived
+// attributes (*), edges off their surface, what counts as skipped geometry, and the shared STEP
+// files against their IGES twins.
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
-#include <set>
 #include <numbers>
+#include <set>
 #include <string>
 
 #include "../../shared_models.h"
@@ -96,18 +99,19 @@ double material_share(const nurbs::TrimmedSurface& f) {
   int in = 0, n = 0;
   for (int i = 0; i < 100; ++i)
     for (int j = 0; j < 100; ++j, ++n)
-      in += nurbs::is_material(f, {u.min + u.width() * (i + 0.5) / 100, v.min + v.width() * (j + 0.5) / 100}, tol) ? 1 : 0;
+      in += nurbs::is_material(f, {u.min + u.width() * (i + 0.5) / 100, v.min + v.width() * (j + 0.5) / 100}, tol) ? 1
+                                                                                                                   : 0;
   return static_cast<double>(in) / n;
 }
 
 }  // namespace
 
 TEST_CASE("STEP parser: simple and complex instances, strings, comments, typed and omitted values") {
-  const nurbs::io::StepFile f = nurbs::io::parse_step_file(
-      step_file("/* a comment */ #1 = PRODUCT('it''s', 'name', '', (#2)) ;\n"
-                "#2=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n"
-                "#3=MEASURE(LENGTH_MEASURE(25.4),$,-1.5E+2,2.);\n"),
-      "mem.stp");
+  const nurbs::io::StepFile f =
+      nurbs::io::parse_step_file(step_file("/* a comment */ #1 = PRODUCT('it''s', 'name', '', (#2)) ;\n"
+                                           "#2=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n"
+                                           "#3=MEASURE(LENGTH_MEASURE(25.4),$,-1.5E+2,2.);\n"),
+                                 "mem.stp");
   REQUIRE(f.entities.size() == 3);
   CHECK(f.schemas == std::vector<std::string>{"AUTOMOTIVE_DESIGN"});
   const nurbs::io::StepEntity& p = *f.find(1);
@@ -158,8 +162,8 @@ TEST_CASE("STEP reader: a plane face, its edges mapped exactly, and length units
   // The plane patch is the square's box grown by 1 % each way: the square is 1 / 1.02^2 of it; the
   // patch lies on z = 1.
   CHECK(material_share(f) == doctest::Approx(1.0 / (1.02 * 1.02)).epsilon(0.01));
-  const glm::dvec3 corner = nurbs::surface_point(f.surface, nurbs::surface_domain_u(f.surface).max,
-                                                 nurbs::surface_domain_v(f.surface).max);
+  const glm::dvec3 corner =
+      nurbs::surface_point(f.surface, nurbs::surface_domain_u(f.surface).max, nurbs::surface_domain_v(f.surface).max);
   CHECK(corner.x == doctest::Approx(2.02));
   CHECK(corner.y == doctest::Approx(2.02));
   CHECK(corner.z == doctest::Approx(1.0));
@@ -301,13 +305,14 @@ TEST_CASE("STEP reader: assembly placements, their cycles and their blow-up are 
     levels += place(rep + 1, below, rep, 302) + place(rep + 2, below, rep, 303);
   }
   const std::string blown = message(with(levels));
-  CHECK((blown.find("placed more than") != std::string::npos || blown.find("control points in all") != std::string::npos));
+  CHECK((blown.find("placed more than") != std::string::npos ||
+         blown.find("control points in all") != std::string::npos));
 }
 
 TEST_CASE("shared STEP files read as OpenCASCADE does and as their IGES twins" * test::needs_shared_models()) {
   struct Case {
     const char* step;
-    const char* iges;  // the twin, empty when there is none
+    const char* iges;      // the twin, empty when there is none
     size_t bodies, faces;  // OpenCASCADE 7.6 (occt_reference.txt): solids or shells, faces
   };
   const Case cases[] = {{"step/gmsh_component8.step", "generated/gmsh_component8_brep.igs", 1, 21},
@@ -355,4 +360,201 @@ TEST_CASE("shared STEP assembly: instances placed as OpenCASCADE places them" * 
     nuts += b.name.rfind("nut", 0) == 0 ? 1 : 0;
   }
   CHECK(nuts == 8);
+}
+
+namespace {
+
+// `text` with `record` added at the end of its DATA section, and the line it lands on.
+std::pair<std::string, int> with_record(std::string text, const std::string& record) {
+  const size_t at = text.find("ENDSEC;\nEND-ISO");
+  text.insert(at, record);
+  return {text, static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 1};
+}
+
+// The square of square_face() on a bilinear B-spline surface over [-1, 3]^2 at height z (the edges
+// lie at z = 1).
+std::string square_on_bspline(double z) {
+  std::string text = square_face(kMillimetre);
+  std::string s =
+      "#5=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#600,#601),(#602,#603)),.UNSPECIFIED.,.F.,.F.,.F.,"
+      "(2,2),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.);";
+  const double xy[4][2] = {{-1, -1}, {-1, 3}, {3, -1}, {3, 3}};
+  for (int i = 0; i < 4; ++i) s += fmt::format("\n#{}=CARTESIAN_POINT('',({},{},{}));", 600 + i, xy[i][0], xy[i][1], z);
+  text.replace(text.find("#5=PLANE('',#4);"), 16, s);
+  return text;
+}
+
+std::string read_message(const std::string& text) {
+  try {
+    (void)nurbs::io::read_step_text(text, "bad.stp");
+  } catch (const ReadError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
+}  // namespace
+
+TEST_CASE("STEP reader: derived attributes (*) of oriented shells and faces, voids of a solid") {
+  // Fusion 360 writes the void of a BREP_WITH_VOIDS as ORIENTED_CLOSED_SHELL('',*,#shell,.F.): its
+  // faces (cfs_faces) are derived, written *. Each void here holds the square's face through an
+  // ORIENTED_FACE('',*,#82,o) (bounds derived): .T. keeps it as the void turns it round, .F. turns it back.
+  std::string text = square_face(kMillimetre);
+  const std::string shells = "#83=OPEN_SHELL('',(#82));\n#84=SHELL_BASED_SURFACE_MODEL('',(#83));";
+  text.replace(text.find(shells), shells.size(),
+               "#83=CLOSED_SHELL('',(#82));\n#84=BREP_WITH_VOIDS('',#83,(#87,#88));\n"
+               "#87=ORIENTED_CLOSED_SHELL('',*,#89,.F.);\n#88=ORIENTED_CLOSED_SHELL('',*,#90,.F.);\n"
+               "#89=CLOSED_SHELL('',(#91));\n#90=CLOSED_SHELL('',(#92));\n"
+               "#91=ORIENTED_FACE('',*,#82,.T.);\n#92=ORIENTED_FACE('',*,#82,.F.);");
+  const nurbs::Model m = nurbs::io::read_step_text(text, "voids.stp");
+  REQUIRE(m.bodies.size() == 1);
+  const auto& faces = m.bodies.front().faces;
+  REQUIRE(faces.size() == 3);
+  CHECK_FALSE(faces[0].reversed);
+  CHECK(faces[1].reversed);
+  CHECK_FALSE(faces[2].reversed);
+  CHECK(m.faces_in_file == 3);
+  // An orientation where the schema has one is still checked.
+  text.replace(text.find("#87=ORIENTED_CLOSED_SHELL('',*,#89,.F.)"), 39, "#87=ORIENTED_CLOSED_SHELL('',*,#89,*)");
+  CHECK(read_message(text).find("#87 (ORIENTED_CLOSED_SHELL): orientation is not .T. or .F.") != std::string::npos);
+}
+
+TEST_CASE("STEP reader: a damaged record fails the read only where the geometry reaches it") {
+  // SolidWorks 2024 writes a reference beyond any instance number in PERSON_AND_ORGANIZATION.
+  const auto [text, line] = with_record(square_face(kMillimetre),
+                                        "#500=PERSON_AND_ORGANIZATION(#18446744073709551615,#2);\n"
+                                        "#501=MEASURE_WITH_UNIT(1.2.3,#901);\n");
+  const nurbs::io::StepFile f = nurbs::io::parse_step_file(text, "sw.stp");
+  REQUIRE(f.find(500));
+  CHECK(f.find(500)->damage == "reference #18446744073709551615 out of range");
+  CHECK(f.find(500)->records.front().params[0].kind == nurbs::io::StepValue::Kind::Null);
+  CHECK(f.find(500)->records.front().params[1].ref == 2);
+  CHECK(f.find(2)->damage.empty());
+
+  const nurbs::Model m = nurbs::io::read_step_text(text, "sw.stp");
+  CHECK(only_face(m).name == "square");
+  REQUIRE(m.read_warnings.size() == 2);
+  CHECK(m.read_warnings[0] == fmt::format("line {}: #500 (PERSON_AND_ORGANIZATION): reference "
+                                          "#18446744073709551615 out of range; the record is not used by the geometry",
+                                          line));
+  CHECK(m.read_warnings[1] == fmt::format("line {}: #501 (MEASURE_WITH_UNIT): bad number '1.2.3'; the record is not "
+                                          "used by the geometry",
+                                          line + 1));
+
+  // The same damage in the face's plane: the read fails naming file, line and entity.
+  std::string reached = square_face(kMillimetre);
+  reached.replace(reached.find("#5=PLANE('',#4);"), 16, "#5=PLANE('',#18446744073709551615);");
+  const int plane_line = static_cast<int>(std::count(
+                             reached.begin(), reached.begin() + static_cast<long>(reached.find("#5=PLANE")), '\n')) +
+                         1;
+  CHECK(read_message(reached) ==
+        fmt::format("bad.stp: line {}: #5 (PLANE): reference #18446744073709551615 out of range", plane_line));
+  // Damage that is not lexical still refuses the file.
+  CHECK(read_message(with_record(square_face(kMillimetre), "#502=PRODUCT('open);\n").first).find("not closed") !=
+        std::string::npos);
+}
+
+TEST_CASE("STEP reader: a face whose edges lie off its surface is kept with the gap") {
+  // The square's edges lie 1e-3 above the B-spline surface, the plane: over 1e-4 of the face's size
+  // (2.83) and 10 times the file's uncertainty (1e-5), under 5 % of it. OpenCASCADE keeps such
+  // faces, growing the edges' tolerance.
+  for (const bool bspline : {true, false}) {
+    CAPTURE(bspline);
+    std::string text = square_on_bspline(1.0 - 1e-3);
+    if (!bspline) {
+      text = square_face(kMillimetre);
+      text.replace(text.find("#1=CARTESIAN_POINT('',(0.,0.,1.));"), 34, "#1=CARTESIAN_POINT('',(0.,0.,0.999));");
+    }
+    const nurbs::Model m = nurbs::io::read_step_text(text, "off.stp");
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(m.dropped_faces.empty());
+    // The edges are straight and level: every sample lies 1e-3 off (up to Newton's convergence).
+    CHECK(f.edge_gap == doctest::Approx(1e-3).epsilon(0.01));
+    CHECK(material_share(f) > 0.2);
+  }
+  // Edges on the surface (within the tolerance) leave the gap 0.
+  CHECK(only_face(nurbs::io::read_step_text(square_on_bspline(1.0 - 1e-6), "on.stp")).edge_gap == 0.0);
+  // 0.5 off a face of size 2.83 (beyond 5 %): the edges bound nothing on the surface.
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model far = nurbs::io::read_step_text(square_on_bspline(0.5), "far.stp", &log);
+  CHECK(far.bodies.front().faces.empty());
+  REQUIRE(far.dropped_faces.size() == 1);
+  CHECK(far.dropped_faces.front().reason.find("its edges lie up to 0.5 from its surface") != std::string::npos);
+}
+
+namespace {
+
+// `text` (square_face() or square_on_bspline()) with each edge's curve a SURFACE_CURVE that carries a
+// PCURVE on the surface #5, its (u, v) = ((x + shift) / scale, (y + shift) / scale): 2D LINEs under
+// the 3D LINEs, or degree-1 B-splines under both (the reader takes the PCURVEs of B-spline edges).
+std::string with_pcurves(std::string text, bool spline, double shift, double scale) {
+  const double xy[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+  std::string add =
+      "#910=( GEOMETRIC_REPRESENTATION_CONTEXT(2) PARAMETRIC_REPRESENTATION_CONTEXT() "
+      "REPRESENTATION_CONTEXT('2D SPACE','') );\n";
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    const std::string edge = fmt::format(",#{},.T.);", 50 + i);
+    text.replace(text.find(edge, text.find(fmt::format("#{}=EDGE_CURVE", 60 + i))), edge.size(),
+                 fmt::format(",#{},.T.);", 100 + i));
+    if (spline) {
+      const std::string line = fmt::format("#{}=LINE('',#{},#{});", 50 + i, 10 + i, 40 + i);
+      text.replace(text.find(line), line.size(),
+                   fmt::format("#{}=B_SPLINE_CURVE_WITH_KNOTS('',1,(#{},#{}),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),"
+                               ".UNSPECIFIED.);",
+                               50 + i, 10 + i, 10 + j));
+    }
+    add += fmt::format("#{}=SURFACE_CURVE('',#{},(#{}),.CURVE_3D.);\n#{}=PCURVE('',#5,#{});\n", 100 + i, 50 + i,
+                       110 + i, 110 + i, 120 + i);
+    add += fmt::format("#{}=DEFINITIONAL_REPRESENTATION('',(#{}),#910);\n", 120 + i, 130 + i);
+    const double u0 = (xy[i][0] + shift) / scale, v0 = (xy[i][1] + shift) / scale;
+    const double u1 = (xy[j][0] + shift) / scale, v1 = (xy[j][1] + shift) / scale;
+    add += fmt::format("#{}=CARTESIAN_POINT('',({},{}));\n#{}=CARTESIAN_POINT('',({},{}));\n", 140 + i, u0, v0, 150 + i,
+                       u1, v1);
+    if (spline)
+      add += fmt::format(
+          "#{}=B_SPLINE_CURVE_WITH_KNOTS('',1,(#{},#{}),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),"
+          ".UNSPECIFIED.);\n",
+          130 + i, 140 + i, 150 + i);
+    else
+      add += fmt::format("#{}=LINE('',#{},#{});\n#{}=VECTOR('',#{},{});\n#{}=DIRECTION('',({},{}));\n", 130 + i,
+                         140 + i, 160 + i, 160 + i, 170 + i, 2 / scale, 170 + i, u1 - u0, v1 - v0);
+  }
+  return with_record(text, add).first;
+}
+
+}  // namespace
+
+TEST_CASE("STEP reader: the PCURVEs of read edges are not counted as skipped geometry") {
+  // LINE edges with 2D LINE PCURVEs (the reader flattens lines itself, it reads none of them).
+  const nurbs::Model plane =
+      nurbs::io::read_step_text(with_pcurves(square_face(kMillimetre), false, 0.0, 1.0), "pc.stp");
+  CHECK(only_face(plane).loops.front().curves.size() == 4);
+  CHECK(plane.skipped_types.empty());
+  // B-spline edges whose PCURVEs are the trims.
+  const nurbs::Model spline = nurbs::io::read_step_text(with_pcurves(square_on_bspline(1.0), true, 1.0, 4.0), "pc.stp");
+  CHECK(only_face(spline).edge_gap == 0.0);
+  CHECK(spline.skipped_types.empty());
+  // Geometry no face reaches is counted: a loose circle, a surface only a PCURVE lies on.
+  auto [loose, line] = with_record(with_pcurves(square_face(kMillimetre), false, 0.0, 1.0),
+                                   "#700=CIRCLE('',#4,5.);\n#701=CYLINDRICAL_SURFACE('',#4,1.);\n");
+  loose.replace(loose.find("#110=PCURVE('',#5,"), 18, "#110=PCURVE('',#701,");
+  const nurbs::Model counted = nurbs::io::read_step_text(loose, "loose.stp");
+  CHECK(counted.skipped_types == std::map<std::string, int>{{"CIRCLE", 1}, {"CYLINDRICAL_SURFACE", 1}});
+}
+
+TEST_CASE("STEP reader: a face whose PCURVEs lie off its edges keeps them, with the gap") {
+  // B-spline edges 1e-3 above the B-spline surface, their PCURVEs on it: neither the PCURVEs nor
+  // the projection lie within the tolerance; the PCURVEs are the face's boundary, as OpenCASCADE
+  // takes them.
+  const nurbs::Model m =
+      nurbs::io::read_step_text(with_pcurves(square_on_bspline(1.0 - 1e-3), true, 1.0, 4.0), "pc.stp");
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.edge_gap == doctest::Approx(1e-3).epsilon(0.01));
+  // The first trim is the first PCURVE: from (0.25, 0.25) to (0.75, 0.25).
+  const nurbs::Curve2& c = f.loops.front().curves.front();
+  CHECK(c.points.size() == 2);
+  CHECK(c.points.front().x == doctest::Approx(0.25));
+  CHECK(c.points.back().x == doctest::Approx(0.75));
+  CHECK(c.points.back().y == doctest::Approx(0.25));
 }
