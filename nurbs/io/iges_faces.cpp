@@ -8,6 +8,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_analytic.h"
@@ -83,6 +84,7 @@ int IgesFaces::surface_pointer(int de) {
 
 TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   const IgesDirectoryEntry& e = g_.file().entry(de);
+  edge_gap_ = 0.0;
   TrimmedSurface f;
   if (e.type == 128) {
     f.surface = g_.surface(de, parent);
@@ -107,6 +109,7 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   }
   f.face_id = de;
   f.name = e.label;
+  f.edge_gap = edge_gap_;
   return f;
 }
 
@@ -214,14 +217,40 @@ std::pair<int, int> IgesFaces::curve_142(int de) {
   return {bptr, cptr};
 }
 
+// Largest distance between the model-space curve `c` and the surface points of its projection `p`
+// (degree 1, knots = parameters of `c`), at the vertices and the chord midpoints.
+static double projection_gap(const Surface& s, const Curve3& c, const Curve2& p) {
+  double gap = 0.0;
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    const double t = p.knots[i + 1];
+    gap = std::max(gap, glm::length(surface_point(s, p.points[i].x, p.points[i].y) - curve_point(c, t)));
+    if (i + 1 == p.points.size()) break;
+    const glm::dvec2 mid = 0.5 * (p.points[i] + p.points[i + 1]);
+    gap = std::max(gap, glm::length(surface_point(s, mid.x, mid.y) - curve_point(c, 0.5 * (t + p.knots[i + 2]))));
+  }
+  return gap;
+}
+
 // A trim curve given only in model space, in the surface's (u, v): project_curve.h within
 // kProjectionTolerance of the surface's control-point box diagonal (the model size is not known
-// yet; the surface's own size bounds the face's).
+// yet; the surface's own size bounds the face's). A curve off the surface by up to kEdgeGapLimit of
+// it is projected within twice its distance and kept, its gap measured (TrimmedSurface::edge_gap).
 Curve2 IgesFaces::projected(const Surface& s, const Curve3& c, int de) {
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
   for (const glm::dvec3& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
-  ProjectedCurve pc = project_curve(s, c, kProjectionTolerance * glm::length(hi - lo));
-  if (!pc.curve) no_parameter_curve(de, "has a model-space curve that " + pc.problem);
+  const double size = glm::length(hi - lo);
+  ProjectedCurve pc = project_curve(s, c, kProjectionTolerance * size);
+  if (!pc.curve && pc.distance <= kEdgeGapLimit * size) {
+    ProjectedCurve loose = project_curve(s, c, std::min(2.0 * pc.distance, kEdgeGapLimit * size));
+    if (!loose.curve) loose = project_curve(s, c, kEdgeGapLimit * size);  // samples between the first ones farther
+    if (loose.curve) {
+      edge_gap_ = std::max(edge_gap_, projection_gap(s, c, *loose.curve));
+      pc = std::move(loose);
+    }
+  }
+  if (!pc.curve)
+    no_parameter_curve(
+        de, fmt::format("has a model-space curve that {} (kept up to {:.3g})", pc.problem, kEdgeGapLimit * size));
   ++log_.curves_projected;
   return std::move(*pc.curve);
 }

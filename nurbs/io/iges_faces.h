@@ -51,6 +51,7 @@ class IgesFaces {
   const IgesReadOptions& options_;
   IgesReadLog& log_;
   std::unordered_map<int, int> list_sizes_;  // 502/504 entry counts, parsed once
+  double edge_gap_ = 0.0;                    // of the face being read: largest projection distance kept
 };
 
 /// IgesFaces::finish for faces of any reader: the same repairs, checks and orientation, counted in `log`.

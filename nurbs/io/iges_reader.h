@@ -35,7 +35,7 @@ struct IgesReadOptions {
   /// Scale all geometry to millimetres and set Model::unit_scale_to_mm = 1.
   bool convert_to_mm = false;
   /// Drop faces whose trim curves cannot be used (142 with neither curve, 141 or 508 curves only in
-  /// model space, model-space curves that do not lie on the surface) or that need an unsupported
+  /// model space, model-space curves farther than kEdgeGapLimit from the surface) or that need an unsupported
   /// entity, with a warning, instead of throwing ReadError for the former.
   /// Faces needing an unsupported surface/curve type are always dropped with a warning.
   bool skip_faces_without_parameter_curves = false;
@@ -63,9 +63,15 @@ inline constexpr double kTrimGapRounding = 1e-12;
 
 /// Trim curves given only in model space (142 with BPTR = 0) are projected onto the surface within
 /// this fraction of the surface's control-point box diagonal: every sample of the curve that far
-/// from the surface at most (else the face is dropped, or the file refused), every chord in (u, v)
-/// that close to the curve.
+/// from the surface at most, every chord in (u, v) that close to the curve. A curve farther off
+/// (the file's edges and surface disagree, as in real files) is projected within twice its
+/// distance, and the face keeps it with TrimmedSurface::edge_gap = the largest distance measured
+/// between the file's curve and the surface points of the trim, up to kEdgeGapLimit; beyond that
+/// the face is dropped (or the file refused, see IgesReadOptions).
 inline constexpr double kProjectionTolerance = 1e-6;
+/// Largest edge gap a face is kept with, as a fraction of its surface's control-point box diagonal:
+/// farther, the model-space curve is not an edge of this surface (a wrong pointer, a damaged file).
+inline constexpr double kEdgeGapLimit = 0.05;
 
 /// Limits that keep reading, and the queries after it, bounded whatever a file holds (damaged or
 /// hostile input); beyond each the reader throws ReadError naming the entity.
