@@ -25,7 +25,11 @@ nurbs::Model single_face(const std::string& name, nurbs::TrimmedSurface face) {
   return m;
 }
 
-nurbs::TrimmedSurface untrimmed(nurbs::Surface s) { return nurbs::TrimmedSurface{std::move(s), {}, 0, ""}; }
+nurbs::TrimmedSurface untrimmed(nurbs::Surface s) {
+  nurbs::TrimmedSurface f;
+  f.surface = std::move(s);
+  return f;
+}
 
 }  // namespace cmd_generate_impl
 

@@ -23,7 +23,8 @@ TEST_CASE("model ops: validate_rigid accepts rotations and translations only") {
 }
 
 TEST_CASE("model ops: a moved rational surface is the moved surface (affine invariance)") {
-  nurbs::TrimmedSurface face{models::rational_torus(3.0, 1.0), {}, 0, "torus"};
+  nurbs::TrimmedSurface face;
+  face.surface = models::rational_torus(3.0, 1.0);
   const glm::dmat4 m = glm::translate(glm::rotate(glm::dmat4(1.0), 1.1, glm::dvec3(0, 1, 1)), glm::dvec3(10, 0, -2));
   const nurbs::TrimmedSurface moved = nurbs::transformed(face, m);
   for (double u : {0.0, 0.13, 0.5, 0.91})
@@ -36,9 +37,11 @@ TEST_CASE("model ops: a moved rational surface is the moved surface (affine inva
 
 TEST_CASE("model ops: world faces apply body transforms; model size of a sphere") {
   nurbs::Model model;
-  model.bodies.push_back({"a", {{models::rational_sphere(2.0), {}, 0, ""}}, glm::dmat4(1.0), ""});
-  model.bodies.push_back(
-      {"b", {{models::rational_sphere(2.0), {}, 1, ""}}, glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0)), ""});
+  nurbs::TrimmedSurface sphere;
+  sphere.surface = models::rational_sphere(2.0);
+  model.bodies.push_back({"a", {sphere}, glm::dmat4(1.0), ""});
+  sphere.face_id = 1;
+  model.bodies.push_back({"b", {sphere}, glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0)), ""});
   const auto faces = nurbs::world_faces(model);
   REQUIRE(faces.size() == 2);
   const nurbs::Box box = nurbs::model_box(model);

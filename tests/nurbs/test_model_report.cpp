@@ -12,8 +12,9 @@ namespace {
 nurbs::Model two_spheres(const std::string& trim_problem, double edge_gap) {
   nurbs::Model m;
   m.source = "two.igs";
-  nurbs::TrimmedSurface a{models::rational_sphere(1.0), {}, 11, "a"};
-  nurbs::TrimmedSurface b{models::rational_sphere(1.0, glm::dvec3(10, 0, 0)), {}, 12, "b"};
+  nurbs::TrimmedSurface a, b;
+  a.surface = models::rational_sphere(1.0), a.face_id = 11;
+  b.surface = models::rational_sphere(1.0, glm::dvec3(10, 0, 0)), b.face_id = 12;
   b.trim_problem = trim_problem;
   b.edge_gap = edge_gap;
   m.bodies.push_back({"body", {a, b}, glm::dmat4(1.0), {}});

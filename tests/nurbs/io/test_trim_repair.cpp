@@ -74,7 +74,9 @@ std::string with_surface_range(const Model& m, const std::array<std::string, 4>&
 
 TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a trimmed one") {
   Model bare;
-  bare.bodies.push_back({"b", {TrimmedSurface{io::test::bump(), {}, 0, ""}}, glm::dmat4(1.0), ""});
+  TrimmedSurface bump;
+  bump.surface = io::test::bump();
+  bare.bodies.push_back({"b", {bump}, glm::dmat4(1.0), ""});
   io::IgesReadLog log;
   const Model r = io::read_iges_text(with_surface_range(bare, {"0.25", "0.75", "0.1", "0.9"}), "range.igs", {}, &log);
   CHECK(log.ranges_restricted == 1);

@@ -443,7 +443,8 @@ TEST_CASE("trim: repaired random self-crossing loops are simple and keep their o
 }
 
 TEST_CASE("trim: a face without loops gives its domain rectangle, counter-clockwise") {
-  const TrimmedSurface face{models::random_surface(9, 3, 2, true), {}, 0, "", false};
+  TrimmedSurface face;
+  face.surface = models::random_surface(9, 3, 2, true);
   TrimApproxOptions opt;
   opt.eps = 1e-3 * net_size(face.surface);
   const auto out = approximate_trim_loops(face, opt);
