@@ -62,7 +62,10 @@ void add_info(CLI::App& app, const GlobalOptions& global) {
     fmt::print("trim problems      {}\n", log.trim_problems.size());
     for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);
     if (log.trim_problems.size() > 20) fmt::print("  ... ({} more; --json lists all)\n", log.trim_problems.size() - 20);
-    for (const std::string& line : report.lines(20)) fmt::print("read               {}\n", line);
+    // Dropped faces and read warnings are in the summary above; the faces kept with doubts here.
+    nurbs::ModelReport kept = report;
+    kept.dropped.clear(), kept.warnings.clear();
+    for (const std::string& line : kept.lines(20)) fmt::print("read               {}\n", line);
     if (*bounds) fmt::print("{}", bounds_text(bounds_report(model, *tolerance, s.faces > 20 && isatty(STDERR_FILENO))));
   });
 }
