@@ -157,8 +157,8 @@ def error_text(j, err, code):
 def mask(message, path):
     """message with the file's path and numbers masked, so that files failing alike count as one."""
     message = message.replace(path, "FILE").replace(os.path.basename(path), "FILE")
-    message = re.sub(r"#\d+", "#N", message)
-    return re.sub(r"(?<![A-Za-z_])[-+]?\d+(\.\d+)?([eE][-+]?\d+)?", "N", message)[:300]
+    message = re.sub(r"\b([#D])\d+\b", r"\1N", message)  # STEP instances #12, IGES directory entries D12
+    return re.sub(r"(?<![A-Za-z_\d.])[-+]?\d+(\.\d+)?([eE][-+]?\d+)?", "N", message)[:300]
 
 
 def read_fields(j):
