@@ -45,7 +45,7 @@ void add_info(CLI::App& app, const GlobalOptions& global) {
       nlohmann::json j = nurbs::io::to_json(s);
       j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"loops_reordered", log.reordered_loops},
                      {"domain_loops_added", log.domain_loops_added},
-                     {"gaps_closed", log.gaps_closed},           {"ranges_restricted", log.ranges_restricted},
+                     {"gaps_closed", log.gaps_closed}, {"loops_wrapped", log.loops_wrapped},           {"ranges_restricted", log.ranges_restricted},
                      {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings},
                      {"seconds", read_seconds}};
       if (*bounds) j["bounds"] = bounds_report(model, *tolerance, false);

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <glm/geometric.hpp>
 #include <vector>
 
 #include "nurbs/curve_ends.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
+#include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
 
 namespace nurbs {
@@ -113,7 +116,101 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
   return closed;
 }
 
+// The surface with u and v swapped (the same points, knots and weights read the other way).
+Surface transposed(const Surface& s) {
+  Surface t;
+  t.degree_u = s.degree_v, t.degree_v = s.degree_u;
+  t.count_u = s.count_v, t.count_v = s.count_u;
+  t.knots_u = s.knots_v, t.knots_v = s.knots_u;
+  for (int i = 0; i < s.count_u; ++i)
+    for (int j = 0; j < s.count_v; ++j) {
+      t.points.push_back(s.point(i, j));
+      if (s.rational()) t.weights.push_back(s.weight(i, j));
+    }
+  return t;
+}
+
+// The clamped surface s (domain [u0, u1] in u, closed there) followed by a copy of itself moved by
+// the period T = u1 - u0 in u: domain [u0, u1 + T], joined with continuity C0 at u1. Empty when the
+// copy's first column is not the last one's (positions within `tolerance_3d`, weights in one ratio).
+std::optional<Surface> doubled_along_u(const Surface& clamped, double tolerance_3d) {
+  const Surface& s = clamped;
+  const int p = s.degree_u, n = s.count_u;
+  const double u0 = s.knots_u.front(), u1 = s.knots_u.back(), period = u1 - u0;
+  double ratio = 0.0;  // weight of the last column over the first's, one value for every row
+  for (int j = 0; j < s.count_v; ++j) {
+    if (!(glm::length(s.point(n - 1, j) - s.point(0, j)) <= tolerance_3d)) return std::nullopt;
+    const double r = s.weight(n - 1, j) / s.weight(0, j);
+    if (j == 0) ratio = r;
+    if (!(std::abs(r - ratio) <= 1e-9 * ratio)) return std::nullopt;
+  }
+  Surface d = s;
+  d.count_u = 2 * n - 1;
+  d.knots_u.assign(s.knots_u.begin(), s.knots_u.end() - 1);  // [u0]^(p+1) .. [u1]^p
+  for (size_t k = size_t(p) + 1; k < s.knots_u.size(); ++k) d.knots_u.push_back(s.knots_u[k] + period);
+  d.points.clear(), d.weights.clear();
+  for (int j = 0; j < s.count_v; ++j)
+    for (int i = 0; i < d.count_u; ++i) {
+      const bool copy = i >= n;
+      const int c = copy ? i - n + 1 : i;
+      d.points.push_back(s.point(c, j));
+      if (s.rational()) d.weights.push_back(copy ? s.weight(c, j) * ratio : s.weight(c, j));
+    }
+  return d;
+}
+
+// wrap_loops_into_domain along u (the caller transposes for v).
+int wrap_along_u(TrimmedSurface& face, double tolerance_3d, double min_gap) {
+  if (face.loops.empty() || !closed_along(face.surface, 0, tolerance_3d)) return 0;
+  const Interval d = surface_domain_u(face.surface);
+  const double period = d.width();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const TrimLoop& l : face.loops)
+    for (const Curve2& c : l.curves) {
+      const Interval cd = curve_domain(c);
+      for (int k = 0; k <= 64; ++k) {
+        const double u = curve_point(c, cd.min + cd.width() * k / 64.0).x;
+        lo = std::min(lo, u), hi = std::max(hi, u);
+      }
+    }
+  if (!(lo >= d.min - min_gap && hi <= d.max + min_gap) && hi - lo <= period + min_gap) {
+    // Whole periods first: the loops start inside the domain.
+    const double shift = -period * std::floor((lo - d.min + min_gap) / period);
+    if (shift != 0.0) {
+      for (TrimLoop& l : face.loops)
+        for (Curve2& c : l.curves)
+          for (glm::dvec2& q : c.points) q.x += shift;
+      lo += shift, hi += shift;
+    }
+    if (hi <= d.max + min_gap) return 1;
+    // Still across the far side: the surface one period longer.
+    const Surface clamped = restrict_surface(face.surface, d, surface_domain_v(face.surface));
+    if (std::optional<Surface> longer = doubled_along_u(clamped, tolerance_3d)) {
+      face.surface = std::move(*longer);
+      return 1;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
+
+int wrap_loops_into_domain(TrimmedSurface& face, double tolerance_3d, double min_gap) {
+  int wrapped = wrap_along_u(face, tolerance_3d, min_gap);
+  TrimmedSurface t = face;
+  t.surface = transposed(face.surface);
+  for (TrimLoop& l : t.loops)
+    for (Curve2& c : l.curves)
+      for (glm::dvec2& q : c.points) std::swap(q.x, q.y);
+  if (wrap_along_u(t, tolerance_3d, min_gap) == 0) return wrapped;
+  face.surface = transposed(t.surface);
+  for (size_t k = 0; k < face.loops.size(); ++k)
+    for (size_t c = 0; c < face.loops[k].curves.size(); ++c) {
+      face.loops[k].curves[c].points = t.loops[k].curves[c].points;
+      for (glm::dvec2& q : face.loops[k].curves[c].points) std::swap(q.x, q.y);
+    }
+  return wrapped + 1;
+}
 
 int close_loops_round_seam(TrimmedSurface& face, double tolerance_3d, double min_gap) {
   return close_along(face, 0, tolerance_3d, min_gap) + close_along(face, 1, tolerance_3d, min_gap);

@@ -24,4 +24,15 @@ namespace nurbs {
 /// the number of loops closed this way.
 int close_loops_round_seam(TrimmedSurface& face, double tolerance_3d, double min_gap);
 
+/// Brings the loops of a face on a closed surface into its domain where the file puts its seam
+/// elsewhere than the surface's (a cylinder whose pcurves run over u in [2 pi, 4 pi] on a surface
+/// of domain [4 pi / 3, 10 pi / 3]): loops reaching beyond the domain by more than `min_gap` are
+/// moved by whole periods to start inside it, and where they still reach beyond its far side the
+/// surface is made one period longer (its net followed by a copy of itself, joined with
+/// continuity C0 at the seam; the same points in space). Material beyond the domain would
+/// otherwise be left out of every mesh and query. Loops spanning more than a period, and surfaces
+/// not closed within `tolerance_3d`, are left as they are. Returns the number of directions (u, v)
+/// changed.
+int wrap_loops_into_domain(TrimmedSurface& face, double tolerance_3d, double min_gap);
+
 }  // namespace nurbs

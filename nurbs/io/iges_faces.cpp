@@ -118,6 +118,7 @@ void IgesFaces::finish(TrimmedSurface& f, double model_size) { finish_trim_loops
 void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
+    log.loops_wrapped += wrap_loops_into_domain(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     log.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
     log.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
     // Loops going round a closed surface jump by its period at the seam: trim_seams.h.

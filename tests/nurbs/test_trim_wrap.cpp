@@ -1,0 +1,72 @@
+// Loops of a face on a closed surface that the file places beyond the surface's domain (its seam
+// elsewhere than the surface's) are brought inside it (trim_seams.h: wrap_loops_into_domain): the
+// material they bound is the same set of surface points, all of it inside the domain.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "models/exact_shapes.h"
+#include "nurbs/curve_ends.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/trim_seams.h"
+
+namespace {
+
+// A counter-clockwise rectangle [u0, u1] x [v0, v1] as the face's outer loop.
+nurbs::TrimLoop rectangle(double u0, double u1, double v0, double v1) {
+  nurbs::TrimLoop loop;
+  const glm::dvec2 a(u0, v0), b(u1, v0), c(u1, v1), d(u0, v1);
+  loop.curves = {nurbs::segment_curve(a, b), nurbs::segment_curve(b, c), nurbs::segment_curve(c, d),
+                 nurbs::segment_curve(d, a)};
+  return loop;
+}
+
+// The point of the original closed-in-u surface at u taken modulo its period.
+glm::dvec3 periodic_point(const nurbs::Surface& s, double u, double v) {
+  const nurbs::Interval d = nurbs::surface_domain_u(s);
+  const double w = d.min + std::fmod(std::fmod(u - d.min, d.width()) + d.width(), d.width());
+  return nurbs::surface_point(s, w, v);
+}
+
+}  // namespace
+
+TEST_CASE("trim wrap: a band whose loop runs past the far side of a cylinder's domain keeps all its material") {
+  const nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
+  const nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
+  const double period = du.width(), start = du.min + period / 3;
+  const double v0 = dv.min + 0.25 * dv.width(), v1 = dv.max - 0.25 * dv.width(), vm = 0.5 * (v0 + v1);
+  nurbs::TrimmedSurface face;
+  face.surface = cylinder;
+  face.loops = {rectangle(start, start + period, v0, v1)};
+  CHECK(nurbs::wrap_loops_into_domain(face, 1e-9, 1e-9) == 1);
+  const nurbs::Interval wrapped = nurbs::surface_domain_u(face.surface);
+  CHECK(wrapped.max >= start + period - 1e-12);
+  const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, 1e-6);
+  // Every angle round the band: material at the loop's parameter, and the same point in space.
+  for (int k = 0; k < 36; ++k) {
+    const double u = start + period * (k + 0.5) / 36;
+    CHECK(nurbs::is_material(trim, glm::dvec2(u, vm)));
+    CHECK(glm::length(nurbs::surface_point(face.surface, u, vm) - periodic_point(cylinder, u, vm)) < 1e-12);
+  }
+}
+
+TEST_CASE("trim wrap: a loop a whole period beyond the domain moves by the period; open surfaces stay") {
+  const nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
+  const nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
+  nurbs::TrimmedSurface face;
+  face.surface = cylinder;
+  const double a = du.max + 0.1 * du.width(), b = du.max + 0.6 * du.width();
+  face.loops = {rectangle(a, b, dv.min, dv.max)};
+  CHECK(nurbs::wrap_loops_into_domain(face, 1e-9, 1e-9) == 1);
+  CHECK(face.surface.count_u == cylinder.count_u);  // moved, the surface unchanged
+  const glm::dvec2 first = nurbs::start_point(face.loops[0].curves[0]);
+  CHECK(first.x == doctest::Approx(a - du.width()));
+
+  nurbs::TrimmedSurface flat;
+  flat.surface = models::bilinear_square(2.0);
+  flat.loops = {rectangle(1.0, 3.0, 0.0, 1.0)};  // beyond the square, which does not close
+  CHECK(nurbs::wrap_loops_into_domain(flat, 1e-9, 1e-9) == 0);
+  CHECK(nurbs::start_point(flat.loops[0].curves[0]).x == 1.0);
+}
