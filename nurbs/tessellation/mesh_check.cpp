@@ -1,6 +1,7 @@
 #include "nurbs/tessellation/mesh_check.h"
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <chrono>
 #include <functional>
@@ -85,16 +86,18 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   // Face samples: the material points of a (u, v) grid and the boundary polylines' points.
   std::vector<Sample> samples;
   std::vector<TrimPolygons> trims(faces.size());
+  std::vector<BandedTrim> banded(faces.size());  // the same classification, in far fewer steps
   std::vector<Tri> boundary;
   const int n = std::max(2, options.samples);
   for (size_t fi = 0; fi < faces.size(); ++fi) {
     const TrimmedSurface& f = faces[fi];
     const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
     trims[fi] = flatten_trim(f, 1e-7 * std::max(du.width(), dv.width()));
+    banded[fi] = BandedTrim(trims[fi]);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const glm::dvec2 uv(du.min + du.width() * i / (n - 1), dv.min + dv.width() * j / (n - 1));
-        if (f.loops.empty() || is_material(trims[fi], uv))
+        if (f.loops.empty() || banded[fi].is_material(uv))
           samples.push_back({surface_point(f.surface, uv.x, uv.y), uv, int(fi)});
       }
     for (const auto& line : face_boundary(f, tol))
@@ -116,9 +119,13 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   std::vector<std::vector<double>> face_worst(size_t(threads), std::vector<double>(faces.size(), 0.0));
   parallel_for((long long)samples.size(), threads,
                [&](long long k, int t) {
-                 const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
                  const int f = samples[size_t(k)].face >= 0 ? samples[size_t(k)].face : -1 - samples[size_t(k)].face;
-                 face_worst[size_t(t)][size_t(f)] = std::max(face_worst[size_t(t)][size_t(f)], d);
+                 // A sample within the face's worst so far changes no maximum: the exact distance
+                 // only for the others.
+                 double& face_max = face_worst[size_t(t)][size_t(f)];
+                 if (face_max > 0.0 && mesh_bvh.any_within(samples[size_t(k)].p, face_max)) return;
+                 const double d = mesh_bvh.closest(samples[size_t(k)].p).distance;
+                 face_max = std::max(face_max, d);
                  if (d > worst[size_t(t)]) worst[size_t(t)] = d, worst_face[size_t(t)] = f;
                },
                256);
@@ -166,26 +173,36 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
         const glm::dvec3 a = mesh.positions[size_t(tri.x)], b = mesh.positions[size_t(tri.y)],
                          c = mesh.positions[size_t(tri.z)];
         const glm::dvec3 q[7] = {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0};
+        // The mesh's own (u, v) first: Newton from there gives a near-final distance, so the
+        // boundary, the nearest sample and the other faces are searched only within it.
+        const bool own_uv = !mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0;
+        glm::dvec2 uvs[7];
+        if (own_uv) {
+          const glm::dvec2 ua = mesh.uv[size_t(tri.x)], ub = mesh.uv[size_t(tri.y)], uc = mesh.uv[size_t(tri.z)];
+          const glm::dvec2 own[7] = {ua, ub, uc, 0.5 * (ua + ub), 0.5 * (ub + uc), 0.5 * (uc + ua), (ua + ub + uc) / 3.0};
+          std::copy(own, own + 7, uvs);
+        }
         for (int i = 0; i < 7; ++i) {
-          double d = boundary_bvh.closest(q[i]).distance;
+          double d = std::numeric_limits<double>::infinity();
           auto newton = [&](int face, glm::dvec2 uv) {
             const TrimmedSurface& f = faces[size_t(face)];
+            const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
             auto attempt = [&](glm::dvec2 seed) {
               const glm::dvec2 foot = project_point(f.surface, q[i], seed, 12);
               const double e = glm::length(surface_point(f.surface, foot.x, foot.y) - q[i]);
-              if (e < d && (f.loops.empty() || is_material(trims[size_t(face)], foot))) d = e;
-              return e;
+              if (e < d && (f.loops.empty() || banded[size_t(face)].is_material(foot))) d = e;
+              return foot;
             };
             // A seed on the far side of a periodic face's seam walks into the domain edge: the seed
             // mirrored in u (and in v) starts on the near side.
-            const double before = d;
-            attempt(uv);
-            if (!(d < 0.25 * before)) {  // Newton did not get much nearer than the seed's bound
-              const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+            const glm::dvec2 foot = attempt(uv);
+            if (foot.x <= du.min || foot.x >= du.max || foot.y <= dv.min || foot.y >= dv.max) {
               attempt({du.min + du.max - uv.x, uv.y});
               attempt({uv.x, dv.min + dv.max - uv.y});
             }
           };
+          if (own_uv) newton(mesh.triangle_face[size_t(k)], uvs[i]);
+          d = std::min(d, boundary_bvh.closest(q[i], d).distance);
           const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
           if (near.triangle >= 0) {
             const Sample& s = grid_samples[size_t(near.triangle)];
@@ -198,17 +215,6 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
             if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
             const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
             if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
-          }
-          if (!mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0) {
-            const glm::dvec2 uvs[7] = {
-                mesh.uv[size_t(tri.x)],
-                mesh.uv[size_t(tri.y)],
-                mesh.uv[size_t(tri.z)],
-                0.5 * (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)]),
-                0.5 * (mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]),
-                0.5 * (mesh.uv[size_t(tri.z)] + mesh.uv[size_t(tri.x)]),
-                (mesh.uv[size_t(tri.x)] + mesh.uv[size_t(tri.y)] + mesh.uv[size_t(tri.z)]) / 3.0};
-            newton(mesh.triangle_face[size_t(k)], uvs[i]);
           }
           worst[size_t(t)] = std::max(worst[size_t(t)], d);
           const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];

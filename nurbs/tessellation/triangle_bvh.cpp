@@ -107,4 +107,27 @@ TriangleBvh::Hit TriangleBvh::closest(const glm::dvec3& p, double max_distance) 
   return hit;
 }
 
+bool TriangleBvh::any_within(const glm::dvec3& p, double radius) const {
+  if (nodes_.empty() || !(radius >= 0.0)) return false;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[size_t(stack[--top])];
+    if (box_distance(p, n.lo, n.hi) > radius) continue;
+    if (n.count > 0) {
+      for (int k = n.first; k < n.first + n.count; ++k) {
+        const auto& tri = tris_[size_t(order_[size_t(k)])];
+        if (glm::length(closest_point_on_triangle(p, tri[0], tri[1], tri[2]) - p) <= radius) return true;
+      }
+      continue;
+    }
+    const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
+    const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
+    stack[top++] = left_first ? n.right : n.left;
+    stack[top++] = left_first ? n.left : n.right;
+  }
+  return false;
+}
+
 }  // namespace nurbs::tess

@@ -26,6 +26,9 @@ class TriangleBvh {
   /// The closest point of all triangles to p (exact up to rounding), searching only boxes closer
   /// than `max_distance`.
   [[nodiscard]] Hit closest(const glm::dvec3& p, double max_distance = 1e300) const;
+  /// Whether some triangle lies within `radius` of p (the search stops at the first): a maximum of
+  /// distances over many points needs the exact distance only of points that would raise it.
+  [[nodiscard]] bool any_within(const glm::dvec3& p, double radius) const;
   [[nodiscard]] size_t size() const { return tris_.size(); }
 
  private:

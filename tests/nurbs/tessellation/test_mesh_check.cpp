@@ -56,6 +56,9 @@ TEST_CASE("mesh check: the BVH's closest point equals a brute-force search, dege
     const auto hit = bvh.closest(p);
     CHECK(hit.distance == doctest::Approx(best).epsilon(1e-14));
     CHECK(glm::length(hit.point - p) == doctest::Approx(hit.distance).epsilon(1e-14));
+    // any_within: a triangle within the radius exactly when the closest one is.
+    CHECK(bvh.any_within(p, best * (1 + 1e-12)));
+    CHECK(!bvh.any_within(p, best * (1 - 1e-9)));
   }
   // A point above a triangle's interior projects onto its plane; beside it, onto an edge.
   const glm::dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
