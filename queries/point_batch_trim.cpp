@@ -40,19 +40,30 @@ TrimEdges::TrimEdges(const nurbs::TrimPolygons& trim, const nurbs::ParamGrid& gr
       side_step_(1e-9 * std::max(grid.u.back() - grid.u.front(), grid.v.back() - grid.v.front())),
       banded_(trim) {
   const int nu = grid.cells_u();
-  // Steps shorter than half the smallest cell: consecutive steps lie in the same or neighbouring
-  // cells, and the piece between them touches at most their two cells and the two corner cells.
-  const double step = 0.5 * grid.min_step();
+  // The edge's cells in order: those of its ends and of the middles of its pieces between the grid
+  // lines it crosses (a walk in steps shorter than the narrowest cell would take 1e10 steps on
+  // faces with a knot span 1e-9 of their domain wide). Consecutive cells are the same or
+  // neighbours; the piece between them touches at most their two cells and the two corner cells.
   std::vector<int64_t> keys;
+  std::vector<double> at;  // the edge's parameters at its ends and grid-line crossings
+  const auto crossings = [&at](const std::vector<double>& lines, double a, double b) {
+    if (a == b) return;
+    const double lo = std::min(a, b), hi = std::max(a, b);
+    for (auto it = std::upper_bound(lines.begin(), lines.end(), lo); it != lines.end() && *it < hi; ++it)
+      at.push_back((*it - a) / (b - a));
+  };
   for (size_t k = 0; k < trim.loops.size(); ++k) {
     const auto& loop = trim.loops[k];
     for (size_t e = 0; e < loop.size(); ++e) {
       const glm::dvec2 a = loop[e], b = loop[(e + 1) % loop.size()];
-      const int steps = std::max(1, int(std::ceil(glm::length(b - a) / step)));
+      at.assign({0.0, 1.0});
+      crossings(grid.u, a.x, b.x);
+      crossings(grid.v, a.y, b.y);
+      std::sort(at.begin(), at.end());
       keys.clear();
       glm::ivec2 prev(cell_index(grid.u, a.x), cell_index(grid.v, a.y));
-      for (int s = 0; s <= steps; ++s) {
-        const glm::dvec2 q = a + (b - a) * (double(s) / steps);
+      for (size_t s = 0; s < at.size(); ++s) {  // the pieces' middles, then the end b
+        const glm::dvec2 q = s + 1 < at.size() ? a + (b - a) * (0.5 * (at[s] + at[s + 1])) : b;
         const glm::ivec2 c(cell_index(grid.u, q.x), cell_index(grid.v, q.y));
         for (const glm::ivec2 t : {c, prev, glm::ivec2(c.x, prev.y), glm::ivec2(prev.x, c.y)})
           keys.push_back(int64_t(t.y) * nu + t.x);
