@@ -3,7 +3,8 @@
 // --point: found, meets_tolerance, query, distance, bound, point, face, uv, seconds (and point_bound,
 // on_trim_edge, candidates); for --points: {"points", "seconds", "not_found", "over_tolerance",
 // "results": [...]} in input order. --points runs the batched projection (queries/point_batch.h: all
-// points in one pass, on grids tightened so that the float terms of its bounds fit the tolerance);
+// points in one pass, on faithful grids within 1 GB or on coarse ones, every answer whose bound is
+// over the tolerance refined in double);
 // --per-point keeps one query per point. The rule: an answer meets the tolerance when it is found
 // and its bound is within --tol x model size; exit 1 naming the counts when one does not.
 #include <fmt/format.h>
@@ -100,23 +101,17 @@ void run(const GlobalOptions& global, const Options& o) {
   const std::string engine_used =
       o.engine != "auto" ? o.engine : (gpu->info().software_renderer() ? "cpu" : "gpu");
   try {
-    if (batched) {  // faithful grids: the cells the answers come from meet the tolerance
+    if (batched) {  // grids and refinement: queries::prepare_batch_geometry, PointBatch::set_refine_tolerance
       const double tolerance = o.rel_tolerance * size;
-      // Refused before the work: a tolerance the pass's float arithmetic cannot certify at any of
-      // the points, and a preparation larger than the memory this machine has free.
-      const queries::BatchFloatFloor floor(faces);
-      double least = std::numeric_limits<double>::infinity();
-      for (const glm::dvec3& p : points) least = std::min(least, floor.at(p));
-      if (least >= tolerance)
-        throw BadInput(fmt::format(
-            "--tol {:g}: the batched pass computes in float, and at these points its bound is at least {:.3g} "
-            "(--tol {:.2g} of the model size {:g}); a larger --tol, or --per-point",
-            o.rel_tolerance, least, least / size, size));
+      // Faithful grids within 1 GB (and the memory free), else coarse ones; answers whose bound is
+      // over T refined in double (point_batch.h), so no tolerance is beyond the float pass. Refused
+      // before the work: a preparation larger than the memory this machine has free.
       const auto boxes = o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented;
-      queries::PreparedModel geometry =
-          queries::prepare_geometry(faces, queries::batch_grid_tolerance(faces, tolerance), o.max_samples);
       const int side = std::min(gpu->info().max_texture_size, 4096);  // prepare_atlases' atlas side
-      const long long need = queries::estimate_batch_bytes(geometry, side, boxes), free = available_memory();
+      const long long free = available_memory(), faithful_bytes = 1LL << 30;
+      queries::PreparedModel geometry = queries::prepare_batch_geometry(
+          faces, tolerance, o.max_samples, side, boxes, free > 0 ? std::min(free, faithful_bytes) : faithful_bytes);
+      const long long need = queries::estimate_batch_bytes(geometry, side, boxes);
       if (free > 0 && need > free)
         throw BadInput(fmt::format("--tol {:g}: the grids of {} faces need about {:.1f} GB, and this machine has "
                                    "{:.1f} GB free; a larger --tol",
@@ -132,7 +127,7 @@ void run(const GlobalOptions& global, const Options& o) {
       std::optional<queries::PointBatchState> state;
       if (use_cache) {
         const auto c0 = std::chrono::steady_clock::now();
-        key = queries::batch_cache_key(o.path, geometry.tolerance, o.max_samples, side, gpu->info().renderer);
+        key = queries::batch_cache_key(o.path, geometry.grid_tolerance, o.max_samples, side, gpu->info().renderer);
         file = queries::batch_cache_file(dir, key);
         queries::BatchCacheRead read = queries::load_batch_state(file, key);
         if (read.state && !queries::state_matches(geometry, *read.state))
@@ -184,6 +179,7 @@ void run(const GlobalOptions& global, const Options& o) {
     batch->set_points_per_pass(std::max<size_t>(65536, (points.size() + 7) / 8));
     batch->set_progress([&](size_t done, size_t total) { progress.update((long long)done, (long long)total); });
     batch->set_engine(engine_used == "cpu" ? queries::BatchEngine::Cpu : queries::BatchEngine::Gpu);
+    batch->set_refine_tolerance(o.rel_tolerance * size);
     results = batch->query(points);
   } else {
     const bool progress = points.size() > 100 && isatty(STDERR_FILENO);
@@ -248,6 +244,8 @@ void run(const GlobalOptions& global, const Options& o) {
     if (batched) {
       const queries::PointBatchStats& st = batch->stats();
       j["fallbacks"] = st.fallbacks, j["boxes"] = o.boxes;
+      j["grids"] = prepared->search == queries::Search::Faithful ? "faithful" : "coarse";
+      j["refined_cells"] = st.refined_cells;
       j["engine"] = {{"requested", o.engine}, {"used", engine_used}, {"renderer", gpu->info().renderer}};
       // The points whose answer the CPU searched for, by reason (the rest: the GPU pass's cell,
       // finished in double), and those resolved inside a cell a trim edge crosses.

@@ -99,6 +99,19 @@ long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxe
   return bytes;
 }
 
+PreparedModel prepare_batch_geometry(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance,
+                                     long long max_samples, int atlas_side, PointBoxes boxes, long long max_bytes) {
+  try {
+    PreparedModel m = prepare_geometry(faces, batch_grid_tolerance(faces, tolerance), max_samples);
+    bool fits = estimate_batch_bytes(m, atlas_side, boxes) <= max_bytes;
+    for (const nurbs::CertifiedGrid& g : m.grids)
+      fits = fits && int(g.grid.u.size()) <= atlas_side && int(g.grid.v.size()) <= atlas_side;
+    if (fits) return m;
+  } catch (const GridLimitError&) {  // a face beyond max_samples at T: its coarse grid below
+  }
+  return prepare_geometry(faces, tolerance, max_samples, Search::CoarseToFine);
+}
+
 void PointBatch::init_model() {
   const PreparedModel& m = m_;
   glm::dvec3 lo(kInf), hi(-kInf);
@@ -111,6 +124,12 @@ void PointBatch::init_model() {
     hi = glm::max(hi, box.max);
   }
   model_bound_ = k + budget;
+  budget_.resize(m.faces.size()), grow_.resize(m.faces.size());
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    budget_[f] = float_budget(m.faces[f].surface);
+    grow_[f] = m.grids[f].k_e + budget_[f];
+  }
+  grow_max_ = grow_.empty() ? 0.0 : *std::max_element(grow_.begin(), grow_.end());
   trim_edges_.resize(m.faces.size());
   for (size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].loops.empty()) trim_edges_[f] = TrimEdges(m.trims[f], m.grids[f].grid);
@@ -118,8 +137,6 @@ void PointBatch::init_model() {
 }
 
 PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
-  if (m.search != Search::Faithful)
-    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
   init_model();
   for (const FaceAtlas& fa : m.atlases) {
     // Level 0 padded to powers of two, so that every level halves exactly (mip sizes round down).
@@ -315,6 +332,8 @@ PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCel
     }
   }
   r.candidates = tested;
+  if (m_.search == Search::CoarseToFine) return refine(p, r, within, m_.tolerance);
+  if (refine_to_ > 0.0 && r.found && r.bound > refine_to_) return refine(p, r, within, refine_to_);
   return r;
 }
 
@@ -335,6 +354,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
       total.points += stats_.points, total.cells_tested += stats_.cells_tested, total.fallbacks += stats_.fallbacks;
       total.trimmed += stats_.trimmed;
       total.cut += stats_.cut;
+      total.refined_cells += stats_.refined_cells;
       total.gpu_seconds += stats_.gpu_seconds, total.cpu_seconds += stats_.cpu_seconds;
     }
     stats_ = total;
@@ -349,20 +369,21 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   if (on_gpu) cells = descend_gpu(points, within);
   stats_.gpu_seconds = on_gpu ? seconds_since(t0) : 0.0;
   const auto t1 = std::chrono::steady_clock::now();
-  // The searches of points whose winner is trimmed, the points whose walk was cut and the CPU
-  // engine read the CPU pyramids: built before the threads.
+  // The searches of points whose winner is trimmed, the points whose walk was cut, the refinement's
+  // candidates and the CPU engine read the CPU pyramids: built before the threads.
   bool any_cut = false;
   for (const auto& per_atlas : cells)
     for (const BatchCell& c : per_atlas) any_cut |= c.cut;
   bool trimmed = false;
   for (size_t f = 0; f < m_.faces.size(); ++f) trimmed |= !m_.faces[f].loops.empty();
-  if (boxes_ == PointBoxes::Aabb && (!on_gpu || any_cut || trimmed))
+  if (boxes_ == PointBoxes::Aabb && (!on_gpu || any_cut || trimmed || m_.search == Search::CoarseToFine))
     for (Atlas& at : atlases_) build_cpu_pyramid(at);
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
   const size_t threads = nurbs::share_count(points.size(), on_gpu ? 128 : 16);
-  std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0);
+  std::vector<long long> fallbacks(threads, 0), in_trim(threads, 0), tested(threads, 0), cut(threads, 0),
+      refined(threads, 0);
   // The points along a Morton curve, as the GPU pass lays them out: neighbours walk the same boxes
   // and cells, which then stay in the caches (in input order each point fetches its own).
   const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
@@ -388,11 +409,12 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
       }
       out[i] = finish(points[i], best, fallbacks[t], in_trim[t], wanted);
       tested[t] += out[i].candidates;
+      refined[t] += out[i].refined_cells;
     }
   });
   for (size_t t = 0; t < threads; ++t)
     stats_.fallbacks += fallbacks[t], stats_.trimmed += in_trim[t], stats_.cells_tested += tested[t],
-        stats_.cut += cut[t];
+        stats_.cut += cut[t], stats_.refined_cells += refined[t];
   stats_.cpu_seconds = seconds_since(t1);
   return out;
 }
@@ -410,8 +432,6 @@ std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
 
 PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state)
     : gpu_(gpu), m_(m), boxes_(PointBoxes::Oriented) {
-  if (m.search != Search::Faithful)
-    throw std::invalid_argument("PointBatch: the model must be prepared with Search::Faithful (grids meeting T)");
   if (state.atlases.size() != m.atlases.size())
     throw std::invalid_argument("PointBatch: the state is of another model");
   init_model();

@@ -30,7 +30,15 @@
 ///   (it prunes only boxes beyond best + eps). eps is a stated allowance (16 ulp; the distances
 ///   are taken to points, edge lines and planes, a few roundings each), not a proof; the tests
 ///   measure |pass - twin in double| <= 0.06 eps. point_bound = sqrt(4 K d + K^2) with K = bound.
-/// Needs Search::Faithful grids (the cells the answers come from meet the tolerance).
+/// With Search::Faithful grids (the cells the answers come from meet the tolerance).
+///
+/// Models prepared with Search::CoarseToFine (grids at a coarse tolerance, a few thousand cells a
+/// face, whatever the degree and weights of the faces) are finished by refinement instead
+/// (point_batch_refine.cpp): the winner of step 3 is a material point, so the surface there bounds
+/// the distance from above (U); the pyramid's cells whose boxes, grown by their face's K_e, the
+/// float budget and eps, lie within U are subdivided in double by refine_point (refine.h) until the
+/// answer meets T. The bound is then the refinement's (U - L, in double, no float term): the float
+/// pass only chooses the cells, and any T can be met.
 ///
 /// Beyond that (PointBoxes::Oriented, the default): the pyramid's boxes are oriented, each in the
 /// frame of its cells' mean tangent and normal (point_batch_obb.cpp). An axis-aligned box of a cell
@@ -64,6 +72,7 @@ struct PointBatchStats {
   long long fallbacks = 0;     ///< points searched again on the CPU: the winning cell holds no material in double
   long long trimmed = 0;       ///< points whose winning cell a trim edge crosses (its material part, on the GPU)
   long long cut = 0;           ///< points whose GPU walk was cut short, descended again by the CPU twin
+  long long refined_cells = 0;  ///< Search::CoarseToFine models: cells the refinement evaluated (summed)
   double gpu_seconds = 0.0;    ///< upload, descent passes and read-back (0 with BatchEngine::Cpu)
   double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
 };
@@ -90,6 +99,16 @@ enum class BatchEngine { Gpu, Cpu };
 /// T less the float terms of the bound (the largest float budget of the samples and 2 eps for a
 /// point within the model's control box grown by its size), at least T / 2.
 [[nodiscard]] double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
+
+/// The geometry of a batched query at tolerance T (model units) on atlases of `atlas_side`: faithful
+/// grids (at batch_grid_tolerance) when every face meets it within `max_samples` and fits an atlas
+/// and the whole takes at most `max_bytes` (estimate_batch_bytes), else the coarse grids of
+/// Search::CoarseToFine, whose answers PointBatch refines to T in double (high-degree rational
+/// faces whose Filip bound needs millions of samples a face at T). The choice depends on the model
+/// and T only, never on the points.
+[[nodiscard]] PreparedModel prepare_batch_geometry(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance,
+                                                   long long max_samples, int atlas_side, PointBoxes boxes,
+                                                   long long max_bytes);
 
 /// The float terms of a batched answer's bound at a point p: the largest float budget of the faces'
 /// samples plus 2 eps, eps = kFloatSlack (|p - centre| + radius) (the centre and half diagonal of
@@ -159,8 +178,8 @@ class PointBatch {
   [[nodiscard]] PointBatchStateView state_view() const;
 
   /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
-  /// samples, masks and slot indices back once. `m` (Search::Faithful, else std::invalid_argument)
-  /// must outlive this object.
+  /// samples, masks and slot indices back once. `m` (Search::Faithful, or Search::CoarseToFine:
+  /// answers finished by refinement) must outlive this object.
   PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes = PointBoxes::Oriented);
 
   /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
@@ -177,6 +196,10 @@ class PointBatch {
   /// point whose winner lies in a trimmed region (best first, search_material).
   void set_trim_on_gpu(bool on) { trim_on_gpu_ = on; }
   void set_engine(BatchEngine e) { engine_ = e; }
+  /// T > 0: an answer whose bound exceeds T (the float terms grow with the point's distance from
+  /// the model) is refined in double until it meets T, as the answers of Search::CoarseToFine
+  /// models are (point_batch_refine.cpp). 0 (the default): answers keep the pass's bound.
+  void set_refine_tolerance(double t) { refine_to_ = t; }
   [[nodiscard]] BatchEngine engine() const { return engine_; }
   [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
   [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
@@ -202,7 +225,8 @@ class PointBatch {
   [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].level_width(level); }
   [[nodiscard]] int level_height(size_t a, int level) const { return atlases_[a].level_height(level); }
 
-  /// The part of every bound that does not depend on the point: K_e + float budget (model units).
+  /// The part of every bound that does not depend on the point: K_e + float budget (model units;
+  /// with Search::CoarseToFine each answer carries the refinement's bound instead).
   [[nodiscard]] double model_bound() const { return model_bound_; }
   /// The float slack eps of the descent for point p (model units).
   [[nodiscard]] double slack(const glm::dvec3& p) const;
@@ -294,11 +318,22 @@ class PointBatch {
   /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
   FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
   [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
+  /// Search::CoarseToFine: the answer for p refined from `start` (finish's material point) to T
+  /// (point_batch_refine.cpp); `within` as in query.
+  PointDistance refine(const glm::dvec3& p, const PointDistance& start, double within, double tolerance) const;
+  /// The cells (of every atlas) whose grown boxes lie within `upper` of p, best first; `upper` is
+  /// lowered on the way by the material corners met (point_batch_refine.cpp).
+  void refine_candidates(const glm::dvec3& p, double& upper, std::vector<FaceCell>& out) const;
 
   gpgpu::Gpu& gpu_;
   const PreparedModel& m_;
   std::vector<Atlas> atlases_;
   std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
+  /// Per face: the float budget of its samples, and that plus its grid's K_e (how far its surface
+  /// may lie from its cells' float triangles); grow_max_ the largest.
+  std::vector<double> budget_, grow_;
+  double grow_max_ = 0.0;
+  double refine_to_ = 0.0;  ///< set_refine_tolerance
   double model_bound_ = 0.0, radius_ = 0.0;
   PointBoxes boxes_ = PointBoxes::Oriented;
   PointBatchStats stats_;

@@ -9,7 +9,9 @@
 #include <queue>
 #include <utility>
 
+#include "nurbs/surface_eval.h"
 #include "queries/point_batch.h"
+#include "queries/refine.h"
 
 namespace queries {
 namespace {
@@ -208,6 +210,85 @@ PointDistance PointBatch::query_cpu(const glm::dvec3& p, double within) {
 const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {
   build_cpu_pyramid(atlases_[a]);
   return (hi ? atlases_[a].cpu_hi : atlases_[a].cpu_lo)[size_t(level)];
+}
+
+void PointBatch::refine_candidates(const glm::dvec3& p, double& upper, std::vector<FaceCell>& out) const {
+  struct Node {
+    double low;
+    size_t a;
+    int level, x, y;
+    bool operator>(const Node& o) const { return low > o.low; }
+  };
+  const glm::dvec3 q(glm::vec3(p - m_.centre));  // the pass's float point, as descend_cpu
+  const double eps = kFloatSlack * (glm::length(q) + double(float(radius_)));
+  std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
+  for (size_t a = 0; a < atlases_.size(); ++a) {
+    const int top = atlases_[a].levels - 1;
+    open.push({node_distance(atlases_[a], q, top, 0, 0) - grow_max_ - eps, a, top, 0, 0});
+  }
+  struct Found {
+    double low;
+    FaceCell cell;
+  };
+  std::vector<Found> found;
+  while (!open.empty() && open.top().low <= upper) {
+    const Node n = open.top();
+    open.pop();
+    const Atlas& at = atlases_[n.a];
+    if (n.level > 0) {  // the children: inner boxes grown by the largest growth, cells by their face's
+      for (int k = 0; k < 4; ++k) {
+        const int cx = 2 * n.x + (k & 1), cy = 2 * n.y + (k >> 1);
+        if (cx >= at.level_width(n.level - 1) || cy >= at.level_height(n.level - 1)) continue;
+        const double d = node_distance(at, q, n.level - 1, cx, cy);
+        if (!std::isfinite(d)) continue;
+        double grow = grow_max_;
+        if (n.level == 1) {
+          const AtlasPlan& plan = m_.atlases[n.a].plan;
+          grow = grow_[size_t(plan.slots[size_t(at.slot_of[size_t(cy) * size_t(plan.width) + size_t(cx)])].face)];
+        }
+        if (d - grow - eps <= upper) open.push({d - grow - eps, n.a, n.level - 1, cx, cy});
+      }
+      continue;
+    }
+    glm::dvec3 corner[4];
+    const FaceCell c = cell_corners(n.a, n.x, n.y, corner);
+    found.push_back({n.low, c});
+    // A material corner bounds the distance from above: its surface point lies within the float
+    // budget of its sample (corner: model coordinates).
+    const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
+    for (int k = 0; k < 4; ++k) {
+      const glm::dvec2 uv(g.u[size_t(c.i + (k & 1))], g.v[size_t(c.j + (k >> 1))]);
+      if (!m_.faces[size_t(c.face)].loops.empty() && !trim_edges_[size_t(c.face)].is_material(uv)) continue;
+      upper = std::min(upper, glm::length(corner[k] - p) + budget_[size_t(c.face)]);
+    }
+  }
+  out.clear();
+  for (const Found& f : found)
+    if (f.low <= upper) out.push_back(f.cell);
+}
+
+PointDistance PointBatch::refine(const glm::dvec3& p, const PointDistance& start, double within,
+                                 double tolerance) const {
+  // U: the surface at the descent's closest point, where that is material (it is, up to the
+  // trim's rounding, when it lies on a trim piece); the candidates' material corners lower it.
+  double upper = within > 0.0 ? within : kInf;
+  if (start.found) {
+    const auto f = size_t(start.face);
+    if (m_.faces[f].loops.empty() || trim_edges_[f].is_material(start.uv))
+      upper = std::min(upper, glm::length(nurbs::surface_point(m_.faces[f].surface, start.uv.x, start.uv.y) - p));
+  }
+  std::vector<FaceCell> cells;
+  refine_candidates(p, upper, cells);
+  PointDistance r;
+  r.candidates = start.candidates;
+  if (cells.empty()) return r;
+  // Candidates per round capped: a point far from the model at a tolerance near the double floor
+  // would split cells by the million on each thread; it stops unproven (meets_tolerance false).
+  const Refined f = refine_point(m_, cells, p, tolerance, RefineLimits{1LL << 16});
+  if (!f.found || (within > 0.0 && f.distance >= within)) return r;
+  set_refined(r, f);
+  r.upper = upper;
+  return r;
 }
 
 }  // namespace queries

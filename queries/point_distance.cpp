@@ -95,6 +95,20 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
   return w = {1 - v - t, v, t}, a + v * ab + t * ac;
 }
 
+void set_refined(PointDistance& r, const Refined& f) {
+  r.found = f.found;
+  r.distance = f.distance;
+  r.point = f.point_a;
+  r.uv = f.uv_a;
+  r.face = f.face_a;
+  r.bound = f.bound;
+  r.point_bound = std::sqrt(4 * f.bound * f.distance + f.bound * f.bound);
+  r.on_trim_edge = f.on_trim_edge;
+  r.meets_tolerance = f.meets_tolerance;
+  r.rounds = f.rounds;
+  r.refined_cells = f.cells;
+}
+
 PointDistanceQuery::PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
                                        long long max_samples, Search search)
     : gpu_(gpu), m_(prepare_model(gpu, std::move(faces), tolerance, max_samples, search)) {}
@@ -162,18 +176,7 @@ PointDistance PointDistanceQuery::query(const glm::dvec3& p) {
   }
   r.candidates = static_cast<long long>(cells.size());
   if (m_.search == Search::CoarseToFine) {  // candidates refined in double until they meet T (refine.h)
-    const Refined f = refine_point(m_, cells, p, m_.tolerance);
-    r.found = f.found;
-    r.distance = f.distance;
-    r.point = f.point_a;
-    r.uv = f.uv_a;
-    r.face = f.face_a;
-    r.bound = f.bound;
-    r.point_bound = std::sqrt(4 * f.bound * f.distance + f.bound * f.bound);
-    r.on_trim_edge = f.on_trim_edge;
-    r.meets_tolerance = f.meets_tolerance;
-    r.rounds = f.rounds;
-    r.refined_cells = f.cells;
+    set_refined(r, refine_point(m_, cells, p, m_.tolerance));
     return r;
   }
   // Faithful: two triangles per candidate cell in double. §5.3: a triangle's closest point inside

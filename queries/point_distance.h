@@ -49,6 +49,12 @@ struct PointDistance {
   long long refined_cells = 0;  ///< cells evaluated on the CPU
 };
 
+struct Refined;
+/// The answer of refine_point (refine.h) written into r: found, the exact surface point, its (u, v)
+/// and face, bound U - L, point bound sqrt(4 K d + K^2) with K = that bound, and the refinement's
+/// figures (r's cells, candidates and U stay).
+void set_refined(PointDistance& r, const Refined& f);
+
 /// A model prepared for many point queries (grids, atlases and masks stay on the GPU).
 class PointDistanceQuery {
  public:

@@ -326,14 +326,9 @@ TEST_CASE("point batch and point distance: a folded cell's other triangle, mater
   CHECK(glm::length(d.point - foot) <= 1e-9);
 }
 
-TEST_CASE("point batch: coarse-to-fine models and empty batches") {
+TEST_CASE("point batch: empty batches") {
   gpgpu::Gpu& gpu = test::gpu();
   const auto faces = test::spread_faces(1);
-  const queries::PreparedModel coarse =
-      queries::prepare_model(gpu, faces, 1e-2, 1LL << 22, queries::Search::CoarseToFine);
-  CHECK_THROWS_WITH_AS(queries::PointBatch(gpu, coarse),
-                       "PointBatch: the model must be prepared with Search::Faithful (grids meeting T)",
-                       std::invalid_argument);
   const queries::PreparedModel m = queries::prepare_model(gpu, faces, 1e-2);
   queries::PointBatch batch(gpu, m);
   CHECK(batch.query({}).empty());
