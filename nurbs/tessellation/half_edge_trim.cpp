@@ -16,6 +16,10 @@
 namespace nurbs::tess {
 namespace {
 
+/// Rounds of cutting the cells under holes left unjoined (trim_cells): one suffices when the holes
+/// do not overlap in u; each further round handles holes that the first cuts missed.
+constexpr int kHoleCutRounds = 4;
+
 using detail::Cycle;
 using detail::TrimGraph;
 using Line = std::map<double, std::vector<std::pair<double, int>>>;  // coordinate -> (other coord, id)
@@ -74,10 +78,10 @@ std::vector<int> on_line(Line& lines, double at, double a, double b) {
   return out;
 }
 
-}  // namespace
-
-TrimmedPolygons trim_cells(const std::vector<Cell>& cells, const std::vector<LoopPolyline>& loops,
-                           const TrimOptions& options) {
+/// One build and traversal of the graph (trim_cells' steps 1-6). The bounding boxes of the holes
+/// that no bridge joined (negative cycles, left out of the output) go to `unresolved`.
+TrimmedPolygons trim_once(const std::vector<Cell>& cells, const std::vector<LoopPolyline>& loops,
+                          const TrimOptions& options, std::vector<std::pair<glm::dvec2, glm::dvec2>>& unresolved) {
   TrimmedPolygons result;
   TrimStats& stats = result.stats;
   if (cells.empty()) return result;
@@ -258,6 +262,14 @@ TrimmedPolygons trim_cells(const std::vector<Cell>& cells, const std::vector<Loo
   // Output: positive cycles, with the vertices they use renumbered compactly.
   std::vector<int> remap(g.pos.size(), -1);
   for (const Cycle& c : cycles) {
+    if (c.area < 0.0) {
+      glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
+      for (int id : c.ids) {
+        lo = glm::min(lo, g.pos[static_cast<std::size_t>(id)]);
+        hi = glm::max(hi, g.pos[static_cast<std::size_t>(id)]);
+      }
+      unresolved.emplace_back(lo, hi);
+    }
     if (c.area <= 0.0) {
       ++stats.dropped_cycles;
       continue;
@@ -277,6 +289,42 @@ TrimmedPolygons trim_cells(const std::vector<Cell>& cells, const std::vector<Loo
   }
   stats.graph_vertices = static_cast<int>(g.pos.size());
   stats.graph_edges = static_cast<int>(g.edges.size());
+  return result;
+}
+
+}  // namespace
+
+TrimmedPolygons trim_cells(const std::vector<Cell>& cells, const std::vector<LoopPolyline>& loops,
+                           const TrimOptions& options) {
+  // A hole that the bridges cannot join (the nearest vertices of the polygon around it hidden by
+  // other holes, say a row of pin holes in one cell whose corners the outer loop cuts off) would be
+  // left covered by that polygon. The cells under it are cut at the middle of its u range instead:
+  // the hole then crosses a cell edge and joins the graph as any loop crossing cells does. A piece
+  // of a cell keeps the cell's bound, and T-junctions are handled as everywhere else.
+  std::vector<Cell> cut = cells;
+  std::vector<std::pair<glm::dvec2, glm::dvec2>> unresolved;
+  TrimmedPolygons result = trim_once(cut, loops, options, unresolved);
+  int cut_cells = 0;
+  for (int round = 0; round < kHoleCutRounds && !unresolved.empty(); ++round) {
+    const int before = cut_cells;
+    for (const auto& [lo, hi] : unresolved) {
+      const double mid = 0.5 * (lo.x + hi.x);
+      const std::size_t n = cut.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        Cell& c = cut[i];
+        if (!(c.u.min < mid && mid < c.u.max && c.v.min < hi.y && lo.y < c.v.max)) continue;
+        Cell right = c;
+        c.u.max = right.u.min = mid;
+        cut.push_back(right);
+        ++cut_cells;
+      }
+    }
+    if (cut_cells == before) break;  // cell lines already run through them: not a bridging problem
+    unresolved.clear();
+    result = trim_once(cut, loops, options, unresolved);
+  }
+  result.stats.cut_cells = cut_cells;
+  result.stats.unresolved_holes = static_cast<int>(unresolved.size());
   return result;
 }
 

@@ -22,6 +22,8 @@ struct TrimStats {
   int dropped_cycles = 0;       ///< zero-area or unresolved-hole cycles left out of the output
   int clipped_loops = 0;        ///< loops with a vertex outside R (clipped to R)
   int snapped_coordinates = 0;  ///< loop coordinates moved onto a cell line by the snapping tolerance
+  int cut_cells = 0;            ///< cells cut under holes no bridge could join (step 7)
+  int unresolved_holes = 0;     ///< holes left unjoined after the cuts (their area is not removed)
 };
 
 /// Material polygons of one face in (u, v). Vertices are shared between polygons (crack-free).
@@ -61,8 +63,11 @@ struct TrimOptions {
 /// cell's upper-left and lower-right corners (nearest loop vertex that the corner sees, the bridge
 /// crossing nothing); (6) the traversal (half_edge_trim_graph.h); holes it finds unconnected (several
 /// holes in a cell, corners cut off by another loop, a hole touching a cell edge) get two fallback
-/// bridges and the traversal is repeated. Loops are assumed not to cross each other or themselves
-/// (they may touch); areas are computed about a local origin so slivers keep their sign.
+/// bridges and the traversal is repeated; (7) holes still unjoined after that (no vertex of the polygon
+/// around them visible, e.g. a row of holes in one cell) have the cells under them cut at the middle
+/// of their u range, and the graph is built again from step 1. Loops are assumed not to cross each
+/// other or themselves (they may touch); areas are computed about a local origin so slivers keep
+/// their sign.
 [[nodiscard]] TrimmedPolygons trim_cells(const std::vector<Cell>& cells, const std::vector<LoopPolyline>& loops,
                                          const TrimOptions& options = {});
 

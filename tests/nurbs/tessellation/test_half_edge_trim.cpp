@@ -56,6 +56,26 @@ TEST_CASE("half-edge trim: circle hole across many cells, tiny hole, two holes i
   CHECK(r3.polys.stats.traversal_rounds == 2);
 }
 
+TEST_CASE("half-edge trim: holes no bridge can reach (corners cut off, holes side by side) get their cells cut") {
+  // A plane is one cell. Its outer loop cuts off the corners of the cell (a chamfered connector
+  // face), so the §6 corner bridges leave; each hole's far side sees only the other hole.
+  const std::vector<Cell> one{cell(-7.75, 7.75, -4.05, 4.05)};
+  const auto chamfered =
+      loop({{-7.75, -1.55}, {-4.75, -4.05}, {7.75, -4.05}, {7.75, 4.05}, {-4.75, 4.05}, {-7.75, 1.55}}, true);
+  const std::vector<LoopPolyline> pair{chamfered, circle({-3.6, 0.0}, 3.0, 64, false),
+                                       circle({3.6, 0.0}, 3.0, 64, false)};
+  auto r = run_and_check(one, pair, loops_area(pair));
+  CHECK(r.polys.stats.cut_cells > 0);
+  CHECK(r.polys.stats.unresolved_holes == 0);
+  // 60 pin holes of radius 0.5 in a 10 x 6 grid, 0.2 and 0.1 apart, in one cell under the same
+  // outer loop (the corner pins 0.02 from its chamfers).
+  std::vector<LoopPolyline> pins{chamfered};
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 6; ++j) pins.push_back(circle({-5.5 + 1.2 * i, -2.75 + 1.1 * j}, 0.5, 24, false));
+  auto r2 = run_and_check(one, pins, loops_area(pins));
+  CHECK(r2.polys.stats.unresolved_holes == 0);
+}
+
 TEST_CASE("half-edge trim: large case (64 x 64 cells, 20000-point outer circle, 100 holes)" * test::sweep()) {
   const auto cells = grid(0, 1, 0, 1, 64, 64);
   std::vector<LoopPolyline> loops{circle({0.5, 0.5}, 0.49, 20000, true)};
