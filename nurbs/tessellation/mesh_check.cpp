@@ -88,22 +88,36 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   std::vector<TrimPolygons> trims(faces.size());
   std::vector<BandedTrim> banded(faces.size());  // the same classification, in far fewer steps
   std::vector<Tri> boundary;
+  // Surface to mesh at one density of grid samples in space: the largest face (control-box
+  // diagonal) with all its samples x samples, a smaller one with every stride-th sample each way,
+  // as dense per length (the others seed Newton for the mesh samples below, where sparse seeds
+  // leave Newton's upper bounds far above the distance).
+  std::vector<char> to_mesh;  // per sample: measured from the surface to the mesh
+  std::vector<double> extent(faces.size());
+  double largest = 0.0;
+  for (size_t fi = 0; fi < faces.size(); ++fi)
+    largest = std::max(largest, extent[fi] = control_box(faces[fi].surface).diagonal());
   const int n = std::max(2, options.samples);
   for (size_t fi = 0; fi < faces.size(); ++fi) {
     const TrimmedSurface& f = faces[fi];
+    const int along = largest > 0.0 ? std::clamp(int(std::ceil(n * extent[fi] / largest)), std::min(4, n), n) : n;
+    const int stride = std::max(1, n / along);
     const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
     trims[fi] = flatten_trim(f, 1e-7 * std::max(du.width(), dv.width()));
     banded[fi] = BandedTrim(trims[fi]);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const glm::dvec2 uv(du.min + du.width() * i / (n - 1), dv.min + dv.width() * j / (n - 1));
-        if (f.loops.empty() || banded[fi].is_material(uv))
+        if (f.loops.empty() || banded[fi].is_material(uv)) {
           samples.push_back({surface_point(f.surface, uv.x, uv.y), uv, int(fi)});
+          to_mesh.push_back((i % stride == 0 || i == n - 1) && (j % stride == 0 || j == n - 1));
+        }
       }
     for (const auto& line : face_boundary(f, tol))
       for (size_t k = 0; k + 1 < line.size(); ++k) {
         boundary.push_back({line[k], line[k + 1], line[k + 1]});
         samples.push_back({line[k], glm::dvec2(0.0), -1 - int(fi)});  // on the face, (u, v) unknown
+        to_mesh.push_back(1);
       }
   }
 
@@ -119,6 +133,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   std::vector<std::vector<double>> face_worst(size_t(threads), std::vector<double>(faces.size(), 0.0));
   parallel_for((long long)samples.size(), threads,
                [&](long long k, int t) {
+                 if (!to_mesh[size_t(k)]) return;
                  const int f = samples[size_t(k)].face >= 0 ? samples[size_t(k)].face : -1 - samples[size_t(k)].face;
                  // A sample within the face's worst so far changes no maximum: the exact distance
                  // only for the others.
@@ -139,14 +154,20 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
     for (auto& per_thread : face_worst) std::fill(per_thread.begin(), per_thread.end(), 0.0);
   };
   reduce(r.face_surface_to_mesh);
-  r.surface_samples = (long long)samples.size();
+  r.surface_samples = (long long)std::count(to_mesh.begin(), to_mesh.end(), 1);
 
   // Mesh to surface: vertices, edge midpoints and centroids.
   std::vector<Sample> grid_samples;
   std::vector<Tri> points;
   for (const Sample& s : samples)
     if (s.face >= 0) grid_samples.push_back(s), points.push_back({s.p, s.p, s.p});
-  const TriangleBvh sample_bvh(std::move(points)), boundary_bvh(std::move(boundary));
+  // The nearest grid sample seeds Newton for mesh samples without a face of their own (another
+  // tool's mesh); with one, the loop over the faces within reach below seeds every face alike.
+  const bool own_faces = !mesh.uv.empty() && !mesh.triangle_face.empty() &&
+                         std::all_of(mesh.triangle_face.begin(), mesh.triangle_face.end(), [&](int f) {
+                           return f >= 0 && size_t(f) < faces.size();
+                         });
+  const TriangleBvh sample_bvh(own_faces ? std::vector<Tri>{} : std::move(points)), boundary_bvh(std::move(boundary));
   // Per face: its grid samples (to seed Newton on every face near a mesh sample, not only on the
   // face of the nearest sample, which near an edge is often the wrong one) and its box.
   std::vector<TriangleBvh> face_samples;
@@ -214,7 +235,9 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
             const glm::dvec3 gap = glm::max(glm::max(face_box[f][0] - q[i], q[i] - face_box[f][1]), glm::dvec3(0.0));
             if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
             const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
-            if (h.triangle >= 0) newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
+            if (h.triangle < 0) continue;
+            d = std::min(d, h.distance);  // a material point of the face
+            newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
           }
           worst[size_t(t)] = std::max(worst[size_t(t)], d);
           const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];

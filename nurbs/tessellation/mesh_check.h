@@ -12,7 +12,10 @@
 namespace nurbs::tess {
 
 struct DeviationOptions {
-  int samples = 48;                 ///< per face, a samples x samples (u, v) grid (material points kept)
+  /// Per face, a samples x samples (u, v) grid (material points kept) seeds the mesh samples'
+  /// Newton; the surface is measured to the mesh from all of the largest face's (control-box
+  /// diagonal) and from a sub-grid as dense in space of a smaller face's (at least 4 x 4).
+  int samples = 48;
   double boundary_tolerance = 0.0;  ///< 3D chord accuracy of the face boundary polylines; 0 = 1e-6 x size
   int threads = 0;                  ///< 0 = all hardware threads
 };
