@@ -159,7 +159,8 @@ AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& pare
   return out;
 }
 
-TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer) {
+TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer,
+                    double* off_plane) {
   const glm::dmat4 m = parent * g.transform(plane_de);
   EntityParams plane(g.file(), g.file().entry(plane_de));
   const Frame f = read_frame(g, plane, 2, 3);
@@ -167,6 +168,7 @@ TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int
   // the similarities of 124 (rigid motions and uniform scales).
   const glm::dvec3 o(m * glm::dvec4(f.origin, 1.0)), x(m * glm::dvec4(f.x, 0.0)), y(m * glm::dvec4(f.y, 0.0));
   const double x2 = glm::dot(x, x);
+  const glm::dvec3 normal = glm::normalize(glm::cross(x, y));
   EntityParams p(g.file(), g.file().entry(loop_de));
   const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
   TrimLoop loop;
@@ -184,6 +186,8 @@ TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int
       const int curve = g.expect(edges, 2 + 5 * (ndx - 1), {100, 102, 104, 110, 126}, "a curve");
       std::vector<Curve2> piece;
       for (const Curve3& c3 : g.curves(curve, parent)) {
+        if (off_plane)
+          for (const glm::dvec3& q : c3.points) *off_plane = std::max(*off_plane, std::abs(glm::dot(q - o, normal)));
         Curve2 c2;
         c2.degree = c3.degree;
         c2.knots = c3.knots;

@@ -59,7 +59,11 @@ void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, Tri
 /// edge's orientation flag OF is 0 (disagrees with the curve). Exact (the projection is affine,
 /// rational curves keep their weights) and independent of any parameter-space curves, which
 /// OpenCASCADE does not write on planes. Vertex-type entries (a loop of one vertex) add nothing.
-TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer);
+/// `off_plane`, when given, is raised to the largest distance of the edges' control points from
+/// the plane: a bound on how far the edges lie from the loop (curves lie in their control points'
+/// hull), model units.
+TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int loop_de, bool outer,
+                    double* off_plane = nullptr);
 
 /// A 108 plane of form 1 (bounded, IGES 5.3 §4.8: A x + B y + C z = D, PTR a closed curve in it) as
 /// a face: a bilinear patch over the box of the boundary in an orthonormal frame (e1, e2) of the

@@ -6,12 +6,15 @@
 #include <glm/common.hpp>
 #include <iterator>
 #include <limits>
+#include <span>
 #include <unordered_map>
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_analytic.h"
+#include "nurbs/io/pcurve_gap.h"
+#include "nurbs/io/read_error.h"
 #include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
@@ -73,6 +76,15 @@ void reject_repeats(const EntityParams& p, const std::vector<ParameterRef>& refs
                                   r.de, it->second));
 }
 
+// Distance within which a file's model-space edge lies on the surface along the face's parameter
+// curves: kProjectionTolerance of the surface's control-point box diagonal, the tolerance within
+// which the reader projects edges given only in model space.
+double on_surface_tolerance(const Surface& s) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const glm::dvec3& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  return kProjectionTolerance * glm::length(hi - lo);
+}
+
 }  // namespace
 
 int IgesFaces::surface_pointer(int de) {
@@ -85,6 +97,7 @@ int IgesFaces::surface_pointer(int de) {
 TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
   const IgesDirectoryEntry& e = g_.file().entry(de);
   edge_gap_ = 0.0;
+  edge_uses_.clear();
   TrimmedSurface f;
   if (e.type == 128) {
     f.surface = g_.surface(de, parent);
@@ -183,8 +196,10 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
                                                     "D{} is analytic (model-space curves are projected onto 128s only)",
                                                     pts));
       f.loops.push_back({g_.parameter_curves(curves[k].de), n1 == 1 && k == 0});
+      add_model_curve(f, loops[k].de);
     }
     set_analytic_surface(g_, pts, m, f, range);
+    measure_edge_gaps(f, m);
     return f;
   }
   f.surface = g_.surface(pts, m, /*restrict_to_range=*/n1 == 0);  // N1 = 0: the range is the outer boundary
@@ -198,8 +213,18 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
         loop.curves.push_back(projected(f.surface, c, loops[k].de));
     }
     f.loops.push_back(std::move(loop));
+    if (curves[k].de != 0) add_model_curve(f, loops[k].de);
   }
+  measure_edge_gaps(f, m);
   return f;
+}
+
+// The last loop of `f`, the parameter curve BPTR of the 142 `de`, is measured against its
+// model-space curve CPTR (IGES 5.3 §4.32: both may be given, PREF saying which the sender
+// prefers) once the surface is built (measure_edge_gaps).
+void IgesFaces::add_model_curve(const TrimmedSurface& f, int de) {
+  const EntityParams& p = parsed(de);
+  if (p.pointer(4, true) != 0) edge_uses_.push_back({f.loops.size() - 1, 0, f.loops.back().curves.size(), de, 4});
 }
 
 // 142: CRTN, SPTR, BPTR (parameter-space curve), CPTR (model-space curve), PREF; returns BPTR and
@@ -316,19 +341,48 @@ TrimmedSurface IgesFaces::face_510(const EntityParams& p, const glm::dmat4& m) {
   const bool analytic = is_analytic_surface_type(g_.file().entry(surf).type);
   if (!analytic) f.surface = g_.surface(surf, m, /*restrict_to_range=*/of == 0);  // no outer loop: the range bounds it
   const bool plane = g_.file().entry(surf).type == 190;  // OpenCASCADE writes no parameter curves on planes
+  double off_plane = 0.0;
   for (int k = 0; k < n; ++k) {
     const int loop = loops[static_cast<size_t>(k)].de;
-    f.loops.push_back(plane ? plane_loop(g_, surf, m, loop, of == 1 && k == 0)
-                            : loop_508(loop, of == 1 && k == 0, analytic ? nullptr : &f.surface, m));
+    f.loops.push_back(plane ? plane_loop(g_, surf, m, loop, of == 1 && k == 0, &off_plane)
+                            : loop_508(loop, of == 1 && k == 0, analytic ? nullptr : &f.surface, m, f.loops.size()));
   }
   if (analytic) set_analytic_surface(g_, surf, m, f);  // surface over the loops' IGES (u, v), loops mapped
+  if (off_plane > on_surface_tolerance(f.surface)) edge_gap_ = std::max(edge_gap_, off_plane);
+  measure_edge_gaps(f, m);
   return f;
 }
 
+const EntityParams& IgesFaces::parsed(int de) {
+  if (auto it = parsed_.find(de); it != parsed_.end()) return it->second;
+  // In place: a file's single 504 may hold every edge of the model, and each use looks it up.
+  return parsed_.try_emplace(de, g_.file(), g_.file().entry(de)).first->second;
+}
+
 int IgesFaces::edge_list_size(int de) {
-  if (auto it = list_sizes_.find(de); it != list_sizes_.end()) return it->second;
-  EntityParams p(g_.file(), g_.file().entry(de));
-  return list_sizes_[de] = p.integer(1, 1, std::max(1, p.size()), "number of list entries N");
+  const EntityParams& p = parsed(de);
+  return p.integer(1, 1, std::max(1, p.size()), "number of list entries N");
+}
+
+// The largest distance between each EdgeUse's model-space curve and the surface along its
+// parameter curves (pcurve_gap), into edge_gap_ where beyond on_surface_tolerance. After
+// set_analytic_surface: the trims measured are those the face keeps. An edge curve the reader
+// cannot convert is not measured (the face stands by its parameter curves, as it would without it).
+void IgesFaces::measure_edge_gaps(const TrimmedSurface& f, const glm::dmat4& m) {
+  const double floor = on_surface_tolerance(f.surface);
+  for (const EdgeUse& u : edge_uses_) {
+    std::vector<Curve3> edge;
+    try {
+      edge = g_.curves(g_.expect(parsed(u.entity), u.parameter, kCurveTypes, "a curve"), m);
+    } catch (const UnsupportedEntity&) {
+      continue;
+    } catch (const ReadError&) {
+      continue;
+    }
+    const std::span<const Curve2> pcurves(f.loops[u.loop].curves.data() + u.first, u.count);
+    const double gap = pcurve_gap(f.surface, pcurves, edge, floor);
+    if (gap > floor) edge_gap_ = std::max(edge_gap_, gap);
+  }
 }
 
 // 508 (IGES 5.3 "Loop Entity (Type 508)"): N, then per edge use TYPE (0 edge, 1 vertex), EDGE
@@ -341,7 +395,7 @@ int IgesFaces::edge_list_size(int de) {
 // too, which cancels out in the wire). Reversing the pcurves by OF broke 48 of the 96 edge uses of
 // gmsh_component8_brep.igs. An edge use with K = 0 has only the edge's model curve: reversed for
 // OF = 0, projected onto the surface (project_curve.h).
-TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m) {
+TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m, size_t index) {
   EntityParams p(g_.file(), g_.file().entry(de));
   const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
   TrimLoop loop;
@@ -360,8 +414,7 @@ TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const g
         no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve and its face's surface is analytic "
                                            "(only planes take model-space edges)",
                                            c + 1));
-      EntityParams edges(g_.file(), g_.file().entry(list));
-      std::vector<Curve3> curves = g_.curves(g_.expect(edges, 2 + 5 * (ndx - 1), kCurveTypes, "a curve"), m);
+      std::vector<Curve3> curves = g_.curves(g_.expect(parsed(list), 2 + 5 * (ndx - 1), kCurveTypes, "a curve"), m);
       if (of == 0) {
         std::reverse(curves.begin(), curves.end());
         for (Curve3& c3 : curves) c3 = reversed(c3);
@@ -376,6 +429,9 @@ TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const g
       for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 6 + 2 * j, kCurveTypes, "a curve")))
         piece.push_back(std::move(pc));
     }
+    // The edge's model-space curve (504 CURV) is measured against these once the surface is built.
+    if (type == 0 && !piece.empty())
+      edge_uses_.push_back({index, loop.curves.size(), piece.size(), list, 2 + 5 * (ndx - 1)});
     for (Curve2& pc : piece) {
       if (type == 0) pc.edge = g_.edge_id(list, ndx);
       loop.curves.push_back(std::move(pc));

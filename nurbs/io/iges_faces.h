@@ -5,6 +5,7 @@
 #include <string>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "nurbs/io/iges_geometry.h"
 #include "nurbs/io/iges_reader.h"
@@ -39,19 +40,32 @@ class IgesFaces {
   TrimmedSurface face_143(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
   std::pair<int, int> curve_142(int de);
+  void add_model_curve(const TrimmedSurface& f, int de);
   Curve2 projected(const Surface& s, const Curve3& c, int de);
   TrimLoop loop_141(int de, bool outer, const Surface& surface, const glm::dmat4& m);
   /// `surface`: the face's surface, onto which edges given only in model space are projected (null:
-  /// not built yet, such edges refused).
-  TrimLoop loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m);
+  /// not built yet, such edges refused). `index`: the loop's place in its face (EdgeUse::loop).
+  TrimLoop loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m, size_t index);
+  /// The parameters of entity `de` (a 502/504 list, a 142), parsed once.
+  const EntityParams& parsed(int de);
   int edge_list_size(int de);
+  void measure_edge_gaps(const TrimmedSurface& f, const glm::dmat4& m);
   [[noreturn]] void no_parameter_curve(int de, const std::string& what);
 
   IgesGeometry& g_;
   const IgesReadOptions& options_;
   IgesReadLog& log_;
-  std::unordered_map<int, int> list_sizes_;  // 502/504 entry counts, parsed once
-  double edge_gap_ = 0.0;                    // of the face being read: largest projection distance kept
+  /// Curves of a loop of the face being read that the file gives in both spaces: the parameter
+  /// curves f.loops[loop].curves[first, first + count) and the model-space curve that parameter
+  /// `parameter` of entity `entity` names (504 CURV, 142 CPTR), read only to measure the gap.
+  struct EdgeUse {
+    size_t loop = 0, first = 0, count = 0;
+    int entity = 0, parameter = 0;
+  };
+
+  std::unordered_map<int, EntityParams> parsed_;  // see parsed(); built in place, never moved
+  std::vector<EdgeUse> edge_uses_;                // of the face being read
+  double edge_gap_ = 0.0;  // of the face being read: largest distance of its file edges from its trims
 };
 
 /// IgesFaces::finish for faces of any reader: the same repairs, checks and orientation, counted in `log`.
