@@ -29,6 +29,12 @@ struct TrimPolygons {
 /// Flattens every loop (curves concatenated in order, junction duplicates dropped).
 [[nodiscard]] TrimPolygons flatten_trim(const TrimmedSurface& face, double tolerance);
 
+/// The (u, v) tolerance the queries flatten a face's loops with: 1e-6 of the narrower side of its
+/// domain, so that the polygons stray from the curves by at most 1e-6 of the face's extent along
+/// either parameter (1e-6 of the wider side of a domain 59 by 1 lets the polygons stray 6e-5 of
+/// the face's extent along the narrow one).
+[[nodiscard]] double query_flatten_tolerance(const Surface& s);
+
 /// Winding number of a closed polygon around p (Sunday's crossing rule: upward edges count +1 when p
 /// is strictly left, downward edges -1 when strictly right, half-open in y so a vertex on the ray is
 /// counted once). CCW loops give +1 inside.

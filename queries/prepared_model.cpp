@@ -94,7 +94,7 @@ PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double 
     if (!m.grids.back().meets_tolerance) throw GridLimitError(fmt::format("face {}: {}", f, m.grids.back().reason));
     m.trims.push_back(m.faces[f].loops.empty()
                           ? nurbs::TrimPolygons{}
-                          : nurbs::flatten_trim(m.faces[f], 1e-6 * nurbs::surface_domain_u(s).width()));
+                          : nurbs::flatten_trim(m.faces[f], nurbs::query_flatten_tolerance(s)));
     const auto t2 = std::chrono::steady_clock::now();
     m.bounds_seconds += std::chrono::duration<double>(t1 - t0).count();
     m.grids_seconds += std::chrono::duration<double>(t2 - t1).count();

@@ -351,7 +351,7 @@ VoxelGrid voxelize(const std::vector<nurbs::TrimmedSurface>& faces, const Voxeli
   for (const auto& f : faces) {
     bounds.push_back(nurbs::filip_bound(f.surface));
     trims.push_back(f.loops.empty() ? nurbs::TrimPolygons{}
-                                    : nurbs::flatten_trim(f, 1e-6 * nurbs::surface_domain_u(f.surface).width()));
+                                    : nurbs::flatten_trim(f, nurbs::query_flatten_tolerance(f.surface)));
   }
   for (size_t f = 0; f < faces.size(); ++f) in.push_back({&faces[f], &bounds[f], &trims[f]});
   return build(in, options);
