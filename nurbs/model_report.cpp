@@ -1,5 +1,8 @@
 #include "nurbs/model_report.h"
 
+#include "nurbs/curve_eval.h"
+#include "nurbs/surface_eval.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -95,8 +98,60 @@ FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
   for (size_t k = 0; k < faces.size(); ++k) {
     const TrimmedSurface& f = faces[k];
     if (f.trim_problem.empty() && !(f.edge_gap > 0.0)) continue;
-    doubts_.push_back({control_box(f.surface), int(k), f.face_id, f.edge_gap, f.trim_problem});
+    Doubt d{control_box(f.surface), int(k), f.face_id, f.edge_gap, f.trim_problem, {}, 0.0};
+    if (f.edge_gap > 0.0) {
+      // The loops lifted to space, 64 samples a curve, in runs of 16 with their boxes. A face
+      // without loops has the domain's sides as its boundary.
+      std::vector<std::vector<glm::dvec3>> lines;
+      const auto lift = [&](const Curve2& c) {
+        std::vector<glm::dvec3> line;
+        const Interval cd = curve_domain(c);
+        for (int i = 0; i <= 64; ++i) {
+          const glm::dvec2 uv = curve_point(c, cd.min + cd.width() * i / 64.0);
+          line.push_back(surface_point(f.surface, uv.x, uv.y));
+        }
+        return line;
+      };
+      for (const TrimLoop& l : f.loops)
+        for (const Curve2& c : l.curves) lines.push_back(lift(c));
+      if (f.loops.empty()) {
+        const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
+        const glm::dvec2 corners[4] = {{du.min, dv.min}, {du.max, dv.min}, {du.max, dv.max}, {du.min, dv.max}};
+        for (int s = 0; s < 4; ++s) {
+          Curve2 side;
+          side.degree = 1, side.knots = {0, 0, 1, 1}, side.points = {corners[s], corners[(s + 1) % 4]};
+          lines.push_back(lift(side));
+        }
+      }
+      for (const auto& line : lines)
+        for (size_t i = 0; i + 1 < line.size(); i += 16) {
+          BoundaryRun run;
+          run.points.assign(line.begin() + std::ptrdiff_t(i), line.begin() + std::ptrdiff_t(std::min(line.size(), i + 17)));
+          run.box = {run.points.front(), run.points.front()};
+          for (size_t j = 0; j < run.points.size(); ++j) {
+            run.box.min = glm::min(run.box.min, run.points[j]), run.box.max = glm::max(run.box.max, run.points[j]);
+            // Between two samples the lifted curve stays within their chord's length of them.
+            if (j > 0) d.slack = std::max(d.slack, glm::length(run.points[j] - run.points[j - 1]));
+          }
+          d.boundary.push_back(std::move(run));
+        }
+    }
+    doubts_.push_back(std::move(d));
   }
+}
+
+double FaceDoubts::boundary_distance(const Doubt& d, const glm::dvec3& p, double within) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const BoundaryRun& run : d.boundary) {
+    if (box_distance(run.box, p) > std::min(best, within)) continue;
+    for (size_t j = 0; j + 1 < run.points.size(); ++j) {
+      const glm::dvec3 a = run.points[j], ab = run.points[j + 1] - a;
+      const double len2 = glm::dot(ab, ab);
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, glm::length(a + t * ab - p));
+    }
+  }
+  return best;
 }
 
 template <class Within>
@@ -119,7 +174,20 @@ FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b) cons
   if (doubts_.empty()) return {};
   // A non-finite answer reaches every face.
   const double reach = std::isfinite(d + b) ? d + b : std::numeric_limits<double>::infinity();
-  return judge([&](const Box& box, double extra) { return box_distance(box, p) <= reach + extra; });
+  Verdict v;
+  for (const Doubt& x : doubts_) {
+    if (!(x.gap > 0.0) || v.widen >= x.gap) continue;
+    const double within = reach + 2.0 * x.gap + x.slack;
+    if (box_distance(x.box, p) <= within && boundary_distance(x, p, within) <= within) v.widen = x.gap;
+  }
+  for (const Doubt& x : doubts_)
+    if (!x.problem.empty() && box_distance(x.box, p) <= reach + v.widen) {
+      v.invalid_face = x.face;
+      v.reason = fmt::format("face {} (id {}) may hold the answer and its trim could not be made valid: {}", x.face,
+                             x.face_id, x.problem);
+      break;
+    }
+  return v;
 }
 
 FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {

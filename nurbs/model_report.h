@@ -67,7 +67,10 @@ class FaceDoubts {
     int invalid_face = -1;  ///< a face with an invalid trim within reach (index), -1 when none
     std::string reason;     ///< why the answer is not certified, empty when it may be
   };
-  /// For an answer of distance `d` with bound `b` at point `p`.
+  /// For an answer of distance `d` with bound `b` at point `p`. A face's edge gap matters only where
+  /// its file edges, within the gap of its trim boundary, may lie nearer to p than the answer: so
+  /// the bound is widened only when a gapped face's boundary (its loops lifted to space) lies
+  /// within d + b + 2 gap of p; an invalid trim matters wherever the face's box is within reach.
   [[nodiscard]] Verdict at(const glm::dvec3& p, double d, double b) const;
   /// For an answer that may depend on any face within `reach` of `box` (clearance: the other
   /// model's box, reach = distance + bound).
@@ -78,13 +81,21 @@ class FaceDoubts {
   [[nodiscard]] bool empty() const { return doubts_.empty(); }
 
  private:
+  /// A run of consecutive boundary samples of a gapped face, with its box.
+  struct BoundaryRun {
+    Box box;
+    std::vector<glm::dvec3> points;
+  };
   struct Doubt {
     Box box;
     int face;
     int face_id;
     double gap;
     std::string problem;
+    std::vector<BoundaryRun> boundary;  ///< gapped faces: the loops lifted to space
+    double slack = 0.0;  ///< how far the sampled boundary may stray from the lifted loops
   };
+  [[nodiscard]] static double boundary_distance(const Doubt& d, const glm::dvec3& p, double within);
   template <class Within>
   Verdict judge(Within within) const;
   std::vector<Doubt> doubts_;

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "models/exact_shapes.h"
+#include "nurbs/curve_ends.h"
 #include "nurbs/model_report.h"
 
 namespace {
@@ -63,19 +64,29 @@ TEST_CASE("model report: a face with an invalid trim uncertifies only the answer
   CHECK(!doubts.near({glm::dvec3(-5, -1, -1), glm::dvec3(-4, 1, 1)}, 13.0).reason.empty());
 }
 
-TEST_CASE("model report: an edge gap widens the bounds within its reach by the gap") {
+TEST_CASE("model report: an edge gap widens the bounds whose answers its boundary may reach") {
   const nurbs::Model m = two_spheres("", 0.25);
   const nurbs::ModelReport r = nurbs::model_report(m);
   REQUIRE(r.edge_gaps.size() == 1);
   CHECK(r.largest_gap() == 0.25);
   CHECK(r.uncertified_reason(false).empty());
-  const nurbs::FaceDoubts doubts(nurbs::world_faces(m));
-  CHECK(doubts.at(glm::dvec3(-2, 0, 0), 1.0, 1e-6).widen == 0.0);
-  const nurbs::FaceDoubts::Verdict v = doubts.at(glm::dvec3(12, 0, 0), 1.0, 1e-6);
-  CHECK(v.widen == 0.25);
-  CHECK(v.reason.empty());
-  // Within reach only through the gap itself: the second sphere's box starts at x = 9 (control
-  // points of the rational sphere lie on its bounding cube), 0.2 beyond a reach of 8.8.
-  CHECK(doubts.at(glm::dvec3(0, 0, 0), 8.75, 0.05).widen == 0.25);
-  CHECK(doubts.at(glm::dvec3(0, 0, 0), 8.0, 0.05).widen == 0.0);
+  CHECK(nurbs::FaceDoubts(nurbs::world_faces(m)).at(glm::dvec3(-2, 0, 0), 1.0, 1e-6).widen == 0.0);
+
+  // The square [0, 10]^2 of z = 0 trimmed to [2, 8]^2, its edges 0.25 off: the file's edge may lie
+  // nearer than an answer only where the trim boundary is within the answer's reach plus twice the gap.
+  nurbs::TrimmedSurface square;
+  square.surface = models::bilinear_square(10.0);
+  const glm::dvec2 a(2, 2), b(8, 2), c(8, 8), d(2, 8);
+  square.loops = {{{nurbs::segment_curve(a, b), nurbs::segment_curve(b, c), nurbs::segment_curve(c, d),
+                    nurbs::segment_curve(d, a)}, true}};
+  square.edge_gap = 0.25;
+  const nurbs::FaceDoubts doubts(std::vector<nurbs::TrimmedSurface>{square});
+  CHECK(doubts.at(glm::dvec3(5, 5, 1), 1.0, 1e-6).widen == 0.0);       // the boundary 3.2 away
+  CHECK(doubts.at(glm::dvec3(5, 2.5, 0.5), 0.5, 1e-6).widen == 0.25);  // 0.71 away: within 0.5 + 0.5
+  CHECK(doubts.at(glm::dvec3(5, -1, 0), 3.0, 1e-6).widen == 0.25);     // beyond the trim, 3 from it
+  // Untrimmed, the domain's sides are its boundary.
+  square.loops.clear();
+  const nurbs::FaceDoubts whole(std::vector<nurbs::TrimmedSurface>{square});
+  CHECK(whole.at(glm::dvec3(5, 5, 1), 1.0, 1e-6).widen == 0.0);
+  CHECK(whole.at(glm::dvec3(5, 0.2, 0.5), 0.5, 1e-6).widen == 0.25);
 }
