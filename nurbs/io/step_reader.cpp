@@ -32,6 +32,7 @@
 #include "nurbs/project_curve.h"
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
 #include "nurbs/validate.h"
 
 namespace nurbs::io {
@@ -375,13 +376,17 @@ struct Box2 {
 
 // Marks the loop with the largest parameter box as the outer one.
 void mark_outer(TrimmedSurface& f) {
+  // The loop enclosing the largest area (its curves sampled, shoelace): the box of a loop's control
+  // points overstates a rotated circle's reach, so a circle of radius 0.255 out-boxed one of 0.278.
   double best = -1.0;
   TrimLoop* outer = nullptr;
   for (TrimLoop& l : f.loops) {
-    Box2 b;
-    for (const Curve2& c : l.curves)
-      for (const glm::dvec2& q : c.points) b.add(q);
-    const double area = (b.hi.x - b.lo.x) * (b.hi.y - b.lo.y);
+    std::vector<glm::dvec2> polygon;
+    for (const Curve2& c : l.curves) {
+      const Interval d = curve_domain(c);
+      for (int i = 0; i < 32; ++i) polygon.push_back(curve_point(c, d.min + d.width() * i / 32.0));
+    }
+    const double area = std::abs(signed_area(polygon));
     if (area > best) best = area, outer = &l;
   }
   if (outer) outer->outer = true;

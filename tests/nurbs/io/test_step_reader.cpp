@@ -558,3 +558,40 @@ TEST_CASE("STEP reader: a face whose PCURVEs lie off its edges keeps them, with 
   CHECK(c.points.back().x == doctest::Approx(0.75));
   CHECK(c.points.back().y == doctest::Approx(0.25));
 }
+
+TEST_CASE("STEP reader: of two FACE_BOUNDs without an outer one, the loop enclosing more area is outer") {
+  // A washer on z = 0: circles of radius 0.278 and 0.255 about the origin, the smaller one's
+  // placement turned 45 degrees (its control points' box 0.36 wide against the larger one's 0.278).
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n"
+       "#6=DIRECTION('',(0.70710678118654752,0.70710678118654752,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#2,#6);\n"
+       "#10=CIRCLE('',#4,0.278);\n#11=CARTESIAN_POINT('',(0.278,0.,0.));\n#12=VERTEX_POINT('',#11);\n"
+       "#13=EDGE_CURVE('',#12,#12,#10,.T.);\n#14=ORIENTED_EDGE('',*,*,#13,.T.);\n#15=EDGE_LOOP('',(#14));\n"
+       "#16=FACE_BOUND('',#15,.T.);\n"
+       "#20=CIRCLE('',#7,0.255);\n#21=CARTESIAN_POINT('',(0.18031222920256964,0.18031222920256964,0.));\n"
+       "#22=VERTEX_POINT('',#21);\n#23=EDGE_CURVE('',#22,#22,#20,.T.);\n#24=ORIENTED_EDGE('',*,*,#23,.F.);\n"
+       "#25=EDGE_LOOP('',(#24));\n#26=FACE_BOUND('',#25,.T.);\n"
+       "#30=ADVANCED_FACE('washer',(#26,#16),#5,.T.);\n#31=OPEN_SHELL('',(#30));\n"
+       "#32=SHELL_BASED_SURFACE_MODEL('',(#31));\n#33=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "washer.stp");
+  REQUIRE(m.bodies.size() == 1);
+  REQUIRE(m.bodies[0].faces.size() == 1);
+  const nurbs::TrimmedSurface& f = m.bodies[0].faces[0];
+  // Material on the ring between the circles, none inside the smaller one: find the (u, v) of
+  // points of the plane by sampling its domain.
+  const nurbs::TrimPolygons trim = nurbs::flatten_trim(f, 1e-9);
+  int ring = 0, ring_material = 0, hole = 0, hole_material = 0;
+  const nurbs::Interval du = nurbs::surface_domain_u(f.surface), dv = nurbs::surface_domain_v(f.surface);
+  for (int j = 0; j <= 80; ++j)
+    for (int i = 0; i <= 80; ++i) {
+      const glm::dvec2 uv(du.min + du.width() * i / 80, dv.min + dv.width() * j / 80);
+      const double r = glm::length(nurbs::surface_point(f.surface, uv.x, uv.y));
+      if (r > 0.258 && r < 0.275) ++ring, ring_material += nurbs::is_material(trim, uv);
+      if (r < 0.25) ++hole, hole_material += nurbs::is_material(trim, uv);
+    }
+  CHECK(ring > 0);
+  CHECK(ring_material == ring);
+  CHECK(hole > 0);
+  CHECK(hole_material == 0);
+}
