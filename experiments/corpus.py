@@ -115,10 +115,11 @@ def run_child(cmd, timeout, memory_bytes):
     seconds. Returns (status, exit code or None, stdout, stderr, wall seconds); status is 'ok', 'timeout',
     'oom' (killed or failing for memory) or 'signal N'."""
     def limit():
+        os.setsid()  # its own process group, killed whole on a timeout
         resource.setrlimit(resource.RLIMIT_AS, (memory_bytes, memory_bytes))
     t0 = time.monotonic()
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                         preexec_fn=limit, start_new_session=True)
+                         preexec_fn=limit)
     try:
         out, err = p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
