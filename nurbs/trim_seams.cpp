@@ -159,30 +159,93 @@ std::optional<Surface> doubled_along_u(const Surface& clamped, double tolerance_
   return d;
 }
 
+// The loop's extent in u, from 64 samples a curve.
+Interval u_extent(const TrimLoop& loop) {
+  Interval e{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Curve2& c : loop.curves) {
+    const Interval cd = curve_domain(c);
+    for (int k = 0; k <= 64; ++k) {
+      const double u = curve_point(c, cd.min + cd.width() * k / 64.0).x;
+      e.min = std::min(e.min, u), e.max = std::max(e.max, u);
+    }
+  }
+  return e;
+}
+
+void shift_u(TrimLoop& loop, double shift) {
+  if (shift == 0.0) return;
+  for (Curve2& c : loop.curves)
+    for (glm::dvec2& q : c.points) q.x += shift;
+}
+
+// Whether the loop goes once round a surface closed in u: its end one period along from its start.
+bool goes_round(const TrimLoop& loop, double period, double min_gap) {
+  const glm::dvec2 a = start_point(loop.curves.front()), b = end_point(loop.curves.back());
+  return std::abs(std::abs(b.x - a.x) - period) <= min_gap && std::abs(b.y - a.y) <= min_gap;
+}
+
+// A loop going once round that runs past the domain's far side d.max: its curves cut where they
+// cross u = d.max and the pieces beyond moved back by the period, so it runs from one side of the
+// domain to the other with one seam jump, which close_loops_round_seam closes.
+void cut_round_loop(TrimLoop& loop, const Interval& d) {
+  const double period = d.width();
+  std::vector<Curve2> pieces;
+  for (const Curve2& c : loop.curves) {
+    const Interval cd = curve_domain(c);
+    const auto beyond = [&](double t) { return curve_point(c, t).x - d.max; };
+    std::vector<double> cuts{cd.min};
+    constexpr int kSamples = 64;
+    for (int k = 0; k < kSamples; ++k) {
+      double t0 = cd.min + cd.width() * k / kSamples, t1 = cd.min + cd.width() * (k + 1) / kSamples;
+      const double f0 = beyond(t0), f1 = beyond(t1);
+      if ((f0 < 0.0) == (f1 < 0.0)) continue;
+      for (int i = 0; i < 60; ++i) {  // bisection to the crossing
+        const double tm = 0.5 * (t0 + t1);
+        ((beyond(tm) < 0.0) == (f0 < 0.0) ? t0 : t1) = tm;
+      }
+      const double tc = 0.5 * (t0 + t1);
+      if (tc > cuts.back() && tc < cd.max) cuts.push_back(tc);
+    }
+    cuts.push_back(cd.max);
+    for (size_t k = 0; k + 1 < cuts.size(); ++k)
+      pieces.push_back(cuts.size() == 2 ? c : restrict_curve(c, cuts[k], cuts[k + 1]));
+  }
+  for (Curve2& c : pieces) {
+    const Interval cd = curve_domain(c);
+    if (curve_point(c, 0.5 * (cd.min + cd.max)).x > d.max)
+      for (glm::dvec2& q : c.points) q.x -= period;
+  }
+  loop.curves = std::move(pieces);
+}
+
 // wrap_loops_into_domain along u (the caller transposes for v).
 int wrap_along_u(TrimmedSurface& face, double tolerance_3d, double min_gap) {
   if (face.loops.empty() || !closed_along(face.surface, 0, tolerance_3d)) return 0;
   const Interval d = surface_domain_u(face.surface);
   const double period = d.width();
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const TrimLoop& l : face.loops)
-    for (const Curve2& c : l.curves) {
-      const Interval cd = curve_domain(c);
-      for (int k = 0; k <= 64; ++k) {
-        const double u = curve_point(c, cd.min + cd.width() * k / 64.0).x;
-        lo = std::min(lo, u), hi = std::max(hi, u);
-      }
-    }
-  if (!(lo >= d.min - min_gap && hi <= d.max + min_gap) && hi - lo <= period + min_gap) {
+  int changed = 0;
+  // Loops going once round (the circles bounding a band), each on its own: moved by whole periods
+  // to start in the domain, and cut at its far side when they run past it.
+  for (TrimLoop& l : face.loops) {
+    if (!goes_round(l, period, min_gap)) continue;
+    Interval e = u_extent(l);
+    if (e.min >= d.min - min_gap && e.max <= d.max + min_gap) continue;
+    const double shift = -period * std::floor((e.min - d.min + min_gap) / period);
+    shift_u(l, shift);
+    if (e.max + shift > d.max + min_gap) cut_round_loop(l, d);
+    changed = 1;
+  }
+  // The rest together.
+  Interval all{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const TrimLoop& l : face.loops) {
+    const Interval e = u_extent(l);
+    all.min = std::min(all.min, e.min), all.max = std::max(all.max, e.max);
+  }
+  if (!(all.min >= d.min - min_gap && all.max <= d.max + min_gap) && all.width() <= period + min_gap) {
     // Whole periods first: the loops start inside the domain.
-    const double shift = -period * std::floor((lo - d.min + min_gap) / period);
-    if (shift != 0.0) {
-      for (TrimLoop& l : face.loops)
-        for (Curve2& c : l.curves)
-          for (glm::dvec2& q : c.points) q.x += shift;
-      lo += shift, hi += shift;
-    }
-    if (hi <= d.max + min_gap) return 1;
+    const double shift = -period * std::floor((all.min - d.min + min_gap) / period);
+    for (TrimLoop& l : face.loops) shift_u(l, shift);
+    if (all.max + shift <= d.max + min_gap) return 1;
     // Still across the far side: the surface one period longer.
     const Surface clamped = restrict_surface(face.surface, d, surface_domain_v(face.surface));
     if (std::optional<Surface> longer = doubled_along_u(clamped, tolerance_3d)) {
@@ -190,7 +253,7 @@ int wrap_along_u(TrimmedSurface& face, double tolerance_3d, double min_gap) {
       return 1;
     }
   }
-  return 0;
+  return changed;
 }
 
 }  // namespace

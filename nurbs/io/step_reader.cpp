@@ -1390,7 +1390,10 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       c.edge = loops[li].edges[k];
       c.degree = 3;
       for (const glm::dvec2& q : line) {
-        c.points.emplace_back(std::clamp(q.x, su.min, su.max), std::clamp(q.y, sv.min, sv.max));
+        // Along a periodic direction a loop may run past the domain's side (a circle round a band
+        // whose vertex is not on the seam): kept, for wrap_loops_into_domain to cut at the seam.
+        c.points.emplace_back(chart.period.x > 0 ? q.x : std::clamp(q.x, su.min, su.max),
+                              chart.period.y > 0 ? q.y : std::clamp(q.y, sv.min, sv.max));
       }
       // Knots: 0, 1, ... at the samples, inner ones of multiplicity `degree` (Hermite pieces join C1
       // in shape, their Bezier form is kept).

@@ -70,3 +70,26 @@ TEST_CASE("trim wrap: a loop a whole period beyond the domain moves by the perio
   CHECK(nurbs::wrap_loops_into_domain(flat, 1e-9, 1e-9) == 0);
   CHECK(nurbs::start_point(flat.loops[0].curves[0]).x == 1.0);
 }
+
+TEST_CASE("trim wrap: the two circles of a band that start off the seam are cut there and closed into one loop") {
+  // The band's lower circle runs once round from a third of the period, the upper one back: each
+  // goes past the domain's far side, and neither closes in (u, v) without its seam segments.
+  const nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
+  const nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
+  const double period = du.width(), start = du.min + period / 3;
+  const double v0 = dv.min + 0.25 * dv.width(), v1 = dv.max - 0.25 * dv.width(), vm = 0.5 * (v0 + v1);
+  nurbs::TrimmedSurface face;
+  face.surface = cylinder;
+  face.loops = {{{nurbs::segment_curve({start, v0}, {start + period, v0})}, true},
+                {{nurbs::segment_curve({start + period, v1}, {start, v1})}, false}};
+  CHECK(nurbs::wrap_loops_into_domain(face, 1e-9, 1e-9) == 1);
+  CHECK(face.surface.count_u == cylinder.count_u);  // cut, not lengthened
+  CHECK(nurbs::close_loops_round_seam(face, 1e-9, 1e-9) == 1);
+  REQUIRE(face.loops.size() == 1);
+  const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, 1e-6);
+  for (int k = 0; k < 36; ++k) {
+    const double u = du.min + period * (k + 0.5) / 36;
+    CHECK(nurbs::is_material(trim, glm::dvec2(u, vm)));
+    CHECK(!nurbs::is_material(trim, glm::dvec2(u, dv.min + 0.1 * dv.width())));
+  }
+}
