@@ -474,7 +474,7 @@ TEST_CASE("STEP reader: a face whose edges lie off its surface is kept with the 
   }
   // Edges on the surface (within the tolerance) leave the gap 0.
   CHECK(only_face(nurbs::io::read_step_text(square_on_bspline(1.0 - 1e-6), "on.stp")).edge_gap == 0.0);
-  // 0.5 off a face of size 2.83 (beyond 5 %): the edges bound nothing on the surface.
+  // 0.5 off a face of size 2.83 (beyond 15 %): the edges bound nothing on the surface.
   nurbs::io::IgesReadLog log;
   const nurbs::Model far = nurbs::io::read_step_text(square_on_bspline(0.5), "far.stp", &log);
   CHECK(far.bodies.front().faces.empty());
