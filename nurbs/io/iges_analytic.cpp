@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
@@ -75,6 +76,16 @@ Curve3 single_curve(IgesGeometry& g, const EntityParams& p, int i, const glm::dm
   return std::move(pieces.front());
 }
 
+// The start angle of the circular arc (100) that parameter i names, when it names one: IGES
+// parametrises an arc by its angle from the start angle on, our NURBS of it from 0.
+std::optional<double> arc_start_angle(IgesGeometry& g, const EntityParams& p, int i) {
+  const int de = g.expect(p, i, {100, 102, 104, 110, 126}, "a curve");
+  const IgesDirectoryEntry& e = g.file().entry(de);
+  if (e.type != 100) return std::nullopt;
+  EntityParams a(g.file(), e);
+  return std::atan2(a.real(5) - a.real(3), a.real(4) - a.real(2));  // start - centre
+}
+
 void transform(Surface& s, const glm::dmat4& m) {
   for (glm::dvec3& q : s.points) q = glm::dvec3(m * glm::dvec4(q, 1.0));
 }
@@ -132,10 +143,16 @@ AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& pare
     }
     case 120: {  // L (axis line), C (generatrix), SA, TA (radians)
       const Curve3 axis = single_curve(g, p, 1, m);
-      const Curve3 generatrix = single_curve(g, p, 2, m);
+      Curve3 generatrix = single_curve(g, p, 2, m);
       const double sa = p.real(3), ta = p.real(4);
       if (!(sa < ta)) p.fail(3, fmt::format("start angle {} is not less than terminate angle {}", sa, ta));
       p.check_trailing(4);
+      // An arc generatrix: u is its angle (the file's pcurves run over [start, end angle]).
+      if (const std::optional<double> a0 = arc_start_angle(g, p, 2)) {
+        const Interval gu = curve_domain(generatrix);
+        for (double& k : generatrix.knots) k += *a0;
+        out.u = angular_axis(1.0, *a0, *a0 + gu.width());
+      }
       const glm::dvec3 o = axis.points.front(), d = glm::normalize(axis.points.back() - o);
       out.surface = revolve(generatrix, o, d, lo.y, dv, false);
       out.v = angular_axis(1.0, lo.y, hi.y);
@@ -214,7 +231,8 @@ std::optional<std::pair<glm::dvec2, glm::dvec2>> analytic_range(IgesGeometry& g,
   if (e.type != 120) return std::nullopt;
   EntityParams p(g.file(), e);
   const Interval u = curve_domain(single_curve(g, p, 2, glm::dmat4(1.0)));
-  return std::pair{glm::dvec2(u.min, p.real(3)), glm::dvec2(u.max, p.real(4))};
+  const double a0 = arc_start_angle(g, p, 2).value_or(0.0);  // the file's u of an arc: its angle
+  return std::pair{glm::dvec2(a0 + u.min, p.real(3)), glm::dvec2(a0 + u.max, p.real(4))};
 }
 
 void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f,

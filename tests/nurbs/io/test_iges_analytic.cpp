@@ -509,3 +509,45 @@ TEST_CASE("IGES 144 over a 120 surface of revolution: exact surface, trims in pl
   const double whole = trimmed_area(*w, 400), whole_exact = cone_area(0, 1, kV0, kV1);
   CHECK(std::abs(whole - whole_exact) < 1e-3 * whole_exact);  // untrimmed: only the midpoint rule's error
 }
+
+TEST_CASE("IGES 144 over a 120 whose generatrix is an arc: the pcurves' u is the arc's angle") {
+  using namespace revolution;
+  // The arc of centre (2, 0), radius 1, from 60 to 120 degrees (IGES 100: parametrised by its angle
+  // from the start angle on) turned about the z axis: S(a, v) = Rz(v) (2 + cos a, sin a, 0).
+  const auto point = [](double a, double v) {
+    const glm::dvec3 q(2 + std::cos(a), std::sin(a), 0.0);
+    return glm::dvec3(q.x * std::cos(v) - q.y * std::sin(v), q.x * std::sin(v) + q.y * std::cos(v), 0.0);
+  };
+  const double a0 = std::numbers::pi / 3, a1 = 2 * std::numbers::pi / 3;
+  nurbs::Model base;
+  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
+  nurbs::TrimmedSurface bump;
+  bump.surface = nurbs::io::test::bump();
+  base.bodies[0].faces.push_back(bump);
+  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(base));
+  const int axis = line(e, {0, 0, 0}, {0, 0, 1});
+  const int arc = e.append(100, {"0", "2", "0", revolution::r(2 + std::cos(a0)), revolution::r(std::sin(a0)),
+                                 revolution::r(2 + std::cos(a1)), revolution::r(std::sin(a1))});
+  const int surface = e.append(120, {s(axis), s(arc), "0", revolution::r(2 * std::numbers::pi)});
+  const double u0 = 1.2, u1 = 1.9, v0 = 0.5, v1 = 2.0;  // inside [a0, a1] x [0, 2 pi]
+  const glm::dvec2 c[4] = {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
+  std::vector<std::string> pieces{"4"};
+  for (int k = 0; k < 4; ++k)
+    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
+  const int on_surface = e.append(142, {"1", s(surface), s(e.append(102, pieces)), "0", "2"});
+  const int face = e.append(144, {s(surface), "1", "0", s(on_surface)});
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "arc_revolution.igs", {}, &log);
+  CHECK(m.dropped_faces.empty());
+  CHECK(log.trim_problems.empty());
+  const nurbs::TrimmedSurface* f = find_face(m, face);
+  REQUIRE(f != nullptr);
+  REQUIRE(f->loops.size() == 1);
+  for (const glm::dvec2& q : c) {
+    double nearest = 1e300;
+    for (const nurbs::Curve2& curve : f->loops[0].curves)
+      for (const glm::dvec2& st : curve.points)
+        nearest = std::min(nearest, glm::length(nurbs::surface_point(f->surface, st.x, st.y) - point(q.x, q.y)));
+    CHECK(nearest < 1e-12);
+  }
+}
