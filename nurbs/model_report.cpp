@@ -1,14 +1,14 @@
 #include "nurbs/model_report.h"
 
-#include "nurbs/curve_eval.h"
-#include "nurbs/surface_eval.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+
+#include "nurbs/curve_eval.h"
+#include "nurbs/surface_eval.h"
 
 namespace nurbs {
 
@@ -54,18 +54,20 @@ std::vector<std::string> ModelReport::lines(size_t max_items) const {
     if (dropped.size() > max_items) out.push_back(fmt::format("  ... and {} more", dropped.size() - max_items));
   }
   if (!invalid_trims.empty()) {
-    out.push_back(fmt::format("{} faces kept with trim loops that could not be made valid: answers that may depend "
-                              "on them are not certified",
-                              invalid_trims.size()));
+    out.push_back(
+        fmt::format("{} faces kept with trim loops that could not be made valid: answers that may depend "
+                    "on them are not certified",
+                    invalid_trims.size()));
     for (size_t k = 0; k < invalid_trims.size() && k < max_items; ++k)
       out.push_back(fmt::format("  {}: {}", face_name(invalid_trims[k]), invalid_trims[k].problem));
     if (invalid_trims.size() > max_items)
       out.push_back(fmt::format("  ... and {} more", invalid_trims.size() - max_items));
   }
   if (!edge_gaps.empty()) {
-    out.push_back(fmt::format("{} faces kept whose file edges lie off their surface, up to {:.3g}: bounds that may "
-                              "depend on them are widened by the gap",
-                              edge_gaps.size(), largest_gap()));
+    out.push_back(
+        fmt::format("{} faces kept whose file edges lie off their surface, up to {:.3g}: bounds that may "
+                    "depend on them are widened by the gap",
+                    edge_gaps.size(), largest_gap()));
     std::vector<FaceNote> worst = edge_gaps;
     std::sort(worst.begin(), worst.end(), [](const FaceNote& a, const FaceNote& b) { return a.gap > b.gap; });
     for (size_t k = 0; k < worst.size() && k < max_items; ++k)
@@ -126,7 +128,8 @@ FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
       for (const auto& line : lines)
         for (size_t i = 0; i + 1 < line.size(); i += 16) {
           BoundaryRun run;
-          run.points.assign(line.begin() + std::ptrdiff_t(i), line.begin() + std::ptrdiff_t(std::min(line.size(), i + 17)));
+          run.points.assign(line.begin() + std::ptrdiff_t(i),
+                            line.begin() + std::ptrdiff_t(std::min(line.size(), i + 17)));
           run.box = {run.points.front(), run.points.front()};
           for (size_t j = 0; j < run.points.size(); ++j) {
             run.box.min = glm::min(run.box.min, run.points[j]), run.box.max = glm::max(run.box.max, run.points[j]);

@@ -93,7 +93,7 @@ class FaceDoubts {
     double gap;
     std::string problem;
     std::vector<BoundaryRun> boundary;  ///< gapped faces: the loops lifted to space
-    double slack = 0.0;  ///< how far the sampled boundary may stray from the lifted loops
+    double slack = 0.0;                 ///< how far the sampled boundary may stray from the lifted loops
   };
   [[nodiscard]] static double boundary_distance(const Doubt& d, const glm::dvec3& p, double within);
   template <class Within>

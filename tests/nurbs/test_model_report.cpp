@@ -77,8 +77,9 @@ TEST_CASE("model report: an edge gap widens the bounds whose answers its boundar
   nurbs::TrimmedSurface square;
   square.surface = models::bilinear_square(10.0);
   const glm::dvec2 a(2, 2), b(8, 2), c(8, 8), d(2, 8);
-  square.loops = {{{nurbs::segment_curve(a, b), nurbs::segment_curve(b, c), nurbs::segment_curve(c, d),
-                    nurbs::segment_curve(d, a)}, true}};
+  square.loops = {
+      {{nurbs::segment_curve(a, b), nurbs::segment_curve(b, c), nurbs::segment_curve(c, d), nurbs::segment_curve(d, a)},
+       true}};
   square.edge_gap = 0.25;
   const nurbs::FaceDoubts doubts(std::vector<nurbs::TrimmedSurface>{square});
   CHECK(doubts.at(glm::dvec3(5, 5, 1), 1.0, 1e-6).widen == 0.0);       // the boundary 3.2 away
