@@ -4,17 +4,20 @@
 
 #include <algorithm>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <iterator>
 #include <limits>
 #include <span>
 #include <unordered_map>
 
+#include "nurbs/curve_ends.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_analytic.h"
 #include "nurbs/io/pcurve_gap.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/model_ops.h"
 #include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_loops.h"
@@ -133,6 +136,18 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     const double extent = trim_extent(f);
     log.loops_wrapped += wrap_loops_into_domain(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     log.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
+    // The repairs below close gaps between consecutive curves: the boundary moves by up to the gap
+    // in space, which the face's edge gap then carries into every bound near it.
+    double joint_gap = 0.0;
+    for (const TrimLoop& l : f.loops)
+      for (size_t k = 0; k < l.curves.size(); ++k) {
+        const glm::dvec2 a = end_point(l.curves[k]), b = start_point(l.curves[(k + 1) % l.curves.size()]);
+        if (glm::length(a - b) > kTrimGapRounding * extent)
+          joint_gap =
+              std::max(joint_gap, glm::length(surface_point(f.surface, a.x, a.y) - surface_point(f.surface, b.x, b.y)));
+      }
+    if (joint_gap > kProjectionTolerance * control_box(f.surface).diagonal())
+      f.edge_gap = std::max(f.edge_gap, joint_gap);
     log.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
     // Loops going round a closed surface jump by its period at the seam: trim_seams.h.
     log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
