@@ -50,6 +50,20 @@ TEST_CASE("IGES reader: small trim gaps are closed and counted, large ones repor
   CHECK(large.trim_problems[0].find("does not close") != std::string::npos);
 }
 
+TEST_CASE("IGES reader: a closed trim gap moves the face's boundary by its width in space: the edge gap") {
+  // Without a gap the face's edges are its curves (gap 0); a gap of 3e-5 in v closed by the repair
+  // moves the boundary by the surface's stretch times it, which the face's edge gap must carry.
+  const Model exact = io::read_iges_text(io::write_iges_text(with_gap(0.0), "gap.igs"), "gap.igs");
+  CHECK(exact.bodies[0].faces[0].edge_gap == 0.0);
+  const Model m = with_gap(3e-5);
+  const Model r = io::read_iges_text(io::write_iges_text(m, "gap.igs"), "gap.igs");
+  const TrimmedSurface& f = m.bodies[0].faces[0];
+  const glm::dvec2 a = f.loops[0].curves[0].points.back(), b = f.loops[0].curves[1].points.front();
+  const double width = glm::length(surface_point(f.surface, a.x, a.y) - surface_point(f.surface, b.x, b.y));
+  REQUIRE(width > 0.0);
+  CHECK(r.bodies[0].faces[0].edge_gap == doctest::Approx(width).epsilon(1e-6));
+}
+
 TEST_CASE("IGES reader: crossing loops are reported, not silently accepted") {
   Model m = io::test::small_model();
   // A hole that pokes out of the outer square: the loops cross.
