@@ -29,17 +29,18 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   (void)checked_model_size(model, a.model);
   // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may hide or add a hit
   // anywhere; an edge gap widens where a hit near an edge lies.
-  const nurbs::FaceDoubts::Verdict doubt = nurbs::FaceDoubts(nurbs::world_faces(model)).any();
+  const double gap = loaded.report.largest_gap();
+  const std::string doubt = loaded.report.invalid_trim_reason();
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
   RayEngine engine(model, a.engine, global);
   const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
   long long hit_count = 0;
   for (const auto& h : hits) hit_count += h.face >= 0 ? 1 : 0;
   // Residual of the exact step (raycast_cpu.h): the hit point is on the face within it.
-  const double bound = engine.scene().options.exact_residual * engine.scene().size + doubt.widen;
+  const double bound = engine.scene().options.exact_residual * engine.scene().size + gap;
   const auto certify = [&] {
     require_certified(loaded.report, global);
-    if (!doubt.reason.empty()) throw CommandFailed("the hits are not certified: " + doubt.reason);
+    if (!doubt.empty()) throw CommandFailed("the hits are not certified: " + doubt);
   };
 
   if (a.json) {
@@ -70,7 +71,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
     j.update(engine.figures());
     j["preset"] = a.preset.json();
-    if (!doubt.reason.empty()) j["uncertified"] = doubt.reason;
+    if (!doubt.empty()) j["uncertified"] = doubt;
     add_model_json(j, loaded.report, global);
     print_json(j);
     certify();

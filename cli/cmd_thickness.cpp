@@ -19,7 +19,6 @@
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/output_file.h"
 #include "nurbs/io/read_model.h"
-#include "nurbs/model_ops.h"
 #include "nurbs/raycast/thickness.h"
 
 namespace cli {
@@ -82,10 +81,11 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
   const double size = checked_model_size(model, a.model);
   // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may add or hide a wall
   // anywhere; an edge gap widens every thickness by the gap.
-  const nurbs::FaceDoubts::Verdict doubt = nurbs::FaceDoubts(nurbs::world_faces(model)).any();
+  const double gap = loaded.report.largest_gap();
+  const std::string doubt = loaded.report.invalid_trim_reason();
   const auto certify = [&] {
     require_certified(loaded.report, global);
-    if (!doubt.reason.empty()) throw CommandFailed("the thickness is not certified: " + doubt.reason);
+    if (!doubt.empty()) throw CommandFailed("the thickness is not certified: " + doubt);
   };
   if (!a.output.empty()) try {
       if (nurbs::io::mesh_format_of(a.output) != nurbs::io::MeshFormat::Ply)
@@ -180,8 +180,8 @@ void run(const GlobalOptions& global, const ThicknessArgs& a) {
     }
     j.update(f);
     j["preset"] = a.preset.json();
-    j["hit_residual"] = j["hit_residual"].get<double>() + doubt.widen;
-    if (!doubt.reason.empty()) j["uncertified"] = doubt.reason;
+    j["hit_residual"] = j["hit_residual"].get<double>() + gap;
+    if (!doubt.empty()) j["uncertified"] = doubt;
     add_model_json(j, loaded.report, global);
     print_json(j);
     certify();

@@ -89,6 +89,14 @@ Box control_box(const Surface& s) {
   return box;
 }
 
+double box_distance(const Box& a, const Box& b) {
+  return glm::length(glm::max(glm::max(a.min - b.max, b.min - a.max), glm::dvec3(0.0)));
+}
+
+double box_distance(const Box& b, const glm::dvec3& p) {
+  return glm::length(glm::max(glm::max(b.min - p, p - b.max), glm::dvec3(0.0)));
+}
+
 std::vector<std::string> validate_model_size(double size) {
   if (!std::isfinite(size)) return {fmt::format("model size is {} (coordinates too large for double precision)", size)};
   if (size < kMinModelSize)

@@ -37,6 +37,10 @@ struct Box {
 /// Box of a surface's control points: it holds the surface (convex hull, positive weights).
 [[nodiscard]] Box control_box(const Surface& s);
 
+/// Distance between two boxes, and from a box to a point (0 where they meet).
+[[nodiscard]] double box_distance(const Box& a, const Box& b);
+[[nodiscard]] double box_distance(const Box& b, const glm::dvec3& p);
+
 /// Model size = model_box(model).diagonal().
 [[nodiscard]] double model_size(const Model& model);
 

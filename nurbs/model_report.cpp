@@ -14,17 +14,12 @@ namespace nurbs {
 
 namespace {
 
-double box_distance(const Box& b, const glm::dvec3& p) {
-  const glm::dvec3 d = glm::max(glm::max(b.min - p, p - b.max), glm::dvec3(0.0));
-  return glm::length(d);
-}
-
-double box_box_distance(const Box& a, const Box& b) {
-  const glm::dvec3 d = glm::max(glm::max(a.min - b.max, b.min - a.max), glm::dvec3(0.0));
-  return glm::length(d);
-}
-
 std::string face_name(const FaceNote& n) { return fmt::format("face {} (id {})", n.face, n.face_id); }
+
+std::string invalid_trim_text(int face, int face_id, const std::string& problem) {
+  return fmt::format("face {} (id {}) may hold the answer and its trim could not be made valid: {}", face, face_id,
+                     problem);
+}
 
 }  // namespace
 
@@ -32,6 +27,12 @@ double ModelReport::largest_gap() const {
   double g = 0.0;
   for (const FaceNote& n : edge_gaps) g = std::max(g, n.gap);
   return g;
+}
+
+std::string ModelReport::invalid_trim_reason() const {
+  if (invalid_trims.empty()) return "";
+  const FaceNote& n = invalid_trims.front();
+  return invalid_trim_text(n.face, n.face_id, n.problem);
 }
 
 std::string ModelReport::uncertified_reason(bool accept_partial) const {
@@ -158,19 +159,13 @@ double FaceDoubts::boundary_distance(const Doubt& d, const glm::dvec3& p, double
 }
 
 template <class Within>
-FaceDoubts::Verdict FaceDoubts::judge(Within within) const {
-  Verdict v;
-  // Gaps first: a widened bound reaches farther, to faces an invalid trim may hold.
-  for (const Doubt& d : doubts_)
-    if (d.gap > 0.0 && within(d.box, d.gap)) v.widen = std::max(v.widen, d.gap);
+void FaceDoubts::mark_invalid(Verdict& v, Within within) const {
   for (const Doubt& d : doubts_)
     if (!d.problem.empty() && within(d.box, v.widen)) {
       v.invalid_face = d.face;
-      v.reason = fmt::format("face {} (id {}) may hold the answer and its trim could not be made valid: {}", d.face,
-                             d.face_id, d.problem);
-      break;
+      v.reason = invalid_trim_text(d.face, d.face_id, d.problem);
+      return;
     }
-  return v;
 }
 
 FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b) const {
@@ -183,24 +178,20 @@ FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b) cons
     const double within = reach + 2.0 * x.gap + x.slack;
     if (box_distance(x.box, p) <= within && boundary_distance(x, p, within) <= within) v.widen = x.gap;
   }
-  for (const Doubt& x : doubts_)
-    if (!x.problem.empty() && box_distance(x.box, p) <= reach + v.widen) {
-      v.invalid_face = x.face;
-      v.reason = fmt::format("face {} (id {}) may hold the answer and its trim could not be made valid: {}", x.face,
-                             x.face_id, x.problem);
-      break;
-    }
+  // After the gaps: a widened bound reaches farther, to faces an invalid trim may hold.
+  mark_invalid(v, [&](const Box& box, double extra) { return box_distance(box, p) <= reach + extra; });
   return v;
 }
 
 FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {
   if (doubts_.empty()) return {};
   const double r = std::isfinite(reach) ? reach : std::numeric_limits<double>::infinity();
-  return judge([&](const Box& box, double extra) { return box_box_distance(box, other) <= r + extra; });
-}
-
-FaceDoubts::Verdict FaceDoubts::any() const {
-  return judge([](const Box&, double) { return true; });
+  const auto within = [&](const Box& box, double extra) { return box_distance(box, other) <= r + extra; };
+  Verdict v;
+  for (const Doubt& d : doubts_)
+    if (d.gap > 0.0 && within(d.box, d.gap)) v.widen = std::max(v.widen, d.gap);
+  mark_invalid(v, within);
+  return v;
 }
 
 }  // namespace nurbs

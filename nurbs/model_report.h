@@ -43,6 +43,9 @@ struct ModelReport {
   }
   /// The largest edge gap of any face (model units); 0 when none.
   [[nodiscard]] double largest_gap() const;
+  /// Why an answer that may depend on every face (a ray cast, a thickness map) is not certified:
+  /// the first face with an invalid trim; empty when there is none.
+  [[nodiscard]] std::string invalid_trim_reason() const;
   /// Why no answer on the model is certified, empty when answers may be: faces were dropped and the
   /// caller does not accept the partial model.
   [[nodiscard]] std::string uncertified_reason(bool accept_partial) const;
@@ -75,8 +78,6 @@ class FaceDoubts {
   /// For an answer that may depend on any face within `reach` of `box` (clearance: the other
   /// model's box, reach = distance + bound).
   [[nodiscard]] Verdict near(const Box& box, double reach) const;
-  /// For an answer that may depend on every face (ray casts, tessellations of the whole model).
-  [[nodiscard]] Verdict any() const;
   /// No face is doubtful.
   [[nodiscard]] bool empty() const { return doubts_.empty(); }
 
@@ -96,8 +97,9 @@ class FaceDoubts {
     double slack = 0.0;                 ///< how far the sampled boundary may stray from the lifted loops
   };
   [[nodiscard]] static double boundary_distance(const Doubt& d, const glm::dvec3& p, double within);
+  /// Marks v uncertified by the first face with an invalid trim for which within(box, v.widen) holds.
   template <class Within>
-  Verdict judge(Within within) const;
+  void mark_invalid(Verdict& v, Within within) const;
   std::vector<Doubt> doubts_;
 };
 

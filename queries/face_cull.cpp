@@ -50,11 +50,6 @@ std::vector<FaceData> face_data(const std::vector<nurbs::TrimmedSurface>& faces,
 size_t FaceCull::kept_a() const { return size_t(std::count(keep_a.begin(), keep_a.end(), 1)); }
 size_t FaceCull::kept_b() const { return size_t(std::count(keep_b.begin(), keep_b.end(), 1)); }
 
-double box_distance(const glm::dvec3& lo_a, const glm::dvec3& hi_a, const glm::dvec3& lo_b, const glm::dvec3& hi_b) {
-  const glm::dvec3 gap = glm::max(glm::max(lo_a - hi_b, lo_b - hi_a), glm::dvec3(0.0));
-  return glm::length(gap);
-}
-
 FaceCull cull_faces(const std::vector<nurbs::TrimmedSurface>& a, const std::vector<nurbs::TrimmedSurface>& b,
                     std::span<const glm::dmat4> motions_b, double margin, int samples) {
   FaceCull out;
@@ -80,7 +75,7 @@ FaceCull cull_faces(const std::vector<nurbs::TrimmedSurface>& a, const std::vect
     pairs.reserve(a.size() * b.size());
     for (size_t f = 0; f < a.size(); ++f)
       for (size_t g = 0; g < b.size(); ++g)
-        pairs.push_back({box_distance(da[f].box.min, da[f].box.max, mb[g].box.min, mb[g].box.max),
+        pairs.push_back({nurbs::box_distance(da[f].box, mb[g].box),
                          {uint32_t(f), uint32_t(g)}});
     std::sort(pairs.begin(), pairs.end());
     double upper = std::numeric_limits<double>::infinity();

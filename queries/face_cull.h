@@ -34,8 +34,4 @@ struct FaceCull {
                                   const std::vector<nurbs::TrimmedSurface>& b, std::span<const glm::dmat4> motions_b,
                                   double margin, int samples = 5);
 
-/// Distance between two axis-aligned boxes (0 when they meet).
-[[nodiscard]] double box_distance(const glm::dvec3& lo_a, const glm::dvec3& hi_a, const glm::dvec3& lo_b,
-                                  const glm::dvec3& hi_b);
-
 }  // namespace queries
