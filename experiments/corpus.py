@@ -254,7 +254,7 @@ def survey(path, rel, writer, a, cli, peer, tmp):
 def compare_with_occt(row, ours, peer, path, points, size, a, limit, failures):
     """OCCT's face count and exact distances to the trimmed faces of the same points; WRONG counts our
     found answers (but those marked uncertified) off OCCT's by more than our bound plus 1e-9 x size."""
-    status, code, out, err, wall = run_child([peer, "points", path, "--points", points, "--repeat", "1",
+    status, code, out, err, wall = run_child([peer, "points", path, "--points", points, "--repeat", "0",
                                               "--trimmed", str(a.points)], a.timeout, limit)
     o = parse_json(out)
     if status != "ok" or code != 0 or "trimmed" not in o:

@@ -1,17 +1,17 @@
 // OpenCASCADE peer of the distance experiments (experiments/distance_tables.py): the same
-// IGES files, the same rigid motion of B, the same machine; prints JSON, asserts nothing.
+// IGES or STEP files, the same rigid motion of B, the same machine; prints JSON, asserts nothing.
 //  shapes A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG] | [--motion FILE] [--repeat N]:
 //      BRepExtrema_DistShapeShape between A and B moved (rotated by DEG degrees about the axis
 //      through the origin, then moved, as `nurbsgl clearance`); per motion the median of N runs.
 //      --witness FILE: how far given closest points (nurbsgl's) lie from OCCT's A and B faces.
 //  points MODEL --points FILE [--repeat N] [--trimmed M]: GeomAPI_ProjectPointOnSurf, one projector per face
-//      initialised once on the face's surface and its UV bounds (trims ignored), min over faces;
+//      initialised once on the face's surface and its UV bounds (trims ignored), min over faces (none with N = 0);
 //      --trimmed M: also BRepExtrema_DistShapeShape from each of the first M points to the shape
 //      (the exact distance to the trimmed faces), with the shape's tolerance.
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
 //      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
-// Reads the models with nurbs-free OCCT code only (IGESControl_Reader), so it is an independent peer.
+// Reads the models with nurbs-free OCCT code only (IGESControl_Reader, STEPControl_Reader), so it is an independent peer.
 #include <fmt/format.h>
 
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -48,7 +48,7 @@
 namespace {
 
 using peer::Clock;
-using peer::read_iges;
+using peer::read_shape;
 using peer::seconds_since;
 
 double median(std::vector<double> v) {
@@ -139,7 +139,7 @@ int shapes(const std::string& a_path, const std::string& b_path, const std::stri
     }
   }
   double read_a = 0, read_b = 0;
-  const TopoDS_Shape a = read_iges(a_path, read_a), b = read_iges(b_path, read_b);
+  const TopoDS_Shape a = read_shape(a_path, read_a), b = read_shape(b_path, read_b);
   const double tolerance = shape_tolerance(a) + shape_tolerance(b);
   nlohmann::json results = nlohmann::json::array();
   for (const auto& frame : frames) {
@@ -189,7 +189,7 @@ int points(const std::string& model, const std::string& file, int repeat, int tr
     input.emplace_back(v[0], v[1], v[2]);
   }
   double read_s = 0;
-  const TopoDS_Shape shape = read_iges(model, read_s);
+  const TopoDS_Shape shape = read_shape(model, read_s);
   const auto t0 = Clock::now();
   std::deque<GeomAPI_ProjectPointOnSurf> projectors;  // not movable: a deque never relocates
   for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
@@ -255,7 +255,7 @@ int rays(const std::string& model, const std::string& file, int repeat) {
     input.emplace_back(gp_Pnt(v[0], v[1], v[2]), gp_Dir(v[3], v[4], v[5]));
   }
   double read_s = 0;
-  const TopoDS_Shape shape = read_iges(model, read_s);
+  const TopoDS_Shape shape = read_shape(model, read_s);
   TopTools_IndexedMapOfShape faces;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
   const auto t0 = Clock::now();
@@ -303,8 +303,8 @@ int main(int argc, char** argv) {
   std::string a, b, move, rotate, motion, witness, model, file;
   int repeat = 5, trimmed = 0;
   auto* s = app.add_subcommand("shapes", "BRepExtrema_DistShapeShape between A and B moved");
-  s->add_option("A", a, "First IGES model")->required();
-  s->add_option("B", b, "Second IGES model")->required();
+  s->add_option("A", a, "First IGES or STEP model")->required();
+  s->add_option("B", b, "Second IGES or STEP model")->required();
   s->add_option("--move-b", move, "Translate B by DX,DY,DZ (after the rotation)");
   s->add_option("--rotate-b", rotate, "Rotate B by DEG degrees about AX,AY,AZ through the origin");
   s->add_option("--motion", motion, "One query per line: DX DY DZ AX AY AZ DEG");
@@ -312,14 +312,15 @@ int main(int argc, char** argv) {
                 "Lines FRAME AX AY AZ BX BY BZ: distance of these points to A and to B moved as in FRAME (from 0)");
   s->add_option("--repeat", repeat, "Runs per query; the median is reported")->check(CLI::PositiveNumber);
   auto* p = app.add_subcommand("points", "GeomAPI_ProjectPointOnSurf of every point, projectors initialised once");
-  p->add_option("MODEL", model, "IGES model")->required();
+  p->add_option("MODEL", model, "IGES or STEP model")->required();
   p->add_option("--points", file, "x y z per line")->required();
-  p->add_option("--repeat", repeat, "Runs over all points; the median is reported")->check(CLI::PositiveNumber);
+  p->add_option("--repeat", repeat, "Runs over all points; the median is reported (0: no projection, --trimmed only)")
+      ->check(CLI::NonNegativeNumber);
   p->add_option("--trimmed", trimmed,
                 "Also the exact distance to the trimmed faces (BRepExtrema_DistShapeShape) of the first N points")
       ->check(CLI::NonNegativeNumber);
   auto* r = app.add_subcommand("rays", "IntCurvesFace_ShapeIntersector: nearest hit of every ray");
-  r->add_option("MODEL", model, "IGES model")->required();
+  r->add_option("MODEL", model, "IGES or STEP model")->required();
   r->add_option("--rays", file, "ox oy oz dx dy dz per line")->required();
   r->add_option("--repeat", repeat, "Runs over all rays; the median is reported")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
