@@ -194,6 +194,7 @@ void run(const GlobalOptions& global, const TessArgs& a) {
                           {"edges_before_simplification", r.stats.trim.edges_before},
                           {"edges_after_simplification", r.stats.trim.edges_after},
                           {"crossings_fixed", r.stats.trim.crossings_fixed},
+                          {"crossing_refined_faces", r.stats.trim.crossing_refined_faces},
                           {"polyline_points_thinned", r.stats.trim.thinned_points},
                           {"rectangle_faces", r.stats.trim.rectangle_faces},
                           {"lifted_degree_max", r.stats.trim.lifted_degree_max},

@@ -32,6 +32,10 @@
 
 namespace nurbs::tess {
 
+/// Times approximate_trim_loops approximates a face's loops again at a quarter of the tolerance
+/// while that removes crossings of the polylines (down to eps / 256).
+inline constexpr int kCrossingRefinements = 4;
+
 struct TrimApproxOptions {
   double eps = 0.1;     ///< absolute 3D tolerance of the loops, model units
   double gamma = 0.75;  ///< share of eps for the curve subdivision; the rest for the simplification
@@ -64,6 +68,9 @@ struct TrimApproxStats {
   size_t edges_before = 0;      ///< polyline edges after the subdivision
   size_t edges_after = 0;       ///< after simplification and crossing correction
   size_t crossings_fixed = 0;
+  /// Faces whose loops were approximated again at a finer eps because their polylines crossed where
+  /// their curves do not (approximate_trim_loops)
+  size_t crossing_refined_faces = 0;
   size_t thinned_points = 0;           ///< points of polyline trim curves dropped before §4 (trim_thinning.h)
   size_t rectangle_faces = 0;          ///< faces whose outer loop is their parameter rectangle (outer_polyline)
   double seconds_conversion = 0.0;     ///< §4
@@ -101,6 +108,8 @@ size_t simplify_loop(LoopPolyline& loop, double tol, double tol_uv);
 /// Main entry (§4 + §5): loops_to_approximate(face) as closed polylines within opt.eps of the 3D
 /// trim curves S(c(t)). Not covered by that bound: curves of a loop that join with gaps keep them as
 /// straight edges, and vertices inserted at crossings (input errors) are S(uv) of the crossing.
+/// Polylines that cross where their curves do not (loops closer than the chord error) are
+/// approximated again at eps / 4, up to kCrossingRefinements times, while that removes crossings.
 [[nodiscard]] std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, const TrimApproxOptions& opt,
                                                                TrimApproxStats* stats = nullptr);
 

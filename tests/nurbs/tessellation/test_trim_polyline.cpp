@@ -373,6 +373,38 @@ TEST_CASE("trim: crossing loops get a vertex at each crossing") {
   CHECK(found);
 }
 
+TEST_CASE("trim: loops closer than the chord error are approximated finer, not cut at crossings") {
+  // A ring face 0.05 wide (circles of radius 20 and 19.95) at eps 0.3: the chords of each circle
+  // sag up to eps inside it, so the coarse polylines cross where the circles do not. The loops are
+  // approximated again finer; every vertex stays on its own circle.
+  TrimmedSurface face;
+  face.surface = models::bilinear_square(50.0);
+  face.loops.push_back({{models::rational_circle_2d({25, 25}, 20.0, true)}, true});
+  Curve2 inner = models::rational_circle_2d({25, 25}, 19.95, false);
+  for (glm::dvec2& p : inner.points) {  // turned by 20 degrees: its chords' ends fall between the outer's
+    const glm::dvec2 d = p - glm::dvec2(25, 25);
+    const double c = std::cos(0.349), s = std::sin(0.349);
+    p = glm::dvec2(25, 25) + glm::dvec2(c * d.x - s * d.y, s * d.x + c * d.y);
+  }
+  face.loops.push_back({{inner}, false});
+  TrimApproxOptions opt;
+  opt.eps = 0.3;
+  opt.repair = false;
+  CHECK(count_crossings(approximate_trim_loops(face, opt)) > 0);
+  opt.repair = true;
+  TrimApproxStats st;
+  const auto out = approximate_trim_loops(face, opt, &st);
+  CHECK(st.crossing_refined_faces == 1);
+  CHECK(st.crossings_fixed == 0);
+  CHECK(count_crossings(out) == 0);
+  REQUIRE(out.size() == 2);
+  for (const double r : {20.0, 19.95}) {
+    const LoopPolyline& loop = out[r == 20.0 ? 0 : 1];
+    for (const glm::dvec2& uv : loop.uv) CHECK(glm::length(uv - glm::dvec2(25, 25)) == doctest::Approx(r).epsilon(1e-9));
+  }
+  CHECK(hausdorff_excess(face, out, opt.eps * (1 + 1e-9), 400) <= 0.0);
+}
+
 TEST_CASE("trim: a loop folded over itself is cut at its crossing and the folded lobe dropped") {
   // The outer loop runs down from (0.1, 0.9) to (0.2, 0.1), across A's first side y = 0.2: the lobe
   // below that side turns clockwise against the loop (as a polyline folded near a boundary does).

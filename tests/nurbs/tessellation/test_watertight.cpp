@@ -257,7 +257,8 @@ TEST_CASE("watertight: close_t_junctions splits the triangle on the other side o
 
 TEST_CASE("watertight: closed models lose their open edges" * test::needs_shared_models()) {
   for (const char* name :
-       {"generated/vase_shell_t2_brep.igs", "generated/gmsh_component8_brep.igs", "iges/occt_bearing.iges"}) {
+       {"generated/vase_shell_t2_brep.igs", "generated/gmsh_component8_brep.igs", "generated/occt_Motor-c_brep.igs",
+        "iges/occt_bearing.iges"}) {
     const auto path = test::shared_models_dir() / name;
     REQUIRE(std::filesystem::exists(path));
     const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(nurbs::io::read_model(path));
@@ -276,12 +277,14 @@ TEST_CASE("watertight: closed models lose their open edges" * test::needs_shared
                               << open << " (" << r.stats.shared_vertices << " loop vertices shared, "
                               << r.stats.t_junction_splits << " T-junction splits, " << counts.nonmanifold
                               << " non-manifold edges)");
-    // vase: 584 -> 0, component8: 0, bearing: 3316 -> 194; the bearing's rest are gaps of the model itself (e.g. face 86's edge v = 1 is up
+    // vase: 584 -> 0, component8: 0, motor: 0 (a ring face 0.05 wide at eps 0.3 beside two of its
+    // faces: loops approximated finer where they cross), bearing: 3316 -> 194; the bearing's rest are gaps of the model itself (e.g. face 86's edge v = 1 is up
     // to 64 eps from every other face's surface), not cracks.
     CHECK(open * 10 <= plain);
     if (std::string(name).find("generated/") != std::string::npos) {
       CHECK(open == 0);  // closed shells (IGES 186 / 514 B-rep files)
-      CHECK(counts.nonmanifold == 0);
+      // One solid each; the motor's 17 solids touch along edges, which four triangles then share.
+      if (std::string(name).find("Motor") == std::string::npos) CHECK(counts.nonmanifold == 0);
     }
   }
 }
