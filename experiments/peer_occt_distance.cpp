@@ -4,10 +4,12 @@
 //      BRepExtrema_DistShapeShape between A and B moved (rotated by DEG degrees about the axis
 //      through the origin, then moved, as `nurbsgl clearance`); per motion the median of N runs.
 //      --witness FILE: how far given closest points (nurbsgl's) lie from OCCT's A and B faces.
-//  points MODEL --points FILE [--repeat N] [--trimmed M]: GeomAPI_ProjectPointOnSurf, one projector per face
+//  points MODEL --points FILE [--repeat N] [--trimmed M [--mesh-deflection D]]: GeomAPI_ProjectPointOnSurf, one projector per face
 //      initialised once on the face's surface and its UV bounds (trims ignored), min over faces (none with N = 0);
 //      --trimmed M: also BRepExtrema_DistShapeShape from each of the first M points to the shape
-//      (the exact distance to the trimmed faces), with the shape's tolerance.
+//      (the exact distance to the trimmed faces), with the shape's tolerance; --mesh-deflection D: also
+//      the distance to OCCT's BRepMesh of the faces at deflection D (a second opinion where the exact
+//      distance's face classification errs).
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
 //      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
@@ -17,11 +19,13 @@
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRep_Builder.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <CLI/CLI.hpp>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <IntCurvesFace_ShapeIntersector.hxx>
+#include <Poly_Triangulation.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopExp.hxx>
 #include <gp_Lin.hxx>
@@ -35,7 +39,9 @@
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Face.hxx>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -95,6 +101,47 @@ nlohmann::json point_json(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 double gap(const gp_Pnt& p, const TopoDS_Shape& shape) {
   BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(p).Vertex(), shape);
   return d.IsDone() && d.NbSolution() > 0 ? d.Value() : INFINITY;
+}
+
+/// Distance from p to the triangle a b c (the closest point by the triangle's Voronoi regions).
+double triangle_distance(const gp_XYZ& p, const gp_XYZ& a, const gp_XYZ& b, const gp_XYZ& c) {
+  const gp_XYZ ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.Dot(ap), d2 = ac.Dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.Modulus();
+  const gp_XYZ bp = p - b;
+  const double d3 = ab.Dot(bp), d4 = ac.Dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.Modulus();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).Modulus();
+  const gp_XYZ cp = p - c;
+  const double d5 = ab.Dot(cp), d6 = ac.Dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.Modulus();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).Modulus();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).Modulus();
+  const double den = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * den) + ac * (vc * den))).Modulus();
+}
+
+/// The triangles of BRepMesh_IncrementalMesh at `deflection` over every face of the shape, placed.
+std::vector<std::array<gp_XYZ, 3>> mesh_triangles(const TopoDS_Shape& shape, double deflection) {
+  BRepMesh_IncrementalMesh mesher(shape, deflection);
+  std::vector<std::array<gp_XYZ, 3>> out;
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+    TopLoc_Location where;
+    const Handle(Poly_Triangulation) t = BRep_Tool::Triangulation(TopoDS::Face(e.Current()), where);
+    if (t.IsNull()) continue;
+    const gp_Trsf move = where.Transformation();
+    for (int k = 1; k <= t->NbTriangles(); ++k) {
+      int i, j, l;
+      t->Triangle(k).Get(i, j, l);
+      out.push_back({t->Node(i).Transformed(move).XYZ(), t->Node(j).Transformed(move).XYZ(),
+                     t->Node(l).Transformed(move).XYZ()});
+    }
+  }
+  return out;
 }
 
 /// Per line "FRAME AX AY AZ BX BY BZ" (FRAME from 0): the distances of the witness points (the
@@ -177,7 +224,7 @@ int shapes(const std::string& a_path, const std::string& b_path, const std::stri
   return 0;
 }
 
-int points(const std::string& model, const std::string& file, int repeat, int trimmed) {
+int points(const std::string& model, const std::string& file, int repeat, int trimmed, double deflection) {
   std::vector<gp_Pnt> input;
   std::ifstream f(file);
   if (!f) throw std::runtime_error("--points " + file + ": cannot open the file");
@@ -237,6 +284,16 @@ int points(const std::string& model, const std::string& file, int repeat, int tr
     }
     out["trimmed"] = {{"points", d.size()}, {"seconds", seconds_since(t2)}, {"distances", d},
                       {"tolerance", shape_tolerance(shape)}};
+    if (deflection > 0) {  // a second opinion: the distance to OCCT's own mesh of the faces
+      const auto triangles = mesh_triangles(shape, deflection);
+      nlohmann::json m = nlohmann::json::array();
+      for (size_t i = 0; i < input.size() && i < size_t(trimmed); ++i) {
+        double best = INFINITY;
+        for (const auto& t : triangles) best = std::min(best, triangle_distance(input[i].XYZ(), t[0], t[1], t[2]));
+        m.push_back(std::isfinite(best) ? nlohmann::json(best) : nlohmann::json(nullptr));
+      }
+      out["trimmed"]["mesh"] = {{"deflection", deflection}, {"triangles", triangles.size()}, {"distances", m}};
+    }
   }
   fmt::print("{}\n", out.dump(1));
   return 0;
@@ -302,6 +359,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string a, b, move, rotate, motion, witness, model, file;
   int repeat = 5, trimmed = 0;
+  double deflection = 0.0;
   auto* s = app.add_subcommand("shapes", "BRepExtrema_DistShapeShape between A and B moved");
   s->add_option("A", a, "First IGES or STEP model")->required();
   s->add_option("B", b, "Second IGES or STEP model")->required();
@@ -319,6 +377,9 @@ int main(int argc, char** argv) {
   p->add_option("--trimmed", trimmed,
                 "Also the exact distance to the trimmed faces (BRepExtrema_DistShapeShape) of the first N points")
       ->check(CLI::NonNegativeNumber);
+  p->add_option("--mesh-deflection", deflection,
+                "With --trimmed: also the distance to OCCT's mesh of the faces (BRepMesh at this deflection)")
+      ->check(CLI::NonNegativeNumber);
   auto* r = app.add_subcommand("rays", "IntCurvesFace_ShapeIntersector: nearest hit of every ray");
   r->add_option("MODEL", model, "IGES or STEP model")->required();
   r->add_option("--rays", file, "ox oy oz dx dy dz per line")->required();
@@ -327,7 +388,7 @@ int main(int argc, char** argv) {
   Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the reader's chatter
   try {
     if (r->parsed()) return rays(model, file, repeat);
-    return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat, trimmed);
+    return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat, trimmed, deflection);
   } catch (const std::exception& e) {
     fmt::print(stderr, "peer_occt_distance: {}\n", e.what());
     return 2;
