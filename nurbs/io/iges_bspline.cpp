@@ -152,12 +152,18 @@ Surface IgesGeometry::surface(int de, const glm::dmat4& parent, bool restrict_to
   }
   const int r0 = p0 + 3 * static_cast<int>(count);
   const double u0 = p.real(r0), u1 = p.real(r0 + 1), v0 = p.real(r0 + 2), v1 = p.real(r0 + 3);
-  if (!(u0 < u1) || !(v0 < v1)) p.fail(r0, fmt::format("parameter range [{}, {}] x [{}, {}] is empty", u0, u1, v0, v1));
   p.check_trailing(r0 + 3);
   check_valid(p, s);
   // IGES: the surface is its part on [U(0), U(1)] x [V(0), V(1)]; restrict when inside the domain.
+  // An empty range (a writer's rounding: FreeCAD wrote U(0) = U(1) on a knot span of 3e-7) says
+  // nothing of the part: the knot domain is kept, as OpenCASCADE keeps it, with a warning.
+  const bool empty = !(u0 < u1) || !(v0 < v1);
+  if (empty) {
+    warnings_.push_back(fmt::format("{}: parameter range [{}, {}] x [{}, {}] is empty; its knot domain is used",
+                                    p.where(r0), u0, u1, v0, v1));
+  }
   const Interval du = knot_domain(s.knots_u, s.degree_u, s.count_u), dv = knot_domain(s.knots_v, s.degree_v, s.count_v);
-  if (restrict_to_range && (inside(du, u0, u1) || inside(dv, v0, v1))) {
+  if (restrict_to_range && !empty && (inside(du, u0, u1) || inside(dv, v0, v1))) {
     s = restrict_surface(s, {u0, u1}, {v0, v1});
     ++ranges_restricted_;
   }

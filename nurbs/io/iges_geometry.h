@@ -72,6 +72,10 @@ class IgesGeometry {
   /// restricted to it (nurbs/restrict.h).
   [[nodiscard]] int ranges_restricted() const { return ranges_restricted_; }
 
+  /// What was read differently from the letter of the file, each naming its line and entity
+  /// (Model::read_warnings): a 128 whose declared parameter range is empty keeps its knot domain.
+  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+
  private:
   glm::dmat4 matrix_124(int de, int depth);
   Curve3 bspline_curve(const EntityParams& p);
@@ -81,6 +85,7 @@ class IgesGeometry {
   const IgesFile& file_;
   std::unordered_map<int, glm::dmat4> transforms_;
   int ranges_restricted_ = 0;
+  std::vector<std::string> warnings_;
   long long points_made_ = 0;                    // control points of every curve and surface built so far
   std::vector<int> composites_;                  // the 102s being expanded, outermost first: cycle detection
   std::unordered_set<int> referenced_;           // entries returned by expect()

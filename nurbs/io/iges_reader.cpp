@@ -64,6 +64,7 @@ class ModelBuilder {
   /// After build(): the face entities tried (read or dropped) and those dropped, with the reason.
   [[nodiscard]] int faces_tried() const { return faces_tried_; }
   [[nodiscard]] const std::vector<DroppedFace>& dropped() const { return dropped_; }
+  [[nodiscard]] const std::vector<std::string>& geometry_warnings() const { return g_.warnings(); }
 
  private:
   size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
@@ -191,6 +192,8 @@ Model read_iges_text(std::string text, const std::string& name, const IgesReadOp
   model.faces_in_file = builder.faces_tried();
   model.dropped_faces = builder.dropped();
   model.read_warnings.insert(model.read_warnings.begin(), file.global.warnings.begin(), file.global.warnings.end());
+  model.read_warnings.insert(model.read_warnings.end(), builder.geometry_warnings().begin(),
+                             builder.geometry_warnings().end());
   if (options.convert_to_mm && model.unit_scale_to_mm != 1.0) {
     for (Body& b : model.bodies)
       for (TrimmedSurface& f : b.faces)

@@ -428,6 +428,7 @@ class StepReader {
 
  private:
   std::vector<DroppedFace> dropped_;  // those dropped, with the reason
+  std::vector<std::string> warnings_;  // read differently from the letter of the file (Model::read_warnings)
 
   // ---- access -------------------------------------------------------------------------------------
   [[noreturn]] void fail(const StepEntity& e, const std::string& problem) const {
@@ -642,13 +643,23 @@ Frame StepReader::placement(long id, const StepEntity& from) {
   const StepValue& axis = param(e, r, 2, "axis");
   const StepValue& refd = param(e, r, 3, "ref_direction");
   f.z = axis.kind == Kind::Null ? glm::dvec3(0, 0, 1) : direction(ref(e, axis, "axis"), e);
-  // ISO 10303-42 first_proj_axis: the reference direction made orthogonal to the axis.
-  glm::dvec3 v = refd.kind == Kind::Null ? (f.z != glm::dvec3(1, 0, 0) ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1))
-                                         : direction(ref(e, refd, "ref_direction"), e);
-  v -= glm::dot(v, f.z) * f.z;
-  const double n = glm::length(v);
-  if (!(n > 1e-12)) fail(e, "its reference direction is parallel to its axis");
-  f.x = v / n;
+  // ISO 10303-42 first_proj_axis: the reference direction made orthogonal to the axis; without
+  // one, (1, 0, 0), or (0, 1, 0) where the axis is +-(1, 0, 0).
+  const auto project = [&](glm::dvec3 v) { return v - glm::dot(v, f.z) * f.z; };
+  const glm::dvec3 fallback = project(std::abs(f.z.x) == 1.0 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0));
+  glm::dvec3 v = refd.kind == Kind::Null ? fallback : project(direction(ref(e, refd, "ref_direction"), e));
+  if (!(glm::length(v) > 1e-12) && refd.kind != Kind::Null) {
+    // The standard leaves the frame undefined; OpenCASCADE reads such files. Take the frame the
+    // file would have without a reference direction: a circle or a surface of revolution keeps its
+    // shape, only where its parameter starts may differ from the writer's.
+    std::string w = fmt::format("line {}: #{} (AXIS2_PLACEMENT_3D): its reference direction is parallel to its "
+                                "axis; the default first axis of ISO 10303-42 is used",
+                                e.line, e.id);
+    if (std::find(warnings_.begin(), warnings_.end(), w) == warnings_.end()) warnings_.push_back(std::move(w));
+    v = fallback;
+  }
+  if (!(glm::length(v) > 1e-12)) fail(e, "its reference direction is parallel to its axis");
+  f.x = glm::normalize(v);
   f.y = glm::cross(f.z, f.x);
   return f;
 }
@@ -1773,6 +1784,7 @@ Model StepReader::read() {
         break;
       }
   }
+  model.read_warnings.insert(model.read_warnings.end(), warnings_.begin(), warnings_.end());
   // Damaged records the geometry never reached (a reached one failed the read).
   for (long id : f_.order) {
     const StepEntity& e = f_.entities.at(id);

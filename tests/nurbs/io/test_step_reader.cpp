@@ -43,19 +43,25 @@ std::string context(const std::string& length) {
 
 const std::string kMillimetre = "#901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n";
 
-// A square face of side 2 on the plane z = 1: four LINE edges, in a surface model.
-std::string square_face(const std::string& length) {
+// A square face of side 2 on the plane z = 1: four LINE edges, in a surface model. `placement`: the
+// plane's AXIS2_PLACEMENT_3D #4 with its point #1 and directions #2, #3; `on_x`: the square on the
+// plane x = 1 instead, (x, y, 1) written as (1, x, y).
+const std::string kPlaneZ = "#1=CARTESIAN_POINT('',(0.,0.,1.));\n#2=DIRECTION('',(0.,0.,1.));\n"
+                            "#3=DIRECTION('',(1.,0.,0.));\n#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
+std::string square_face(const std::string& length, const std::string& placement = kPlaneZ, bool on_x = false) {
   std::string d = context(length);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,1.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n";
+  d += placement + "#5=PLANE('',#4);\n";
+  const auto xyz = [&](double x, double y, double z) {
+    return on_x ? fmt::format("({},{},{})", z, x, y) : fmt::format("({},{},{})", x, y, z);
+  };
   const double xy[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
   for (int i = 0; i < 4; ++i)
-    d += fmt::format("#{}=CARTESIAN_POINT('',({},{},1.));\n#{}=VERTEX_POINT('',#{});\n", 10 + i, xy[i][0], xy[i][1],
+    d += fmt::format("#{}=CARTESIAN_POINT('',{});\n#{}=VERTEX_POINT('',#{});\n", 10 + i, xyz(xy[i][0], xy[i][1], 1.0),
                      20 + i, 10 + i);
   for (int i = 0; i < 4; ++i) {
     const int j = (i + 1) % 4;
-    d += fmt::format("#{}=DIRECTION('',({},{},0.));\n#{}=VECTOR('',#{},1.);\n#{}=LINE('',#{},#{});\n", 30 + i,
-                     xy[j][0] - xy[i][0], xy[j][1] - xy[i][1], 40 + i, 30 + i, 50 + i, 10 + i, 40 + i);
+    d += fmt::format("#{}=DIRECTION('',{});\n#{}=VECTOR('',#{},1.);\n#{}=LINE('',#{},#{});\n", 30 + i,
+                     xyz(xy[j][0] - xy[i][0], xy[j][1] - xy[i][1], 0.0), 40 + i, 30 + i, 50 + i, 10 + i, 40 + i);
     d += fmt::format("#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n", 60 + i, 20 + i,
                      20 + j, 50 + i, 70 + i, 60 + i);
   }
@@ -180,6 +186,26 @@ TEST_CASE("STEP reader: a plane face, its edges mapped exactly, and length units
   CHECK(nurbs::io::read_step_text(square_face(inch), "inch.stp").unit_scale_to_mm == doctest::Approx(25.4));
   const std::string metre = "#901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) );\n";
   CHECK(nurbs::io::read_step_text(square_face(metre), "m.stp").unit_scale_to_mm == doctest::Approx(1000.0));
+}
+
+TEST_CASE("STEP reader: a placement without a usable reference direction takes ISO 10303-42's default") {
+  // Axis -x without a reference direction: the default first axis is (0, 1, 0) (the standard's
+  // (1, 0, 0) is parallel to it).
+  const std::string minus_x = "#1=CARTESIAN_POINT('',(1.,0.,0.));\n#2=DIRECTION('',(-1.,0.,0.));\n"
+                              "#4=AXIS2_PLACEMENT_3D('',#1,#2,$);\n";
+  const nurbs::Model a = nurbs::io::read_step_text(square_face(kMillimetre, minus_x, true), "minus_x.stp");
+  CHECK(a.read_warnings.empty());
+  CHECK(material_share(only_face(a)) == doctest::Approx(1.0 / (1.02 * 1.02)).epsilon(0.01));
+  // A reference direction along the axis leaves the frame undefined: the default, with a warning
+  // naming the line of the placement.
+  std::string along = kPlaneZ;
+  along.replace(along.find("(1.,0.,0.)"), 10, "(0.,0.,2.)");
+  const nurbs::Model b = nurbs::io::read_step_text(square_face(kMillimetre, along), "along.stp");
+  REQUIRE(b.read_warnings.size() == 1);
+  CHECK(b.read_warnings[0].find("#4 (AXIS2_PLACEMENT_3D): its reference direction is parallel to its axis") !=
+        std::string::npos);
+  CHECK(b.read_warnings[0].rfind("line ", 0) == 0);
+  CHECK(material_share(only_face(b)) == doctest::Approx(1.0 / (1.02 * 1.02)).epsilon(0.01));
 }
 
 TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn, on the cylinder") {

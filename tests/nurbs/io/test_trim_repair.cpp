@@ -111,3 +111,21 @@ TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a tri
   CHECK(surface_domain_u(t.bodies[0].faces[0].surface).min == 0.0);
   CHECK(surface_domain_u(t.bodies[0].faces[1].surface).min == 0.25);
 }
+
+TEST_CASE("IGES reader: an empty declared 128 range keeps the knot domain, with a warning") {
+  Model bare;
+  TrimmedSurface bump;
+  bump.surface = io::test::bump();
+  bare.bodies.push_back({"b", {bump}, glm::dmat4(1.0), ""});
+  io::IgesReadLog log;
+  const Model r = io::read_iges_text(with_surface_range(bare, {"0.5", "0.5", "0.1", "0.9"}), "empty.igs", {}, &log);
+  CHECK(log.ranges_restricted == 0);
+  REQUIRE(r.bodies.size() == 1);
+  const Surface& s = r.bodies[0].faces[0].surface;
+  CHECK(surface_domain_u(s).min == surface_domain_u(io::test::bump()).min);
+  CHECK(surface_domain_v(s).max == surface_domain_v(io::test::bump()).max);
+  REQUIRE(r.read_warnings.size() == 1);
+  CHECK(r.read_warnings[0].rfind("line ", 0) == 0);
+  CHECK(r.read_warnings[0].find("(type 128)") != std::string::npos);
+  CHECK(r.read_warnings[0].find("parameter range [0.5, 0.5] x [0.1, 0.9] is empty") != std::string::npos);
+}
