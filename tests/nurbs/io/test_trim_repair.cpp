@@ -84,13 +84,19 @@ std::string with_surface_range(const Model& m, const std::array<std::string, 4>&
   return e.text();
 }
 
-}  // namespace
-
-TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a trimmed one") {
+/// One untrimmed face, the bump.
+Model bare_bump() {
   Model bare;
   TrimmedSurface bump;
   bump.surface = io::test::bump();
   bare.bodies.push_back({"b", {bump}, glm::dmat4(1.0), ""});
+  return bare;
+}
+
+}  // namespace
+
+TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a trimmed one") {
+  const Model bare = bare_bump();
   io::IgesReadLog log;
   const Model r = io::read_iges_text(with_surface_range(bare, {"0.25", "0.75", "0.1", "0.9"}), "range.igs", {}, &log);
   CHECK(log.ranges_restricted == 1);
@@ -113,10 +119,7 @@ TEST_CASE("IGES reader: a declared 128 range bounds an untrimmed face, not a tri
 }
 
 TEST_CASE("IGES reader: an empty declared 128 range keeps the knot domain, with a warning") {
-  Model bare;
-  TrimmedSurface bump;
-  bump.surface = io::test::bump();
-  bare.bodies.push_back({"b", {bump}, glm::dmat4(1.0), ""});
+  const Model bare = bare_bump();
   io::IgesReadLog log;
   const Model r = io::read_iges_text(with_surface_range(bare, {"0.5", "0.5", "0.1", "0.9"}), "empty.igs", {}, &log);
   CHECK(log.ranges_restricted == 0);
