@@ -43,7 +43,8 @@ void add_info(CLI::App& app, const GlobalOptions& global) {
       throw nurbs::io::ReadError(model.source, "", problems.front());
     if (*json) {
       nlohmann::json j = nurbs::io::to_json(s);
-      j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"loops_reordered", log.reordered_loops},
+      j["reader"] = {{"loops_reoriented", log.reoriented_loops}, {"outer_loops_fixed", log.outer_loops_fixed},
+                     {"loops_reordered", log.reordered_loops},
                      {"domain_loops_added", log.domain_loops_added},
                      {"gaps_closed", log.gaps_closed}, {"loops_wrapped", log.loops_wrapped},           {"ranges_restricted", log.ranges_restricted},
                      {"trim_problems", log.trim_problems},       {"faces_dropped", log.warnings},
@@ -55,9 +56,10 @@ void add_info(CLI::App& app, const GlobalOptions& global) {
     }
     fmt::print("{}", nurbs::io::to_text(s, *per_face));
     fmt::print(
-        "reader             {} loops reoriented, {} loops with curves chained again, {} domain loops added, {} trim "
-        "gaps closed, {} curves/surfaces restricted to their declared parameter range; read in {:.3f} s\n",
-        log.reoriented_loops, log.reordered_loops, log.domain_loops_added, log.gaps_closed, log.ranges_restricted,
+        "reader             {} loops reoriented, {} faces whose declared outer loop lay inside another, {} loops with "
+        "curves chained again, {} domain loops added, {} trim gaps closed, {} curves/surfaces restricted to their "
+        "declared parameter range; read in {:.3f} s\n",
+        log.reoriented_loops, log.outer_loops_fixed, log.reordered_loops, log.domain_loops_added, log.gaps_closed, log.ranges_restricted,
         read_seconds);
     fmt::print("trim problems      {}\n", log.trim_problems.size());
     for (size_t i = 0; i < log.trim_problems.size() && i < 20; ++i) fmt::print("  {}\n", log.trim_problems[i]);

@@ -211,6 +211,39 @@ int reorder_trim_curves(TrimmedSurface& face, double tolerance) {
   return rebuilt;
 }
 
+namespace {
+
+/// Whether most vertices of `inner` (all but a tenth: loops may touch) lie inside `outer`.
+bool mostly_inside(const std::vector<glm::dvec2>& inner, const std::vector<glm::dvec2>& outer) {
+  if (inner.empty() || outer.size() < 3) return false;
+  size_t in = 0;
+  for (const glm::dvec2& p : inner) in += winding_number(outer, p) != 0;
+  return 10 * in >= 9 * inner.size();
+}
+
+}  // namespace
+
+int fix_outer_loop(TrimmedSurface& face, TrimPolygons& polys) {
+  size_t declared = face.loops.size();
+  for (size_t k = 0; k < face.loops.size(); ++k)
+    if (face.loops[k].outer) {
+      if (declared != face.loops.size()) return 0;  // several outer loops: not this case
+      declared = k;
+    }
+  if (declared == face.loops.size() || face.loops.size() < 2) return 0;
+  for (size_t c = 0; c < face.loops.size(); ++c) {
+    if (c == declared || !mostly_inside(polys.loops[declared], polys.loops[c])) continue;
+    bool holds_all = true;
+    for (size_t k = 0; k < face.loops.size() && holds_all; ++k)
+      holds_all = k == c || mostly_inside(polys.loops[k], polys.loops[c]);
+    if (!holds_all) continue;
+    face.loops[c].outer = polys.outer[c] = true;
+    face.loops[declared].outer = polys.outer[declared] = false;
+    return 1;
+  }
+  return 0;
+}
+
 int orient_trim_loops(TrimmedSurface& face, double flatten_tolerance) {
   return orient_trim_loops(face, flatten_trim(face, flatten_tolerance));
 }

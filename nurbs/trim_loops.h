@@ -39,6 +39,13 @@ int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap = 0.
 /// otherwise the loop is left for the checker. Returns the number of loops rebuilt.
 int reorder_trim_curves(TrimmedSurface& face, double tolerance);
 
+/// Where the one loop a face declares outer lies inside another of its loops, and that loop holds
+/// every other loop too (most of each polygon's vertices within it: loops may touch), that loop is
+/// made the outer one and the declared one a hole: a file that names the wrong loop outer (an IGES
+/// 144 whose PTO is one of the holes) bounds the same region as OpenCASCADE's fixed face. `polys`:
+/// flatten_trim of the face, its outer flags changed alike. Returns 1 when the roles changed, else 0.
+int fix_outer_loop(TrimmedSurface& face, TrimPolygons& polys);
+
 /// Reverses loops whose flattened signed area has the wrong sign for their role (outer must be > 0,
 /// inner < 0): curve order reversed and each curve reparametrised backwards. Returns how many loops
 /// were reversed.

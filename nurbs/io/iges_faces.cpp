@@ -153,7 +153,8 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
     log.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
-    const TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
+    TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
+    log.outer_loops_fixed += fix_outer_loop(f, polygons);
     for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons)) {
       if (f.trim_problem.empty()) f.trim_problem = problem;
       log.trim_problems.push_back(std::move(problem));

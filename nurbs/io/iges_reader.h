@@ -45,6 +45,7 @@ struct IgesReadOptions {
 struct IgesReadLog {
   IgesGlobal global;
   int reoriented_loops = 0;    ///< loops reversed to get outer CCW / inner CW
+  int outer_loops_fixed = 0;   ///< faces whose declared outer loop lay inside another loop (fix_outer_loop)
   int loops_wrapped = 0;  ///< faces whose loops were brought into a closed surface's domain (trim_seams.h)
   int reordered_loops = 0;     ///< loops whose curves were chained again (out of order or reversed)
   int domain_loops_added = 0;  ///< rectangle outer loops added to faces with holes only

@@ -1762,6 +1762,7 @@ Model StepReader::read() {
   parallel_for(all.size(), 0, [&](size_t k, int) { finish_trim_loops(*all[k], size, logs[k]); });
   for (const IgesReadLog& l : logs) {
     log_.reoriented_loops += l.reoriented_loops;
+    log_.outer_loops_fixed += l.outer_loops_fixed;
     log_.loops_wrapped += l.loops_wrapped;
     log_.reordered_loops += l.reordered_loops;
     log_.domain_loops_added += l.domain_loops_added;

@@ -185,6 +185,39 @@ TEST_CASE("loop checks: gaps reported and repaired, crossings named with the fac
   CHECK(contains(nurbs::check_trim_loops(eight, 1e-9, kFlat), "face 4: loop 0 curve 2: knots: knots decrease"));
 }
 
+TEST_CASE("a declared outer loop lying inside another loop becomes a hole of it") {
+  // As a 144 naming one of its holes PTO: the small square declared outer, the big one a hole.
+  // The small square (0.4 to 0.5) declared outer, two others (corners lo and hi) declared holes.
+  const auto three_squares = [](glm::dvec2 lo1, glm::dvec2 hi1, glm::dvec2 lo2, glm::dvec2 hi2) {
+    nurbs::TrimmedSurface f;
+    f.surface = unit_plane();
+    f.loops = {square_loop({0.4, 0.4}, {0.5, 0.5}, true, true), square_loop(lo1, hi1, false, false),
+               square_loop(lo2, hi2, false, false)};
+    return f;
+  };
+  nurbs::TrimmedSurface face = three_squares({0.1, 0.1}, {0.9, 0.9}, {0.6, 0.6}, {0.7, 0.7});
+  auto polys = nurbs::flatten_trim(face, kFlat);
+  CHECK(nurbs::fix_outer_loop(face, polys) == 1);
+  CHECK_FALSE(face.loops[0].outer);
+  CHECK(face.loops[1].outer);
+  CHECK_FALSE(face.loops[2].outer);
+  CHECK(polys.outer == std::vector<bool>{false, true, false});
+  CHECK(nurbs::orient_trim_loops(face, polys) == 2);
+  const auto fixed = nurbs::flatten_trim(face, kFlat);
+  CHECK(nurbs::is_material(fixed, {0.2, 0.2}));
+  CHECK_FALSE(nurbs::is_material(fixed, {0.45, 0.45}));
+  CHECK_FALSE(nurbs::is_material(fixed, {0.65, 0.65}));
+  // The usual face, and a declared outer that does not hold a loop lying partly outside it: unchanged.
+  auto usual = square_with_hole(true);
+  auto usual_polys = nurbs::flatten_trim(usual, kFlat);
+  CHECK(nurbs::fix_outer_loop(usual, usual_polys) == 0);
+  CHECK(usual.loops[0].outer);
+  nurbs::TrimmedSurface two = three_squares({0.1, 0.1}, {0.6, 0.6}, {0.55, 0.55}, {0.95, 0.95});
+  auto two_polys = nurbs::flatten_trim(two, kFlat);
+  CHECK(nurbs::fix_outer_loop(two, two_polys) == 0);
+  CHECK(two.loops[0].outer);
+}
+
 TEST_CASE("random trimmed faces: classification agrees with the exact shapes") {
   int checked = 0;
   for (std::uint64_t seed = 0; seed < 200; ++seed) {
