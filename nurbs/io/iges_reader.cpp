@@ -39,8 +39,10 @@ bool is_read_type(int type) {
     case 194:
     case 196:
     case 198:
+    case 308:  // subfigures: their instances (408) place copies of the definition (308)
     case 314:
     case 402:
+    case 408:
     case 406:
     case 502:
     case 504:
@@ -70,6 +72,9 @@ class ModelBuilder {
   size_t index(int de) const { return static_cast<size_t>(de - 1) / 2; }
   void add_face(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
   void add_shell(Body& body, int de, const glm::dmat4& parent, bool reversed = false);
+  void add_solid(std::vector<Body>& bodies, int de, const glm::dmat4& parent, const std::string& prefix);
+  void add_instance(std::vector<Body>& bodies, int de, const glm::dmat4& parent, const std::string& prefix,
+                    int depth);
   void drop(int de, const std::string& reason);
 
   const IgesFile& file_;
@@ -77,6 +82,8 @@ class ModelBuilder {
   IgesFaces faces_;
   IgesReadLog& log_;
   std::vector<char> used_;  // entry already part of a body (shells, faces, their surfaces)
+  std::vector<char> instanced_;  // entry listed by a subfigure definition (308) that a 408 places
+  std::vector<char> face_surface_;  // entry is the surface of a face entity (144, 143, 510)
   int faces_tried_ = 0;
   std::vector<DroppedFace> dropped_;
 };
@@ -116,40 +123,108 @@ void ModelBuilder::add_shell(Body& body, int de, const glm::dmat4& parent, bool 
   for (auto [f, r] : faces) add_face(body, f, m, r);
 }
 
+// 186: SHELL, SOF, N, then N pairs (VOID shell, VOF): one body per solid.
+void ModelBuilder::add_solid(std::vector<Body>& bodies, int de, const glm::dmat4& parent, const std::string& prefix) {
+  const IgesDirectoryEntry& e = file_.entry(de);
+  used_[index(de)] = 1;
+  EntityParams p(file_, e);
+  std::vector<std::pair<int, bool>> shells;  // 514, reversed (its flag SOF / VOF is 0)
+  const int shell = g_.expect(p, 1, {514}, "a shell");
+  shells.emplace_back(shell, p.integer(2, 0, 1, "orientation flag SOF") == 0);
+  const int n = p.integer(3, 0, std::max(0, p.size() / 2), "number of void shells N");
+  for (int k = 0; k < n; ++k) {
+    const int void_shell = g_.expect(p, 4 + 2 * k, {514}, "a shell");
+    shells.emplace_back(void_shell, p.integer(5 + 2 * k, 0, 1, "orientation flag VOF") == 0);
+  }
+  p.check_trailing(3 + 2 * n);
+  Body body{prefix + (e.label.empty() ? fmt::format("solid D{}", e.de) : e.label), {}, glm::dmat4(1.0), {}};
+  for (auto [s, r] : shells) add_shell(body, s, parent * g_.transform(e.de), r);
+  bodies.push_back(std::move(body));
+}
+
+// 408: DE (its 308), X, Y, Z, S (scale, 1 when left empty); 308: DEPTH, NAME, N, DE(1..N). The
+// definition's entities are placed by M * T(X, Y, Z) * S, M the 408's matrix (IGES 5.3, "Singular
+// Subfigure Instance Entity (Type 408)"); faces, shells and solids among them are read there, one
+// body per instance; nested instances compose.
+void ModelBuilder::add_instance(std::vector<Body>& bodies, int de, const glm::dmat4& parent, const std::string& prefix,
+                                int depth) {
+  constexpr int kMaxSubfigureDepth = 16;
+  used_[index(de)] = 1;
+  if (depth > kMaxSubfigureDepth)
+    g_.fail(de, fmt::format("subfigure instances nest deeper than {} (a definition that holds itself?)",
+                            kMaxSubfigureDepth));
+  EntityParams p(file_, file_.entry(de));
+  const int def = g_.expect(p, 1, {308}, "a subfigure definition");
+  const glm::dvec3 move(p.real(2), p.real(3), p.real(4));
+  const bool scaled = p.size() >= 5 && !p.string(5).empty();
+  const double scale = scaled ? p.real(5) : 1.0;
+  if (!(scale > 0.0)) p.fail(5, fmt::format("scale factor {} is not positive", scale));
+  p.check_trailing(scaled ? 5 : 4);
+  glm::dmat4 place(scale);
+  place[3] = glm::dvec4(move, 1.0);
+  const glm::dmat4 m = parent * g_.transform(de) * place;
+  used_[index(def)] = 1;
+  EntityParams d(file_, file_.entry(def));
+  const int n = d.integer(3, 0, std::max(0, d.size() - 3), "number of entities N");
+  std::string title = d.size() >= 2 ? d.string(2) : "";
+  if (title.empty()) title = file_.entry(def).label.empty() ? "subfigure" : file_.entry(def).label;
+  const std::string name = prefix + fmt::format("{} D{}/", title, de);
+  Body loose{name + "faces", {}, glm::dmat4(1.0), {}};
+  for (int k = 0; k < n; ++k) {
+    const int member = d.pointer(4 + k);
+    const IgesDirectoryEntry& e = file_.entry(member);
+    if (e.type == 408)
+      add_instance(bodies, member, m, name, depth + 1);
+    else if (e.type == 186)
+      add_solid(bodies, member, m, name);
+    else if (e.type == 514) {
+      Body shell{name + (e.label.empty() ? fmt::format("shell D{}", e.de) : e.label), {}, glm::dmat4(1.0), {}};
+      add_shell(shell, member, m);
+      bodies.push_back(std::move(shell));
+    } else if (e.type == 144 || e.type == 143 || e.type == 510 || (e.type == 128 && !face_surface_[index(member)]) ||
+               (e.type == 108 && e.form == 1))
+      add_face(loose, member, m);
+  }
+  d.check_trailing(3 + n);
+  if (!loose.faces.empty()) bodies.push_back(std::move(loose));
+}
+
 std::vector<Body> ModelBuilder::build() {
   std::vector<Body> bodies;
+  // The entities of subfigure definitions that an instance places are read there, not where the
+  // definition lists them; a definition no instance places is read as it stands.
+  instanced_.assign(file_.entries.size(), 0);
+  face_surface_.assign(file_.entries.size(), 0);
+  for (const IgesDirectoryEntry& e : file_.entries) {
+    if (e.type != 408) continue;
+    EntityParams p(file_, e);
+    const int def = g_.expect(p, 1, {308}, "a subfigure definition");
+    EntityParams d(file_, file_.entry(def));
+    const int n = d.integer(3, 0, std::max(0, d.size() - 3), "number of entities N");
+    for (int k = 0; k < n; ++k) instanced_[index(d.pointer(4 + k))] = 1;
+  }
   // Surfaces of face entities are not faces of their own.
   for (const IgesDirectoryEntry& e : file_.entries)
     if (e.type == 144 || e.type == 143 || e.type == 510)
-      if (int s = faces_.surface_pointer(e.de); s != 0) used_[index(s)] = 1;
-  // 186: SHELL, SOF, N, then N pairs (VOID shell, VOF): one body per solid.
+      if (int s = faces_.surface_pointer(e.de); s != 0) used_[index(s)] = face_surface_[index(s)] = 1;
+  for (const IgesDirectoryEntry& e : file_.entries)
+    if (e.type == 186 && !instanced_[index(e.de)]) add_solid(bodies, e.de, glm::dmat4(1.0), "");
   for (const IgesDirectoryEntry& e : file_.entries) {
-    if (e.type != 186) continue;
-    used_[index(e.de)] = 1;
-    EntityParams p(file_, e);
-    std::vector<std::pair<int, bool>> shells;  // 514, reversed (its flag SOF / VOF is 0)
-    const int shell = g_.expect(p, 1, {514}, "a shell");
-    shells.emplace_back(shell, p.integer(2, 0, 1, "orientation flag SOF") == 0);
-    const int n = p.integer(3, 0, std::max(0, p.size() / 2), "number of void shells N");
-    for (int k = 0; k < n; ++k) {
-      const int void_shell = g_.expect(p, 4 + 2 * k, {514}, "a shell");
-      shells.emplace_back(void_shell, p.integer(5 + 2 * k, 0, 1, "orientation flag VOF") == 0);
-    }
-    p.check_trailing(3 + 2 * n);
-    Body body{e.label.empty() ? fmt::format("solid D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
-    for (auto [s, r] : shells) add_shell(body, s, g_.transform(e.de), r);
-    bodies.push_back(std::move(body));
-  }
-  for (const IgesDirectoryEntry& e : file_.entries) {
-    if (e.type != 514 || used_[index(e.de)]) continue;
+    if (e.type != 514 || used_[index(e.de)] || instanced_[index(e.de)]) continue;
     Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
     add_shell(body, e.de, glm::dmat4(1.0));
     bodies.push_back(std::move(body));
   }
+  for (const IgesDirectoryEntry& e : file_.entries)
+    if (e.type == 408 && !instanced_[index(e.de)]) add_instance(bodies, e.de, glm::dmat4(1.0), "", 0);
+  // Instances that only definitions placed by one another list (a cycle) are reached from here, and
+  // their nesting fails the read.
+  for (const IgesDirectoryEntry& e : file_.entries)
+    if (e.type == 408 && !used_[index(e.de)]) add_instance(bodies, e.de, glm::dmat4(1.0), "", 0);
   // Faces outside shells; a bare 128 is a face when no face uses it and it is not physically dependent.
   Body loose{"faces", {}, glm::dmat4(1.0), {}};
   for (const IgesDirectoryEntry& e : file_.entries) {
-    if (used_[index(e.de)]) continue;
+    if (used_[index(e.de)] || instanced_[index(e.de)]) continue;
     const bool independent = e.subordinate() != 1 && e.subordinate() != 3;
     const bool face = e.type == 144 || e.type == 143 || e.type == 510 || (e.type == 128 && independent) ||
                       (e.type == 108 && e.form == 1 && independent);

@@ -83,6 +83,30 @@ TEST_CASE("IGES: chained 124 transforms act on the surface") {
   CHECK(p[1] == glm::dvec3(1.0, 1.0, 10.0));
 }
 
+TEST_CASE("IGES: subfigure instances (408) place copies of their definition (308)") {
+  IgesEdit e = one_surface();
+  const int def = e.append(308, {"0", "4Hpart", "1", "1"});
+  e.append(408, {std::to_string(def), "10.", "0.", "0.", "1."});  // moved
+  const int twice = e.append(408, {std::to_string(def), "0.", "0.", "5.", "2."});  // scaled by 2, then moved
+  const int up = e.append(124, {"1.", "0.", "0.", "0.", "0.", "1.", "0.", "0.", "0.", "0.", "1.", "100."});
+  e.set_de_field(twice, 7, up);  // the instance's own matrix acts last
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "sub.igs", {}, &log);
+  CHECK(m.faces_in_file == 2);  // as placed: the definition's face is not one of its own
+  REQUIRE(m.bodies.size() == 2);
+  CHECK(m.skipped_entities.empty());
+  const glm::dvec3 q = nurbs::io::test::bump().points[1];
+  CHECK(m.bodies[0].faces.at(0).surface.points[1] == q + glm::dvec3(10, 0, 0));
+  CHECK(m.bodies[1].faces.at(0).surface.points[1] == 2.0 * q + glm::dvec3(0, 0, 105));
+  CHECK(m.bodies[0].name == "part D" + std::to_string(def + 2) + "/faces");
+  // A definition that holds an instance of itself is refused, naming the instance.
+  IgesEdit loop = one_surface();
+  const int self = loop.append(308, {"1", "4Hloop", "2", "1", "5"});
+  loop.append(408, {std::to_string(self), "0.", "0.", "0.", "1."});
+  loop.set_de_field(5, 9, 10000);  // the inner instance: physically dependent, placed by the definition
+  CHECK_THROWS_WITH(nurbs::io::read_iges_text(loop.text(), "loop.igs"), doctest::Contains("nest deeper than 16"));
+}
+
 TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported types") {
   IgesEdit e = one_surface();
   auto line = [&](double x0, double y0, double x1, double y1) {
