@@ -149,10 +149,14 @@ long long peak_resident_memory() {
 
 namespace {
 bool g_json_printed = false;
-}
+
+/// The JSON text, indented by 2. Names a file gives its faces and bodies need not be UTF-8 (IGES
+/// Hollerith strings, STEP strings in the writer's code page): invalid bytes become U+FFFD.
+std::string json_text(const nlohmann::json& j) { return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace); }
+}  // namespace
 
 void print_json(const nlohmann::json& j) {
-  fmt::print("{}\n", j.dump(2));
+  fmt::print("{}\n", json_text(j));
   std::fflush(stdout);
   g_json_printed = true;
 }
@@ -162,7 +166,7 @@ void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
   // The array's place in the object's text (keys sorted, as dump has them), found by a marker.
   const std::string marker = "\x01nurbsgl-streamed-array\x01";
   j[key] = marker;
-  const std::string text = j.dump(2);
+  const std::string text = json_text(j);
   const std::string quoted = nlohmann::json(marker).dump();
   const size_t at = text.find(quoted);
   if (at == std::string::npos) throw std::logic_error("print_json_streamed: the marker is not in the text");
@@ -173,7 +177,7 @@ void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
     // The array at depth 1: elements indented by 4, their members by 6, as dump(2) writes them.
     out += "[\n";
     for (size_t k = 0; k < count; ++k) {
-      const std::string e = element(k).dump(2);
+      const std::string e = json_text(element(k));
       out += "    ";
       for (const char c : e) {
         out += c;
