@@ -1228,6 +1228,19 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       all.add(boxes[li].lo + shift);
       all.add(boxes[li].hi + shift);
     }
+    // A loop going once round the axis alone bounds a cap: the material reaches the apex of a cone
+    // or a pole of a sphere, which no edge touches (a spherical cap bounded by one circle spans
+    // no latitude of its own). The patch reaches them, and stops there; the trim keeps the
+    // material side.
+    int round_loops = 0;
+    for (const Box2& b : boxes) round_loops += a.u_angular() && b.hi.x - b.lo.x >= 2 * kPi - 1e-6;
+    std::optional<double> apex;
+    if (round_loops % 2 == 1 && a.type == Analytic::Sphere) {
+      all.lo.y = -kPi / 2, all.hi.y = kPi / 2;
+    } else if (round_loops % 2 == 1 && a.type == Analytic::Cone && a.tan_angle != 0.0) {
+      apex = -a.r / a.tan_angle;
+      all.lo.y = std::min(all.lo.y, *apex), all.hi.y = std::max(all.hi.y, *apex);
+    }
     const glm::dvec2 extent = all.hi - all.lo, turn(a.u_angular() ? 2 * kPi : 0.0, a.v_periodic() ? 2 * kPi : 0.0);
     for (int k = 0; k < 2; ++k) {
       const double margin = 0.01 * extent[k] + 1e-9 * size;
@@ -1240,6 +1253,7 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
         all.lo[k] = std::max(all.lo[k] - margin, -kPi / 2), all.hi[k] = std::min(all.hi[k] + margin, kPi / 2);
       }
     }
+    if (apex) (*apex <= all.lo.y + extent.y / 2 ? all.lo.y : all.hi.y) = *apex;  // not past it, onto the other nappe
     if (!(all.hi.x > all.lo.x && all.hi.y > all.lo.y)) throw SkipFace{"its edges span no area of its surface"};
     as = a.build(all.lo, all.hi);
     for (glm::dvec2& q : loop_start) q = as.map(q);

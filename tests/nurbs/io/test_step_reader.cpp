@@ -98,6 +98,21 @@ const nurbs::TrimmedSurface& only_face(const nurbs::Model& m) {
   return m.bodies.front().faces.front();
 }
 
+// Lowest and highest z of the face's material points, by the winding rule on a 64 x 64 grid of its
+// parameter box ({2, -2} when none is material).
+std::pair<double, double> material_z_range(const nurbs::TrimmedSurface& f) {
+  const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
+  double lowest = 2.0, highest = -2.0;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j) {
+      const glm::dvec2 uv(u.min + u.width() * (i + 0.5) / 64, v.min + v.width() * (j + 0.5) / 64);
+      if (!nurbs::is_material(f, uv, 1e-9)) continue;
+      const double z = nurbs::surface_point(f.surface, uv.x, uv.y).z;
+      lowest = std::min(lowest, z), highest = std::max(highest, z);
+    }
+  return {lowest, highest};
+}
+
 // Material share of a face's parameter box, by the winding rule on a grid of sample points.
 double material_share(const nurbs::TrimmedSurface& f) {
   const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
@@ -233,6 +248,48 @@ TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn
   std::map<int, int> uses;
   for (const nurbs::Curve2& c : f.loops.front().curves) ++uses[c.edge];
   CHECK(uses.size() == 3);
+}
+
+TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole") {
+  // Sphere of radius 1 about the origin; the face's one edge is the circle at z = 0.5, counter-
+  // clockwise seen from +z: the face is the cap above it (area pi), which no edge reaches.
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
+       "#6=CARTESIAN_POINT('',(0.,0.,0.5));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+       "#8=CIRCLE('',#7,0.8660254037844386);\n#9=CARTESIAN_POINT('',(0.8660254037844386,0.,0.5));\n"
+       "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n#12=ORIENTED_EDGE('',*,*,#11,.T.);\n"
+       "#13=EDGE_LOOP('',(#12));\n#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('cap',(#14),#5,.T.);\n"
+       "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
+       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "cap.stp");
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.trim_problem.empty());
+  // Material points all on the cap, and some within 0.01 of the pole.
+  const auto [lowest, highest] = material_z_range(f);
+  CHECK(lowest > 0.5 - 1e-9);
+  CHECK(highest > 0.99);
+}
+
+TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
+  // Cone of radius 1 at z = 0 and semi-angle 45 degrees, narrowing towards -z (apex at z = -1),
+  // bounded by the circle at z = 0 only, used clockwise seen from +z: the material, left of the
+  // loop seen from outside, is the part below the circle, down to the apex and not past it.
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,1.,0.7853981633974483);\n"
+       "#8=CIRCLE('',#4,1.);\n#9=CARTESIAN_POINT('',(1.,0.,0.));\n#10=VERTEX_POINT('',#9);\n"
+       "#11=EDGE_CURVE('',#10,#10,#8,.T.);\n#12=ORIENTED_EDGE('',*,*,#11,.F.);\n"
+       "#13=EDGE_LOOP('',(#12));\n#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('tip',(#14),#5,.T.);\n"
+       "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
+       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "tip.stp");
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.trim_problem.empty());
+  const auto [lowest, highest] = material_z_range(f);
+  CHECK(lowest < -0.98);
+  CHECK(lowest >= -1.0 - 1e-9);
+  CHECK(highest <= 1e-9);
 }
 
 TEST_CASE("STEP reader: a plane given as a LINE extruded, its edges beyond the line's unit vector") {
