@@ -556,6 +556,8 @@ class StepReader {
     bool outer = false;
   };
   std::vector<Loop> face_loops(const StepEntity& face, long surface);
+  /// The loop run the other way: curves in reverse order, each reversed (pcurves alike).
+  static void reverse(Loop& loop);
   /// A face's entities read (sequentially: the caches and the visited set are shared), its
   /// geometry not yet built.
   struct FaceJob {
@@ -1039,17 +1041,19 @@ std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face, lon
         for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) add(*it, true);
       }
     }
-    if (!orientation) {
-      std::reverse(loop.curves.begin(), loop.curves.end());
-      std::reverse(loop.edges.begin(), loop.edges.end());
-      std::reverse(loop.pcurves.begin(), loop.pcurves.end());
-      for (Curve3& c : loop.curves) c = reversed(c);
-      for (auto& options : loop.pcurves)
-        for (Curve3& c : options) c = reversed(c);
-    }
+    if (!orientation) reverse(loop);
     if (!loop.curves.empty()) loops.push_back(std::move(loop));
   }
   return loops;
+}
+
+void StepReader::reverse(Loop& loop) {
+  std::reverse(loop.curves.begin(), loop.curves.end());
+  std::reverse(loop.edges.begin(), loop.edges.end());
+  std::reverse(loop.pcurves.begin(), loop.pcurves.end());
+  for (Curve3& c : loop.curves) c = reversed(c);
+  for (auto& options : loop.pcurves)
+    for (Curve3& c : options) c = reversed(c);
 }
 
 StepReader::FaceJob StepReader::face_job(long id, const StepEntity& from) {
@@ -1062,6 +1066,12 @@ StepReader::FaceJob StepReader::face_job(long id, const StepEntity& from) {
   try {
     const long surface_id = ref(e, fr, 2, "face geometry");
     job.loops = face_loops(e, surface_id);
+    // The bounds run counter-clockwise round the material seen against the face's normal, which is
+    // the surface's turned round where same_sense is false: on the surface, they run the other way.
+    // (Only a loop going round a closed surface alone, a cap, needs the direction: its material side
+    // picks the side of the domain it is closed along.)
+    if (job.f.reversed)
+      for (Loop& l : job.loops) reverse(l);
     job.fs = surface(surface_id, e);
   } catch (const SkipFace& s) {
     job.skipped = s.reason;

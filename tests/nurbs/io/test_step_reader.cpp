@@ -274,22 +274,28 @@ TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole")
 TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
   // Cone of radius 1 at z = 0 and semi-angle 45 degrees, narrowing towards -z (apex at z = -1),
   // bounded by the circle at z = 0 only, used clockwise seen from +z: the material, left of the
-  // loop seen from outside, is the part below the circle, down to the apex and not past it.
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,1.,0.7853981633974483);\n"
-       "#8=CIRCLE('',#4,1.);\n#9=CARTESIAN_POINT('',(1.,0.,0.));\n#10=VERTEX_POINT('',#9);\n"
-       "#11=EDGE_CURVE('',#10,#10,#8,.T.);\n#12=ORIENTED_EDGE('',*,*,#11,.F.);\n"
-       "#13=EDGE_LOOP('',(#12));\n#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('tip',(#14),#5,.T.);\n"
-       "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
-       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
-  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "tip.stp");
-  const nurbs::TrimmedSurface& f = only_face(m);
-  CHECK(f.trim_problem.empty());
-  const auto [lowest, highest] = material_z_range(f);
-  CHECK(lowest < -0.98);
-  CHECK(lowest >= -1.0 - 1e-9);
-  CHECK(highest <= 1e-9);
+  // loop seen from outside, is the part below the circle, down to the apex and not past it. The
+  // same face with its normal turned inwards (same_sense false) has its circle run the other way.
+  for (const auto& [edge_sense, same_sense] : {std::pair{".F.", ".T."}, std::pair{".T.", ".F."}}) {
+    const std::string face_sense = same_sense;
+    CAPTURE(face_sense);
+    std::string d = context(kMillimetre);
+    d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+         "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,1.,0.7853981633974483);\n"
+         "#8=CIRCLE('',#4,1.);\n#9=CARTESIAN_POINT('',(1.,0.,0.));\n#10=VERTEX_POINT('',#9);\n"
+         "#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
+    d += fmt::format("#12=ORIENTED_EDGE('',*,*,#11,{});\n#13=EDGE_LOOP('',(#12));\n", edge_sense);
+    d += fmt::format("#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('tip',(#14),#5,{});\n", same_sense);
+    d += "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
+         "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
+    const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "tip.stp");
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(f.trim_problem.empty());
+    const auto [lowest, highest] = material_z_range(f);
+    CHECK(lowest < -0.98);
+    CHECK(lowest >= -1.0 - 1e-9);
+    CHECK(highest <= 1e-9);
+  }
 }
 
 TEST_CASE("STEP reader: a plane given as a LINE extruded, its edges beyond the line's unit vector") {
