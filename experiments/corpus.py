@@ -52,6 +52,8 @@ EXTENSIONS = (".stp", ".step", ".igs", ".iges")
 # OCCT's mesh, the second opinion on a distance its exact routine and ours disagree on: deflection
 # as a share of the model size.
 MESH_DEFLECTION = 2e-5
+# Points of each guaranteed mesh measured against OCCT's faces.
+MESH_SAMPLES = 200
 # Substrings of a writer's system string (lower case) and the CAD system they name, first match wins.
 SYSTEMS = [("solidworks", "SolidWorks"), ("swstep", "SolidWorks"), ("catia", "CATIA"), ("3dexperience", "CATIA"),
            ("unigraphics", "NX"), ("siemens plm software nx", "NX"), ("siemens nx", "NX"),
@@ -65,7 +67,7 @@ SYSTEMS = [("solidworks", "SolidWorks"), ("swstep", "SolidWorks"), ("catia", "CA
 COLUMNS = ["file", "writer", "size_kb", "status", "faces", "bodies", "info_s", "faces_in_file", "dropped",
            "trim_problems", "read_warnings", "dist_exit", "not_found", "over_tol", "uncertified", "dist_s",
            "occ_faces", "occ_worst_per_bound", "wrong", "occ_disputed", "tess_exit", "open_edges", "failed_faces", "over_eps",
-           "tess_s"]
+           "tess_s", "occ_mesh_dev", "tess_bound", "tess_wrong"]
 
 
 def system_string(path):
@@ -240,9 +242,13 @@ def survey(path, rel, writer, a, cli, peer, tmp):
         unit = j.get("unit_scale_to_mm") or 1.0
         compare_with_occt(row, d["results"], peer, path, points, size, unit, a, limit, failures)
 
+    mesh = os.path.join(tmp, f"{zlib.crc32(rel.encode())}.mesh.obj")
     status, code, out, err, wall = run_child([cli, "tessellate", path, "--eps", "1e-3", "--relative", "--watertight",
-                                              "--check", "--json"], a.timeout, limit)
+                                              "--check", "--json", "-o", mesh], a.timeout, limit)
     t = parse_json(out)
+    if peer and status == "ok" and code == 0 and os.path.exists(mesh):
+        unit = j.get("unit_scale_to_mm") or 1.0
+        check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures, tmp)
     row["tess_exit"] = code if status == "ok" else status
     row["tess_s"] = round(wall, 2)
     if "open_edges" in t:
@@ -303,6 +309,64 @@ def compare_with_occt(row, ours, peer, path, points, size, unit, a, limit, failu
         failures.append(("WRONG", f"{wrong} certified distances off OCCT's by more than the bound"))
 
 
+def read_obj_triangles(path):
+    """The triangles of an OBJ file as [(a, b, c)] of (x, y, z)."""
+    vertices, triangles = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                vertices.append(tuple(float(x) for x in line.split()[1:4]))
+            elif line.startswith("f "):
+                k = [int(x.split("/")[0]) - 1 for x in line.split()[1:4]]
+                triangles.append(tuple(vertices[i] for i in k))
+    return triangles
+
+
+def check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures, tmp):
+    """The mesh against OCCT's faces: at MESH_SAMPLES points of the mesh where it strays most from
+    the faces (triangle centroids and edge midpoints of random triangles, seeded), OCCT's exact
+    distance to the trimmed faces, with OCCT's own mesh as a second opinion as for the distances.
+    occ_mesh_dev is the largest (in the file's unit); TESS_WRONG counts the samples farther than
+    the tessellation's bound (eps plus the edge gaps, as its JSON says) from both."""
+    triangles = read_obj_triangles(mesh)
+    if not triangles:
+        return
+    rng = random.Random(zlib.crc32(path.encode()))
+    samples = []
+    for _ in range(MESH_SAMPLES):
+        p, q, r = triangles[rng.randrange(len(triangles))]
+        pick = rng.randrange(4)
+        w = [(1 / 3, 1 / 3, 1 / 3), (0.5, 0.5, 0), (0, 0.5, 0.5), (0.5, 0, 0.5)][pick]
+        samples.append(tuple(w[0] * p[k] + w[1] * q[k] + w[2] * r[k] for k in range(3)))
+    points = mesh + ".samples.txt"
+    with open(points, "w") as f:
+        for x in samples:
+            f.write(" ".join(repr(v * unit) for v in x) + "\n")
+    deflection = MESH_DEFLECTION * size * unit
+    status, code, out, err, wall = run_child([peer, "points", path, "--points", points, "--repeat", "0",
+                                              "--trimmed", str(len(samples)), "--mesh-deflection", repr(deflection)],
+                                             a.timeout, limit)
+    o = parse_json(out)
+    if status != "ok" or code != 0 or "trimmed" not in o:
+        row["occ_mesh_error"] = (error_text(o, err, code) if status == "ok" else status)[:200]
+        return
+    exact = o["trimmed"]["distances"]
+    second = o["trimmed"].get("mesh", {}).get("distances", [None] * len(exact))
+    bound = t.get("bound", t.get("eps", 0.0))
+    worst, wrong = 0.0, 0
+    for d, m in zip(exact, second):
+        if d is None:
+            continue
+        d /= unit
+        # OCCT's mesh lies within its deflection of the faces: the farther point is nearer than that.
+        dev = d if m is None else min(d, m / unit + deflection / unit)
+        worst = max(worst, dev)
+        wrong += dev > bound * (1 + 1e-9) + 1e-9 * size
+    row.update({"occ_mesh_dev": worst, "tess_bound": bound, "tess_wrong": wrong})
+    if wrong:
+        failures.append(("TESS_WRONG", f"{wrong} mesh points farther from OCCT's faces than the mesh's bound"))
+
+
 def cell(v):
     if isinstance(v, float):
         return f"{v:.3g}"
@@ -330,6 +394,10 @@ def summary(rows, failures):
         lines.append(f"{step} runs {sum(c.values())}: " + ", ".join(f"exit {k} {v}" for k, v in sorted(c.items())))
     compared = [r for r in rows if "occ_faces" in r]
     if compared:
+        meshed = [r for r in rows if "tess_wrong" in r]
+        lines.append(f"meshes measured against OpenCASCADE's faces on {len(meshed)} files ({MESH_SAMPLES} points "
+                     f"each): TESS_WRONG points {sum(r['tess_wrong'] for r in meshed)} in "
+                     f"{sum(1 for r in meshed if r['tess_wrong'])} files")
         lines.append(f"OpenCASCADE compared on {len(compared)} files: WRONG answers "
                      f"{sum(r['wrong'] for r in compared)} in {sum(1 for r in compared if r['wrong'])} files; "
                      f"disputed (OCCT's exact distance off, its mesh with ours) "
