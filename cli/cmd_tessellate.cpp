@@ -64,7 +64,10 @@ void run(const GlobalOptions& global, const TessArgs& a) {
     }
   check_output(a.output, "-o");
   std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
+  std::vector<char> in_solid;  // per face: its body is a closed solid (empty with --face)
+  for (const nurbs::Body& b : model.bodies) in_solid.insert(in_solid.end(), b.faces.size(), b.closed ? 1 : 0);
   if (!a.faces.empty()) {
+    in_solid.clear();
     std::vector<nurbs::TrimmedSurface> chosen;
     for (int index : a.faces) {
       if (index < 0 || index >= int(faces.size()))
@@ -129,6 +132,17 @@ void run(const GlobalOptions& global, const TessArgs& a) {
   const nurbs::tess::EdgeCounts edges = a.watertight ? nurbs::tess::count_edges_as_indexed(r.mesh)
                                                      : nurbs::tess::count_edges(r.mesh, r.weld_tolerance);
 
+  // Watertight: open edges on the faces of a closed solid are cracks the mesh should not have
+  // (where the file's faces do not meet within the loops' tolerance); they fail the command.
+  long long solid_open = 0;
+  std::vector<std::string> solid_cracks;
+  if (a.watertight)
+    for (const auto& [f, n] : edges.open_by_face)
+      if (f >= 0 && size_t(f) < in_solid.size() && in_solid[size_t(f)]) {
+        solid_open += n;
+        solid_cracks.push_back(fmt::format("face {} (id {}): {}", f, faces[size_t(f)].face_id, n));
+      }
+
   nurbs::tess::Deviation dev;
   if (a.check) {
     nurbs::tess::DeviationOptions d;
@@ -186,6 +200,7 @@ void run(const GlobalOptions& global, const TessArgs& a) {
                         {"watertight",
                          {{"enabled", a.watertight},
                           {"open_edge_faces", open_edge_faces},
+                          {"solid_open_edges", solid_open},
                           {"collapsed_triangles", collapsed},
                           {"shared_vertices", r.stats.shared_vertices},
                           {"t_junction_splits", r.stats.t_junction_splits}}},
@@ -304,6 +319,10 @@ void run(const GlobalOptions& global, const TessArgs& a) {
                                     "{:.6g}: {}",
                                     off_eps.size(), eps, fmt::join(off_eps, "; ")));
   if (check_failed) throw CommandFailed(fmt::format("measured deviation {:.6g} exceeds eps {:.6g}", dev.max(), eps));
+  if (solid_open > 0)
+    throw CommandFailed(fmt::format("--watertight: {} open edges on faces of closed solids, where the file's faces do "
+                                    "not meet within the trim loops' tolerance: {}",
+                                    solid_open, fmt::join(solid_cracks, "; ")));
   require_certified(loaded.report, global);
   if (!uncertified.empty() && guaranteed)
     throw CommandFailed(fmt::format("guaranteed mode: {} face(s) with a trim the reader could not make valid, their "

@@ -18,6 +18,9 @@ struct Body {
   /// Where an assembly places it: the chain of usage occurrences from the top ("A/B"), empty when
   /// the file has no assembly structure.
   std::string instance;
+  /// The file states that the faces bound a solid (an IGES 186, a STEP MANIFOLD_SOLID_BREP or
+  /// BREP_WITH_VOIDS): a watertight mesh of them has no open edges.
+  bool closed = false;
 };
 
 /// A face entity of the file that the model does not hold, and why.

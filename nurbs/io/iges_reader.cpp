@@ -138,6 +138,7 @@ void ModelBuilder::add_solid(std::vector<Body>& bodies, int de, const glm::dmat4
   }
   p.check_trailing(3 + 2 * n);
   Body body{prefix + (e.label.empty() ? fmt::format("solid D{}", e.de) : e.label), {}, glm::dmat4(1.0), {}};
+  body.closed = true;
   for (auto [s, r] : shells) add_shell(body, s, parent * g_.transform(e.de), r);
   bodies.push_back(std::move(body));
 }

@@ -1732,6 +1732,7 @@ Model StepReader::read() {
       const int n = name_count[name]++;
       body.name = n == 0 ? name : fmt::format("{} #{}", name, n + 1);
       body.instance = placed[k].path;
+      body.closed = is(e, "MANIFOLD_SOLID_BREP") || is(e, "BREP_WITH_VOIDS");
       glm::dmat4 m = placed[k].m;
       if (to_model != 1.0) m = glm::scale(glm::dmat4(1.0), glm::dvec3(to_model)) * m;
       for (const TrimmedSurface& f : faces) {

@@ -141,6 +141,8 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   CHECK(log.warnings[0].find("needs D" + s(rev) + " of unsupported type 118") != std::string::npos);
   REQUIRE(m.bodies.size() == 2);  // the solid, then loose faces (the 143); the 128 is used by both
   CHECK(m.bodies[0].name == "solid D" + s(e.find(186)));
+  CHECK(m.bodies[0].closed);  // a 186 states a solid; loose faces do not
+  CHECK_FALSE(m.bodies[1].closed);
   REQUIRE(m.bodies[0].faces.size() == 1);
   REQUIRE(m.bodies[1].faces.size() == 1);
   const auto& solid_face = m.bodies[0].faces[0];
