@@ -23,6 +23,7 @@
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/io/analytic_nurbs.h"
+#include "nurbs/io/conic_arcs.h"
 #include "nurbs/io/curve_utils.h"
 #include "nurbs/io/iges_faces.h"
 #include "nurbs/io/read_error.h"
@@ -530,7 +531,9 @@ class StepReader {
   Surface bspline_surface(const StepEntity& e);
   /// The curve entity as NURBS (conics over their full turn), with a frame for conics.
   struct CurveGeom {
-    enum { Line, Conic, Spline } type = Spline;
+    /// Hyperbola: o + a cosh(t) x + b sinh(t) y; parabola: o + a (t^2 x + 2 t y) (ISO 10303-42):
+    /// unbounded, so no `nurbs`: an edge's arc between its vertices is built where it is used.
+    enum { Line, Conic, Hyperbola, Parabola, Spline } type = Spline;
     Curve3 nurbs;
     Frame f;  // conic: x, y axes scaled by the semi-axes
     double a = 0, b = 0;
@@ -773,6 +776,21 @@ StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int dep
     g.nurbs = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, 0.0, 2 * kPi);
     return g;
   }
+  if (const StepRecord* r = e.record("HYPERBOLA")) {
+    g.type = CurveGeom::Hyperbola;
+    g.f = placement(ref(e, *r, 1, "position"), e);
+    g.a = real(e, *r, 2, "semi-axis");
+    g.b = real(e, *r, 3, "imaginary semi-axis");
+    if (!(g.a > 0 && g.b > 0)) fail(e, "has a semi-axis that is not positive");
+    return g;
+  }
+  if (const StepRecord* r = e.record("PARABOLA")) {
+    g.type = CurveGeom::Parabola;
+    g.f = placement(ref(e, *r, 1, "position"), e);
+    g.a = real(e, *r, 2, "focal distance");
+    if (!(g.a != 0 && std::isfinite(g.a))) fail(e, "has a focal distance of 0");
+    return g;
+  }
   if (e.record("B_SPLINE_CURVE_WITH_KNOTS")) {
     g.nurbs = bspline_curve(e);
     return g;
@@ -888,6 +906,29 @@ const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEn
     if (glm::length(a - b) <= 1e-9 * g.a) sweep = 2 * kPi;
     Curve3 c = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, s, sweep);
     pieces.push_back({same ? c : reversed(c), {}});
+  } else if (g.type == CurveGeom::Hyperbola || g.type == CurveGeom::Parabola) {
+    // The vertices' feet on the conic (in its plane, by the parameter of their y coordinate), then
+    // the arc between them as one rational quadratic (conic_arcs.h), mapped by the frame (affine:
+    // exact). The edge runs from its start vertex to its end vertex whatever same_sense says: on an
+    // open conic the arc between two points is one.
+    const bool hyperbola = g.type == CurveGeom::Hyperbola;
+    auto foot = [&](glm::dvec3 p) {
+      const double y = glm::dot(p - g.f.o, g.f.y);
+      const double t = hyperbola ? std::asinh(y / g.b) : y / (2 * g.a);
+      return hyperbola ? glm::dvec2(g.a * std::cosh(t), g.b * std::sinh(t)) : glm::dvec2(g.a * t * t, 2 * g.a * t);
+    };
+    const glm::dvec2 s = foot(a), t = foot(b);
+    if (glm::length(s - t) <= 1e-12 * (std::abs(g.a) + g.b)) fail(e, "its vertices are one point of an open conic");
+    const std::array<double, 6> coef = hyperbola ? std::array<double, 6>{1 / (g.a * g.a), 0, -1 / (g.b * g.b), 0, 0, -1}
+                                                 : std::array<double, 6>{0, 0, 1, -4 * g.a, 0, 0};
+    Curve3 c;
+    try {
+      c = conic_arc(coef, s, t, 0.0, hyperbola ? 2 : 3);
+    } catch (const std::invalid_argument& x) {
+      fail(e, fmt::format("its arc between the vertices: {}", x.what()));
+    }
+    for (glm::dvec3& q : c.points) q = g.f.o + q.x * g.f.x + q.y * g.f.y;
+    pieces.push_back({c, {}});
   } else {
     const Curve3& c = g.nurbs;
     const Interval d = curve_domain(c);
@@ -971,6 +1012,8 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   if (const StepRecord* r = e.record("SURFACE_OF_REVOLUTION")) {
     a.type = Analytic::Revolution;
     const CurveGeom swept = curve(ref(e, *r, 1, "swept curve"), e, 0);
+    if (swept.nurbs.points.empty())
+      throw SkipFace{fmt::format("its surface #{} sweeps an open conic (hyperbola or parabola), which is not read", e.id)};
     a.curve = swept.nurbs;
     a.line = swept.type == CurveGeom::Line;
     const StepEntity& ax = entity(ref(e, *r, 2, "axis position"), e);
@@ -994,6 +1037,8 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   if (const StepRecord* r = e.record("SURFACE_OF_LINEAR_EXTRUSION")) {
     a.type = Analytic::Extrusion;
     const CurveGeom swept = curve(ref(e, *r, 1, "swept curve"), e, 0);
+    if (swept.nurbs.points.empty())
+      throw SkipFace{fmt::format("its surface #{} sweeps an open conic (hyperbola or parabola), which is not read", e.id)};
     a.curve = swept.nurbs;
     a.line = swept.type == CurveGeom::Line;
     const StepEntity& vec = entity(ref(e, *r, 2, "extrusion axis"), e);

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "../../shared_models.h"
+#include "nurbs/curve_eval.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/step_file.h"
@@ -295,6 +296,57 @@ TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
     CHECK(lowest < -0.98);
     CHECK(lowest >= -1.0 - 1e-9);
     CHECK(highest <= 1e-9);
+  }
+}
+
+TEST_CASE("STEP reader: hyperbola and parabola edges are exact conic arcs between their vertices") {
+  // On the plane z = 0: the arc of the conic from vertex (x0, -y0) to (x0, y0) through its apex,
+  // closed by the line x = x0. Hyperbola x^2 - y^2 = 1 (semi-axes 1) between t = -1 and 1;
+  // parabola y^2 = x (focal distance 1/4) between t = -1 and 1.
+  struct Case {
+    const char* curve;
+    double x0, y0, inside_x, outside_x;
+    double (*residual)(double x, double y);
+  };
+  const Case cases[] = {
+      {"HYPERBOLA('',#7,1.,1.)", std::cosh(1.0), std::sinh(1.0), 1.3, 1.05,
+       [](double x, double y) { return x * x - y * y - 1; }},
+      {"PARABOLA('',#7,0.25)", 0.25, 0.5, 0.1, 0.02, [](double x, double y) { return y * y - x; }},
+  };
+  for (const Case& k : cases) {
+    const std::string curve = k.curve;
+    CAPTURE(curve);
+    std::string d = context(kMillimetre);
+    d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+         "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n#7=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
+    d += fmt::format("#8={};\n", k.curve);
+    d += fmt::format("#9=CARTESIAN_POINT('',({:.17g},{:.17g},0.));\n#10=VERTEX_POINT('',#9);\n", k.x0, -k.y0);
+    d += fmt::format("#11=CARTESIAN_POINT('',({:.17g},{:.17g},0.));\n#12=VERTEX_POINT('',#11);\n", k.x0, k.y0);
+    d += "#13=EDGE_CURVE('',#10,#12,#8,.T.);\n#14=DIRECTION('',(0.,-1.,0.));\n#15=VECTOR('',#14,1.);\n"
+         "#16=LINE('',#11,#15);\n#17=EDGE_CURVE('',#12,#10,#16,.T.);\n"
+         "#18=ORIENTED_EDGE('',*,*,#13,.T.);\n#19=ORIENTED_EDGE('',*,*,#17,.T.);\n"
+         "#20=EDGE_LOOP('',(#18,#19));\n#21=FACE_OUTER_BOUND('',#20,.T.);\n#22=ADVANCED_FACE('',(#21),#5,.T.);\n"
+         "#23=OPEN_SHELL('',(#22));\n#24=SHELL_BASED_SURFACE_MODEL('',(#23));\n"
+         "#25=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#24),#900);\n";
+    const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "conic.stp");
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(f.trim_problem.empty());
+    REQUIRE(f.loops.size() == 1);
+    // One of the loop's two curves (the other is the line) lies on the conic.
+    double best = 1e300;
+    for (const nurbs::Curve2& c : f.loops[0].curves) {
+      const nurbs::Interval t = nurbs::curve_domain(c);
+      double worst = 0.0;
+      for (int i = 0; i <= 32; ++i) {
+        const glm::dvec2 uv = nurbs::curve_point(c, t.min + t.width() * i / 32);
+        const glm::dvec3 p = nurbs::surface_point(f.surface, uv.x, uv.y);
+        worst = std::max(worst, std::abs(k.residual(p.x, p.y)));
+      }
+      best = std::min(best, worst);
+    }
+    CHECK(best < 1e-12);
+    CHECK(nurbs::is_material(f, {k.inside_x, 0.0}, 1e-9));
+    CHECK_FALSE(nurbs::is_material(f, {k.outside_x, 0.9 * k.y0}, 1e-9));
   }
 }
 
