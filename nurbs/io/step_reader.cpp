@@ -518,12 +518,18 @@ class StepReader {
   Frame placement(long id, const StepEntity& from);
   /// The records of a B-spline: with knots, and the one holding degree and control points (the
   /// same for a simple instance, whose parameters start after the name: offset 1).
+  /// Without knots (`knots` null): the knot type the record names, whose knots the standard implies.
   struct SplineRecords {
-    const StepRecord& knots;
+    const StepRecord* knots;
     const StepRecord& base;
     size_t offset;
+    std::string implied;  ///< "QUASI_UNIFORM", "UNIFORM" or "BEZIER" where knots is null
   };
   SplineRecords spline_records(const StepEntity& e, const std::string& type) const;
+  /// The knots ISO 10303-42 implies for `count` control points of `degree` of a B-spline of the
+  /// knot type `implied` (quasi_uniform: clamped, unit steps; uniform: unit steps from -degree;
+  /// bezier: clamped, each inner value `degree` times); fails `e` where the count does not fit.
+  std::vector<double> implied_knots(const StepEntity& e, const std::string& implied, int degree, int count) const;
   /// Knots from multiplicities and distinct values (parameters mults_at and knots_at of r).
   std::vector<double> knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at,
                                   int degree) const;
@@ -670,9 +676,37 @@ Frame StepReader::placement(long id, const StepEntity& from) {
 }
 
 StepReader::SplineRecords StepReader::spline_records(const StepEntity& e, const std::string& type) const {
+  const std::string kind = type.substr(std::string("B_SPLINE_").size());  // CURVE or SURFACE
+  for (const char* implied : {"QUASI_UNIFORM", "UNIFORM", "BEZIER"})
+    if (const StepRecord* r = e.record(std::string(implied) + "_" + kind); r && !e.record(type + "_WITH_KNOTS")) {
+      if (e.records.size() == 1) return {nullptr, *r, 1, implied};  // simple instance: the name comes first
+      return {nullptr, record(e, type), 0, implied};
+    }
   const StepRecord& k = record(e, type + "_WITH_KNOTS");
-  if (e.records.size() == 1) return {k, k, 1};  // simple instance: the name comes first
-  return {k, record(e, type), 0};
+  if (e.records.size() == 1) return {&k, k, 1, {}};
+  return {&k, record(e, type), 0, {}};
+}
+
+std::vector<double> StepReader::implied_knots(const StepEntity& e, const std::string& implied, int degree,
+                                              int count) const {
+  if (count < degree + 1) fail(e, fmt::format("has {} control points for degree {}", count, degree));
+  std::vector<double> k;
+  if (implied == "UNIFORM") {
+    for (int i = 0; i < count + degree + 1; ++i) k.push_back(i - degree);
+  } else if (implied == "QUASI_UNIFORM") {
+    const int spans = count - degree;
+    k.assign(static_cast<size_t>(degree) + 1, 0.0);
+    for (int i = 1; i < spans; ++i) k.push_back(i);
+    k.insert(k.end(), static_cast<size_t>(degree) + 1, static_cast<double>(spans));
+  } else {  // BEZIER: pieces of degree + 1 points sharing their ends
+    if ((count - 1) % degree != 0)
+      fail(e, fmt::format("has {} control points, not a chain of Bezier pieces of degree {}", count, degree));
+    const int pieces = (count - 1) / degree;
+    k.assign(static_cast<size_t>(degree) + 1, 0.0);
+    for (int i = 1; i < pieces; ++i) k.insert(k.end(), static_cast<size_t>(degree), static_cast<double>(i));
+    k.insert(k.end(), static_cast<size_t>(degree) + 1, static_cast<double>(pieces));
+  }
+  return k;
 }
 
 std::vector<double> StepReader::knot_vector(const StepEntity& e, const StepRecord& r, size_t mults_at, size_t knots_at,
@@ -693,14 +727,15 @@ Curve3 StepReader::bspline_curve(const StepEntity& e) {
   // Simple: B_SPLINE_CURVE_WITH_KNOTS(name, degree, points, form, closed, self_int, mults, knots,
   // spec). Complex: B_SPLINE_CURVE(degree, points, form, closed, self_int)
   // B_SPLINE_CURVE_WITH_KNOTS(mults, knots, spec) RATIONAL_B_SPLINE_CURVE(weights).
-  const auto [k, base, o] = spline_records(e, "B_SPLINE_CURVE");
+  const auto [k, base, o, implied] = spline_records(e, "B_SPLINE_CURVE");
   const bool simple = o == 1;
   Curve3 c;
   c.degree = integer(e, param(e, base, o, "degree"), "degree", 1, kMaxDegree);
   for (const StepValue& p : list(e, param(e, base, o + 1, "control points"), "control points"))
     c.points.push_back(point(ref(e, p, "control point"), e));
   const size_t ko = simple ? 6 : 0;
-  c.knots = knot_vector(e, k, ko, ko + 1, c.degree);
+  c.knots = k ? knot_vector(e, *k, ko, ko + 1, c.degree)
+              : implied_knots(e, implied, c.degree, static_cast<int>(c.points.size()));
   if (const StepRecord* w = e.record("RATIONAL_B_SPLINE_CURVE"))
     for (const StepValue& x : list(e, param(e, *w, 0, "weights"), "weights")) c.weights.push_back(real(e, x, "weight"));
   if (c.knots.size() != c.points.size() + static_cast<size_t>(c.degree) + 1)
@@ -714,7 +749,7 @@ Surface StepReader::bspline_surface(const StepEntity& e) {
   // Simple: B_SPLINE_SURFACE_WITH_KNOTS(name, du, dv, points, form, uc, vc, si, umults, vmults,
   // uknots, vknots, spec). Complex: B_SPLINE_SURFACE(du, dv, points, form, uc, vc, si)
   // B_SPLINE_SURFACE_WITH_KNOTS(umults, vmults, uknots, vknots, spec) RATIONAL_B_SPLINE_SURFACE(weights).
-  const auto [k, base, o] = spline_records(e, "B_SPLINE_SURFACE");
+  const auto [k, base, o, implied] = spline_records(e, "B_SPLINE_SURFACE");
   const bool simple = o == 1;
   Surface s;
   s.degree_u = integer(e, param(e, base, o, "u degree"), "u degree", 1, kMaxDegree);
@@ -733,8 +768,8 @@ Surface StepReader::bspline_surface(const StepEntity& e) {
   for (int i = 0; i < s.count_u; ++i)
     for (int j = 0; j < s.count_v; ++j) s.points[static_cast<size_t>(j) * s.count_u + i] = grid[i][j];
   const size_t ko = simple ? 8 : 0;
-  s.knots_u = knot_vector(e, k, ko, ko + 2, s.degree_u);
-  s.knots_v = knot_vector(e, k, ko + 1, ko + 3, s.degree_v);
+  s.knots_u = k ? knot_vector(e, *k, ko, ko + 2, s.degree_u) : implied_knots(e, implied, s.degree_u, s.count_u);
+  s.knots_v = k ? knot_vector(e, *k, ko + 1, ko + 3, s.degree_v) : implied_knots(e, implied, s.degree_v, s.count_v);
   if (const StepRecord* w = e.record("RATIONAL_B_SPLINE_SURFACE")) {
     const auto& wrows = list(e, param(e, *w, 0, "weights"), "weights");
     if (static_cast<int>(wrows.size()) != s.count_u) fail(e, "its weights and control points differ in number");
@@ -791,7 +826,8 @@ StepReader::CurveGeom StepReader::curve(long id, const StepEntity& from, int dep
     if (!(g.a != 0 && std::isfinite(g.a))) fail(e, "has a focal distance of 0");
     return g;
   }
-  if (e.record("B_SPLINE_CURVE_WITH_KNOTS")) {
+  if (e.record("B_SPLINE_CURVE_WITH_KNOTS") || e.record("QUASI_UNIFORM_CURVE") || e.record("UNIFORM_CURVE") ||
+      e.record("BEZIER_CURVE")) {
     g.nurbs = bspline_curve(e);
     return g;
   }
@@ -966,7 +1002,8 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
   const StepEntity& e = entity(id, from);
   FaceSurface s;
   Analytic& a = s.analytic;
-  if (e.record("B_SPLINE_SURFACE_WITH_KNOTS")) {
+  if (e.record("B_SPLINE_SURFACE_WITH_KNOTS") || e.record("QUASI_UNIFORM_SURFACE") || e.record("UNIFORM_SURFACE") ||
+      e.record("BEZIER_SURFACE")) {
     s.bspline = bspline_surface(e);
     return s;
   }

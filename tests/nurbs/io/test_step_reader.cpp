@@ -350,6 +350,40 @@ TEST_CASE("STEP reader: hyperbola and parabola edges are exact conic arcs betwee
   }
 }
 
+TEST_CASE("STEP reader: quasi-uniform and Bezier B-splines take the knots the standard implies") {
+  // The square [0, 2]^2 at z = 1 as a bilinear QUASI_UNIFORM_SURFACE (complex instance, no knots),
+  // its edges degree-1 QUASI_UNIFORM_CURVEs and one quadratic BEZIER_CURVE of 5 points (two pieces)
+  // along the bottom edge.
+  std::string d = context(kMillimetre);
+  const double xy[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+  for (int i = 0; i < 4; ++i)
+    d += fmt::format("#{}=CARTESIAN_POINT('',({},{},1.));\n#{}=VERTEX_POINT('',#{});\n", 10 + i, xy[i][0], xy[i][1],
+                     20 + i, 10 + i);
+  d += "#5=( BOUNDED_SURFACE() B_SPLINE_SURFACE(1,1,((#10,#13),(#11,#12)),.UNSPECIFIED.,.F.,.F.,.F.) "
+       "GEOMETRIC_REPRESENTATION_ITEM() QUASI_UNIFORM_SURFACE() REPRESENTATION_ITEM('') SURFACE() );\n";
+  d += "#30=CARTESIAN_POINT('',(0.5,0.,1.));\n#31=CARTESIAN_POINT('',(1.,0.,1.));\n"
+       "#32=CARTESIAN_POINT('',(1.5,0.,1.));\n#50=BEZIER_CURVE('',2,(#10,#30,#31,#32,#11),.UNSPECIFIED.,.F.,.F.);\n";
+  for (int i = 1; i < 4; ++i)
+    d += fmt::format("#{}=QUASI_UNIFORM_CURVE('',1,(#{},#{}),.UNSPECIFIED.,.F.,.U.);\n", 50 + i, 10 + i,
+                     10 + (i + 1) % 4);
+  for (int i = 0; i < 4; ++i)
+    d += fmt::format("#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n", 60 + i, 20 + i,
+                     20 + (i + 1) % 4, 50 + i, 70 + i, 60 + i);
+  d += "#80=EDGE_LOOP('',(#70,#71,#72,#73));\n#81=FACE_OUTER_BOUND('',#80,.T.);\n"
+       "#82=ADVANCED_FACE('',(#81),#5,.T.);\n#83=OPEN_SHELL('',(#82));\n"
+       "#84=SHELL_BASED_SURFACE_MODEL('',(#83));\n#85=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#84),#900);\n";
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "quasi.stp", &log);
+  CHECK(m.dropped_faces.empty());
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.trim_problem.empty());
+  CHECK(f.surface.knots_u == std::vector<double>{0, 0, 1, 1});
+  CHECK(f.edge_gap == 0.0);
+  CHECK(material_share(f) == doctest::Approx(1.0).epsilon(0.02));
+  // The surface spans the square: its corner (u, v) = (1, 1) is (2, 2, 1).
+  CHECK(nurbs::surface_point(f.surface, 1.0, 1.0) == glm::dvec3(2, 2, 1));
+}
+
 TEST_CASE("STEP reader: a plane given as a LINE extruded, its edges beyond the line's unit vector") {
   // The square of side 2 on z = 1 again, on the line through (0, 0, 1) along x (vector of length 1)
   // swept along y: its edges reach the line's parameter 2.
