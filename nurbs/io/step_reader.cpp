@@ -1222,9 +1222,21 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   TrimmedSurface f = job.f;
   const Analytic& a = fs.analytic;
   if (loops.empty()) {
-    if (!fs.bspline) throw SkipFace{"an analytic surface without edges has no extent"};
-    f.surface = *fs.bspline;  // the whole surface
-    return f;
+    if (fs.bspline) {
+      f.surface = *fs.bspline;  // the whole surface
+      return f;
+    }
+    // A closed analytic surface without edges (a sphere bounded by a VERTEX_LOOP at a pole, a
+    // torus) is the whole surface; the others have no extent.
+    if (a.type == Analytic::Sphere) {
+      f.surface = a.build({-kPi, -kPi / 2}, {kPi, kPi / 2}).surface;
+      return f;
+    }
+    if (a.type == Analytic::Torus) {
+      f.surface = a.build({-kPi, -kPi}, {kPi, kPi}).surface;
+      return f;
+    }
+    throw SkipFace{"an analytic surface without edges has no extent"};
   }
   // Size of the face from its edges: the flattening tolerance scales with it.
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());

@@ -272,6 +272,22 @@ TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole")
   CHECK(highest > 0.99);
 }
 
+TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
+       "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#13=VERTEX_LOOP('',#10);\n"
+       "#14=FACE_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('ball',(#14),#5,.T.);\n"
+       "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
+       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "ball.stp");
+  CHECK(m.dropped_faces.empty());
+  const nurbs::TrimmedSurface& f = only_face(m);
+  const auto [lowest, highest] = material_z_range(f);
+  CHECK(lowest < -0.99);
+  CHECK(highest > 0.99);
+}
+
 TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
   // Cone of radius 1 at z = 0 and semi-angle 45 degrees, narrowing towards -z (apex at z = -1),
   // bounded by the circle at z = 0 only, used clockwise seen from +z: the material, left of the
