@@ -35,10 +35,12 @@ struct IgesReadOptions {
   /// Scale all geometry to millimetres and set Model::unit_scale_to_mm = 1.
   bool convert_to_mm = false;
   /// Drop faces whose trim curves cannot be used (142 with neither curve, 141 or 508 curves only in
-  /// model space, model-space curves farther than kEdgeGapLimit from the surface) or that need an unsupported
-  /// entity, with a warning, instead of throwing ReadError for the former.
+  /// model space over an analytic surface, model-space curves farther than kEdgeGapLimit from the
+  /// surface), each in Model::dropped_faces with the reason (a model that lost faces answers
+  /// nothing certified unless the caller accepts it: model_report.h), as OpenCASCADE reads the
+  /// rest of such files; false throws ReadError naming the entity instead.
   /// Faces needing an unsupported surface/curve type are always dropped with a warning.
-  bool skip_faces_without_parameter_curves = false;
+  bool skip_faces_without_parameter_curves = true;
 };
 
 /// What the reader did besides the model: for `nurbsgl info` and tests.

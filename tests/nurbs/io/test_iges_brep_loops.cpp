@@ -250,14 +250,17 @@ TEST_CASE("142 with its curve only in model space: projected onto the surface") 
   SUBCASE("1.0 above the surface: not a curve on it") {
     e.fields(c142)[3] = "0";
     e.fields(c142)[4] = std::to_string(model_space_loop(1.0));
-    nurbs::io::IgesReadOptions skip;
-    skip.skip_faces_without_parameter_curves = true;
+    // By default the face is dropped, named with the reason; on request the read fails instead.
     nurbs::io::IgesReadLog log;
-    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "projected", skip, &log);
+    const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "projected", {}, &log);
     CHECK(m.bodies.empty());
     REQUIRE(log.warnings.size() == 1);
     CHECK(log.warnings[0].find("from the surface (tolerance 4.36e-06) (kept up to 0.218)") != std::string::npos);
-    CHECK_THROWS_WITH_AS(nurbs::io::read_iges_text(e.text(), "projected"),
+    REQUIRE(m.dropped_faces.size() == 1);
+    CHECK(m.dropped_faces[0].reason.find("has a model-space curve that lies") != std::string::npos);
+    nurbs::io::IgesReadOptions strict;
+    strict.skip_faces_without_parameter_curves = false;
+    CHECK_THROWS_WITH_AS(nurbs::io::read_iges_text(e.text(), "projected", strict),
                          doctest::Contains("has a model-space curve that lies"), nurbs::io::ReadError);
   }
 }

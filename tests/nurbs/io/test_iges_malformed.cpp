@@ -290,12 +290,6 @@ const Case kCases[] = {
            return std::vector<std::string>{ent(s, 128),
                                            "parameter record starts with '126', expected the entity type 128"};
          }),
-    edit("trim curve without parameter curve",
-         [](IgesEdit& e) {
-           int c = e.find(142);
-           e.fields(c)[3] = "0";
-           return std::vector<std::string>{ent(c, 142), "no parameter-space curve"};
-         }),
     edit("bad outer boundary flag",
          [](IgesEdit& e) {
            int t = e.find(144);
@@ -412,6 +406,18 @@ TEST_CASE("malformed IGES corpus: each file gives its specific error") {
     for (const std::string& s : m.expect) CHECK_MESSAGE(message.find(s) != std::string::npos, "missing '" << s << "'");
     CHECK_MESSAGE(messages.insert(message).second, "another case gave the same message");  // each its own error
   }
+}
+
+TEST_CASE("malformed IGES: a face whose trim curve has no parameter-space curve is dropped, named") {
+  nurbs::io::test::IgesEdit e = nurbs::io::test::IgesEdit::parse(
+      nurbs::io::write_iges_text(nurbs::io::test::small_model(), "bad.igs"));
+  const int c = e.find(142);
+  e.fields(c)[3] = "0";
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "bad.igs");
+  REQUIRE(m.dropped_faces.size() == 1);
+  CHECK(m.dropped_faces[0].entity == "D" + std::to_string(e.find(144)));
+  CHECK(m.dropped_faces[0].reason.find("trim curve D" + std::to_string(c)) != std::string::npos);
+  CHECK(m.dropped_faces[0].reason.find("no parameter-space curve") != std::string::npos);
 }
 
 // IGES Global section as real writers produce it (iges_global.cpp): Rhino writes Hollerith counts
