@@ -190,7 +190,8 @@ BandedTrim::BandedTrim(const TrimPolygons& trim) : trim_(&trim) {
     Loop l;
     double lo = 1e300, hi = -1e300;
     for (const glm::dvec2& q : poly) lo = std::min(lo, q.y), hi = std::max(hi, q.y);
-    const int bands = std::clamp(int(poly.size() / 4), 1, 4096);
+    for (const glm::dvec2& q : poly) l.u0 = std::min(l.u0, q.x), l.u1 = std::max(l.u1, q.x);
+    const int bands = std::clamp(int(poly.size() / 4), 1, kMaxBands);
     l.v0 = lo;
     l.height = hi > lo ? (hi - lo) / bands : 1.0;
     l.bands.resize(size_t(bands));
@@ -210,7 +211,9 @@ size_t BandedTrim::band(const Loop& l, double v) {
 
 int BandedTrim::winding(size_t k, glm::dvec2 p) const {
   const Loop& l = loops_[k];
-  if (p.y < l.v0 || l.bands.empty()) return 0;
+  // Outside the loop's box the winding number is 0 (a loop collapsed onto a line of (u, v), as a
+  // failed projection leaves it, holds 100,000 edges in one band and encloses nothing).
+  if (p.y < l.v0 || l.bands.empty() || !(p.x >= l.u0 && p.x <= l.u1)) return 0;
   const size_t b = band(l, p.y);
   const auto& poly = trim_->loops[k];
   int wn = 0;

@@ -57,6 +57,9 @@ struct TrimPolygons {
 /// horizontal bands of its box, so a winding number (Sunday's rule counts only the edges whose
 /// half-open v range holds the point) reads only the point's band. For many points of one face
 /// (the batched projection, the refinement, the tessellation's trim check).
+/// BandedTrim's bands per loop at most (one per 4 edges below that).
+inline constexpr int kMaxBands = 4096;
+
 class BandedTrim {
  public:
   BandedTrim() = default;
@@ -72,6 +75,7 @@ class BandedTrim {
  private:
   struct Loop {
     double v0 = 0.0, height = 1.0;
+    double u0 = 1e300, u1 = -1e300;  ///< the loop's u range
     std::vector<std::vector<int>> bands;  ///< edge indices per band
   };
   [[nodiscard]] int winding(size_t k, glm::dvec2 p) const;

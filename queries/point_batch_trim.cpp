@@ -128,8 +128,16 @@ void TrimEdges::compute_unit_pieces(int i, int j, std::vector<UnitPiece>& out) c
     for (int y = by0; y <= by1; ++y)
       for (int x = bx0; x <= bx1; ++x) buckets[size_t(y) * size_t(nb) + size_t(x)].push_back(uint32_t(n));
   }
+  // Each loop's edges are one run of n (the grouping), and so one run of every bucket (which lists
+  // n in increasing order): an edge skips its own loop's run by two binary searches (a loop of
+  // 100,000 edges collapsed onto a line fills one column of buckets alone).
+  std::vector<uint32_t> run_end(edges.size());
+  for (size_t n = edges.size(); n-- > 0;)
+    run_end[n] = n + 1 < edges.size() && edges[n + 1].first == edges[n].first ? run_end[n + 1] : uint32_t(n + 1);
   std::vector<uint32_t> seen(edges.size(), 0);  // the last edge n + 1 that tested edge n2
+  uint32_t run_begin = 0;
   for (size_t n = 0; n < edges.size(); ++n) {
+    if (n > 0 && edges[n].first != edges[n - 1].first) run_begin = uint32_t(n);
     const auto [k, e] = edges[n];
     const auto& loop = trim_->loops[size_t(k)];
     const glm::dvec2 a = loop[size_t(e)], b = loop[(size_t(e) + 1) % loop.size()];
@@ -148,20 +156,27 @@ void TrimEdges::compute_unit_pieces(int i, int j, std::vector<UnitPiece>& out) c
     const glm::dvec2 ab = b - a;
     int bx0, bx1, by0, by1;
     bucket_range(a, b, bx0, bx1, by0, by1);
+    const auto cut_by = [&](uint32_t n2) {
+      if (seen[n2] == n + 1) return;
+      seen[n2] = uint32_t(n + 1);
+      const auto [k2, e2] = edges[n2];
+      if (k2 == k) return;
+      const auto& loop2 = trim_->loops[size_t(k2)];
+      const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
+      const double det = ab.x * cd.y - ab.y * cd.x;
+      if (det == 0.0) return;  // parallel
+      const glm::dvec2 ac = c - a;
+      const double l = (ac.x * cd.y - ac.y * cd.x) / det, mu = (ac.x * ab.y - ac.y * ab.x) / det;
+      if (mu >= 0.0 && mu <= 1.0) cuts.push_back(l);
+    };
     for (int y = by0; y <= by1; ++y)
-      for (int x = bx0; x <= bx1; ++x)
-        for (const uint32_t n2 : buckets[size_t(y) * size_t(nb) + size_t(x)]) {
-          const auto [k2, e2] = edges[n2];
-          if (k2 == k || seen[n2] == n + 1) continue;
-          seen[n2] = uint32_t(n + 1);
-          const auto& loop2 = trim_->loops[size_t(k2)];
-          const glm::dvec2 c = loop2[size_t(e2)], cd = loop2[(size_t(e2) + 1) % loop2.size()] - c;
-          const double det = ab.x * cd.y - ab.y * cd.x;
-          if (det == 0.0) continue;  // parallel
-          const glm::dvec2 ac = c - a;
-          const double l = (ac.x * cd.y - ac.y * cd.x) / det, mu = (ac.x * ab.y - ac.y * ab.x) / det;
-          if (mu >= 0.0 && mu <= 1.0) cuts.push_back(l);
-        }
+      for (int x = bx0; x <= bx1; ++x) {
+        const std::vector<uint32_t>& bucket = buckets[size_t(y) * size_t(nb) + size_t(x)];
+        const auto own = std::lower_bound(bucket.begin(), bucket.end(), run_begin);
+        const auto after = std::lower_bound(own, bucket.end(), run_end[n]);
+        for (auto it = bucket.begin(); it != own; ++it) cut_by(*it);
+        for (auto it = after; it != bucket.end(); ++it) cut_by(*it);
+      }
     std::sort(cuts.begin(), cuts.end());
     const glm::dvec2 side = side_step_ * glm::normalize(glm::dvec2(a.y - b.y, b.x - a.x));
     for (size_t c = 0; c + 1 < cuts.size(); ++c) {
