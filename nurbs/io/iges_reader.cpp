@@ -210,18 +210,20 @@ std::vector<Body> ModelBuilder::build() {
       if (int s = faces_.surface_pointer(e.de); s != 0) used_[index(s)] = face_surface_[index(s)] = 1;
   for (const IgesDirectoryEntry& e : file_.entries)
     if (e.type == 186 && !instanced_[index(e.de)]) add_solid(bodies, e.de, glm::dmat4(1.0), "");
-  for (const IgesDirectoryEntry& e : file_.entries) {
-    if (e.type != 514 || used_[index(e.de)] || instanced_[index(e.de)]) continue;
-    Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
-    add_shell(body, e.de, glm::dmat4(1.0));
-    bodies.push_back(std::move(body));
-  }
+  // Instances before the shells and faces outside solids: the shells and faces of the solids they
+  // place are then used, and not read a second time where the definitions hold them.
   for (const IgesDirectoryEntry& e : file_.entries)
     if (e.type == 408 && !instanced_[index(e.de)]) add_instance(bodies, e.de, glm::dmat4(1.0), "", 0);
   // Instances that only definitions placed by one another list (a cycle) are reached from here, and
   // their nesting fails the read.
   for (const IgesDirectoryEntry& e : file_.entries)
     if (e.type == 408 && !used_[index(e.de)]) add_instance(bodies, e.de, glm::dmat4(1.0), "", 0);
+  for (const IgesDirectoryEntry& e : file_.entries) {
+    if (e.type != 514 || used_[index(e.de)] || instanced_[index(e.de)]) continue;
+    Body body{e.label.empty() ? fmt::format("shell D{}", e.de) : e.label, {}, glm::dmat4(1.0), {}};
+    add_shell(body, e.de, glm::dmat4(1.0));
+    bodies.push_back(std::move(body));
+  }
   // Faces outside shells; a bare 128 is a face when no face uses it and it is not physically dependent.
   Body loose{"faces", {}, glm::dmat4(1.0), {}};
   for (const IgesDirectoryEntry& e : file_.entries) {

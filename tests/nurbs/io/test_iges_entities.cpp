@@ -161,4 +161,20 @@ TEST_CASE("IGES: 143 with arcs and lines, B-rep solid, skipped and unsupported t
   const nurbs::Curve2& q = bounded.loops[1].curves[0];
   CHECK(std::abs(glm::length(nurbs::curve_point(q, 0.5 * (q.knots.front() + q.knots.back())) - glm::dvec2(0.5)) - 0.2) <
         1e-12);
+
+  // The same solid as the one entity of a subfigure definition placed twice: two solids of one
+  // face each, and its shell and face are not read a third time where the definition holds them.
+  const int solid = e.find(186);
+  e.set_de_field(solid, 9, 10000);  // physically dependent: the definition places it
+  const int def = e.append(308, {"0", "5Hsolid", "1", s(solid)});
+  e.append(408, {s(def), "0.", "0.", "0.", "1."});
+  e.append(408, {s(def), "0.", "0.", "10.", "1."});
+  const nurbs::Model placed = nurbs::io::read_iges_text(e.text(), "placed.igs");
+  REQUIRE(placed.bodies.size() == 3);  // the two placed solids, then the loose faces (the 143)
+  CHECK(placed.faces_in_file == 4);    // the 510 twice, the 143, the 144 on the 118 (dropped)
+  CHECK(placed.bodies[0].closed);
+  CHECK(placed.bodies[1].closed);
+  REQUIRE(placed.bodies[1].faces.size() == 1);
+  CHECK(placed.bodies[1].faces[0].surface.points[0].z == doctest::Approx(placed.bodies[0].faces[0].surface.points[0].z + 10));
+  CHECK(placed.bodies[2].faces.size() == 1);
 }
