@@ -174,8 +174,13 @@ struct Analytic {
         return {t, glm::dot(p - curve_at(t), dir)};
       }
       case Cylinder:
-      case Cone:
         uv = {std::atan2(y, x), z};
+        break;
+      case Cone:
+        // Beyond the apex the radius r + z tan(angle) is negative (the other nappe, where a cone
+        // placed at its apex, r = 0, keeps its faces when its axis points away from them): the
+        // angle turns by half a turn.
+        uv = r + z * tan_angle < 0.0 ? glm::dvec2(std::atan2(-y, -x), z) : glm::dvec2(std::atan2(y, x), z);
         break;
       case Sphere:
         uv = {std::atan2(y, x), std::atan2(z, rho)};

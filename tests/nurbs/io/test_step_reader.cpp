@@ -400,6 +400,34 @@ TEST_CASE("STEP reader: quasi-uniform and Bezier B-splines take the knots the st
   CHECK(nurbs::surface_point(f.surface, 1.0, 1.0) == glm::dvec3(2, 2, 1));
 }
 
+TEST_CASE("STEP reader: a cone placed at its apex keeps a face on the nappe behind its axis") {
+  // CATIA places drill points as cones of radius 0 at the apex, the axis pointing away from the
+  // face: radius 0, semi-angle 45 degrees, axis +z, and the band between the circles at z = -1
+  // (radius 1) and z = -2 (radius 2), where r + v tan(angle) < 0.
+  std::string d = context(kMillimetre);
+  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,0.,0.7853981633974483);\n"
+       "#6=CARTESIAN_POINT('',(0.,0.,-1.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n#8=CIRCLE('',#7,1.);\n"
+       "#9=CARTESIAN_POINT('',(0.,0.,-2.));\n#10=AXIS2_PLACEMENT_3D('',#9,#2,#3);\n#11=CIRCLE('',#10,2.);\n"
+       "#12=CARTESIAN_POINT('',(1.,0.,-1.));\n#13=VERTEX_POINT('',#12);\n"
+       "#14=CARTESIAN_POINT('',(2.,0.,-2.));\n#15=VERTEX_POINT('',#14);\n"
+       "#16=EDGE_CURVE('',#13,#13,#8,.T.);\n#17=EDGE_CURVE('',#15,#15,#11,.T.);\n"
+       "#18=ORIENTED_EDGE('',*,*,#16,.T.);\n#19=ORIENTED_EDGE('',*,*,#17,.F.);\n"
+       "#20=EDGE_LOOP('',(#18));\n#21=EDGE_LOOP('',(#19));\n#22=FACE_BOUND('',#20,.T.);\n"
+       "#23=FACE_BOUND('',#21,.T.);\n#24=ADVANCED_FACE('',(#22,#23),#5,.T.);\n"
+       "#25=OPEN_SHELL('',(#24));\n#26=SHELL_BASED_SURFACE_MODEL('',(#25));\n"
+       "#27=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#26),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "apex.stp");
+  CHECK(m.dropped_faces.empty());
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.edge_gap == 0.0);
+  CHECK(f.trim_problem.empty());
+  const auto [lowest, highest] = material_z_range(f);
+  CHECK(lowest < -1.9);
+  CHECK(highest > -1.1);
+  CHECK(highest < -1.0 + 1e-9);
+}
+
 TEST_CASE("STEP reader: a plane given as a LINE extruded, its edges beyond the line's unit vector") {
   // The square of side 2 on z = 1 again, on the line through (0, 0, 1) along x (vector of length 1)
   // swept along y: its edges reach the line's parameter 2.
