@@ -248,7 +248,7 @@ def survey(path, rel, writer, a, cli, peer, tmp):
     t = parse_json(out)
     if peer and status == "ok" and code == 0 and os.path.exists(mesh):
         unit = j.get("unit_scale_to_mm") or 1.0
-        check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures, tmp)
+        check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures)
     row["tess_exit"] = code if status == "ok" else status
     row["tess_s"] = round(wall, 2)
     if "open_edges" in t:
@@ -264,31 +264,41 @@ def survey(path, rel, writer, a, cli, peer, tmp):
     return row, failures
 
 
-def compare_with_occt(row, ours, peer, path, points, size, unit, a, limit, failures):
-    """OCCT's face count and exact distances to the trimmed faces of the same points; WRONG counts our
-    found answers (but those marked uncertified) off OCCT's by more than our bound plus 1e-9 x size.
-    OCCT's readers convert to millimetres, ours keep the file's unit (`unit` mm each): the peer gets
-    the points scaled by it, and its distances and tolerance come back divided by it."""
-    mm_points = points + ".mm.txt"
-    with open(points) as src, open(mm_points, "w") as dst:
-        for line in src:
-            if line.strip():
-                dst.write(" ".join(repr(float(v) * unit) for v in line.split()) + "\n")
-    deflection = MESH_DEFLECTION * size * unit
-    status, code, out, err, wall = run_child([peer, "points", path, "--points", mm_points, "--repeat", "0",
-                                              "--trimmed", str(a.points), "--mesh-deflection", repr(deflection)],
+def occt_trimmed(peer, path, xyz, points, size, unit, a, limit):
+    """OCCT's exact distances from the points `xyz` (the file's unit) to the trimmed faces, and to
+    its own mesh of them (deflection MESH_DEFLECTION x size): ({faces, distances, mesh, tolerance,
+    deflection}, None), all in the file's unit, or (None, the error). OCCT's readers convert to
+    millimetres, ours keep the file's unit (`unit` mm each): the peer gets the points scaled by it
+    (written to the file `points`) and its figures come back divided by it."""
+    with open(points, "w") as f:
+        for x in xyz:
+            f.write(" ".join(repr(v * unit) for v in x) + "\n")
+    status, code, out, err, wall = run_child([peer, "points", path, "--points", points, "--repeat", "0", "--trimmed",
+                                              str(len(xyz)), "--mesh-deflection", repr(MESH_DEFLECTION * size * unit)],
                                              a.timeout, limit)
     o = parse_json(out)
     if status != "ok" or code != 0 or "trimmed" not in o:
-        row["occ_error"] = (error_text(o, err, code) if status == "ok" else status)[:200]
+        return None, (error_text(o, err, code) if status == "ok" else status)[:200]
+    back = lambda values: [None if v is None else v / unit for v in values]
+    return {"faces": o.get("faces"), "distances": back(o["trimmed"]["distances"]),
+            "mesh": back(o["trimmed"].get("mesh", {}).get("distances", [])),
+            "tolerance": o["trimmed"].get("tolerance", 0.0) / unit, "deflection": MESH_DEFLECTION * size}, None
+
+
+def compare_with_occt(row, ours, peer, path, points, size, unit, a, limit, failures):
+    """OCCT's face count and exact distances to the trimmed faces of the same points; WRONG counts our
+    found answers (but those marked uncertified) off OCCT's by more than our bound plus 1e-9 x size."""
+    with open(points) as f:
+        xyz = [tuple(float(v) for v in line.split()) for line in f if line.strip()]
+    o, error = occt_trimmed(peer, path, xyz, points + ".mm.txt", size, unit, a, limit)
+    if error:
+        row["occ_error"] = error
         return
-    row["occ_faces"] = o.get("faces")
-    o["trimmed"]["distances"] = [None if v is None else v / unit for v in o["trimmed"]["distances"]]
-    o["trimmed"]["tolerance"] = o["trimmed"].get("tolerance", 0.0) / unit
-    mesh = [None if v is None else v / unit for v in o["trimmed"].get("mesh", {}).get("distances", [])]
-    mesh += [None] * (len(ours) - len(mesh))
+    row["occ_faces"] = o["faces"]
+    mesh = o["mesh"] + [None] * (len(ours) - len(o["mesh"]))
+    deflection = o["deflection"]
     worst, wrong, disputed, beyond_occ_tol = 0.0, 0, 0, 0
-    for r, ref, m in zip(ours, o["trimmed"]["distances"], mesh):
+    for r, ref, m in zip(ours, o["distances"], mesh):
         if ref is None or not r.get("found") or r.get("distance") is None:
             continue
         diff = abs(r["distance"] - ref)
@@ -298,13 +308,13 @@ def compare_with_occt(row, ours, peer, path, points, size, unit, a, limit, failu
             # OCCT's mesh of the same faces agrees with ours where its exact distance does not: the
             # exact distance's face classification erred (seen on tori whose loops run along a
             # seam edge that is not the surface's), a disputed answer, not a wrong one.
-            if m is not None and abs(r["distance"] - m) <= r["bound"] + 2 * deflection / unit:
+            if m is not None and abs(r["distance"] - m) <= r["bound"] + 2 * deflection:
                 disputed += 1
                 continue
             wrong += 1
-            beyond_occ_tol += diff > r["bound"] + o["trimmed"].get("tolerance", 0.0)
+            beyond_occ_tol += diff > r["bound"] + o["tolerance"]
     row.update({"occ_worst_per_bound": round(worst, 3), "wrong": wrong, "wrong_beyond_occ_tolerance": beyond_occ_tol,
-                "occ_disputed": disputed, "occ_tolerance": o["trimmed"].get("tolerance")})
+                "occ_disputed": disputed, "occ_tolerance": o["tolerance"]})
     if wrong:
         failures.append(("WRONG", f"{wrong} certified distances off OCCT's by more than the bound"))
 
@@ -322,7 +332,7 @@ def read_obj_triangles(path):
     return triangles
 
 
-def check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures, tmp):
+def check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failures):
     """The mesh against OCCT's faces: at MESH_SAMPLES points of the mesh where it strays most from
     the faces (triangle centroids and edge midpoints of random triangles, seeded), OCCT's exact
     distance to the trimmed faces, with OCCT's own mesh as a second opinion as for the distances.
@@ -338,28 +348,18 @@ def check_mesh_with_occt(row, t, mesh, peer, path, size, unit, a, limit, failure
         pick = rng.randrange(4)
         w = [(1 / 3, 1 / 3, 1 / 3), (0.5, 0.5, 0), (0, 0.5, 0.5), (0.5, 0, 0.5)][pick]
         samples.append(tuple(w[0] * p[k] + w[1] * q[k] + w[2] * r[k] for k in range(3)))
-    points = mesh + ".samples.txt"
-    with open(points, "w") as f:
-        for x in samples:
-            f.write(" ".join(repr(v * unit) for v in x) + "\n")
-    deflection = MESH_DEFLECTION * size * unit
-    status, code, out, err, wall = run_child([peer, "points", path, "--points", points, "--repeat", "0",
-                                              "--trimmed", str(len(samples)), "--mesh-deflection", repr(deflection)],
-                                             a.timeout, limit)
-    o = parse_json(out)
-    if status != "ok" or code != 0 or "trimmed" not in o:
-        row["occ_mesh_error"] = (error_text(o, err, code) if status == "ok" else status)[:200]
+    o, error = occt_trimmed(peer, path, samples, mesh + ".samples.txt", size, unit, a, limit)
+    if error:
+        row["occ_mesh_error"] = error
         return
-    exact = o["trimmed"]["distances"]
-    second = o["trimmed"].get("mesh", {}).get("distances", [None] * len(exact))
+    second = o["mesh"] + [None] * (len(o["distances"]) - len(o["mesh"]))
     bound = t.get("bound", t.get("eps", 0.0))
     worst, wrong = 0.0, 0
-    for d, m in zip(exact, second):
+    for d, m in zip(o["distances"], second):
         if d is None:
             continue
-        d /= unit
         # OCCT's mesh lies within its deflection of the faces: the farther point is nearer than that.
-        dev = d if m is None else min(d, m / unit + deflection / unit)
+        dev = d if m is None else min(d, m + o["deflection"])
         worst = max(worst, dev)
         wrong += dev > bound * (1 + 1e-9) + 1e-9 * size
     row.update({"occ_mesh_dev": worst, "tess_bound": bound, "tess_wrong": wrong})
