@@ -30,13 +30,21 @@ glm::dvec3 periodic_point(const nurbs::Surface& s, double u, double v) {
   return nurbs::surface_point(s, w, v);
 }
 
+/// A cylinder of radius 2 and height 3, and a band on it from a quarter to three quarters of its
+/// height (v0 to v1, middle vm) going once round from a third of its period (`start`).
+struct Band {
+  nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
+  nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
+  double period = du.width(), start = du.min + period / 3;
+  double v0 = dv.min + 0.25 * dv.width(), v1 = dv.max - 0.25 * dv.width(), vm = 0.5 * (v0 + v1);
+};
+
 }  // namespace
 
 TEST_CASE("trim wrap: a band whose loop runs past the far side of a cylinder's domain keeps all its material") {
-  const nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
-  const nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
-  const double period = du.width(), start = du.min + period / 3;
-  const double v0 = dv.min + 0.25 * dv.width(), v1 = dv.max - 0.25 * dv.width(), vm = 0.5 * (v0 + v1);
+  const Band b;
+  const nurbs::Surface& cylinder = b.cylinder;
+  const double period = b.period, start = b.start, v0 = b.v0, v1 = b.v1, vm = b.vm;
   nurbs::TrimmedSurface face;
   face.surface = cylinder;
   face.loops = {rectangle(start, start + period, v0, v1)};
@@ -74,10 +82,9 @@ TEST_CASE("trim wrap: a loop a whole period beyond the domain moves by the perio
 TEST_CASE("trim wrap: the two circles of a band that start off the seam are cut there and closed into one loop") {
   // The band's lower circle runs once round from a third of the period, the upper one back: each
   // goes past the domain's far side, and neither closes in (u, v) without its seam segments.
-  const nurbs::Surface cylinder = models::rational_cylinder(2.0, 3.0);
-  const nurbs::Interval du = nurbs::surface_domain_u(cylinder), dv = nurbs::surface_domain_v(cylinder);
-  const double period = du.width(), start = du.min + period / 3;
-  const double v0 = dv.min + 0.25 * dv.width(), v1 = dv.max - 0.25 * dv.width(), vm = 0.5 * (v0 + v1);
+  const Band b;
+  const nurbs::Surface& cylinder = b.cylinder;
+  const double period = b.period, start = b.start, v0 = b.v0, v1 = b.v1, vm = b.vm;
   nurbs::TrimmedSurface face;
   face.surface = cylinder;
   face.loops = {{{nurbs::segment_curve({start, v0}, {start + period, v0})}, true},
@@ -88,8 +95,8 @@ TEST_CASE("trim wrap: the two circles of a band that start off the seam are cut 
   REQUIRE(face.loops.size() == 1);
   const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, 1e-6);
   for (int k = 0; k < 36; ++k) {
-    const double u = du.min + period * (k + 0.5) / 36;
+    const double u = b.du.min + period * (k + 0.5) / 36;
     CHECK(nurbs::is_material(trim, glm::dvec2(u, vm)));
-    CHECK(!nurbs::is_material(trim, glm::dvec2(u, dv.min + 0.1 * dv.width())));
+    CHECK(!nurbs::is_material(trim, glm::dvec2(u, b.dv.min + 0.1 * b.dv.width())));
   }
 }
