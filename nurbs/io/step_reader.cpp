@@ -357,17 +357,23 @@ Chart analytic_chart(const Analytic& a, const AnalyticSurface& as) {
   const Interval u = surface_domain_u(as.surface), v = surface_domain_v(as.surface);
   const glm::dvec2 period = c.period;
   c.natural = [&a, &as, u, v, period](glm::dvec3 p, const std::optional<glm::dvec2>& prev) {
-    std::optional<glm::dvec2> near;
-    if (prev) {
-      glm::dvec2 q = *prev;  // into the domain, then the file's parameters
+    std::optional<glm::dvec2> near, anchor = prev;
+    if (anchor) {
+      // After a point on the axis (no angle), the angle is taken nearest the patch's middle: the
+      // branch the patch was built on, not atan2's.
+      if (!std::isfinite(anchor->x)) anchor->x = 0.5 * (u.min + u.max);
+      if (!std::isfinite(anchor->y)) anchor->y = 0.5 * (v.min + v.max);
+    }
+    if (anchor) {
+      glm::dvec2 q = *anchor;  // into the domain, then the file's parameters
       if (period.x > 0) q.x = u.min + std::fmod(std::fmod(q.x - u.min, period.x) + period.x, period.x);
       if (period.y > 0) q.y = v.min + std::fmod(std::fmod(q.y - v.min, period.y) + period.y, period.y);
       near = glm::dvec2(as.u.inverse(q.x), as.v.inverse(q.y));
     }
     glm::dvec2 st = as.map(a.natural(p, near));
-    if (prev) {
-      if (period.x > 0 && std::isfinite(st.x)) st.x += period.x * std::round((prev->x - st.x) / period.x);
-      if (period.y > 0 && std::isfinite(st.y)) st.y += period.y * std::round((prev->y - st.y) / period.y);
+    if (anchor) {
+      if (period.x > 0 && std::isfinite(st.x)) st.x += period.x * std::round((anchor->x - st.x) / period.x);
+      if (period.y > 0 && std::isfinite(st.y)) st.y += period.y * std::round((anchor->y - st.y) / period.y);
     }
     return st;
   };
@@ -1307,11 +1313,15 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     std::vector<Box2> boxes(loops.size());
     for (size_t li = 0; li < loops.size(); ++li) {
       std::optional<glm::dvec2> prev;
+      std::vector<double> on_axis;
       for (const Curve3& c : loops[li].curves) {
         const Interval d = curve_domain(c);
         const int n = 8 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
         for (int i = 0; i <= n; ++i) {
           const glm::dvec2 uv = a.natural(curve_point(c, d.min + d.width() * i / n), prev);
+          // A point on the axis (a pole, an apex) has no angle of its own but its latitude or
+          // height belongs to the box: a meridian ending at a pole takes the patch up to it.
+          if (!std::isfinite(uv.x) && std::isfinite(uv.y)) on_axis.push_back(uv.y);
           if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) continue;
           if (!std::isfinite(loop_start[li].x)) loop_start[li] = uv;
           boxes[li].add(uv);
@@ -1319,6 +1329,7 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
         }
       }
       if (!std::isfinite(loop_start[li].x)) throw SkipFace{"an edge loop has no parameters on its surface"};
+      for (double v : on_axis) boxes[li].add({boxes[li].lo.x, v});
     }
     size_t first = 0;
     for (size_t li = 0; li < loops.size(); ++li)

@@ -272,6 +272,55 @@ TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole")
   CHECK(highest > 0.99);
 }
 
+TEST_CASE("STEP reader: a sphere octant whose meridians meet at a pole reaches the pole, on the patch") {
+  // The rounded corner of a box (KiCad's and FreeCAD's chip bodies): an eighth of the unit sphere
+  // bounded by three quarter circles, two of them meridians meeting at a pole, where the angle is
+  // undefined. Every octant, each loop started at each of its three vertices (one of them the pole).
+  for (const int sx : {1, -1})
+    for (const int sy : {1, -1})
+      for (const int sz : {1, -1})
+        for (int start = 0; start < 3; ++start) {
+          CAPTURE(sx);
+          CAPTURE(sy);
+          CAPTURE(sz);
+          CAPTURE(start);
+          const glm::dvec3 a(sx, 0, 0), b(0, sy, 0), c(0, 0, sz);
+          // Counter-clockwise seen from outside: a, b, c when (b - a) x (c - a) points outwards.
+          std::vector<glm::dvec3> v = sx * sy * sz > 0 ? std::vector{a, b, c} : std::vector{a, c, b};
+          std::rotate(v.begin(), v.begin() + start, v.end());
+          std::string d = context(kMillimetre);
+          d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+               "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n";
+          auto vec = [](glm::dvec3 q) { return fmt::format("({},{},{})", q.x, q.y, q.z); };
+          for (int i = 0; i < 3; ++i) d += fmt::format("#{}=CARTESIAN_POINT('',{});\n#{}=VERTEX_POINT('',#{});\n", 10 + 2 * i, vec(v[i]), 11 + 2 * i, 10 + 2 * i);
+          std::string edges;
+          for (int i = 0; i < 3; ++i) {
+            // The arc from v[i] to v[i + 1]: a circle about the centre with axis v[i] x v[i + 1] and
+            // reference direction v[i], so that it runs from v[i] towards v[i + 1].
+            const int j = (i + 1) % 3, id = 20 + 10 * i;
+            d += fmt::format("#{}=DIRECTION('',{});\n#{}=DIRECTION('',{});\n#{}=AXIS2_PLACEMENT_3D('',#1,#{},#{});\n", id,
+                             vec(glm::cross(v[i], v[j])), id + 1, vec(v[i]), id + 2, id, id + 1);
+            d += fmt::format("#{}=CIRCLE('',#{},1.);\n#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n",
+                             id + 3, id + 2, id + 4, 11 + 2 * i, 11 + 2 * j, id + 3, id + 5, id + 4);
+            edges += fmt::format("{}#{}", i ? "," : "", id + 5);
+          }
+          d += "#60=EDGE_LOOP('',(" + edges + "));\n#61=FACE_OUTER_BOUND('',#60,.T.);\n"
+               "#62=ADVANCED_FACE('corner',(#61),#5,.T.);\n#63=OPEN_SHELL('',(#62));\n"
+               "#64=SHELL_BASED_SURFACE_MODEL('',(#63));\n#65=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#64),#900);\n";
+          const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "corner.stp");
+          const nurbs::TrimmedSurface& f = only_face(m);
+          CHECK(f.trim_problem.empty());
+          CHECK(f.edge_gap == 0.0);
+          // Material on the octant's side of z = 0 only, from the equator (within the 64 x 64 grid's
+          // spacing) up to within 0.01 of the pole.
+          const auto [lowest, highest] = material_z_range(f);
+          CHECK(sz * lowest >= -1e-9);
+          CHECK(sz * highest <= 1.0 + 1e-9);
+          CHECK(std::max(sz * lowest, sz * highest) > 0.99);
+          CHECK(std::min(sz * lowest, sz * highest) < 0.05);
+        }
+}
+
 TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
   std::string d = context(kMillimetre);
   d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
