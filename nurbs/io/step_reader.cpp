@@ -198,7 +198,10 @@ struct Analytic {
         break;
       }
     }
-    if (rho <= 1e-12 * (glm::length(d) + r)) uv.x = std::numeric_limits<double>::quiet_NaN();
+    // On the axis within what the file's digits carry (its points are written to about 12 significant
+    // figures; an apex reached along a LINE from another point lands 1e-10 of its distance from the
+    // origin off it): the angle there is noise.
+    if (rho <= 1e-9 * (glm::length(p) + r)) uv.x = std::numeric_limits<double>::quiet_NaN();
     if (prev) {
       if (std::isfinite(uv.x) && std::isfinite(prev->x)) uv.x = wrap_near(uv.x, prev->x);
       if (v_periodic() && std::isfinite(prev->y)) uv.y = wrap_near(uv.y, prev->y);
@@ -350,6 +353,36 @@ Chart bspline_chart(const Surface& s, double accept) {
     return uv;
   };
   return c;
+}
+
+// A loop's (u, v) points on a surface periodic in u with period `period`, split by its points on
+// the axis (a pole, an apex; NaN u, no angle): each run between them made continuous (every point
+// within half a period of the one before: the samples next to a pole, which have no neighbour's
+// angle to follow, land on either side of a seam edge), and the run that ends the loop shifted by
+// whole periods to end where the loop starts (a ball's seam used down to the pole and up again:
+// the way up is on the other side of the seam).
+void unwrap_across_axis(std::vector<std::vector<glm::dvec2>>& loop, double period) {
+  std::vector<glm::dvec2*> pts;
+  for (auto& l : loop)
+    for (glm::dvec2& q : l) pts.push_back(&q);
+  const glm::dvec2* last = nullptr;
+  size_t run = 0;  // first point of the current run
+  bool axis = false;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    glm::dvec2& q = *pts[i];
+    if (!std::isfinite(q.x)) {
+      last = nullptr, axis = true;
+      continue;
+    }
+    if (last)
+      q.x += period * std::round((last->x - q.x) / period);
+    else
+      run = i;
+    last = &q;
+  }
+  if (!axis || run == 0 || !last || !std::isfinite(pts.front()->x)) return;
+  const double shift = period * std::round((pts.front()->x - last->x) / period);
+  for (size_t i = run; i < pts.size(); ++i) pts[i]->x += shift;
 }
 
 Chart analytic_chart(const Analytic& a, const AnalyticSurface& as) {
@@ -1480,6 +1513,8 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     }
   }
   set_gap(off);
+  if (!fs.bspline && chart.period.x > 0)
+    for (auto& loop : lines) unwrap_across_axis(loop, chart.period.x);
   // Points on an axis (apex, pole) take the angle of their neighbour along the loop.
   for (auto& loop : lines) {
     std::vector<glm::dvec2*> pts;

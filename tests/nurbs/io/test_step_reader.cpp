@@ -6,9 +6,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -124,6 +127,36 @@ double material_share(const nurbs::TrimmedSurface& f) {
       in += nurbs::is_material(f, {u.min + u.width() * (i + 0.5) / 100, v.min + v.width() * (j + 0.5) / 100}, tol) ? 1
                                                                                                                    : 0;
   return static_cast<double>(in) / n;
+}
+
+// Points of a 64 x 64 grid of the face's patch where the trim's classification differs from
+// `expected` (material or not by the point's position; nullopt: too near an edge to say), and how
+// many were expected to be material.
+struct GridAgreement {
+  int wrong = 0, material = 0;
+};
+GridAgreement grid_agreement(const nurbs::TrimmedSurface& f,
+                             const std::function<std::optional<bool>(glm::dvec3)>& expected) {
+  const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
+  GridAgreement out;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j) {
+      const glm::dvec2 uv(u.min + u.width() * (i + 0.5) / 64, v.min + v.width() * (j + 0.5) / 64);
+      const std::optional<bool> e = expected(nurbs::surface_point(f.surface, uv.x, uv.y));
+      if (!e) continue;
+      out.wrong += nurbs::is_material(f, uv, 1e-9) != *e;
+      out.material += *e;
+    }
+  return out;
+}
+
+// `d` (entities up to #29, the face's surface #5) completed by a loop of the three oriented edges
+// `edges` started at edges[start], its face and a surface model, then read.
+nurbs::Model read_three_edge_face(std::string d, const std::array<std::string, 3>& edges, int start) {
+  d += fmt::format("#30=EDGE_LOOP('',({},{},{}));\n", edges[start], edges[(start + 1) % 3], edges[(start + 2) % 3]);
+  d += "#31=FACE_OUTER_BOUND('',#30,.T.);\n#32=ADVANCED_FACE('',(#31),#5,.T.);\n#33=OPEN_SHELL('',(#32));\n"
+       "#34=SHELL_BASED_SURFACE_MODEL('',(#33));\n#35=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#34),#900);\n";
+  return nurbs::io::read_step_text(step_file(d), "face.stp");
 }
 
 }  // namespace
@@ -321,6 +354,39 @@ TEST_CASE("STEP reader: a sphere octant whose meridians meet at a pole reaches t
         }
 }
 
+TEST_CASE("STEP reader: a ball whose seam edge runs down to the pole and up again keeps all below its circle") {
+  // A BGA ball (KiCad): the unit sphere below the circle z = 0.5, bounded by the circle and by the
+  // seam meridian from the pole up to it, used down and up. The sphere's reference direction puts
+  // its seam at angle 0 or (turned) at pi; each loop starts at each of its three edges.
+  const double r0 = std::sqrt(0.75);
+  for (const char* ref : {"(1.,0.,0.)", "(-1.,0.,0.)"})
+    for (int start = 0; start < 3; ++start) {
+      CAPTURE(ref);
+      CAPTURE(start);
+      std::string d = context(kMillimetre);
+      d += fmt::format(
+          "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',{});\n"
+          "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
+          "#6=DIRECTION('',(1.,0.,0.));\n#7=CARTESIAN_POINT('',(0.,0.,0.5));\n#8=AXIS2_PLACEMENT_3D('',#7,#2,#6);\n"
+          "#9=CIRCLE('',#8,{});\n#10=CARTESIAN_POINT('',({},0.,0.5));\n#11=VERTEX_POINT('',#10);\n"
+          "#12=EDGE_CURVE('',#11,#11,#9,.T.);\n#13=CARTESIAN_POINT('',(0.,0.,-1.));\n#14=VERTEX_POINT('',#13);\n"
+          "#15=DIRECTION('',(0.,-1.,0.));\n#16=AXIS2_PLACEMENT_3D('',#1,#15,#6);\n#17=CIRCLE('',#16,1.);\n"
+          "#18=EDGE_CURVE('',#14,#11,#17,.T.);\n#20=ORIENTED_EDGE('',*,*,#12,.F.);\n"
+          "#21=ORIENTED_EDGE('',*,*,#18,.F.);\n#22=ORIENTED_EDGE('',*,*,#18,.T.);\n",
+          ref, r0, r0);
+      const nurbs::Model m = read_three_edge_face(d, {"#20", "#21", "#22"}, start);
+      const nurbs::TrimmedSurface& f = only_face(m);
+      CHECK(f.trim_problem.empty());
+      CHECK(f.edge_gap == 0.0);
+      // Every grid point away from the circle is material exactly when it lies below it.
+      const GridAgreement g = grid_agreement(f, [](glm::dvec3 q) -> std::optional<bool> {
+        if (std::abs(q.z - 0.5) < 0.01) return std::nullopt;
+        return q.z < 0.5;
+      });
+      CHECK(g.wrong == 0);
+    }
+}
+
 TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
   std::string d = context(kMillimetre);
   d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
@@ -362,6 +428,49 @@ TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
     CHECK(lowest >= -1.0 - 1e-9);
     CHECK(highest <= 1e-9);
   }
+}
+
+TEST_CASE("STEP reader: a half cone from its apex, reached along lines from other points, keeps its half") {
+  // CATIA's cone sectors (NIST CTC 04): a cone of radius 0 placed at its apex c, axis +z, semi-angle
+  // 45 degrees; the face is its half y >= c.y below the circle one unit above the apex, bounded by
+  // that half circle and two LINE edges whose points lie `along` away from the apex, so that the
+  // apex, evaluated along them, lies 1e-15 to 1e-13 off the axis, where atan2 gives any angle. Each
+  // loop starts at each of its edges.
+  const double h = 0.7071067811865476;
+  for (const glm::dvec3 c : {glm::dvec3(10, 20, 30), glm::dvec3(-95.3, 116.48, -36.81)})
+    for (const double along : {0.37, 1.3, 3.7})
+      for (int start = 0; start < 3; ++start) {
+        CAPTURE(c.x);
+        CAPTURE(along);
+        CAPTURE(start);
+        auto pt = [](glm::dvec3 q) { return fmt::format("CARTESIAN_POINT('',({},{},{}))", q.x, q.y, q.z); };
+        std::string d = context(kMillimetre);
+        d += "#1=" + pt(c) + ";\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n";
+        d += "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,0.,0.7853981633974483);\n";
+        d += "#6=VERTEX_POINT('',#1);\n#7=" + pt(c + glm::dvec3(1, 0, 1)) + ";\n#8=VERTEX_POINT('',#7);\n";
+        d += "#9=" + pt(c + glm::dvec3(-1, 0, 1)) + ";\n#10=VERTEX_POINT('',#9);\n";
+        d += "#11=" + pt(c + along * glm::dvec3(h, 0, h)) + ";\n";
+        d += fmt::format("#12=DIRECTION('',({},0.,{}));\n", h, h);
+        d += "#13=VECTOR('',#12,1.);\n#14=LINE('',#11,#13);\n#15=EDGE_CURVE('',#6,#8,#14,.T.);\n";
+        d += "#16=" + pt(c + along * glm::dvec3(-h, 0, h)) + ";\n";
+        d += fmt::format("#17=DIRECTION('',({},0.,{}));\n", h, -h);
+        d += "#18=VECTOR('',#17,1.);\n#19=LINE('',#16,#18);\n#20=EDGE_CURVE('',#10,#6,#19,.T.);\n";
+        d += "#21=" + pt(c + glm::dvec3(0, 0, 1)) + ";\n#22=AXIS2_PLACEMENT_3D('',#21,#2,#3);\n#23=CIRCLE('',#22,1.);\n";
+        d += "#24=EDGE_CURVE('',#8,#10,#23,.T.);\n#25=ORIENTED_EDGE('',*,*,#20,.F.);\n"
+             "#26=ORIENTED_EDGE('',*,*,#24,.F.);\n#27=ORIENTED_EDGE('',*,*,#15,.F.);\n";
+        const nurbs::Model m = read_three_edge_face(d, {"#25", "#26", "#27"}, start);
+        const nurbs::TrimmedSurface& f = only_face(m);
+        CHECK(f.trim_problem.empty());
+        CHECK(f.edge_gap == 0.0);
+        // Every grid point away from the edges is material exactly when it lies on the half.
+        const GridAgreement g = grid_agreement(f, [c](glm::dvec3 q) -> std::optional<bool> {
+          q -= c;
+          if (std::abs(q.y) < 0.01 || std::abs(q.z - 1) < 0.01) return std::nullopt;
+          return q.y > 0 && q.z < 1;
+        });
+        CHECK(g.wrong == 0);
+        CHECK(g.material > 100);
+      }
 }
 
 TEST_CASE("STEP reader: hyperbola and parabola edges are exact conic arcs between their vertices") {
