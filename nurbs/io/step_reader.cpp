@@ -598,7 +598,10 @@ class StepReader {
   /// The pieces of an EDGE_CURVE from its start vertex to its end vertex.
   const std::vector<EdgePiece>& edge(long id, const StepEntity& from);
   /// The PCURVEs of a SURFACE_CURVE / SEAM_CURVE `e` on the parameter range [t0, t1] of its 3D curve.
-  std::vector<std::pair<long, Curve3>> pcurves(const StepEntity& e, double t0, double t1);
+  /// The PCURVEs of edge geometry `e` (a SURFACE_CURVE or SEAM_CURVE) over [t0, t1] of its curve
+  /// `g` as ISO 10303-42 parametrises it: a B-spline's knots, a line's point + t vector, a conic's
+  /// angle (here in radians).
+  std::vector<std::pair<long, Curve3>> pcurves(const StepEntity& e, const CurveGeom& g, double t0, double t1);
   FaceSurface surface(long id, const StepEntity& from);
 
   // ---- topology -----------------------------------------------------------------------------------
@@ -921,10 +924,12 @@ void StepReader::mark_pcurves(const StepEntity& e, int depth) {
   }
 }
 
-std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, double t0, double t1) {
+std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, const CurveGeom& g, double t0,
+                                                         double t1) {
   std::vector<std::pair<long, Curve3>> out;
   const StepRecord* r = surface_curve(e);
   if (!r || r->params.size() < 3 || r->params[2].kind != Kind::List) return out;
+  if (g.type == CurveGeom::Conic) t0 /= angle_scale_, t1 /= angle_scale_;  // radians: the file's angle unit
   for (const StepValue& gv : r->params[2].items) {
     if (gv.kind != Kind::Ref) continue;
     const StepEntity& pc = entity(gv.ref, e);
@@ -935,18 +940,27 @@ std::vector<std::pair<long, Curve3>> StepReader::pcurves(const StepEntity& e, do
     const StepRecord& drr = dr.records.front();
     const auto& items = list(dr, param(dr, drr, 1, "items"), "items");
     if (items.size() != 1) continue;
-    CurveGeom g;
+    CurveGeom pg;
     try {
-      g = curve(ref(dr, items.front(), "curve"), dr, 1);
+      pg = curve(ref(dr, items.front(), "curve"), dr, 1);
     } catch (const SkipFace&) {  // a parameter-space curve of a type not read: the edge is projected
       continue;
+    } catch (const ReadError&) {  // nor one this reader cannot read (a 2D conic's AXIS2_PLACEMENT_2D)
+      continue;
     }
-    if (g.type == CurveGeom::Line) {
-      out.emplace_back(surface, segment(g.f.o + t0 * g.f.x, g.f.o + t1 * g.f.x, t0, t1));
-    } else if (g.type == CurveGeom::Spline) {
-      const Interval d = curve_domain(g.nurbs);
-      if (t0 < d.min - 1e-9 * d.width() || t1 > d.max + 1e-9 * d.width()) continue;
-      out.emplace_back(surface, restrict_curve(g.nurbs, std::max(t0, d.min), std::min(t1, d.max)));
+    if (pg.type == CurveGeom::Line) {
+      out.emplace_back(surface, segment(pg.f.o + t0 * pg.f.x, pg.f.o + t1 * pg.f.x, t0, t1));
+    } else if (pg.type == CurveGeom::Spline) {
+      const Interval d = curve_domain(pg.nurbs);
+      // A conic's angles may be counted from another turn than the first.
+      const double turn = g.type == CurveGeom::Conic ? 2 * kPi / angle_scale_ : 0.0;
+      double a = t0, b = t1;
+      if (turn > 0 && (a < d.min - 1e-9 * d.width() || b > d.max + 1e-9 * d.width())) {
+        const double k = std::round((d.min + d.max - a - b) / (2 * turn));
+        a += k * turn, b += k * turn;
+      }
+      if (a < d.min - 1e-9 * d.width() || b > d.max + 1e-9 * d.width()) continue;
+      out.emplace_back(surface, restrict_curve(pg.nurbs, std::max(a, d.min), std::min(b, d.max)));
     }
   }
   return out;
@@ -972,7 +986,11 @@ const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEn
     // off it within the writer's tolerance (CATIA: up to 0.014 mm on the Ventilator).
     const glm::dvec3 d = g.f.x / glm::dot(g.f.x, g.f.x);
     auto foot = [&](glm::dvec3 q) { return g.f.o + glm::dot(q - g.f.o, d) * g.f.x; };
-    pieces.push_back({segment(foot(a), foot(b), 0.0, 1.0), {}});
+    const double ta = glm::dot(a - g.f.o, d), tb = glm::dot(b - g.f.o, d);
+    std::vector<std::pair<long, Curve3>> pc = pcurves(entity(geometry, e), g, std::min(ta, tb), std::max(ta, tb));
+    if (ta > tb)
+      for (auto& q : pc) q.second = reversed(q.second);
+    pieces.push_back({segment(foot(a), foot(b), 0.0, 1.0), std::move(pc)});
   } else if (g.type == CurveGeom::Conic) {
     // Angles of the vertices on the ellipse; the edge runs counter-clockwise from start to end when
     // same_sense, else clockwise (= counter-clockwise from end to start, reversed).
@@ -985,7 +1003,10 @@ const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEn
     while (sweep <= 1e-12) sweep += 2 * kPi;
     if (glm::length(a - b) <= 1e-9 * g.a) sweep = 2 * kPi;
     Curve3 c = circle_arc(g.f.o, g.f.x * g.a, g.f.y * g.b, 1.0, s, sweep);
-    pieces.push_back({same ? c : reversed(c), {}});
+    std::vector<std::pair<long, Curve3>> pc = pcurves(entity(geometry, e), g, s, s + sweep);
+    if (!same)
+      for (auto& q : pc) q.second = reversed(q.second);
+    pieces.push_back({same ? c : reversed(c), std::move(pc)});
   } else if (g.type == CurveGeom::Hyperbola || g.type == CurveGeom::Parabola) {
     // The vertices' feet on the conic (in its plane, by the parameter of their y coordinate), then
     // the arc between them as one rational quadratic (conic_arcs.h), mapped by the frame (affine:
@@ -1030,7 +1051,7 @@ const std::vector<StepReader::EdgePiece>& StepReader::edge(long id, const StepEn
     const StepEntity& ge = entity(geometry, e);
     for (const Interval& range : along) {
       EdgePiece piece{range.min <= d.min && range.max >= d.max ? c : restrict_curve(c, range.min, range.max),
-                      pcurves(ge, range.min, range.max)};
+                      pcurves(ge, g, range.min, range.max)};
       if (!same) {
         piece.c = reversed(piece.c);
         for (auto& pc : piece.pcurves) pc.second = reversed(pc.second);
@@ -1499,12 +1520,12 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       lines[li].push_back(std::move(line));
     }
   }
-  // Per loop: the given curves when exact or when the projection lies off (then their gap counts),
-  // else the projection (its gap counts).
+  // Per loop: the given curves when exact or when the projection lies off as far as they do or farther
+  // (then their gap counts), else the projection (its gap counts).
   double off = 0.0;
   for (size_t li = 0; li < loops.size(); ++li) {
     if (exact(li)) continue;
-    if (given[li] && off_loop[li] > lie_off && given[li]->gap <= kStepMaxEdgeGap * size) {
+    if (given[li] && off_loop[li] > lie_off && given[li]->gap <= off_loop[li]) {
       off = std::max(off, given[li]->gap);
       lines[li].clear();
     } else {

@@ -863,7 +863,8 @@ namespace {
 
 // `text` (square_face() or square_on_bspline()) with each edge's curve a SURFACE_CURVE that carries a
 // PCURVE on the surface #5, its (u, v) = ((x + shift) / scale, (y + shift) / scale): 2D LINEs under
-// the 3D LINEs, or degree-1 B-splines under both (the reader takes the PCURVEs of B-spline edges).
+// the 3D LINEs (a unit vector in 3D: the same parameter t runs over the side's length 2), or degree-1
+// B-splines under both.
 std::string with_pcurves(std::string text, bool spline, double shift, double scale) {
   const double xy[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
   std::string add =
@@ -895,7 +896,7 @@ std::string with_pcurves(std::string text, bool spline, double shift, double sca
           130 + i, 140 + i, 150 + i);
     else
       add += fmt::format("#{}=LINE('',#{},#{});\n#{}=VECTOR('',#{},{});\n#{}=DIRECTION('',({},{}));\n", 130 + i,
-                         140 + i, 160 + i, 160 + i, 170 + i, 2 / scale, 170 + i, u1 - u0, v1 - v0);
+                         140 + i, 160 + i, 160 + i, 170 + i, 1 / scale, 170 + i, u1 - u0, v1 - v0);
   }
   return with_record(text, add).first;
 }
@@ -921,19 +922,23 @@ TEST_CASE("STEP reader: the PCURVEs of read edges are not counted as skipped geo
 }
 
 TEST_CASE("STEP reader: a face whose PCURVEs lie off its edges keeps them, with the gap") {
-  // B-spline edges 1e-3 above the B-spline surface, their PCURVEs on it: neither the PCURVEs nor
-  // the projection lie within the tolerance; the PCURVEs are the face's boundary, as OpenCASCADE
-  // takes them.
-  const nurbs::Model m =
-      nurbs::io::read_step_text(with_pcurves(square_on_bspline(1.0 - 1e-3), true, 1.0, 4.0), "pc.stp");
-  const nurbs::TrimmedSurface& f = only_face(m);
-  CHECK(f.edge_gap == doctest::Approx(1e-3).epsilon(0.01));
-  // The first trim is the first PCURVE: from (0.25, 0.25) to (0.75, 0.25).
-  const nurbs::Curve2& c = f.loops.front().curves.front();
-  CHECK(c.points.size() == 2);
-  CHECK(c.points.front().x == doctest::Approx(0.25));
-  CHECK(c.points.back().x == doctest::Approx(0.75));
-  CHECK(c.points.back().y == doctest::Approx(0.25));
+  // Edges 1e-3 above the B-spline surface, their PCURVEs on it: neither the PCURVEs nor the
+  // projection lie within the tolerance; the PCURVEs are the face's boundary, as OpenCASCADE takes
+  // them. B-spline edges with B-spline PCURVEs, and LINE edges with 2D LINE PCURVEs (a line's
+  // PCURVE is taken over the line's own parameter range between the vertices, as a B-spline's).
+  for (const bool spline : {true, false}) {
+    CAPTURE(spline);
+    const nurbs::Model m =
+        nurbs::io::read_step_text(with_pcurves(square_on_bspline(1.0 - 1e-3), spline, 1.0, 4.0), "pc.stp");
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(f.edge_gap == doctest::Approx(1e-3).epsilon(0.01));
+    // The first trim is the first PCURVE: from (0.25, 0.25) to (0.75, 0.25).
+    const nurbs::Curve2& c = f.loops.front().curves.front();
+    CHECK(c.points.size() == 2);
+    CHECK(c.points.front().x == doctest::Approx(0.25));
+    CHECK(c.points.back().x == doctest::Approx(0.75));
+    CHECK(c.points.back().y == doctest::Approx(0.25));
+  }
 }
 
 TEST_CASE("STEP reader: of two FACE_BOUNDs without an outer one, the loop enclosing more area is outer") {
