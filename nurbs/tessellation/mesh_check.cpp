@@ -1,12 +1,14 @@
 #include "nurbs/tessellation/mesh_check.h"
 
 #include <algorithm>
-#include <limits>
 #include <array>
+#include <bit>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/model_ops.h"
@@ -20,6 +22,34 @@ namespace nurbs::tess {
 namespace {
 
 using Tri = std::array<glm::dvec3, 3>;
+
+// Grid samples per direction on the smallest faces (a face's grid follows its size down to this).
+constexpr int kMinGrid = 8;
+
+// Per triangle, which of its seven mesh samples (bits 0-2: corners a, b, c; 3-5: midpoints of ab,
+// bc, ca; 6: centroid) it measures: each vertex and each edge (by its vertex indices) by the
+// first triangle that has it, so that a point shared by several triangles is measured once.
+std::vector<std::uint8_t> distinct_samples(const TriangleMesh& mesh) {
+  const size_t nt = mesh.triangles.size();
+  std::vector<std::uint8_t> out(nt, 1 << 6);
+  std::vector<size_t> vertex_first(mesh.positions.size(), nt);
+  std::vector<std::pair<std::uint64_t, size_t>> edges;  // (vertex pair, triangle * 3 + side)
+  edges.reserve(3 * nt);
+  for (size_t k = 0; k < nt; ++k) {
+    const glm::ivec3 t = mesh.triangles[k];
+    const int v[3] = {t.x, t.y, t.z};
+    for (int i = 0; i < 3; ++i) {
+      size_t& first = vertex_first[size_t(v[i])];
+      if (first == nt) first = k, out[k] |= std::uint8_t(1 << i);
+      const auto lo = std::uint64_t(std::min(v[i], v[(i + 1) % 3])), hi = std::uint64_t(std::max(v[i], v[(i + 1) % 3]));
+      edges.emplace_back(lo << 32 | hi, 3 * k + size_t(i));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (size_t e = 0; e < edges.size(); ++e)
+    if (e == 0 || edges[e].first != edges[e - 1].first) out[edges[e].second / 3] |= std::uint8_t(8 << (edges[e].second % 3));
+  return out;
+}
 
 struct Sample {
   glm::dvec3 p;
@@ -88,10 +118,11 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   std::vector<TrimPolygons> trims(faces.size());
   std::vector<BandedTrim> banded(faces.size());  // the same classification, in far fewer steps
   std::vector<Tri> boundary;
-  // Surface to mesh at one density of grid samples in space: the largest face (control-box
-  // diagonal) with all its samples x samples, a smaller one with every stride-th sample each way,
-  // as dense per length (the others seed Newton for the mesh samples below, where sparse seeds
-  // leave Newton's upper bounds far above the distance).
+  // One density of grid samples in space: the largest face (control-box diagonal) with samples x
+  // samples, a smaller one with as many per length, at least kMinGrid each way (they also seed
+  // Newton for the mesh samples below, where sparse seeds leave Newton's upper bounds far above the
+  // distance). A model of many small faces costs as many samples as its area needs, not samples^2
+  // per face.
   std::vector<char> to_mesh;  // per sample: measured from the surface to the mesh
   std::vector<double> extent(faces.size());
   double largest = 0.0;
@@ -100,17 +131,16 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
   const int n = std::max(2, options.samples);
   for (size_t fi = 0; fi < faces.size(); ++fi) {
     const TrimmedSurface& f = faces[fi];
-    const int along = largest > 0.0 ? std::clamp(int(std::ceil(n * extent[fi] / largest)), std::min(4, n), n) : n;
-    const int stride = std::max(1, n / along);
+    const int m = largest > 0.0 ? std::clamp(int(std::ceil(n * extent[fi] / largest)), std::min(kMinGrid, n), n) : n;
     const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
     trims[fi] = flatten_trim(f, 1e-7 * std::max(du.width(), dv.width()));
     banded[fi] = BandedTrim(trims[fi]);
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const glm::dvec2 uv(du.min + du.width() * i / (n - 1), dv.min + dv.width() * j / (n - 1));
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) {
+        const glm::dvec2 uv(du.min + du.width() * i / (m - 1), dv.min + dv.width() * j / (m - 1));
         if (f.loops.empty() || banded[fi].is_material(uv)) {
           samples.push_back({surface_point(f.surface, uv.x, uv.y), uv, int(fi)});
-          to_mesh.push_back((i % stride == 0 || i == n - 1) && (j % stride == 0 || j == n - 1));
+          to_mesh.push_back(1);
         }
       }
     for (const auto& line : face_boundary(f, tol))
@@ -185,7 +215,12 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
       face_samples.emplace_back(std::move(pts[f]));
     }
   }
+  // The faces' boxes in a hierarchy of their own (a box as the segment between its corners).
+  std::vector<Tri> box_segments;
+  for (const auto& b : face_box) box_segments.push_back({b[0], b[1], b[1]});
+  const TriangleBvh face_boxes(std::move(box_segments));
   const long long nt = (long long)mesh.triangles.size();
+  const std::vector<std::uint8_t> measured = distinct_samples(mesh);
   std::fill(worst.begin(), worst.end(), 0.0);
   parallel_for(
       nt, threads,
@@ -204,6 +239,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
           std::copy(own, own + 7, uvs);
         }
         for (int i = 0; i < 7; ++i) {
+          if (!(measured[size_t(k)] & (1 << i))) continue;
           double d = std::numeric_limits<double>::infinity();
           auto newton = [&](int face, glm::dvec2 uv) {
             const TrimmedSurface& f = faces[size_t(face)];
@@ -222,7 +258,13 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
               attempt({uv.x, dv.min + dv.max - uv.y});
             }
           };
-          if (own_uv) newton(mesh.triangle_face[size_t(k)], uvs[i]);
+          const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];
+          if (own_uv) {
+            newton(own, uvs[i]);
+            // The searches below only lower d: a sample already within its face's worst so far
+            // (this thread's, at most the reduced one) changes no maximum.
+            if (d <= face_worst[size_t(t)][size_t(own)]) continue;
+          }
           d = std::min(d, boundary_bvh.closest(q[i], d).distance);
           const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);
           if (near.triangle >= 0) {
@@ -231,16 +273,16 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
             newton(s.face, s.uv);
           }
           // Every other face whose control box (it holds the face) is nearer than the best so far.
-          for (size_t f = 0; f < faces.size() && d > 0.0; ++f) {
-            const glm::dvec3 gap = glm::max(glm::max(face_box[f][0] - q[i], q[i] - face_box[f][1]), glm::dvec3(0.0));
-            if (glm::length(gap) >= d || face_samples[f].size() == 0) continue;
-            const TriangleBvh::Hit h = face_samples[f].closest(q[i]);
-            if (h.triangle < 0) continue;
+          face_boxes.for_each_near(q[i], d, [&](int f) {
+            if (TriangleBvh::box_distance(q[i], face_box[size_t(f)][0], face_box[size_t(f)][1]) >= d ||
+                face_samples[size_t(f)].size() == 0)
+              return;
+            const TriangleBvh::Hit h = face_samples[size_t(f)].closest(q[i]);
+            if (h.triangle < 0) return;
             d = std::min(d, h.distance);  // a material point of the face
-            newton(int(f), face_sample_of[f][size_t(h.triangle)]->uv);
-          }
+            newton(f, face_sample_of[size_t(f)][size_t(h.triangle)]->uv);
+          });
           worst[size_t(t)] = std::max(worst[size_t(t)], d);
-          const int own = mesh.triangle_face.empty() ? -1 : mesh.triangle_face[size_t(k)];
           if (own >= 0 && size_t(own) < faces.size())
             face_worst[size_t(t)][size_t(own)] = std::max(face_worst[size_t(t)][size_t(own)], d);
         }
@@ -248,7 +290,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
       256);
   for (double w : worst) r.mesh_to_surface = std::max(r.mesh_to_surface, w);
   reduce(r.face_mesh_to_surface);
-  r.mesh_samples = 7 * nt;
+  for (std::uint8_t m : measured) r.mesh_samples += std::popcount(m);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

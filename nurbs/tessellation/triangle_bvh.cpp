@@ -15,10 +15,6 @@ glm::dvec3 closest_on_segment(const glm::dvec3& p, const glm::dvec3& a, const gl
   return a + std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) * ab;
 }
 
-double box_distance(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-  return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0)));
-}
-
 }  // namespace
 
 glm::dvec3 closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
@@ -79,31 +75,13 @@ int TriangleBvh::build(int first, int count) {
 
 TriangleBvh::Hit TriangleBvh::closest(const glm::dvec3& p, double max_distance) const {
   Hit hit{std::numeric_limits<double>::infinity(), p, -1};
-  if (nodes_.empty()) return hit;
   double best = max_distance;
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[size_t(stack[--top])];
-    if (box_distance(p, n.lo, n.hi) >= best) continue;
-    if (n.count > 0) {
-      for (int k = n.first; k < n.first + n.count; ++k) {
-        const int t = order_[size_t(k)];
-        const auto& tri = tris_[size_t(t)];
-        const glm::dvec3 q = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
-        const double d = glm::length(q - p);
-        if (d < best) best = d, hit = {d, q, t};
-      }
-      continue;
-    }
-    // Nearer child last, so it is searched first.
-    const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
-    const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
-    stack[top++] = left_first ? n.right : n.left;
-    stack[top++] = left_first ? n.left : n.right;
-  }
-  if (hit.triangle < 0) hit.distance = std::numeric_limits<double>::infinity();
+  for_each_near(p, best, [&](int t) {
+    const auto& tri = tris_[size_t(t)];
+    const glm::dvec3 q = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
+    const double d = glm::length(q - p);
+    if (d < best) best = d, hit = {d, q, t};
+  });
   return hit;
 }
 

@@ -4,6 +4,8 @@
 /// bounding volume hierarchy of axis-aligned boxes split at the median centroid. The deviation check
 /// of the tessellation (mesh_check.h) asks it millions of times.
 #include <array>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -30,6 +32,31 @@ class TriangleBvh {
   /// distances over many points needs the exact distance only of points that would raise it.
   [[nodiscard]] bool any_within(const glm::dvec3& p, double radius) const;
   [[nodiscard]] size_t size() const { return tris_.size(); }
+  /// Calls visit(index) for every triangle in a leaf whose box lies closer to p than `radius`,
+  /// nearer boxes first; `radius` is read again at every box, so the visits may shrink it.
+  template <class Visit>
+  void for_each_near(const glm::dvec3& p, const double& radius, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[size_t(stack[--top])];
+      if (box_distance(p, n.lo, n.hi) >= radius) continue;
+      if (n.count > 0) {
+        for (int k = n.first; k < n.first + n.count; ++k) visit(order_[size_t(k)]);
+        continue;
+      }
+      const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
+      const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
+      stack[top++] = left_first ? n.right : n.left;
+      stack[top++] = left_first ? n.left : n.right;
+    }
+  }
+  /// Distance from p to the box [lo, hi] (0 inside).
+  [[nodiscard]] static double box_distance(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+    return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0)));
+  }
 
  private:
   struct Node {

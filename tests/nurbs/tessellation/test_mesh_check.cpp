@@ -59,6 +59,18 @@ TEST_CASE("mesh check: the BVH's closest point equals a brute-force search, dege
     // any_within: a triangle within the radius exactly when the closest one is.
     CHECK(bvh.any_within(p, best * (1 + 1e-12)));
     CHECK(!bvh.any_within(p, best * (1 - 1e-9)));
+    // for_each_near: every triangle nearer than the radius is visited, and none twice.
+    const double radius = 2 * best + 0.05;
+    std::vector<int> seen(tris.size(), 0);
+    bvh.for_each_near(p, radius, [&](int t) { ++seen[size_t(t)]; });
+    int missed = 0, twice = 0;
+    for (size_t t = 0; t < tris.size(); ++t) {
+      const double d = glm::length(nurbs::tess::closest_point_on_triangle(p, tris[t][0], tris[t][1], tris[t][2]) - p);
+      missed += seen[t] == 0 && d < radius;
+      twice += seen[t] > 1;
+    }
+    CHECK(missed == 0);
+    CHECK(twice == 0);
   }
   // A point above a triangle's interior projects onto its plane; beside it, onto an edge.
   const glm::dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
