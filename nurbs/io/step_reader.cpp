@@ -1875,6 +1875,17 @@ Model StepReader::read() {
     edges_.clear();
     edge_index_.clear();
     std::vector<FaceJob> jobs = solid(e);
+    if (rep != rep_of_item.end() && is(f_.entities.at(rep->second), "CONSTRUCTIVE_GEOMETRY_REPRESENTATION")) {
+      // Supplemental geometry (reference planes, axes, construction surfaces: ISO 10303-242's
+      // constructive geometry, as CATIA and NX write it beside the part): not the part's shape,
+      // which OpenCASCADE does not transfer either. Said, not read.
+      warnings_.push_back(fmt::format("#{} ({} face(s)): supplemental geometry of #{} (CONSTRUCTIVE_GEOMETRY_"
+                                      "REPRESENTATION), not part of the shape, not read",
+                                      id, jobs.size(), rep->second));
+      model.skipped_types["supplemental geometry (CONSTRUCTIVE_GEOMETRY_REPRESENTATION) faces"] +=
+          static_cast<int>(jobs.size());
+      continue;
+    }
     const std::vector<TrimmedSurface> faces = build_faces(jobs);
     const double to_model = length_scale_ / model_scale;
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();

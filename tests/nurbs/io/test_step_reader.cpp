@@ -903,6 +903,21 @@ std::string with_pcurves(std::string text, bool spline, double shift, double sca
 
 }  // namespace
 
+TEST_CASE("STEP reader: supplemental geometry is said and left out of the shape") {
+  // The square's face in the part's surface model, and again in a surface model of a
+  // CONSTRUCTIVE_GEOMETRY_REPRESENTATION (CATIA's and NX's reference planes beside the part).
+  const auto [text, line] = with_record(square_face(kMillimetre),
+                                        "#86=OPEN_SHELL('',(#82));\n#87=SHELL_BASED_SURFACE_MODEL('',(#86));\n"
+                                        "#88=CONSTRUCTIVE_GEOMETRY_REPRESENTATION('supplemental geometry',(#87),#900);\n");
+  const nurbs::Model m = nurbs::io::read_step_text(text, "supplemental.stp");
+  REQUIRE(m.bodies.size() == 1);
+  CHECK(m.bodies.front().faces.size() == 1);
+  CHECK(m.faces_in_file == 1);
+  CHECK(m.skipped_types == std::map<std::string, int>{{"supplemental geometry (CONSTRUCTIVE_GEOMETRY_REPRESENTATION) faces", 1}});
+  REQUIRE(m.read_warnings.size() == 1);
+  CHECK(m.read_warnings.front().find("#87 (1 face(s)): supplemental geometry of #88") != std::string::npos);
+}
+
 TEST_CASE("STEP reader: the PCURVEs of read edges are not counted as skipped geometry") {
   // LINE edges with 2D LINE PCURVEs (the reader flattens lines itself, it reads none of them).
   const nurbs::Model plane =
