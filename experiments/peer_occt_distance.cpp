@@ -7,9 +7,9 @@
 //  points MODEL --points FILE [--repeat N] [--trimmed M [--mesh-deflection D]]: GeomAPI_ProjectPointOnSurf, one projector per face
 //      initialised once on the face's surface and its UV bounds (trims ignored), min over faces (none with N = 0);
 //      --trimmed M: also BRepExtrema_DistShapeShape from each of the first M points to the shape
-//      (the exact distance to the trimmed faces), with the shape's tolerance; --mesh-deflection D: also
-//      the distance to OCCT's BRepMesh of the faces at deflection D (a second opinion where the exact
-//      distance's face classification errs).
+//      (the exact distance to the trimmed faces, and the nearest point), with the shape's tolerance;
+//      --mesh-deflection D: also the distance to OCCT's BRepMesh of the faces at deflection D (a second
+//      opinion where the exact distance's face classification errs).
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
 //      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
@@ -98,9 +98,11 @@ double shape_tolerance(const TopoDS_Shape& s) {
 nlohmann::json point_json(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
 /// Distance from p to the shape: how far another program's witness point lies from OCCT's faces.
-double gap(const gp_Pnt& p, const TopoDS_Shape& shape) {
+double gap(const gp_Pnt& p, const TopoDS_Shape& shape, gp_Pnt* nearest = nullptr) {
   BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(p).Vertex(), shape);
-  return d.IsDone() && d.NbSolution() > 0 ? d.Value() : INFINITY;
+  if (!(d.IsDone() && d.NbSolution() > 0)) return INFINITY;
+  if (nearest) *nearest = d.PointOnShape2(1);
+  return d.Value();
 }
 
 /// Distance from p to the triangle a b c (the closest point by the triangle's Voronoi regions).
@@ -276,14 +278,16 @@ int points(const std::string& model, const std::string& file, int repeat, int tr
     BRep_Builder builder;
     builder.MakeCompound(faces);
     for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) builder.Add(faces, e.Current());
-    nlohmann::json d = nlohmann::json::array();
+    nlohmann::json d = nlohmann::json::array(), nearest = nlohmann::json::array();
     const auto t2 = Clock::now();
     for (size_t i = 0; i < input.size() && i < size_t(trimmed); ++i) {
-      const double g = gap(input[i], faces);
+      gp_Pnt q;
+      const double g = gap(input[i], faces, &q);
       d.push_back(std::isfinite(g) ? nlohmann::json(g) : nlohmann::json(nullptr));
+      nearest.push_back(std::isfinite(g) ? nlohmann::json{q.X(), q.Y(), q.Z()} : nlohmann::json(nullptr));
     }
-    out["trimmed"] = {{"points", d.size()}, {"seconds", seconds_since(t2)}, {"distances", d},
-                      {"tolerance", shape_tolerance(shape)}};
+    out["trimmed"] = {{"points", d.size()},   {"seconds", seconds_since(t2)},      {"distances", d},
+                      {"nearest", nearest}, {"tolerance", shape_tolerance(shape)}};
     if (deflection > 0) {  // a second opinion: the distance to OCCT's own mesh of the faces
       const auto triangles = mesh_triangles(shape, deflection);
       nlohmann::json m = nlohmann::json::array();

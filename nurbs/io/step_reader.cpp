@@ -1310,8 +1310,10 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
       for (const glm::dvec3& q : c.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
   const double size = glm::length(hi - lo);
   // Edges within this distance of the surface (trims' surface points within it of the edges) lie on
-  // it as far as the writer's tolerance goes: TrimmedSurface::edge_gap stays 0.
-  const double lie_off = std::max(1e-4 * size, 10 * resolution_);
+  // it up to rounding: TrimmedSurface::edge_gap stays 0. The same floor as the IGES reader's, and
+  // not the file's stated uncertainty: a writer's 0.01 mm is far above the bounds of answers near
+  // the edge, which must carry the gap.
+  const double lie_off = kProjectionTolerance * size;
   // The face's edge_gap from the largest gap `off` measured; beyond kStepMaxEdgeGap of the face's size
   // (or not finite) the face is dropped.
   auto set_gap = [&](double off) {
@@ -1524,7 +1526,10 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   // (then their gap counts), else the projection (its gap counts).
   double off = 0.0;
   for (size_t li = 0; li < loops.size(); ++li) {
-    if (exact(li)) continue;
+    if (exact(li)) {
+      off = std::max(off, given[li]->gap);
+      continue;
+    }
     if (given[li] && off_loop[li] > lie_off && given[li]->gap <= off_loop[li]) {
       off = std::max(off, given[li]->gap);
       lines[li].clear();

@@ -956,6 +956,18 @@ TEST_CASE("STEP reader: a face whose PCURVEs lie off its edges keeps them, with 
   }
 }
 
+TEST_CASE("STEP reader: edges off their plane by less than the file's stated uncertainty keep their gap") {
+  // The square's edges at z = 1 on the plane z = 1 - 1e-3, in a file stating an uncertainty of 0.01
+  // (Fusion 360 writes it): an answer near the edge may be off by the gap, far beyond its bound,
+  // whatever the writer's tolerance says.
+  std::string text = square_face(kMillimetre);
+  text.replace(text.find("#1=CARTESIAN_POINT('',(0.,0.,1.));"), 34, "#1=CARTESIAN_POINT('',(0.,0.,0.999));");
+  text.replace(text.find("LENGTH_MEASURE(1.E-05)"), 22, "LENGTH_MEASURE(1.E-02)");
+  const nurbs::Model m = nurbs::io::read_step_text(text, "gap.stp");
+  CHECK(m.resolution == 1e-2);
+  CHECK(only_face(m).edge_gap == doctest::Approx(1e-3).epsilon(1e-6));
+}
+
 TEST_CASE("STEP reader: of two FACE_BOUNDs without an outer one, the loop enclosing more area is outer") {
   // A washer on z = 0: circles of radius 0.278 and 0.255 about the origin, the smaller one's
   // placement turned 45 degrees (its control points' box 0.36 wide against the larger one's 0.278).
