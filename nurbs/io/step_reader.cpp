@@ -355,6 +355,52 @@ Chart bspline_chart(const Surface& s, double accept) {
   return c;
 }
 
+// The outer loop's natural (u, v) samples (NaN u at points on the axis) where it passes the axis
+// twice or more: between two such points a run of the loop may lie on either side of a seam (a
+// hemisphere bounded by the meridian circle through its poles: the second meridian at +pi or -pi).
+// Each run after the first is turned by -1, 0 or +1 turn so that the loop runs counter-clockwise in
+// (u, v) (the material on its left: the natural parameters of ISO 10303-42's surfaces are
+// right-handed about the outer normal, and the reader has turned the bounds of a same_sense .F.
+// face round) within one turn, the narrowest such choice. Other loops are left as they are.
+void choose_branches_across_axis(std::vector<glm::dvec2>& loop) {
+  std::vector<size_t> axis;
+  for (size_t i = 0; i < loop.size(); ++i)
+    if (!std::isfinite(loop[i].x)) axis.push_back(i);
+  if (axis.size() < 2) return;
+  // Runs between consecutive axis points (cyclically), as [begin, end) index ranges into loop.
+  std::vector<std::pair<size_t, size_t>> runs;
+  for (size_t k = 0; k < axis.size(); ++k) {
+    const size_t b = axis[k] + 1, e = k + 1 < axis.size() ? axis[k + 1] : axis.front() + loop.size();
+    if (e > b) runs.emplace_back(b, e);
+  }
+  if (runs.size() < 2 || runs.size() > 4) return;
+  const auto at = [&](size_t i) -> glm::dvec2& { return loop[i % loop.size()]; };
+  const double turn = 2 * kPi;
+  std::vector<int> best, pick(runs.size(), 0);
+  double best_extent = std::numeric_limits<double>::infinity();
+  const auto combos = static_cast<int>(std::pow(3, runs.size() - 1));
+  for (int c = 0; c < combos; ++c) {
+    for (size_t r = 1, x = size_t(c); r < runs.size(); ++r, x /= 3) pick[r] = int(x % 3) - 1;
+    double area = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    glm::dvec2 last(std::numeric_limits<double>::quiet_NaN());
+    std::optional<glm::dvec2> head;
+    for (size_t r = 0; r < runs.size(); ++r)
+      for (size_t i = runs[r].first; i < runs[r].second; ++i) {
+        const glm::dvec2 q = at(i) + glm::dvec2(turn * pick[r], 0.0);
+        if (!std::isfinite(q.x)) continue;
+        if (head) area += last.x * q.y - q.x * last.y;
+        else head = q;
+        last = q, lo = std::min(lo, q.x), hi = std::max(hi, q.x);
+      }
+    if (!head) return;
+    area += last.x * head->y - head->x * last.y;
+    if (area > 0.0 && hi - lo <= turn + 1e-9 && hi - lo < best_extent) best_extent = hi - lo, best = pick;
+  }
+  if (best.empty()) return;
+  for (size_t r = 1; r < runs.size(); ++r)
+    for (size_t i = runs[r].first; i < runs[r].second; ++i) at(i).x += turn * best[r];
+}
+
 // A loop's (u, v) points on a surface periodic in u with period `period`, split by its points on
 // the axis (a pole, an apex; NaN u, no angle): each run between them made continuous (every point
 // within half a period of the one before: the samples next to a pole, which have no neighbour's
@@ -1367,25 +1413,19 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
     as.surface = *fs.bspline;
   } else {
     std::vector<Box2> boxes(loops.size());
+    std::vector<std::vector<glm::dvec2>> coarse(loops.size());  // per loop: its samples, NaN u on the axis
     for (size_t li = 0; li < loops.size(); ++li) {
       std::optional<glm::dvec2> prev;
-      std::vector<double> on_axis;
       for (const Curve3& c : loops[li].curves) {
         const Interval d = curve_domain(c);
         const int n = 8 * std::max<int>(1, static_cast<int>(c.points.size()) - c.degree);
         for (int i = 0; i <= n; ++i) {
           const glm::dvec2 uv = a.natural(curve_point(c, d.min + d.width() * i / n), prev);
-          // A point on the axis (a pole, an apex) has no angle of its own but its latitude or
-          // height belongs to the box: a meridian ending at a pole takes the patch up to it.
-          if (!std::isfinite(uv.x) && std::isfinite(uv.y)) on_axis.push_back(uv.y);
-          if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) continue;
-          if (!std::isfinite(loop_start[li].x)) loop_start[li] = uv;
-          boxes[li].add(uv);
-          prev = uv;
+          if (!std::isfinite(uv.y)) continue;
+          coarse[li].push_back(uv);
+          if (std::isfinite(uv.x)) prev = uv;
         }
       }
-      if (!std::isfinite(loop_start[li].x)) throw SkipFace{"an edge loop has no parameters on its surface"};
-      for (double v : on_axis) boxes[li].add({boxes[li].lo.x, v});
     }
     size_t first = 0;
     for (size_t li = 0; li < loops.size(); ++li)
@@ -1393,6 +1433,19 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
         first = li;
         break;
       }
+    if (a.u_angular() && !coarse.empty()) choose_branches_across_axis(coarse[first]);
+    for (size_t li = 0; li < loops.size(); ++li) {
+      // A point on the axis (a pole, an apex) has no angle of its own but its latitude or height
+      // belongs to the box: a meridian ending at a pole takes the patch up to it.
+      for (const glm::dvec2& uv : coarse[li])
+        if (std::isfinite(uv.x)) {
+          if (!std::isfinite(loop_start[li].x)) loop_start[li] = uv;
+          boxes[li].add(uv);
+        }
+      if (!std::isfinite(loop_start[li].x)) throw SkipFace{"an edge loop has no parameters on its surface"};
+      for (const glm::dvec2& uv : coarse[li])
+        if (!std::isfinite(uv.x)) boxes[li].add({boxes[li].lo.x, uv.y});
+    }
     const glm::dvec2 centre = boxes[first].centre();
     Box2 all;
     for (size_t li = 0; li < loops.size(); ++li) {

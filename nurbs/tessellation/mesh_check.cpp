@@ -264,6 +264,10 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
             // The searches below only lower d: a sample already within its face's worst so far
             // (this thread's, at most the reduced one) changes no maximum.
             if (d <= face_worst[size_t(t)][size_t(own)]) continue;
+            // Newton from the triangle's corners too: near a pole or an apex the corners' angles
+            // differ by up to a half turn, and their mean lands far from the sample.
+            for (int c = 0; c < 3 && d > face_worst[size_t(t)][size_t(own)]; ++c) newton(own, uvs[c]);
+            if (d <= face_worst[size_t(t)][size_t(own)]) continue;
           }
           d = std::min(d, boundary_bvh.closest(q[i], d).distance);
           const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);

@@ -14,6 +14,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include "../../shared_models.h"
 #include "nurbs/curve_eval.h"
@@ -46,6 +47,14 @@ std::string context(const std::string& length) {
 }
 
 const std::string kMillimetre = "#901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n";
+
+// The context and a frame #4 at the origin (#1, axes #2 = z, #3 = x) with the surface #5 on it.
+std::string at_origin(const std::string& surface) {
+  return context(kMillimetre) +
+         "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
+         "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=" +
+         surface + ";\n";
+}
 
 // A square face of side 2 on the plane z = 1: four LINE edges, in a surface model. `placement`: the
 // plane's AXIS2_PLACEMENT_3D #4 with its point #1 and directions #2, #3; `on_x`: the square on the
@@ -156,6 +165,16 @@ nurbs::Model read_three_edge_face(std::string d, const std::array<std::string, 3
   d += fmt::format("#30=EDGE_LOOP('',({},{},{}));\n", edges[start], edges[(start + 1) % 3], edges[(start + 2) % 3]);
   d += "#31=FACE_OUTER_BOUND('',#30,.T.);\n#32=ADVANCED_FACE('',(#31),#5,.T.);\n#33=OPEN_SHELL('',(#32));\n"
        "#34=SHELL_BASED_SURFACE_MODEL('',(#33));\n#35=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#34),#900);\n";
+  return nurbs::io::read_step_text(step_file(d), "face.stp");
+}
+
+// `d` (entities up to #11: the face's surface #5 and its one edge #11) completed by the loop of
+// that edge used `edge_sense`, its face of `face_sense` and a surface model, then read.
+nurbs::Model read_one_edge_face(std::string d, const std::string& edge_sense, const std::string& face_sense) {
+  d += fmt::format("#12=ORIENTED_EDGE('',*,*,#11,{});\n#13=EDGE_LOOP('',(#12));\n", edge_sense);
+  d += fmt::format("#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('',(#14),#5,{});\n", face_sense);
+  d += "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
+       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
   return nurbs::io::read_step_text(step_file(d), "face.stp");
 }
 
@@ -292,11 +311,8 @@ TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole")
        "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
        "#6=CARTESIAN_POINT('',(0.,0.,0.5));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
        "#8=CIRCLE('',#7,0.8660254037844386);\n#9=CARTESIAN_POINT('',(0.8660254037844386,0.,0.5));\n"
-       "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n#12=ORIENTED_EDGE('',*,*,#11,.T.);\n"
-       "#13=EDGE_LOOP('',(#12));\n#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('cap',(#14),#5,.T.);\n"
-       "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
-       "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
-  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "cap.stp");
+       "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
+  const nurbs::Model m = read_one_edge_face(d, ".T.", ".T.");
   const nurbs::TrimmedSurface& f = only_face(m);
   CHECK(f.trim_problem.empty());
   // Material points all on the cap, and some within 0.01 of the pole.
@@ -411,22 +427,43 @@ TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
   for (const auto& [edge_sense, same_sense] : {std::pair{".F.", ".T."}, std::pair{".T.", ".F."}}) {
     const std::string face_sense = same_sense;
     CAPTURE(face_sense);
-    std::string d = context(kMillimetre);
-    d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-         "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,1.,0.7853981633974483);\n"
-         "#8=CIRCLE('',#4,1.);\n#9=CARTESIAN_POINT('',(1.,0.,0.));\n#10=VERTEX_POINT('',#9);\n"
+    std::string d = at_origin("CONICAL_SURFACE('',#4,1.,0.7853981633974483)");
+    d += "#8=CIRCLE('',#4,1.);\n#9=CARTESIAN_POINT('',(1.,0.,0.));\n#10=VERTEX_POINT('',#9);\n"
          "#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
-    d += fmt::format("#12=ORIENTED_EDGE('',*,*,#11,{});\n#13=EDGE_LOOP('',(#12));\n", edge_sense);
-    d += fmt::format("#14=FACE_OUTER_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('tip',(#14),#5,{});\n", same_sense);
-    d += "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
-         "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
-    const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "tip.stp");
+    const nurbs::Model m = read_one_edge_face(d, edge_sense, same_sense);
     const nurbs::TrimmedSurface& f = only_face(m);
     CHECK(f.trim_problem.empty());
     const auto [lowest, highest] = material_z_range(f);
     CHECK(lowest < -0.98);
     CHECK(lowest >= -1.0 - 1e-9);
     CHECK(highest <= 1e-9);
+  }
+}
+
+TEST_CASE("STEP reader: a hemisphere bounded by the meridian circle through its poles keeps its half") {
+  // The unit sphere about z; the face's one edge is the great circle in the plane y = 0 from the
+  // north pole through -x, the south pole and +x (axis -y, reference +z). Used forwards on a face of
+  // the sphere's normal, the material (on the left seen from outside) is the half y < 0; the edge
+  // used backwards, or the face's normal turned inwards (same_sense .F., NIST FTC 06), takes the
+  // half y > 0; both, y < 0 again. Between the poles either side of the seam could hold the
+  // second meridian: only the loop's direction tells.
+  for (const auto& [edge_sense, face_sense, below] :
+       {std::tuple{".T.", ".T.", true}, std::tuple{".F.", ".T.", false}, std::tuple{".T.", ".F.", false},
+        std::tuple{".F.", ".F.", true}}) {
+    const std::string senses = fmt::format("edge {}, face {}", edge_sense, face_sense);
+    CAPTURE(senses);
+    const nurbs::Model m = read_one_edge_face(
+        at_origin("SPHERICAL_SURFACE('',#4,1.)") +
+            "#6=DIRECTION('',(0.,-1.,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#6,#2);\n#8=CIRCLE('',#7,1.);\n"
+            "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n",
+        edge_sense, face_sense);
+    CHECK(only_face(m).trim_problem.empty());
+    const GridAgreement g = grid_agreement(only_face(m), [below](glm::dvec3 q) -> std::optional<bool> {
+      if (std::abs(q.y) < 0.01) return std::nullopt;
+      return below == (q.y < 0);
+    });
+    CHECK(g.wrong == 0);
+    CHECK(g.material > 100);
   }
 }
 
@@ -490,9 +527,8 @@ TEST_CASE("STEP reader: hyperbola and parabola edges are exact conic arcs betwee
   for (const Case& k : cases) {
     const std::string curve = k.curve;
     CAPTURE(curve);
-    std::string d = context(kMillimetre);
-    d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-         "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n#7=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
+    std::string d = at_origin("PLANE('',#4)");
+    d += "#7=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
     d += fmt::format("#8={};\n", k.curve);
     d += fmt::format("#9=CARTESIAN_POINT('',({:.17g},{:.17g},0.));\n#10=VERTEX_POINT('',#9);\n", k.x0, -k.y0);
     d += fmt::format("#11=CARTESIAN_POINT('',({:.17g},{:.17g},0.));\n#12=VERTEX_POINT('',#11);\n", k.x0, k.y0);
