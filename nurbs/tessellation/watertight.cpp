@@ -154,11 +154,6 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
         edge_of.push_back(loop.edge.size() == xyz.size() ? loop.edge[i] : -1);
       }
     }
-  // Faces whose loops carry the file's B-rep edges: there a segment of no edge is a curve the reader
-  // added (a seam or pole closing a periodic face's domain), inside the face, shared with no other.
-  std::vector<char> topology(loops.size(), 0);
-  for (size_t v = 0; v < ref.size(); ++v)
-    if (edge_of[v] >= 0) topology[size_t(ref[v][0])] = 1;
   const SegmentTree tree(segments);
   auto next_id = [&](int id) {  // the vertex after `id` in its loop
     const auto [f, l, i] = ref[size_t(id)];
@@ -194,7 +189,6 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       const int e = edge_of[size_t(segment_vertex[size_t(s)])];
       if (e >= 0 && in_edge >= 0 && out_edge >= 0 && e != in_edge && e != out_edge) return;
       const auto [g, l, i] = ref[size_t(segment_vertex[size_t(s)])];
-      if (g != f && ((e < 0 && topology[size_t(g)]) || (in_edge < 0 && out_edge < 0 && topology[size_t(f)]))) return;
       if (g == f) {  // the same face: only across its seam, never its own neighbouring edges
         const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
         const glm::dvec2 foot = glm::mix(loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()], t);
