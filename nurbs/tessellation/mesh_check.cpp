@@ -13,6 +13,7 @@
 #include "nurbs/curve_eval.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
+#include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
 #include "nurbs/tessellation/triangle_bvh.h"
@@ -231,7 +232,17 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
         const glm::dvec3 q[7] = {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0};
         // The mesh's own (u, v) first: Newton from there gives a near-final distance, so the
         // boundary, the nearest sample and the other faces are searched only within it.
-        const bool own_uv = !mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0;
+        // A corner welded to another face's vertex (T-junctions closed) carries that face's (u, v):
+        // the triangle's own (u, v) then stands only for the corners of its own face.
+        const int corner[3] = {tri.x, tri.y, tri.z};
+        const auto corner_face = [&](int c) {
+          return mesh.vertex_face.size() == mesh.positions.size() ? mesh.vertex_face[size_t(corner[c])]
+                                                                   : mesh.triangle_face[size_t(k)];
+        };
+        const bool own_uv = !mesh.uv.empty() && !mesh.triangle_face.empty() && mesh.triangle_face[size_t(k)] >= 0 &&
+                            corner_face(0) == mesh.triangle_face[size_t(k)] &&
+                            corner_face(1) == mesh.triangle_face[size_t(k)] &&
+                            corner_face(2) == mesh.triangle_face[size_t(k)];
         glm::dvec2 uvs[7];
         if (own_uv) {
           const glm::dvec2 ua = mesh.uv[size_t(tri.x)], ub = mesh.uv[size_t(tri.y)], uc = mesh.uv[size_t(tri.z)];
@@ -268,6 +279,19 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
             // differ by up to a half turn, and their mean lands far from the sample.
             for (int c = 0; c < 3 && d > face_worst[size_t(t)][size_t(own)]; ++c) newton(own, uvs[c]);
             if (d <= face_worst[size_t(t)][size_t(own)]) continue;
+          } else if (own >= 0 && size_t(own) < faces.size()) {
+            // Corners welded to other faces' vertices: their (u, v) belong to those faces. Newton
+            // on the own face from its own corners, its nearest grid sample, and last from a search
+            // of the whole surface.
+            const double& worst_here = face_worst[size_t(t)][size_t(own)];
+            for (int c = 0; c < 3 && d > worst_here; ++c)
+              if (corner_face(c) == own) newton(own, mesh.uv[size_t(corner[c])]);
+            if (d > worst_here) {
+              const TriangleBvh::Hit h = face_samples[size_t(own)].closest(q[i]);
+              if (h.triangle >= 0) newton(own, face_sample_of[size_t(own)][size_t(h.triangle)]->uv);
+            }
+            if (d > worst_here) newton(own, closest_parameter(faces[size_t(own)].surface, q[i]));
+            if (d <= worst_here) continue;
           }
           d = std::min(d, boundary_bvh.closest(q[i], d).distance);
           const TriangleBvh::Hit near = sample_bvh.closest(q[i], d);

@@ -78,6 +78,34 @@ TEST_CASE("mesh check: the BVH's closest point equals a brute-force search, dege
   CHECK(glm::length(nurbs::tess::closest_point_on_triangle({0.5, -1, 0}, a, b, c) - glm::dvec3(0.5, 0, 0)) < 1e-15);
 }
 
+TEST_CASE("mesh check: a corner welded to another face's vertex does not lend its (u, v) to the triangle") {
+  // Face 0: the unit square trimmed to [0.4, 0.6]^2, meshed exactly by two triangles, whose corners
+  // 0, 1 and 2 are vertices of face 1 (as close_t_junctions welds coinciding vertices) carrying face
+  // 1's (u, v). At 2 x 2 grid samples no sample of face 0 is material: the interior samples of the
+  // first triangle are found on their face only by a search of its surface (without: up to 0.1,
+  // the distance to the trim).
+  nurbs::TrimmedSurface face = unit_square();
+  nurbs::TrimLoop loop;
+  loop.outer = true;
+  nurbs::Curve2 c;
+  c.degree = 1;
+  c.points = {{0.4, 0.4}, {0.6, 0.4}, {0.6, 0.6}, {0.4, 0.6}, {0.4, 0.4}};
+  c.knots = {0, 0, 1, 2, 3, 4, 4};
+  loop.curves.push_back(c);
+  face.loops.push_back(loop);
+  nurbs::TrimmedSurface other = unit_square();  // face 1, 5 above
+  for (glm::dvec3& q : other.surface.points) q.z += 5.0;
+  const std::vector<nurbs::TrimmedSurface> faces{face, other};
+  nurbs::TriangleMesh m;
+  m.positions = {{0.4, 0.4, 0}, {0.6, 0.4, 0}, {0.6, 0.6, 0}, {0.4, 0.6, 0}};
+  m.uv = {{5.0, 5.0}, {6.0, 5.0}, {6.0, 6.0}, {0.4, 0.6}};
+  m.vertex_face = {1, 1, 1, 0};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.triangle_face = {0, 0};
+  const nurbs::tess::Deviation d = nurbs::tess::measure_deviation(faces, m, {2, 0.0, 1});
+  CHECK(d.mesh_to_surface < 1e-12);
+}
+
 TEST_CASE("mesh check: deviation of an exact mesh is 0; a moved vertex and a missing triangle show") {
   const std::vector<nurbs::TrimmedSurface> faces{unit_square()};
   nurbs::TriangleMesh m = square_mesh();
