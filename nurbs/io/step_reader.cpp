@@ -643,7 +643,6 @@ class StepReader {
   };
   /// The pieces of an EDGE_CURVE from its start vertex to its end vertex.
   const std::vector<EdgePiece>& edge(long id, const StepEntity& from);
-  /// The PCURVEs of a SURFACE_CURVE / SEAM_CURVE `e` on the parameter range [t0, t1] of its 3D curve.
   /// The PCURVEs of edge geometry `e` (a SURFACE_CURVE or SEAM_CURVE) over [t0, t1] of its curve
   /// `g` as ISO 10303-42 parametrises it: a B-spline's knots, a line's point + t vector, a conic's
   /// angle (here in radians).
