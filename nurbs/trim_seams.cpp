@@ -204,7 +204,10 @@ void cut_round_loop(TrimLoop& loop, const Interval& d) {
         ((beyond(tm) < 0.0) == (f0 < 0.0) ? t0 : t1) = tm;
       }
       const double tc = 0.5 * (t0 + t1);
-      if (tc > cuts.back() && tc < cd.max) cuts.push_back(tc);
+      // A crossing at an end of the curve (within rounding of it) cuts nothing: the piece beyond
+      // would be empty.
+      const double eps = 1e-12 * cd.width();
+      if (tc > cuts.back() + eps && tc < cd.max - eps) cuts.push_back(tc);
     }
     cuts.push_back(cd.max);
     for (size_t k = 0; k + 1 < cuts.size(); ++k)

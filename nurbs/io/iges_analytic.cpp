@@ -186,43 +186,58 @@ TrimLoop plane_loop(IgesGeometry& g, int plane_de, const glm::dmat4& parent, int
   const glm::dvec3 o(m * glm::dvec4(f.origin, 1.0)), x(m * glm::dvec4(f.x, 0.0)), y(m * glm::dvec4(f.y, 0.0));
   const double x2 = glm::dot(x, x);
   const glm::dvec3 normal = glm::normalize(glm::cross(x, y));
-  EntityParams p(g.file(), g.file().entry(loop_de));
-  const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
   TrimLoop loop;
   loop.outer = outer;
+  const auto list_size = [&g](int list) {
+    EntityParams edges(g.file(), g.file().entry(list));
+    return edges.integer(1, 1, std::max(1, edges.size()), "number of list entries N");
+  };
+  for (const LoopEdgeUse& use : loop_edge_uses(g, loop_de, list_size)) {
+    if (use.type != 0) continue;
+    EntityParams edges(g.file(), g.file().entry(use.list));
+    const int curve = g.expect(edges, 2 + 5 * (use.ndx - 1), {100, 102, 104, 110, 126}, "a curve");
+    std::vector<Curve2> piece;
+    for (const Curve3& c3 : g.curves(curve, parent)) {
+      if (off_plane)
+        for (const glm::dvec3& q : c3.points) *off_plane = std::max(*off_plane, std::abs(glm::dot(q - o, normal)));
+      Curve2 c2;
+      c2.degree = c3.degree;
+      c2.knots = c3.knots;
+      c2.weights = c3.weights;
+      for (const glm::dvec3& q : c3.points) c2.points.emplace_back(glm::dot(q - o, x) / x2, glm::dot(q - o, y) / x2);
+      c2.edge = g.edge_id(use.list, use.ndx);
+      piece.push_back(std::move(c2));
+    }
+    if (use.of == 0) {
+      std::reverse(piece.begin(), piece.end());
+      for (Curve2& c2 : piece) c2 = reversed(c2);
+    }
+    for (Curve2& c2 : piece) loop.curves.push_back(std::move(c2));
+  }
+  return loop;
+}
+
+std::vector<LoopEdgeUse> loop_edge_uses(IgesGeometry& g, int de, const std::function<int(int)>& list_size) {
+  EntityParams p(g.file(), g.file().entry(de));
+  const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
+  std::vector<LoopEdgeUse> out;
   int i = 2;
   for (int c = 0; c < n; ++c) {
-    const int type = p.integer(i, 0, 1, "edge type");
-    const int list = g.expect(p, i + 1, {type == 0 ? 504 : 502}, type == 0 ? "an edge list" : "a vertex list");
-    EntityParams edges(g.file(), g.file().entry(list));
-    const int count = edges.integer(1, 1, std::max(1, edges.size()), "number of list entries N");
-    const int ndx = p.integer(i + 2, 1, count, "list index NDX");
-    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
+    LoopEdgeUse use;
+    use.type = p.integer(i, 0, 1, "edge type");
+    use.list = use.type == 0 ? g.expect(p, i + 1, {504}, "an edge list") : g.expect(p, i + 1, {502}, "a vertex list");
+    use.ndx = p.integer(i + 2, 1, list_size(use.list), "list index NDX");
+    use.of = p.integer(i + 3, 0, 1, "orientation flag OF");
     const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
-    if (type == 0) {
-      const int curve = g.expect(edges, 2 + 5 * (ndx - 1), {100, 102, 104, 110, 126}, "a curve");
-      std::vector<Curve2> piece;
-      for (const Curve3& c3 : g.curves(curve, parent)) {
-        if (off_plane)
-          for (const glm::dvec3& q : c3.points) *off_plane = std::max(*off_plane, std::abs(glm::dot(q - o, normal)));
-        Curve2 c2;
-        c2.degree = c3.degree;
-        c2.knots = c3.knots;
-        c2.weights = c3.weights;
-        for (const glm::dvec3& q : c3.points) c2.points.emplace_back(glm::dot(q - o, x) / x2, glm::dot(q - o, y) / x2);
-        c2.edge = g.edge_id(list, ndx);
-        piece.push_back(std::move(c2));
-      }
-      if (of == 0) {
-        std::reverse(piece.begin(), piece.end());
-        for (Curve2& c2 : piece) c2 = reversed(c2);
-      }
-      for (Curve2& c2 : piece) loop.curves.push_back(std::move(c2));
+    for (int j = 0; j < k; ++j) {
+      p.integer(i + 5 + 2 * j);  // ISOP
+      use.pcurves.push_back(g.expect(p, i + 6 + 2 * j, {100, 102, 104, 110, 126}, "a curve"));
     }
+    out.push_back(std::move(use));
     i += 5 + 2 * k;
   }
   p.check_trailing(i - 1);
-  return loop;
+  return out;
 }
 
 std::optional<std::pair<glm::dvec2, glm::dvec2>> analytic_range(IgesGeometry& g, int de) {

@@ -19,10 +19,12 @@
 ///   120  S(u, v) = the generatrix point C(u) turned by v about the axis line (right-handed about
 ///        its start -> end direction), v in [SA, TA]
 ///   122  S(u, v) = C(t0 + u (t1 - t0)) + v (G - C(t0)), (u, v) in [0, 1]^2, G the generatrix end.
+#include <functional>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "nurbs/io/analytic_nurbs.h"
 #include "nurbs/io/iges_geometry.h"
@@ -53,6 +55,20 @@ std::optional<std::pair<glm::dvec2, glm::dvec2>> analytic_range(IgesGeometry& g,
 /// linear the control points are mapped instead, which is exact.
 void set_analytic_surface(IgesGeometry& g, int de, const glm::dmat4& parent, TrimmedSurface& f,
                           const std::optional<std::pair<glm::dvec2, glm::dvec2>>& range = std::nullopt);
+
+/// One edge use of a 508 loop (IGES 5.3 §4.147): TYPE (0: an edge of a 504 list, 1: a vertex of a
+/// 502 list), the list's entry and the index NDX in it, the orientation flag OF (1: the use runs
+/// along the edge's model-space curve), and the entries of its K parameter-space curves.
+struct LoopEdgeUse {
+  int type = 0, list = 0, ndx = 1, of = 1;
+  std::vector<int> pcurves;
+};
+
+/// The edge uses of the 508 `de`, every field checked as it is read: TYPE 0 or 1, a 504 (edge) or
+/// 502 (vertex) list, NDX within the list's count N (`list_size` of the list's entry), OF 0 or 1, K
+/// within the parameters left, the parameter-space curves of the curve types (ISOP flags read,
+/// not used), nothing after the last use. The first problem throws ReadError naming `de`.
+std::vector<LoopEdgeUse> loop_edge_uses(IgesGeometry& g, int de, const std::function<int(int)>& list_size);
 
 /// A 508 loop of a face on a 190 plane `plane_de` (mapped by `parent` as the face), in the plane's
 /// IGES (u, v): each edge's model-space curve (504) projected onto the plane, reversed where the

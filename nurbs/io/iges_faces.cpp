@@ -20,6 +20,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
+#include "nurbs/validate.h"
 #include "nurbs/trim_loops.h"
 #include "nurbs/trim_seams.h"
 #include "nurbs/trim_surface_gaps.h"
@@ -131,10 +132,30 @@ TrimmedSurface IgesFaces::face(int de, const glm::dmat4& parent) {
 
 void IgesFaces::finish(TrimmedSurface& f, double model_size) { finish_trim_loops(f, model_size, log_); }
 
+bool trims_evaluable(const TrimmedSurface& f) {
+  return std::all_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) {
+    return std::all_of(l.curves.begin(), l.curves.end(), [](const Curve2& c) { return validate(c).empty(); });
+  });
+}
+
 void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
+  // A curve that is not a valid B-spline (its knots do not fit its points) cannot be evaluated: the
+  // repairs, the flattening and the orientation below would read past its arrays. Checked before
+  // them and after those that cut curves; the problem is said, and the readers then drop the face
+  // (trims_evaluable).
+  const auto unusable = [&] {
+    if (trims_evaluable(f)) return false;
+    for (std::string& problem : check_trim_loops(f, 0.0, 0.0)) {
+      if (f.trim_problem.empty()) f.trim_problem = problem;
+      log.trim_problems.push_back(std::move(problem));
+    }
+    return true;
+  };
+  if (unusable()) return;
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
     log.loops_wrapped += wrap_loops_into_domain(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
+    if (unusable()) return;
     log.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
     // The repairs below close gaps between consecutive curves: the boundary moves by up to the gap
     // in space, which the face's edge gap then carries into every bound near it.
@@ -153,6 +174,7 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
     log.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
+    if (unusable()) return;
     TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
     log.outer_loops_fixed += fix_outer_loop(f, polygons);
     for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons)) {
@@ -412,49 +434,38 @@ void IgesFaces::measure_edge_gaps(const TrimmedSurface& f, const glm::dmat4& m) 
 // gmsh_component8_brep.igs. An edge use with K = 0 has only the edge's model curve: reversed for
 // OF = 0, projected onto the surface (project_curve.h).
 TrimLoop IgesFaces::loop_508(int de, bool outer, const Surface* surface, const glm::dmat4& m, size_t index) {
-  EntityParams p(g_.file(), g_.file().entry(de));
-  const int n = p.integer(1, 1, std::max(1, p.size()), "number of edges N");
   TrimLoop loop;
   loop.outer = outer;
-  int i = 2;
-  for (int c = 0; c < n; ++c) {
-    const int type = p.integer(i, 0, 1, "edge type");
-    const int list =
-        type == 0 ? g_.expect(p, i + 1, {504}, "an edge list") : g_.expect(p, i + 1, {502}, "a vertex list");
-    const int ndx = p.integer(i + 2, 1, edge_list_size(list), "list index NDX");
-    const int of = p.integer(i + 3, 0, 1, "orientation flag OF");
-    const int k = p.integer(i + 4, 0, std::max(0, (p.size() - i - 4) / 2), "number of parameter curves K");
-    if (k == 0 && type == 0) {
+  int c = 0;
+  for (const LoopEdgeUse& use : loop_edge_uses(g_, de, [this](int list) { return edge_list_size(list); })) {
+    ++c;
+    if (use.pcurves.empty() && use.type == 0) {
       // Only the edge's model-space curve (504: CURV, SVP, SV, TVP, TV per edge), used along OF.
       if (surface == nullptr)
         no_parameter_curve(de, fmt::format("edge {} has no parameter-space curve and its face's surface is analytic "
                                            "(only planes take model-space edges)",
-                                           c + 1));
-      std::vector<Curve3> curves = g_.curves(g_.expect(parsed(list), 2 + 5 * (ndx - 1), kCurveTypes, "a curve"), m);
-      if (of == 0) {
+                                           c));
+      std::vector<Curve3> curves =
+          g_.curves(g_.expect(parsed(use.list), 2 + 5 * (use.ndx - 1), kCurveTypes, "a curve"), m);
+      if (use.of == 0) {
         std::reverse(curves.begin(), curves.end());
         for (Curve3& c3 : curves) c3 = reversed(c3);
       }
       for (const Curve3& c3 : curves) loop.curves.push_back(projected(*surface, c3, de));
       for (size_t j = loop.curves.size() - curves.size(); j < loop.curves.size(); ++j)
-        loop.curves[j].edge = g_.edge_id(list, ndx);
+        loop.curves[j].edge = g_.edge_id(use.list, use.ndx);
     }
     std::vector<Curve2> piece;
-    for (int j = 0; j < k; ++j) {
-      p.integer(i + 5 + 2 * j);
-      for (Curve2& pc : g_.parameter_curves(g_.expect(p, i + 6 + 2 * j, kCurveTypes, "a curve")))
-        piece.push_back(std::move(pc));
-    }
+    for (int pc_de : use.pcurves)
+      for (Curve2& pc : g_.parameter_curves(pc_de)) piece.push_back(std::move(pc));
     // The edge's model-space curve (504 CURV) is measured against these once the surface is built.
-    if (type == 0 && !piece.empty())
-      edge_uses_.push_back({index, loop.curves.size(), piece.size(), list, 2 + 5 * (ndx - 1)});
+    if (use.type == 0 && !piece.empty())
+      edge_uses_.push_back({index, loop.curves.size(), piece.size(), use.list, 2 + 5 * (use.ndx - 1)});
     for (Curve2& pc : piece) {
-      if (type == 0) pc.edge = g_.edge_id(list, ndx);
+      if (use.type == 0) pc.edge = g_.edge_id(use.list, use.ndx);
       loop.curves.push_back(std::move(pc));
     }
-    i += 5 + 2 * k;
   }
-  p.check_trailing(i - 1);
   return loop;
 }
 

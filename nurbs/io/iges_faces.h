@@ -69,6 +69,11 @@ class IgesFaces {
 };
 
 /// IgesFaces::finish for faces of any reader: the same repairs, checks and orientation, counted in `log`.
+/// A face whose trim curves are not all valid B-splines is left as it is, its problem said.
 void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log);
+
+/// Whether every trim curve of `f` is a valid B-spline (nurbs::validate): one that is not cannot be
+/// evaluated, so the readers drop its face, with the problem as the reason.
+[[nodiscard]] bool trims_evaluable(const TrimmedSurface& f);
 
 }  // namespace nurbs::io

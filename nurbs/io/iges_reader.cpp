@@ -241,8 +241,14 @@ std::vector<Body> ModelBuilder::build() {
   sized.bodies = std::move(bodies);
   double size = model_size(sized);
   if (!validate_model_size(size).empty()) size = 0.0;
-  for (Body& b : sized.bodies)
+  for (Body& b : sized.bodies) {
     for (TrimmedSurface& f : b.faces) faces_.finish(f, size);
+    std::erase_if(b.faces, [&](const TrimmedSurface& f) {
+      if (trims_evaluable(f)) return false;
+      dropped_.push_back({fmt::format("D{}", f.face_id), f.trim_problem});
+      return true;
+    });
+  }
   return std::move(sized.bodies);
 }
 

@@ -307,6 +307,13 @@ Model StepReader::read() {
   if (!validate_model_size(size).empty()) size = 0.0;
   std::vector<IgesReadLog> logs(all.size());
   parallel_for(all.size(), 0, [&](size_t k, int) { finish_trim_loops(*all[k], size, logs[k]); });
+  // Faces whose trim curves cannot be evaluated (finish_trim_loops said why): dropped.
+  for (Body& b : model.bodies)
+    std::erase_if(b.faces, [&](const TrimmedSurface& f) {
+      if (trims_evaluable(f)) return false;
+      model.dropped_faces.push_back({fmt::format("#{}", f.face_id), f.trim_problem});  // faces_in_file holds it
+      return true;
+    });
   for (const IgesReadLog& l : logs) {
     log_.reoriented_loops += l.reoriented_loops;
     log_.outer_loops_fixed += l.outer_loops_fixed;

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "iges_edit.h"
+#include "nurbs/io/iges_faces.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/iges_writer.h"
 #include "nurbs/surface_eval.h"
@@ -131,4 +132,28 @@ TEST_CASE("IGES reader: an empty declared 128 range keeps the knot domain, with 
   CHECK(r.read_warnings[0].rfind("line ", 0) == 0);
   CHECK(r.read_warnings[0].find("(type 128)") != std::string::npos);
   CHECK(r.read_warnings[0].find("parameter range [0.5, 0.5] x [0.1, 0.9] is empty") != std::string::npos);
+}
+
+TEST_CASE("trim loops: a curve whose knots do not fit its points is said, never evaluated, and its face dropped") {
+  // The unit square's face with a loop whose one curve has 4 points of degree 3 and 20 knots (a
+  // clamped cut of a longer curve gone wrong): the repairs and the flattening would read its
+  // points past the end (AddressSanitizer: heap-buffer-overflow).
+  nurbs::TrimmedSurface f;
+  f.surface.degree_u = f.surface.degree_v = 1;
+  f.surface.count_u = f.surface.count_v = 2;
+  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
+  f.surface.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}};
+  nurbs::Curve2 c;
+  c.degree = 3;
+  c.points = {{0.2, 0.2}, {0.8, 0.2}, {0.8, 0.8}, {0.2, 0.2}};
+  for (int i = 0; i < 20; ++i) c.knots.push_back(i < 4 ? 0.0 : (i < 16 ? (i - 3) / 13.0 : 1.0));
+  nurbs::TrimLoop loop;
+  loop.outer = true;
+  loop.curves.push_back(c);
+  f.loops.push_back(loop);
+  nurbs::io::IgesReadLog log;
+  nurbs::io::finish_trim_loops(f, 1.0, log);
+  CHECK(f.trim_problem.find("knots") != std::string::npos);
+  CHECK(!nurbs::io::trims_evaluable(f));
+  CHECK(log.reoriented_loops == 0);
 }
