@@ -135,14 +135,11 @@ TEST_CASE("IGES reader: an empty declared 128 range keeps the knot domain, with 
 }
 
 TEST_CASE("trim loops: a curve whose knots do not fit its points is said, never evaluated, and its face dropped") {
-  // The unit square's face with a loop whose one curve has 4 points of degree 3 and 20 knots (a
-  // clamped cut of a longer curve gone wrong): the repairs and the flattening would read its
-  // points past the end (AddressSanitizer: heap-buffer-overflow).
+  // A bump's face with a loop whose one curve has 4 points of degree 3 and 20 knots (a clamped cut
+  // of a longer curve gone wrong): the repairs and the flattening would read its points past the
+  // end (AddressSanitizer: heap-buffer-overflow).
   nurbs::TrimmedSurface f;
-  f.surface.degree_u = f.surface.degree_v = 1;
-  f.surface.count_u = f.surface.count_v = 2;
-  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
-  f.surface.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}};
+  f.surface = nurbs::io::test::bump();
   nurbs::Curve2 c;
   c.degree = 3;
   c.points = {{0.2, 0.2}, {0.8, 0.2}, {0.8, 0.8}, {0.2, 0.2}};
