@@ -306,13 +306,12 @@ TEST_CASE("STEP reader: a cylinder's lateral face over its seam is one full turn
 TEST_CASE("STEP reader: a spherical cap bounded by one circle reaches its pole") {
   // Sphere of radius 1 about the origin; the face's one edge is the circle at z = 0.5, counter-
   // clockwise seen from +z: the face is the cap above it (area pi), which no edge reaches.
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
-       "#6=CARTESIAN_POINT('',(0.,0.,0.5));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
-       "#8=CIRCLE('',#7,0.8660254037844386);\n#9=CARTESIAN_POINT('',(0.8660254037844386,0.,0.5));\n"
-       "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
-  const nurbs::Model m = read_one_edge_face(d, ".T.", ".T.");
+  const nurbs::Model m = read_one_edge_face(
+      at_origin("SPHERICAL_SURFACE('',#4,1.)") +
+          "#6=CARTESIAN_POINT('',(0.,0.,0.5));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+          "#8=CIRCLE('',#7,0.8660254037844386);\n#9=CARTESIAN_POINT('',(0.8660254037844386,0.,0.5));\n"
+          "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n",
+      ".T.", ".T.");
   const nurbs::TrimmedSurface& f = only_face(m);
   CHECK(f.trim_problem.empty());
   // Material points all on the cap, and some within 0.01 of the pole.
@@ -990,6 +989,48 @@ TEST_CASE("STEP reader: a face whose PCURVEs lie off its edges keeps them, with 
     CHECK(c.points.back().x == doctest::Approx(0.75));
     CHECK(c.points.back().y == doctest::Approx(0.25));
   }
+}
+
+TEST_CASE("STEP reader: a circle edge's PCURVE on a B-spline surface is its trim, over the circle's angles") {
+  // A disk of radius 1 about (1, 1, 1) on a bilinear B-spline plane z = 1 over [-1, 3]^2 ((u, v) =
+  // ((x + 1) / 4, (y + 1) / 4)): one CIRCLE edge whose SURFACE_CURVE carries the circle in (u, v)
+  // as a rational quadratic B-spline parametrised by the angle (knots 0, pi/2, ..., 2 pi). The trim
+  // is that curve (without the PCURVEs of conics: a cubic through points projected onto the plane).
+  std::string d = context(kMillimetre);
+  d += "#5=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#600,#601),(#602,#603)),.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),"
+       "(0.,1.),(0.,1.),.UNSPECIFIED.);\n#600=CARTESIAN_POINT('',(-1.,-1.,1.));\n#601=CARTESIAN_POINT('',(-1.,3.,1.));\n"
+       "#602=CARTESIAN_POINT('',(3.,-1.,1.));\n#603=CARTESIAN_POINT('',(3.,3.,1.));\n";
+  const double h = std::sqrt(0.5);
+  const double pc[9][2] = {{0.75, 0.5},  {0.75, 0.75}, {0.5, 0.75},  {0.25, 0.75}, {0.25, 0.5},
+                           {0.25, 0.25}, {0.5, 0.25},  {0.75, 0.25}, {0.75, 0.5}};
+  std::string points, weights;
+  for (int i = 0; i < 9; ++i) {
+    d += fmt::format("#{}=CARTESIAN_POINT('',({},{}));\n", 140 + i, pc[i][0], pc[i][1]);
+    points += fmt::format("{}#{}", i ? "," : "", 140 + i);
+    weights += fmt::format("{}{}", i ? "," : "", i % 2 ? h : 1.0);
+  }
+  d += "#910=( GEOMETRIC_REPRESENTATION_CONTEXT(2) PARAMETRIC_REPRESENTATION_CONTEXT() "
+       "REPRESENTATION_CONTEXT('2D SPACE','') );\n";
+  d += fmt::format(
+      "#130=( BOUNDED_CURVE() B_SPLINE_CURVE(2,({}),.CIRCULAR_ARC.,.T.,.F.) B_SPLINE_CURVE_WITH_KNOTS((3,2,2,2,3),"
+      "(0.,1.5707963267948966,3.141592653589793,4.71238898038469,6.283185307179586),.UNSPECIFIED.) CURVE() "
+      "GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE(({})) REPRESENTATION_ITEM('') );\n",
+      points, weights);
+  d += "#120=DEFINITIONAL_REPRESENTATION('',(#130),#910);\n#110=PCURVE('',#5,#120);\n"
+       "#30=CARTESIAN_POINT('',(1.,1.,1.));\n#31=DIRECTION('',(0.,0.,1.));\n#32=DIRECTION('',(1.,0.,0.));\n"
+       "#33=AXIS2_PLACEMENT_3D('',#30,#31,#32);\n#34=CIRCLE('',#33,1.);\n"
+       "#100=SURFACE_CURVE('',#34,(#110),.CURVE_3D.);\n#35=CARTESIAN_POINT('',(2.,1.,1.));\n"
+       "#36=VERTEX_POINT('',#35);\n#11=EDGE_CURVE('',#36,#36,#100,.T.);\n";
+  const nurbs::Model m = read_one_edge_face(d, ".T.", ".T.");
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.trim_problem.empty());
+  CHECK(f.edge_gap == 0.0);
+  REQUIRE(f.loops.size() == 1);
+  REQUIRE(f.loops.front().curves.size() == 1);
+  const nurbs::Curve2& c = f.loops.front().curves.front();
+  CHECK(c.degree == 2);
+  CHECK(c.weights.size() == 9);
+  CHECK(glm::length(c.points.front() - glm::dvec2(0.75, 0.5)) < 1e-12);
 }
 
 TEST_CASE("STEP reader: edges off their plane by less than the file's stated uncertainty keep their gap") {
