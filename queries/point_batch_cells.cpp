@@ -25,7 +25,8 @@ constexpr double kClipMargin = 1e-3;
 
 double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 
-/// glsl/point_batch_trim.frag trim_material, in double on the stored floats.
+/// The side of x from the cell's crossing segments: glsl/point_batch_trim.frag trim_crosses over the
+/// crossing segments as trimmed_cell_dist2 counts them, in double on the stored floats.
 bool trim_material(glm::dvec2 x, const float* head, const std::vector<float>& segs) {
   bool m = head[3] > 0.5f;
   const glm::dvec2 rx = x - kTrimRef;
@@ -44,7 +45,7 @@ glm::dvec3 on_cell(glm::dvec2 st, bool lower, const glm::dvec3 c[4]) {
 }
 
 /// The ends of a stored piece (s0, t0, s1, t1) on its triangle of the cell with corners c
-/// (glsl/point_batch_trim.frag trim_piece).
+/// (glsl/point_batch_trim.frag trim_segment, a piece's part).
 void piece_on_cell(const float* piece, const glm::dvec3 c[4], glm::dvec3& a, glm::dvec3& b) {
   const glm::dvec2 sa(piece[0], piece[1]), sb(piece[2], piece[3]);
   const bool lower = sa.x + sb.x >= sa.y + sb.y;
