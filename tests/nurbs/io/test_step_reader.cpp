@@ -59,8 +59,9 @@ std::string at_origin(const std::string& surface) {
 // A square face of side 2 on the plane z = 1: four LINE edges, in a surface model. `placement`: the
 // plane's AXIS2_PLACEMENT_3D #4 with its point #1 and directions #2, #3; `on_x`: the square on the
 // plane x = 1 instead, (x, y, 1) written as (1, x, y).
-const std::string kPlaneZ = "#1=CARTESIAN_POINT('',(0.,0.,1.));\n#2=DIRECTION('',(0.,0.,1.));\n"
-                            "#3=DIRECTION('',(1.,0.,0.));\n#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
+const std::string kPlaneZ =
+    "#1=CARTESIAN_POINT('',(0.,0.,1.));\n#2=DIRECTION('',(0.,0.,1.));\n"
+    "#3=DIRECTION('',(1.,0.,0.));\n#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n";
 std::string square_face(const std::string& length, const std::string& placement = kPlaneZ, bool on_x = false) {
   std::string d = context(length);
   d += placement + "#5=PLANE('',#4);\n";
@@ -88,10 +89,8 @@ std::string square_face(const std::string& length, const std::string& placement 
 // The lateral face of a cylinder of radius 1 and height 3 about z: two full circles and a seam LINE
 // used in both directions, as CAD writers give closed faces.
 std::string cylinder_face() {
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CYLINDRICAL_SURFACE('',#4,1.);\n"
-       "#6=CARTESIAN_POINT('',(0.,0.,3.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+  std::string d = at_origin("CYLINDRICAL_SURFACE('',#4,1.)");
+  d += "#6=CARTESIAN_POINT('',(0.,0.,3.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
        "#10=CARTESIAN_POINT('',(1.,0.,0.));\n#11=VERTEX_POINT('',#10);\n"
        "#12=CARTESIAN_POINT('',(1.,0.,3.));\n#13=VERTEX_POINT('',#12);\n"
        "#20=CIRCLE('',#4,1.);\n#21=CIRCLE('',#7,1.);\n#22=VECTOR('',#2,1.);\n#23=LINE('',#10,#22);\n"
@@ -259,8 +258,9 @@ TEST_CASE("STEP reader: a plane face, its edges mapped exactly, and length units
 TEST_CASE("STEP reader: a placement without a usable reference direction takes ISO 10303-42's default") {
   // Axis -x without a reference direction: the default first axis is (0, 1, 0) (the standard's
   // (1, 0, 0) is parallel to it).
-  const std::string minus_x = "#1=CARTESIAN_POINT('',(1.,0.,0.));\n#2=DIRECTION('',(-1.,0.,0.));\n"
-                              "#4=AXIS2_PLACEMENT_3D('',#1,#2,$);\n";
+  const std::string minus_x =
+      "#1=CARTESIAN_POINT('',(1.,0.,0.));\n#2=DIRECTION('',(-1.,0.,0.));\n"
+      "#4=AXIS2_PLACEMENT_3D('',#1,#2,$);\n";
   const nurbs::Model a = nurbs::io::read_step_text(square_face(kMillimetre, minus_x, true), "minus_x.stp");
   CHECK(a.read_warnings.empty());
   CHECK(material_share(only_face(a)) == doctest::Approx(1.0 / (1.02 * 1.02)).epsilon(0.01));
@@ -336,23 +336,25 @@ TEST_CASE("STEP reader: a sphere octant whose meridians meet at a pole reaches t
           // Counter-clockwise seen from outside: a, b, c when (b - a) x (c - a) points outwards.
           std::vector<glm::dvec3> v = sx * sy * sz > 0 ? std::vector{a, b, c} : std::vector{a, c, b};
           std::rotate(v.begin(), v.begin() + start, v.end());
-          std::string d = context(kMillimetre);
-          d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-               "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n";
+          std::string d = at_origin("SPHERICAL_SURFACE('',#4,1.)");
           auto vec = [](glm::dvec3 q) { return fmt::format("({},{},{})", q.x, q.y, q.z); };
-          for (int i = 0; i < 3; ++i) d += fmt::format("#{}=CARTESIAN_POINT('',{});\n#{}=VERTEX_POINT('',#{});\n", 10 + 2 * i, vec(v[i]), 11 + 2 * i, 10 + 2 * i);
+          for (int i = 0; i < 3; ++i)
+            d += fmt::format("#{}=CARTESIAN_POINT('',{});\n#{}=VERTEX_POINT('',#{});\n", 10 + 2 * i, vec(v[i]),
+                             11 + 2 * i, 10 + 2 * i);
           std::string edges;
           for (int i = 0; i < 3; ++i) {
             // The arc from v[i] to v[i + 1]: a circle about the centre with axis v[i] x v[i + 1] and
             // reference direction v[i], so that it runs from v[i] towards v[i + 1].
             const int j = (i + 1) % 3, id = 20 + 10 * i;
-            d += fmt::format("#{}=DIRECTION('',{});\n#{}=DIRECTION('',{});\n#{}=AXIS2_PLACEMENT_3D('',#1,#{},#{});\n", id,
-                             vec(glm::cross(v[i], v[j])), id + 1, vec(v[i]), id + 2, id, id + 1);
-            d += fmt::format("#{}=CIRCLE('',#{},1.);\n#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n",
-                             id + 3, id + 2, id + 4, 11 + 2 * i, 11 + 2 * j, id + 3, id + 5, id + 4);
+            d += fmt::format("#{}=DIRECTION('',{});\n#{}=DIRECTION('',{});\n#{}=AXIS2_PLACEMENT_3D('',#1,#{},#{});\n",
+                             id, vec(glm::cross(v[i], v[j])), id + 1, vec(v[i]), id + 2, id, id + 1);
+            d += fmt::format(
+                "#{}=CIRCLE('',#{},1.);\n#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n",
+                id + 3, id + 2, id + 4, 11 + 2 * i, 11 + 2 * j, id + 3, id + 5, id + 4);
             edges += fmt::format("{}#{}", i ? "," : "", id + 5);
           }
-          d += "#60=EDGE_LOOP('',(" + edges + "));\n#61=FACE_OUTER_BOUND('',#60,.T.);\n"
+          d += "#60=EDGE_LOOP('',(" + edges +
+               "));\n#61=FACE_OUTER_BOUND('',#60,.T.);\n"
                "#62=ADVANCED_FACE('corner',(#61),#5,.T.);\n#63=OPEN_SHELL('',(#62));\n"
                "#64=SHELL_BASED_SURFACE_MODEL('',(#63));\n#65=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#64),#900);\n";
           const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "corner.stp");
@@ -403,10 +405,8 @@ TEST_CASE("STEP reader: a ball whose seam edge runs down to the pole and up agai
 }
 
 TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=SPHERICAL_SURFACE('',#4,1.);\n"
-       "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#13=VERTEX_LOOP('',#10);\n"
+  std::string d = at_origin("SPHERICAL_SURFACE('',#4,1.)");
+  d += "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#13=VERTEX_LOOP('',#10);\n"
        "#14=FACE_BOUND('',#13,.T.);\n#15=ADVANCED_FACE('ball',(#14),#5,.T.);\n"
        "#16=OPEN_SHELL('',(#15));\n#17=SHELL_BASED_SURFACE_MODEL('',(#16));\n"
        "#18=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#17),#900);\n";
@@ -491,7 +491,8 @@ TEST_CASE("STEP reader: a half cone from its apex, reached along lines from othe
         d += "#16=" + pt(c + along * glm::dvec3(-h, 0, h)) + ";\n";
         d += fmt::format("#17=DIRECTION('',({},0.,{}));\n", h, -h);
         d += "#18=VECTOR('',#17,1.);\n#19=LINE('',#16,#18);\n#20=EDGE_CURVE('',#10,#6,#19,.T.);\n";
-        d += "#21=" + pt(c + glm::dvec3(0, 0, 1)) + ";\n#22=AXIS2_PLACEMENT_3D('',#21,#2,#3);\n#23=CIRCLE('',#22,1.);\n";
+        d +=
+            "#21=" + pt(c + glm::dvec3(0, 0, 1)) + ";\n#22=AXIS2_PLACEMENT_3D('',#21,#2,#3);\n#23=CIRCLE('',#22,1.);\n";
         d += "#24=EDGE_CURVE('',#8,#10,#23,.T.);\n#25=ORIENTED_EDGE('',*,*,#20,.F.);\n"
              "#26=ORIENTED_EDGE('',*,*,#24,.F.);\n#27=ORIENTED_EDGE('',*,*,#15,.F.);\n";
         const nurbs::Model m = read_three_edge_face(d, {"#25", "#26", "#27"}, start);
@@ -597,10 +598,8 @@ TEST_CASE("STEP reader: a cone placed at its apex keeps a face on the nappe behi
   // CATIA places drill points as cones of radius 0 at the apex, the axis pointing away from the
   // face: radius 0, semi-angle 45 degrees, axis +z, and the band between the circles at z = -1
   // (radius 1) and z = -2 (radius 2), where r + v tan(angle) < 0.
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CONICAL_SURFACE('',#4,0.,0.7853981633974483);\n"
-       "#6=CARTESIAN_POINT('',(0.,0.,-1.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n#8=CIRCLE('',#7,1.);\n"
+  std::string d = at_origin("CONICAL_SURFACE('',#4,0.,0.7853981633974483)");
+  d += "#6=CARTESIAN_POINT('',(0.,0.,-1.));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n#8=CIRCLE('',#7,1.);\n"
        "#9=CARTESIAN_POINT('',(0.,0.,-2.));\n#10=AXIS2_PLACEMENT_3D('',#9,#2,#3);\n#11=CIRCLE('',#10,2.);\n"
        "#12=CARTESIAN_POINT('',(1.,0.,-1.));\n#13=VERTEX_POINT('',#12);\n"
        "#14=CARTESIAN_POINT('',(2.,0.,-2.));\n#15=VERTEX_POINT('',#14);\n"
@@ -941,14 +940,16 @@ std::string with_pcurves(std::string text, bool spline, double shift, double sca
 TEST_CASE("STEP reader: supplemental geometry is said and left out of the shape") {
   // The square's face in the part's surface model, and again in a surface model of a
   // CONSTRUCTIVE_GEOMETRY_REPRESENTATION (CATIA's and NX's reference planes beside the part).
-  const auto [text, line] = with_record(square_face(kMillimetre),
-                                        "#86=OPEN_SHELL('',(#82));\n#87=SHELL_BASED_SURFACE_MODEL('',(#86));\n"
-                                        "#88=CONSTRUCTIVE_GEOMETRY_REPRESENTATION('supplemental geometry',(#87),#900);\n");
+  const auto [text, line] =
+      with_record(square_face(kMillimetre),
+                  "#86=OPEN_SHELL('',(#82));\n#87=SHELL_BASED_SURFACE_MODEL('',(#86));\n"
+                  "#88=CONSTRUCTIVE_GEOMETRY_REPRESENTATION('supplemental geometry',(#87),#900);\n");
   const nurbs::Model m = nurbs::io::read_step_text(text, "supplemental.stp");
   REQUIRE(m.bodies.size() == 1);
   CHECK(m.bodies.front().faces.size() == 1);
   CHECK(m.faces_in_file == 1);
-  CHECK(m.skipped_types == std::map<std::string, int>{{"supplemental geometry (CONSTRUCTIVE_GEOMETRY_REPRESENTATION) faces", 1}});
+  CHECK(m.skipped_types ==
+        std::map<std::string, int>{{"supplemental geometry (CONSTRUCTIVE_GEOMETRY_REPRESENTATION) faces", 1}});
   REQUIRE(m.read_warnings.size() == 1);
   CHECK(m.read_warnings.front().find("#87 (1 face(s)): supplemental geometry of #88") != std::string::npos);
 }
@@ -997,9 +998,10 @@ TEST_CASE("STEP reader: a circle edge's PCURVE on a B-spline surface is its trim
   // as a rational quadratic B-spline parametrised by the angle (knots 0, pi/2, ..., 2 pi). The trim
   // is that curve (without the PCURVEs of conics: a cubic through points projected onto the plane).
   std::string d = context(kMillimetre);
-  d += "#5=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#600,#601),(#602,#603)),.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),"
-       "(0.,1.),(0.,1.),.UNSPECIFIED.);\n#600=CARTESIAN_POINT('',(-1.,-1.,1.));\n#601=CARTESIAN_POINT('',(-1.,3.,1.));\n"
-       "#602=CARTESIAN_POINT('',(3.,-1.,1.));\n#603=CARTESIAN_POINT('',(3.,3.,1.));\n";
+  d +=
+      "#5=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#600,#601),(#602,#603)),.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),"
+      "(0.,1.),(0.,1.),.UNSPECIFIED.);\n#600=CARTESIAN_POINT('',(-1.,-1.,1.));\n#601=CARTESIAN_POINT('',(-1.,3.,1.));\n"
+      "#602=CARTESIAN_POINT('',(3.,-1.,1.));\n#603=CARTESIAN_POINT('',(3.,3.,1.));\n";
   const double h = std::sqrt(0.5);
   const double pc[9][2] = {{0.75, 0.5},  {0.75, 0.75}, {0.5, 0.75},  {0.25, 0.75}, {0.25, 0.5},
                            {0.25, 0.25}, {0.5, 0.25},  {0.75, 0.25}, {0.75, 0.5}};
@@ -1048,10 +1050,8 @@ TEST_CASE("STEP reader: edges off their plane by less than the file's stated unc
 TEST_CASE("STEP reader: of two FACE_BOUNDs without an outer one, the loop enclosing more area is outer") {
   // A washer on z = 0: circles of radius 0.278 and 0.255 about the origin, the smaller one's
   // placement turned 45 degrees (its control points' box 0.36 wide against the larger one's 0.278).
-  std::string d = context(kMillimetre);
-  d += "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n"
-       "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=PLANE('',#4);\n"
-       "#6=DIRECTION('',(0.70710678118654752,0.70710678118654752,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#2,#6);\n"
+  std::string d = at_origin("PLANE('',#4)");
+  d += "#6=DIRECTION('',(0.70710678118654752,0.70710678118654752,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#2,#6);\n"
        "#10=CIRCLE('',#4,0.278);\n#11=CARTESIAN_POINT('',(0.278,0.,0.));\n#12=VERTEX_POINT('',#11);\n"
        "#13=EDGE_CURVE('',#12,#12,#10,.T.);\n#14=ORIENTED_EDGE('',*,*,#13,.T.);\n#15=EDGE_LOOP('',(#14));\n"
        "#16=FACE_BOUND('',#15,.T.);\n"
