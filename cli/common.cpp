@@ -23,8 +23,7 @@
 namespace cli {
 
 LoadedModel load_model(const std::string& path, const std::string& command) {
-  LoadedModel m{nurbs::io::read_model(path), {}};
-  m.report = nurbs::model_report(m.model);
+  LoadedModel m = nurbs::io::load_model(path);
   for (const std::string& line : m.report.lines()) fmt::print(stderr, "{}: {}: {}\n", command, path, line);
   return m;
 }
@@ -98,6 +97,12 @@ double checked_model_size(const nurbs::Model& model, const std::string& path) {
   return size;
 }
 
+CommandProgress command_progress(const std::string& command, const std::string& unit) {
+  auto bar = std::make_shared<Progress>(command, unit);
+  return {[bar](size_t done, size_t total) { bar->update((long long)done, (long long)total); },
+          [command](const std::string& line) { fmt::print(stderr, "{}: {}\n", command, line); }};
+}
+
 std::string read_input_text(const std::string& path, const std::string& option) {
   try {
     return path == "-" ? nurbs::io::read_input_stream(std::cin, "stdin") : nurbs::io::read_input_file(path);
@@ -123,28 +128,6 @@ std::string unit_name(const nurbs::Model& model) {
   for (const auto& [scale, name] : known)
     if (std::abs(k - scale) <= 1e-9 * scale) return name;
   return fmt::format("x {:g} mm", k);
-}
-
-long long available_memory() {
-  std::ifstream f("/proc/meminfo");
-  std::string key, unit;
-  long long value = 0;
-  while (f >> key >> value >> unit)
-    if (key == "MemAvailable:") return unit == "kB" ? value * 1024 : value;
-  return -1;
-}
-
-long long peak_resident_memory() {
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) {
-      std::istringstream in(line.substr(6));
-      long long kb = -1;
-      in >> kb;
-      return kb < 0 ? -1 : kb * 1024;
-    }
-  return -1;
 }
 
 namespace {

@@ -41,10 +41,7 @@ struct GlobalOptions {
 };
 
 /// A model read for a command, with the reader's report (nurbs/model_report.h).
-struct LoadedModel {
-  nurbs::Model model;
-  nurbs::ModelReport report;
-};
+using LoadedModel = nurbs::LoadedModel;
 
 /// Reads the model file `path` (nurbs::io::read_model) and says on stderr, prefixed by `command`,
 /// what the reader dropped, could not repair or read otherwise than the file says.
@@ -90,6 +87,14 @@ class Progress {
 /// file) when no tolerance can refer to it (nurbs::validate_model_size).
 double checked_model_size(const nurbs::Model& model, const std::string& path);
 
+/// An options value that steers a library query to a person watching: progress of `unit` on stderr
+/// (Progress) and the query's lines prefixed by `command`.
+struct CommandProgress {
+  std::function<void(size_t, size_t)> progress;
+  std::function<void(const std::string&)> log;
+};
+[[nodiscard]] CommandProgress command_progress(const std::string& command, const std::string& unit);
+
 /// The whole text of the input file `path` given with `option` (--points, --rays, --motion); "-"
 /// reads standard input. BadInput (exit 2) "OPTION PATH: PROBLEM" when it is missing, a directory or
 /// cannot be read (nurbs/io/input_file.h).
@@ -116,12 +121,5 @@ void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
 /// The model's length unit as text ("mm", "in", "m", ...; "x 2.5 mm" for another scale), from the
 /// file's unit (Model::unit_scale_to_mm): what the distances a command prints are in.
 [[nodiscard]] std::string unit_name(const nurbs::Model& model);
-
-/// The memory this machine can give a new allocation now (MemAvailable of /proc/meminfo, bytes);
-/// -1 when unknown.
-long long available_memory();
-
-/// This process's peak resident memory so far (VmHWM of /proc/self/status, bytes); -1 when unknown.
-long long peak_resident_memory();
 
 }  // namespace cli

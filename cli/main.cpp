@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "nurbs/io/output_file.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/request_error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -89,6 +90,8 @@ int main(int argc, char** argv) {
   } catch (const nurbs::io::ReadError& e) {
     return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const nurbs::io::WriteError& e) {  // an output file (checked before the work where possible)
+    return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
+  } catch (const nurbs::RequestError& e) {  // a request the library will not answer as asked
     return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));
   } catch (const cli::BadInput& e) {
     return fail(cli::kBadInput, fmt::format("nurbsgl: {}", e.what()));

@@ -13,6 +13,7 @@
 #include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
+#include "nurbs/system_memory.h"
 
 namespace cli {
 
@@ -89,7 +90,7 @@ std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>&
   Progress progress(what, "rays");
   std::vector<nurbs::ray::Hit> hits =
       caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
-  peak_after_cast_ = peak_resident_memory();
+  peak_after_cast_ = nurbs::peak_resident_memory();
   return hits;
 }
 

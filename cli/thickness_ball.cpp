@@ -5,6 +5,7 @@
 
 #include "nurbs/model_ops.h"
 #include "queries/ball_nearest.h"
+#include "queries/point_query.h"
 #include "queries/prepared_model.h"
 
 namespace cli {
@@ -32,9 +33,11 @@ BallResult ball_thickness(const nurbs::Model& model, const nurbs::ray::Thickness
   out.tolerance = args.tolerance * size;
   const queries::PreparedModel prepared = queries::prepare_model(*gpu, nurbs::world_faces(model), out.tolerance);
   queries::PointBatch batch(*gpu, prepared);
-  // auto: the descent in double on the CPU where the GL rasterizes on the CPU (as distance --engine).
-  out.engine = args.engine != "auto" ? args.engine : (gpu->info().software_renderer() ? "cpu" : "gpu");
-  batch.set_engine(out.engine == "cpu" ? queries::BatchEngine::Cpu : queries::BatchEngine::Gpu);
+  const queries::BatchEngine engine = queries::choose_engine(
+      args.engine == "cpu" ? queries::EngineChoice::Cpu
+      : args.engine == "gpu" ? queries::EngineChoice::Gpu : queries::EngineChoice::Auto, *gpu);
+  out.engine = queries::engine_name(engine);
+  batch.set_engine(engine);
   gpu->finish();
   out.prepare_seconds = since(t0);
   const auto t1 = std::chrono::steady_clock::now();

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "nurbs/curve_eval.h"
+#include "nurbs/request_error.h"
 #include "nurbs/surface_eval.h"
 
 namespace nurbs {
@@ -192,6 +193,13 @@ FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {
     if (d.gap > 0.0 && within(d.box, d.gap)) v.widen = std::max(v.widen, d.gap);
   mark_invalid(v, within);
   return v;
+}
+
+double LoadedModel::checked_size() const {
+  const double size = model_size(model);
+  if (const auto problems = validate_model_size(size); !problems.empty())
+    throw RequestError(fmt::format("{}: {}", path.string(), problems.front()));
+  return size;
 }
 
 }  // namespace nurbs

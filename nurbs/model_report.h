@@ -9,6 +9,7 @@
 ///   much or too little of its surface: no answer that may depend on it is certified (FaceDoubts);
 /// - a face whose file edges lie off its surface (TrimmedSurface::edge_gap) has a boundary known
 ///   only that closely: every bound that may depend on it is widened by the gap (FaceDoubts).
+#include <filesystem>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
@@ -56,6 +57,18 @@ struct ModelReport {
 
 /// The report of `model` as read (faces indexed as world_faces(model) lists them).
 [[nodiscard]] ModelReport model_report(const Model& model);
+
+/// A model with its reader's report and the file it came from: what every query's front door takes
+/// (nurbs::io::load_model reads one).
+struct LoadedModel {
+  Model model;
+  ModelReport report;
+  std::filesystem::path path;  ///< the file read; empty for a model built in memory (no disk cache)
+
+  /// model_size(model), or RequestError "PATH: PROBLEM" when no tolerance can refer to it
+  /// (validate_model_size).
+  [[nodiscard]] double checked_size() const;
+};
 
 /// The doubtful faces of a face list, by box, for deciding per answer which of them it may depend
 /// on: a face can hold the closest point to p only if its control-point box (which holds the

@@ -61,7 +61,7 @@ class PointDistanceQuery {
   /// `tolerance`: the K_e of every face's grid, model units. Throws when a face cannot meet it
   /// within `max_samples`, or when a face's grid does not fit an atlas of the GPU's size.
   PointDistanceQuery(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                     long long max_samples = 1LL << 22, Search search = Search::Faithful);
+                     long long max_samples = kDefaultMaxSamples, Search search = Search::Faithful);
   PointDistance query(const glm::dvec3& p);
   /// An atlas of at most this many cells is pruned on the CPU from one read-back of its min/max
   /// pass: U and the cells within it computed there with the GPU passes' float arithmetic (the same

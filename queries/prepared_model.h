@@ -31,6 +31,12 @@ class GridLimitError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The most grid samples of one face unless a caller says otherwise: a face that needs more for its
+/// tolerance is refused (GridLimitError), not evaluated.
+inline constexpr long long kDefaultMaxSamples = 1LL << 22;
+/// The side of the atlases faces are packed into, texels (or the GPU's texture size if smaller).
+inline constexpr int kAtlasSide = 4096;
+
 /// How a query reaches its tolerance T.
 ///  - Faithful (the paper): every face on a grid with K_e <= T everywhere; the GPU search ends at
 ///    cells that already meet T.
@@ -73,19 +79,19 @@ struct PreparedModel {
 /// `coarse` > 0: the coarse grid tolerance of Search::CoarseToFine (at least `tolerance`) instead of
 /// coarse_tolerance(faces, tolerance), e.g. that of the whole model when `faces` are some of it.
 PreparedModel prepare_geometry(std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                               long long max_samples = 1LL << 22, Search search = Search::Faithful,
+                               long long max_samples = kDefaultMaxSamples, Search search = Search::Faithful,
                                double coarse = 0.0);
 
 /// With Search::CoarseToFine the grids are evaluated at `coarse_tolerance(faces, tolerance)`.
 /// Faces go into atlases of at most `atlas_side`^2 texels (and the GPU's texture size), as many
 /// as they need; the tests lower it to get several atlases from small models.
 PreparedModel prepare_model(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> faces, double tolerance,
-                            long long max_samples = 1LL << 22, Search search = Search::Faithful, int atlas_side = 4096);
+                            long long max_samples = kDefaultMaxSamples, Search search = Search::Faithful, int atlas_side = kAtlasSide);
 
 /// The GPU part of prepare_model for a model from prepare_geometry: the atlases (evaluation,
 /// trim masks, growth, crossed cells). Lets a caller prepare two models' geometry on two threads
 /// (the GL context stays on one).
-void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = 4096);
+void prepare_atlases(gpgpu::Gpu& gpu, PreparedModel& m, int atlas_side = kAtlasSide);
 
 /// The two models of a clearance query: their geometry on two threads, then their atlases on this
 /// thread (the GL context's). `meanwhile`, when given, runs on this thread while the geometry
@@ -95,7 +101,7 @@ struct PreparedPair {
   PreparedModel a, b;
 };
 PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a, std::vector<nurbs::TrimmedSurface> b,
-                          double tolerance, Search search, long long max_samples = 1LL << 22,
+                          double tolerance, Search search, long long max_samples = kDefaultMaxSamples,
                           const std::function<void(const std::function<bool()>& geometry_done)>& meanwhile = {},
                           double coarse_a = 0.0, double coarse_b = 0.0);
 

@@ -20,4 +20,10 @@ Model read_model(const std::filesystem::path& path, IgesReadLog* log) {
   throw ReadError(path.string(), "", "unknown model format '" + ext + "' (nurbsgl reads .igs, .iges, .stp, .step and .bpt)");
 }
 
+LoadedModel load_model(const std::filesystem::path& path) {
+  LoadedModel m{read_model(path), {}, path};
+  m.report = model_report(m.model);
+  return m;
+}
+
 }  // namespace nurbs::io

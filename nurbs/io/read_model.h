@@ -5,6 +5,7 @@
 
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/model.h"
+#include "nurbs/model_report.h"
 
 namespace nurbs::io {
 
@@ -13,5 +14,8 @@ namespace nurbs::io {
 /// Throws ReadError naming the file for a missing file, an unknown extension or malformed content.
 /// `log` (optional) receives what the IGES or STEP reader repaired and found (empty for .bpt).
 Model read_model(const std::filesystem::path& path, IgesReadLog* log = nullptr);
+
+/// read_model with the reader's report (model_report): the model every query's front door takes.
+[[nodiscard]] LoadedModel load_model(const std::filesystem::path& path);
 
 }  // namespace nurbs::io
