@@ -13,6 +13,7 @@
 
 #include "gpgpu/gpu.h"
 #include "queries/clearance.h"
+#include "queries/clearance_pair.h"
 #include "queries/prepared_model.h"
 #include "queries/voxel_stage.h"
 #include "viewer/camera.h"
@@ -114,9 +115,11 @@ class App {
   Placement placement_;
   glm::dvec3 final_move_{0.0};  ///< scripted run: B's placement on the last frame
   std::vector<double> scripted_query_ms_, scripted_frame_ms_;
-  std::unique_ptr<queries::PreparedModel> prep_a_, prep_b_;
-  std::unique_ptr<queries::ClearanceCache> cache_;  ///< declared after prep_a_: destroyed first
+  /// Both models prepared for any placement of B (queries/clearance_pair.h), A's hierarchy kept
+  /// between queries; declared after gpu_: destroyed first.
+  std::unique_ptr<queries::ClearancePair> clearance_pair_;
   std::optional<queries::Clearance> clearance_;
+  std::string clearance_uncertified_;  ///< why the answer shown is not certified; empty when it may be
   double query_ms_ = 0.0, prepare_s_ = 0.0;
   bool clearance_dirty_ = true, continuous_ = false;
   std::string clearance_error_;

@@ -1,7 +1,7 @@
-// Clearance mode: both models prepared once as `nurbsgl clearance` prepares them (coarse-to-fine
-// search, K_e <= tol x the larger model size, cli/cmd_clearance.cpp), one query per change of B's
-// placement (the paper's Fig. 16 interaction: B's hierarchy refitted under the motion, A's kept in
-// a ClearanceCache as the CLI's --motion keeps it).
+// Clearance mode: both models prepared once by the library's front door queries::ClearancePair, as
+// `nurbsgl clearance` prepares them for a placement it does not know in advance (every face kept,
+// the GPU descent), one query per change of B's placement (the paper's Fig. 16 interaction: B's
+// hierarchy refitted under the motion, A's kept between queries).
 #include <chrono>
 
 #include "viewer/app.h"
@@ -10,38 +10,35 @@
 namespace viewer {
 
 void App::prepare_clearance() {
-  // Each model at half the tolerance: the answer's bound (their sum) within it, as `nurbsgl clearance`.
-  const double tolerance =
-      queries::clearance_model_tolerance(options_.rel_tolerance * std::max(a_->size, b_->size));
+  queries::ClearanceOptions o;
+  o.tolerance = options_.rel_tolerance;
   const auto t0 = std::chrono::steady_clock::now();
-  prep_a_ = std::make_unique<queries::PreparedModel>(
-      queries::prepare_model(*gpu_, a_->faces, tolerance, 1LL << 22, queries::Search::CoarseToFine));
-  prep_b_ = std::make_unique<queries::PreparedModel>(
-      queries::prepare_model(*gpu_, b_->faces, tolerance, 1LL << 22, queries::Search::CoarseToFine));
-  cache_ = std::make_unique<queries::ClearanceCache>();  // A's hierarchy, reused by every query
-  gpu_->finish();
+  clearance_pair_ = std::make_unique<queries::ClearancePair>(
+      a_->loaded, options_.models.size() > 1 ? &b_->loaded : nullptr, o, gpu_.get());
+  clearance_pair_->prepare({});
   prepare_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void App::query_clearance() {
   clearance_dirty_ = false;
   try {
-    if (!prep_a_) prepare_clearance();
+    if (!clearance_pair_) prepare_clearance();
+    const queries::PreparedModel &a = clearance_pair_->prepared_a(), &b = clearance_pair_->prepared_b();
     const auto t0 = std::chrono::steady_clock::now();
-    queries::Clearance c =
-        queries::clearance(*gpu_, *prep_a_, *prep_b_, motion_b(), nullptr, nullptr, {}, cache_.get());
+    queries::ClearanceAnswer answer = clearance_pair_->query(motion_b());
     query_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (!c.found) {
+    if (!answer.clearance.found) {
       clearance_.reset();
-      clearance_error_ = "no pair of surface points found (every cell trimmed away?)";
+      clearance_error_ = answer.failure();
       return;
     }
-    clearance_ = std::move(c);
+    clearance_ = std::move(answer.clearance);
+    clearance_uncertified_ = answer.reason;
     clearance_error_.clear();
     if (show_culled_) overlay_dirty_ = true;  // the blocks pruned at this placement
     if (show_faces_) {                        // §5.4 for this placement: which faces the voxel pairs keep
-      if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_a_));
-      if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_b_));
+      if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(a));
+      if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(b));
       voxel_stage_ = queries::voxel_stage(*gpu_, *voxels_a_, *voxels_b_, motion_b());
       overlay_dirty_ = true;
     }
@@ -55,8 +52,8 @@ void App::query_clearance() {
 void App::update_blocks() {
   constexpr long long kMaxBlocks = 60000;  // per model: more boxes than that are no longer readable
   if (blocks_level_ == cell_level_) return;
-  blocks_a_ = cell_blocks(*prep_a_, cell_level_, kMaxBlocks);
-  blocks_b_ = cell_blocks(*prep_b_, cell_level_, kMaxBlocks);
+  blocks_a_ = cell_blocks(clearance_pair_->prepared_a(), cell_level_, kMaxBlocks);
+  blocks_b_ = cell_blocks(clearance_pair_->prepared_b(), cell_level_, kMaxBlocks);
   blocks_level_ = cell_level_;
 }
 
@@ -64,7 +61,8 @@ void App::rebuild_overlays() {
   overlay_dirty_ = false;
   overlay_a_.clear();
   overlay_b_.clear();
-  if (!prep_a_) return;
+  if (!clearance_pair_) return;
+  const queries::PreparedModel &prep_a = clearance_pair_->prepared_a(), &prep_b = clearance_pair_->prepared_b();
   if (show_cells_ || show_culled_) update_blocks();
   const bool blocks = blocks_a_ && blocks_b_;
   if (show_cells_) {
@@ -75,8 +73,8 @@ void App::rebuild_overlays() {
     }
   }
   if (show_voxels_) {
-    if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_a_));
-    if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(*prep_b_));
+    if (!voxels_a_) voxels_a_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(prep_a));
+    if (!voxels_b_) voxels_b_ = std::make_unique<queries::VoxelGrid>(queries::voxelize(prep_b));
     add_voxels(*voxels_a_, {0.6f, 0.45f, 0.95f}, overlay_a_);
     add_voxels(*voxels_b_, {0.95f, 0.45f, 0.6f}, overlay_b_);
   }
@@ -93,8 +91,8 @@ void App::rebuild_overlays() {
     }
   }
   if (show_faces_ && voxel_stage_) {
-    add_face_boxes(prep_a_->faces, voxel_stage_->faces_a, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_a_);
-    add_face_boxes(prep_b_->faces, voxel_stage_->faces_b, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_b_);
+    add_face_boxes(prep_a.faces, voxel_stage_->faces_a, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_a_);
+    add_face_boxes(prep_b.faces, voxel_stage_->faces_b, {0.2f, 0.95f, 0.3f}, {0.9f, 0.2f, 0.2f}, overlay_b_);
   }
 }
 

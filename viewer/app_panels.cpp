@@ -34,7 +34,7 @@ void App::draw_panels() {
   ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("nurbsgl");
   ImGui::Text("A: %s (%zu faces)", file_name(a_->path).c_str(), a_->faces.size());
-  for (const std::string& line : a_->report.lines(3)) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "A: %s", line.c_str());
+  for (const std::string& line : a_->loaded.report.lines(3)) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "A: %s", line.c_str());
   if (options_.models.size() > 1)
     ImGui::Text("B: %s (%zu faces)", file_name(b_->path).c_str(), b_->faces.size());
   else
@@ -99,13 +99,19 @@ void App::panel_clearance() {
   if (clearance_) {
     const queries::Clearance& c = *clearance_;
     ImGui::Text("clearance %.9g +- %.3g", c.distance, c.bound);
-    ImGui::Text("proven in [%.9g, %.9g]%s", c.distance - c.bound, c.distance, c.meets_tolerance ? "" : " (above T)");
+    ImGui::Text("proven in [%.9g, %.9g]%s", c.distance - c.bound, c.distance,
+                c.meets_tolerance || !clearance_uncertified_.empty() ? "" : " (above T)");
+    if (!clearance_uncertified_.empty()) {
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "not certified: %s", clearance_uncertified_.c_str());
+      ImGui::PopTextWrapPos();
+    }
     ImGui::Text("faces %d (A) and %d (B)%s", c.face_a, c.face_b, c.on_trim_edge ? ", on a trim edge" : "");
     if (c.intersecting)
       ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "the models intersect at (%.6g, %.6g, %.6g)", c.intersection.x,
                          c.intersection.y, c.intersection.z);
     ImGui::Text("query %.1f ms, %d refinement rounds", query_ms_, c.rounds);
-    ImGui::Text("models prepared in %.2f s (K_e <= %.3g)", prepare_s_, prep_a_->tolerance);
+    ImGui::Text("models prepared in %.2f s (K_e <= %.3g)", prepare_s_, clearance_pair_->prepared_a().tolerance);
   } else if (!clearance_error_.empty()) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", clearance_error_.c_str());

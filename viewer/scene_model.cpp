@@ -13,15 +13,14 @@
 namespace viewer {
 
 void load_scene_model(SceneModel& out, const std::string& path) {
-  const nurbs::Model model = nurbs::io::read_model(path);
+  out.loaded = nurbs::io::load_model(path);
+  const nurbs::Model& model = out.loaded.model;
   out.path = path;
   out.faces = nurbs::world_faces(model);
   out.box = nurbs::model_box(model);
-  out.size = nurbs::model_size(model);
-  out.report = nurbs::model_report(model);
-  for (const std::string& line : out.report.lines()) std::fprintf(stderr, "%s: %s\n", path.c_str(), line.c_str());
-  if (const auto problems = nurbs::validate_model_size(out.size); !problems.empty())
-    throw std::runtime_error(path + ": " + problems.front());
+  for (const std::string& line : out.loaded.report.lines())
+    std::fprintf(stderr, "%s: %s\n", path.c_str(), line.c_str());
+  out.size = out.loaded.checked_size();
 }
 
 void tessellate_scene_model(SceneModel& m, double eps, nurbs::tess::TessMode mode) {

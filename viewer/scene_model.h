@@ -19,10 +19,10 @@ namespace viewer {
 
 struct SceneModel {
   std::string path;
+  nurbs::LoadedModel loaded;                 ///< the model as every query's front door takes it
   std::vector<nurbs::TrimmedSurface> faces;  ///< nurbs::world_faces of the file
   nurbs::Box box;                            ///< sampled box (nurbs::model_box)
   double size = 0.0;                         ///< nurbs::model_size, the scale of relative tolerances
-  nurbs::ModelReport report;                 ///< what the reader dropped or could not repair
   nurbs::tess::TessellateResult tess;
   glm::dvec3 mesh_min{0.0}, mesh_max{0.0};  ///< box of the tessellation (trimmed material only): framing
   double tess_eps = 0.0;                    ///< absolute eps of `tess`
@@ -30,8 +30,8 @@ struct SceneModel {
   MeshBuffers buffers;
 };
 
-/// Reads `path` (nurbs::io::read_model). Throws nurbs::io::ReadError with the reader's message, or
-/// std::runtime_error naming the file when its size cannot scale a tolerance (empty model).
+/// Reads `path` (nurbs::io::load_model). Throws nurbs::io::ReadError with the reader's message, or
+/// nurbs::RequestError naming the file when its size cannot scale a tolerance (empty model).
 void load_scene_model(SceneModel& out, const std::string& path);
 
 /// Tessellates the model within `eps` (model units) in `mode`, uploads the mesh; `scalar` (per mesh
