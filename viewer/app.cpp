@@ -64,7 +64,7 @@ void App::load_models() {
     load_scene_model(*b_, options_.models.size() > 1 ? options_.models[1] : options_.models[0]);
     eps_rel_ = static_cast<float>(options_.eps);
     for (SceneModel* m : {a_.get(), b_.get()})
-      tessellate_scene_model(*m, options_.eps * m->size, nurbs::tess::TessMode::Guaranteed);
+      tessellate_scene_model(*m, options_.eps, nurbs::tess::TessMode::Guaranteed);
   } catch (const std::exception& e) {
     error_ = e.what();
     a_.reset();

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "nurbs/io/model_summary.h"
+#include "nurbs/request_error.h"
 #include "viewer/app.h"
 
 namespace viewer {
@@ -180,6 +181,11 @@ void App::panel_tessellation() {
   ImGui::Text("%lld triangles, %lld vertices in %.2f s", st.triangles, st.vertices, a_->tess_seconds);
   if (st.failed_faces > 0) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%d faces failed", st.failed_faces);
   ImGui::Text("eps %.4g model units", a_->tess_eps);
+  if (!a_->tess_failure.empty()) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "not certified: %s", a_->tess_failure.c_str());
+    ImGui::PopTextWrapPos();
+  }
   ImGui::SliderFloat("eps / size", &eps_rel_, 1e-5f, 1e-1f, "%.2e", ImGuiSliderFlags_Logarithmic);
   bool again = ImGui::IsItemDeactivatedAfterEdit();
   int mode = approximate_ ? 1 : 0;
@@ -190,7 +196,11 @@ void App::panel_tessellation() {
   ImGui::Checkbox("wireframe only (W)", &wireframe_);
   if (again) {
     const auto tm = approximate_ ? nurbs::tess::TessMode::Approximate : nurbs::tess::TessMode::Guaranteed;
-    for (SceneModel* m : {a_.get(), b_.get()}) tessellate_scene_model(*m, double(eps_rel_) * m->size, tm);
+    try {
+      for (SceneModel* m : {a_.get(), b_.get()}) tessellate_scene_model(*m, double(eps_rel_), tm);
+    } catch (const nurbs::RequestError& e) {  // an eps the model cannot be meshed at: the mesh stays
+      a_->tess_failure = e.what();
+    }
     picked_model_ = picked_face_ = -1;
     rebuild_selection_overlay();
   }

@@ -23,13 +23,15 @@ void load_scene_model(SceneModel& out, const std::string& path) {
   out.size = out.loaded.checked_size();
 }
 
-void tessellate_scene_model(SceneModel& m, double eps, nurbs::tess::TessMode mode) {
+void tessellate_scene_model(SceneModel& m, double eps_relative, nurbs::tess::TessMode mode) {
   const auto t0 = std::chrono::steady_clock::now();
-  nurbs::tess::TessellateOptions options;
-  options.eps = eps;
-  options.mode = mode;
-  m.tess = nurbs::tess::tessellate(m.faces, options);
-  m.tess_eps = eps;
+  nurbs::tess::ModelMeshOptions options;
+  options.eps = eps_relative;
+  options.tess.mode = mode;
+  nurbs::tess::ModelMesh mesh = nurbs::tess::mesh_model(m.loaded, options);
+  m.tess = std::move(mesh.result);
+  m.tess_eps = mesh.eps;
+  m.tess_failure = mesh.failure();
   m.tess_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.buffers.upload(m.tess.mesh);
   m.mesh_min = m.box.min;

@@ -11,6 +11,7 @@
 #include "nurbs/model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/model_report.h"
+#include "nurbs/tessellation/model_mesh.h"
 #include "nurbs/tessellation/tessellate.h"
 #include "viewer/camera.h"
 #include "viewer/draw_buffers.h"
@@ -26,6 +27,7 @@ struct SceneModel {
   nurbs::tess::TessellateResult tess;
   glm::dvec3 mesh_min{0.0}, mesh_max{0.0};  ///< box of the tessellation (trimmed material only): framing
   double tess_eps = 0.0;                    ///< absolute eps of `tess`
+  std::string tess_failure;                 ///< why `tess` is not certified within tess_eps (ModelMesh::failure)
   double tess_seconds = 0.0;
   MeshBuffers buffers;
 };
@@ -34,9 +36,11 @@ struct SceneModel {
 /// nurbs::RequestError naming the file when its size cannot scale a tolerance (empty model).
 void load_scene_model(SceneModel& out, const std::string& path);
 
-/// Tessellates the model within `eps` (model units) in `mode`, uploads the mesh; `scalar` (per mesh
-/// vertex) is kept empty here, thickness mode uploads its own mesh.
-void tessellate_scene_model(SceneModel& m, double eps, nurbs::tess::TessMode mode);
+/// Tessellates the model within `eps_relative` x its size in `mode` through the library's front door
+/// (nurbs::tess::mesh_model, with its checks of a guaranteed mesh, as `nurbsgl tessellate`), uploads
+/// the mesh; `scalar` (per mesh vertex) is kept empty here, thickness mode uploads its own mesh.
+/// Throws nurbs::RequestError for an eps the model cannot be meshed at (the mesh stays).
+void tessellate_scene_model(SceneModel& m, double eps_relative, nurbs::tess::TessMode mode);
 
 struct Pick {
   int face = -1;  ///< index into SceneModel::faces
