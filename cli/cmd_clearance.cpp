@@ -236,8 +236,7 @@ void run(const GlobalOptions& global, const Options& o) {
   if (o.b != o.a) lb.emplace(load_model(o.b, "clearance"));
   const nurbs::ModelReport& report_b = lb ? lb->report : la.report;
   queries::ClearanceOptions q = o.query;
-  q.engine = o.engine == "cpu" ? queries::EngineChoice::Cpu
-             : o.engine == "gpu" ? queries::EngineChoice::Gpu : queries::EngineChoice::Auto;
+  q.engine = queries::engine_choice(o.engine);
   q.voxel_stage = o.first_stage == "voxels";
   q.face_cull = o.face_cull == "boxes";
   using Upper = queries::ClearanceLimits::Upper;

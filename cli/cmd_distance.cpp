@@ -132,8 +132,7 @@ void run(const GlobalOptions& global, const Options& o) {
   queries::PointQueryOptions q = o.query;
   q.per_point = q.per_point || o.points.empty();
   q.boxes = o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented;
-  q.engine = o.engine == "cpu" ? queries::EngineChoice::Cpu
-             : o.engine == "gpu" ? queries::EngineChoice::Gpu : queries::EngineChoice::Auto;
+  q.engine = queries::engine_choice(o.engine);
   q.cache = !o.no_cache;
   q.accept_partial = global.accept_partial;
   const CommandProgress watch = command_progress("distance", "points");

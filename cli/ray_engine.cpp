@@ -14,6 +14,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
 #include "nurbs/system_memory.h"
+#include "queries/thickness_map.h"
 
 namespace cli {
 
@@ -33,14 +34,15 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
           ->check(CLI::IsMember({"bvh", "dacrt"}))
           ->capture_default_str();
   auto* device =
-      cmd->add_option("--device", args.device,
+      cmd->add_option("--engine,--device", args.device,
                       "cpu: the double-precision path on every core; gpu: the fragment-shader pass (Lemasson et al. "
-                      "§3.2-3.4 in float), hits finished in double on the CPU (bvh only)")
+                      "§3.2-3.4 in float), hits finished in double on the CPU (bvh only). --device is another name of "
+                      "--engine, the switch's name on every command")
           ->check(CLI::IsMember({"cpu", "gpu"}))
           ->capture_default_str();
   auto* bvh_build =
       cmd->add_option("--bvh-build", args.bvh_build,
-                      "--device gpu: build the Morton BVH on the cpu, or on the gpu in fragment passes (Morton codes, "
+                      "--engine gpu: build the Morton BVH on the cpu, or on the gpu in fragment passes (Morton codes, "
                       "bitonic sort, Karras' nodes: Lemasson et al. §3.2)")
           ->check(CLI::IsMember({"cpu", "gpu"}))
           ->capture_default_str();
@@ -60,17 +62,27 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
   // --paper: the BVH method on the GPU (3.2: the faster and more accurate of the paper's two GPU
   // methods; DACRT has no GPU pass here), its tree built there from Morton keys (3.2).
   preset.add_flag(cmd, "Lemasson et al.");
-  preset.govern(method, args.method, std::string("bvh"), "§3.2");
-  preset.govern(device, args.device, std::string("gpu"), "§3.2-3.4");
-  preset.govern(bvh_build, args.bvh_build, std::string("gpu"), "§3.2");
+  const queries::ThicknessMapOptions paper = queries::ThicknessMapOptions{}.paper();
+  const auto section = [](const char* option) {
+    return nurbs::paper_section(queries::ThicknessMapOptions::paper_switches(), option);
+  };
+  preset.govern(method, args.method, std::string(paper.caster.method == queries::RayMethod::Bvh ? "bvh" : "dacrt"),
+                section("method"));
+  preset.govern(device, args.device, std::string(paper.gpu ? "gpu" : "cpu"), section("engine"));
+  preset.govern(bvh_build, args.bvh_build, std::string(paper.caster.bvh_build == queries::BvhBuild::Gpu ? "gpu" : "cpu"),
+                section("bvh-build"));
 }
 
 RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global)
     : args_(args), global_(global) {
   const bool gpu = args.device == "gpu";
-  if (gpu && args.method != "bvh") throw BadInput("--device gpu: only --method bvh runs on the GPU");
-  if (!gpu && args.bvh_build == "gpu") throw BadInput("--bvh-build gpu needs --device gpu");
+  if (gpu && args.method != "bvh") throw BadInput("--engine gpu: only --method bvh runs on the GPU");
+  if (!gpu && args.bvh_build == "gpu") throw BadInput("--bvh-build gpu needs --engine gpu");
   if (gpu) gpu_ = start_gpu(global);
+  caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), caster_options(args), gpu_.get());
+}
+
+queries::RayCasterOptions caster_options(const RayEngineArgs& args) {
   queries::RayCasterOptions o;
   o.method = args.method == "dacrt" ? queries::RayMethod::Dacrt : queries::RayMethod::Bvh;
   o.threads = args.threads;
@@ -78,7 +90,7 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
   o.dacrt.patch_leaf = args.dacrt_patches;
   o.dacrt.ray_leaf = args.dacrt_rays;
   o.bvh_build = args.bvh_build == "gpu" ? queries::BvhBuild::Gpu : queries::BvhBuild::Cpu;
-  caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), o, gpu_.get());
+  return o;
 }
 
 RayEngine::~RayEngine() {
@@ -94,38 +106,41 @@ std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>&
   return hits;
 }
 
-nlohmann::json RayEngine::figures() const {
-  const queries::RayCasterFigures& f = caster_->figures();
+nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEngineArgs& args, const gpgpu::Gpu* gpu,
+                                size_t faces, size_t patches, double size, long long peak_memory) {
   const double per_ray = f.rays > 0 ? 1.0 / double(f.rays) : 0.0;
-  nlohmann::json gpu = nullptr;
-  if (gpu_)
-    gpu = {{"renderer", gpu_->info().renderer},
-           {"gpu_seconds", f.gpu_seconds},
-           {"cpu_seconds", f.finish_seconds},
-           {"fallbacks", f.fallbacks},
-           {"near_guard", f.near_guard},
-           {"bvh_build", args_.bvh_build},
-           {"bvh_build_gpu_seconds", f.bvh_gpu_seconds},
-           {"bvh_build_gpu_passes", f.bvh_gpu_passes}};
+  nlohmann::json g = nullptr;
+  if (gpu)
+    g = {{"renderer", gpu->info().renderer},
+         {"gpu_seconds", f.gpu_seconds},
+         {"cpu_seconds", f.finish_seconds},
+         {"fallbacks", f.fallbacks},
+         {"near_guard", f.near_guard},
+         {"bvh_build", args.bvh_build},
+         {"bvh_build_gpu_seconds", f.bvh_gpu_seconds},
+         {"bvh_build_gpu_passes", f.bvh_gpu_passes}};
   nlohmann::json dacrt = nullptr;
-  if (args_.method == "dacrt") dacrt = {{"patch_leaf", args_.dacrt_patches}, {"ray_leaf", args_.dacrt_rays}};
-  return {{"method", args_.method},
+  if (args.method == "dacrt") dacrt = {{"patch_leaf", args.dacrt_patches}, {"ray_leaf", args.dacrt_rays}};
+  return {{"method", args.method},
           {"dacrt", dacrt},
-          {"device", args_.device},
-          {"gpu", gpu},
-          {"threads", nurbs::thread_count(args_.threads)},
-          {"faces", scene().faces.size()},
-          {"patches", scene().patches.size()},
-          {"bicubic_tolerance", args_.tolerance * scene().size},
+          {"engine", args.device},
+          {"device", args.device},  // the engine under the switch's other name
+          {"gpu", g},
+          {"threads", nurbs::thread_count(args.threads)},
+          {"faces", faces},
+          {"patches", patches},
+          {"bicubic_tolerance", args.tolerance * size},
           {"seconds_build", f.build_seconds},
           {"seconds_cast", f.cast_seconds},
           {"rays_per_second", f.cast_seconds > 0 ? double(f.rays) / f.cast_seconds : 0.0},
           {"tests_per_ray", {{"box", double(f.box_tests) * per_ray}, {"patch", double(f.patch_tests) * per_ray}}},
           {"memory_bytes",
-           {{"bvh", f.bytes_bvh},
-            {"patches", f.bytes_patches},
-            {"trims", f.bytes_trims},
-            {"process_peak", peak_after_cast_}}}};
+           {{"bvh", f.bytes_bvh}, {"patches", f.bytes_patches}, {"trims", f.bytes_trims}, {"process_peak", peak_memory}}}};
+}
+
+nlohmann::json RayEngine::figures() const {
+  return ray_figures_json(caster_->figures(), args_, gpu_.get(), scene().faces.size(), scene().patches.size(),
+                          scene().size, peak_after_cast_);
 }
 
 }  // namespace cli

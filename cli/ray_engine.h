@@ -1,7 +1,7 @@
 #pragma once
 /// \file ray_engine.h
 /// What `raycast` and `thickness` share: the ray file reader, the options that choose how rays are
-/// cast (--method bvh|dacrt, --device, --bvh-build, --threads; --paper sets the first three as
+/// cast (--method bvh|dacrt, --engine (also --device), --bvh-build, --threads; --paper sets the first three as
 /// Lemasson et al.) and the engine that builds the scene of a model and casts
 /// rays through it with progress on stderr.
 #include <CLI/CLI.hpp>
@@ -27,8 +27,8 @@ namespace cli {
 
 struct RayEngineArgs {
   std::string method = "bvh";             ///< bvh: Morton BVH, stackless traversal; dacrt: divide and conquer
-  std::string device = "cpu";             ///< cpu: the double-precision path; gpu: the fragment-shader pass (bvh only)
-  std::string bvh_build = "cpu";          ///< --device gpu: the BVH built on the cpu (build_scene) or the gpu
+  std::string device = "cpu";             ///< --engine: cpu, the double-precision path; gpu, the fragment-shader pass (bvh only)
+  std::string bvh_build = "cpu";          ///< --engine gpu: the BVH built on the cpu (build_scene) or the gpu
   int threads = 0;                        ///< 0 = every hardware thread
   double tolerance = 1e-5;                ///< bicubic tolerance relative to the model size
   int dacrt_patches = 8, dacrt_rays = 8;  ///< DACRT's brute-force thresholds
@@ -36,7 +36,18 @@ struct RayEngineArgs {
 /// The options of RayEngineArgs on `cmd`, and --paper governing --method, --device and --bvh-build.
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& preset);
 
-/// The CLI's side of queries::RayCaster: the GPU started from the global options when --device gpu
+/// The caster's options as RayEngineArgs give them.
+[[nodiscard]] queries::RayCasterOptions caster_options(const RayEngineArgs& args);
+
+/// The figures of a caster as JSON: build and cast seconds, rays, tests per ray (the paper's Fig.
+/// 7), memory (Fig. 11: the structures' bytes; process_peak, the process's peak resident bytes when
+/// the last cast ended: reading, preparation and tracing, before any answer is written; for Fig.
+/// 12). `gpu`: the GPU caster's context, else null.
+[[nodiscard]] nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEngineArgs& args,
+                                              const gpgpu::Gpu* gpu, size_t faces, size_t patches, double size,
+                                              long long peak_memory);
+
+/// The CLI's side of queries::RayCaster: the GPU started from the global options when --engine gpu
 /// (exit 3 when none starts), progress on stderr, the figures as JSON.
 class RayEngine {
  public:
@@ -46,12 +57,10 @@ class RayEngine {
   std::vector<nurbs::ray::Hit> cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what);
   [[nodiscard]] const nurbs::ray::Scene& scene() const { return caster_->scene(); }
   void rays_start_on_surfaces() { caster_->rays_start_on_surfaces(); }
-  /// Figures: build and cast seconds, rays, tests per ray (the paper's Fig. 7), memory (Fig. 11:
-  /// the structures' bytes; process_peak, the process's peak resident bytes when the last cast
-  /// ended: reading, preparation and tracing, before any answer is written; for Fig. 12).
+  /// ray_figures_json of the caster.
   [[nodiscard]] nlohmann::json figures() const;
   [[nodiscard]] double cast_seconds() const { return caster_->figures().cast_seconds; }
-  /// The GPU context of --device gpu, else null.
+  /// The GPU context of --engine gpu, else null.
   [[nodiscard]] gpgpu::Gpu* gpu() const { return gpu_.get(); }
 
  private:

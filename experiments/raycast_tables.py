@@ -90,7 +90,7 @@ def run_measured(cmd):
 SCALING = [("bvh_1", "BVH, CPU, 1 thread", ["--threads", "1"]),
            ("bvh", "BVH, CPU, every core", []),
            ("dacrt", "DACRT, CPU, every core", ["--method", "dacrt"]),
-           ("gpu", "BVH, GPU pass", ["--device", "gpu"]),
+           ("gpu", "BVH, GPU pass", ["--engine", "gpu"]),
            ("paper", "paper preset (BVH built on the GPU)", ["--paper"])]
 
 
@@ -198,7 +198,7 @@ def main():
         make_rays(info, a.rays, 7, rays)
         ours = {}
         # key, options: the default preset (bvh on the cpu), DACRT, the BVH pass on the GPU, the paper preset.
-        for key, options in (("bvh", []), ("dacrt", ["--method", "dacrt"]), ("gpu", ["--device", "gpu"]),
+        for key, options in (("bvh", []), ("dacrt", ["--method", "dacrt"]), ("gpu", ["--engine", "gpu"]),
                              ("paper", ["--paper"])):
             j = run_json([nurbsgl, "raycast", path, "--rays", rays, *options, "--json"])
             if j is None:

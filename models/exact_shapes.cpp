@@ -121,4 +121,18 @@ nurbs::TrimmedSurface cubic_square_with_hole(double hole) {
   return square;
 }
 
+nurbs::LoadedModel loaded_sphere(double radius, double unit_scale_to_mm) {
+  nurbs::LoadedModel m;
+  nurbs::Body body;
+  body.name = "ball";
+  body.closed = true;
+  nurbs::TrimmedSurface face;
+  face.surface = rational_sphere(radius);
+  body.faces.push_back(std::move(face));
+  m.model.bodies.push_back(std::move(body));
+  m.model.unit_scale_to_mm = unit_scale_to_mm;
+  m.report = nurbs::model_report(m.model);
+  return m;
+}
+
 }  // namespace models

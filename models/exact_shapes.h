@@ -8,10 +8,16 @@
 #include <glm/vec3.hpp>
 
 #include "nurbs/curve.h"
+#include "nurbs/model_report.h"
 #include "nurbs/surface.h"
 #include "nurbs/trimmed_surface.h"
 
 namespace models {
+
+/// A model of one closed body, a sphere of radius r at the origin (one face), as a reader hands a
+/// model to the queries' front doors: its report made, no file. `unit_scale_to_mm`: millimetres per
+/// model unit.
+[[nodiscard]] nurbs::LoadedModel loaded_sphere(double radius, double unit_scale_to_mm = 1.0);
 
 /// Full circle of radius r around c in the plane, counter-clockwise (ccw) or clockwise, starting at
 /// c + (r, 0). Parameter domain [0, 1]. Used as trim loops (holes are clockwise).

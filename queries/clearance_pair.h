@@ -90,7 +90,6 @@ struct ClearanceAnswer {
 
 class ClearancePair {
  public:
-  using GpuStart = std::function<std::unique_ptr<gpgpu::Gpu>()>;
   /// Selects the bodies and scales B into A's unit. `b` null: B is A's file (another body of it, or
   /// the same). `gpu`: a GL context to run on; null: one started by `start` when a query needs it.
   /// Throws nurbs::RequestError for a body the model does not have or a model without a size.

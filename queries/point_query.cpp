@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
@@ -35,6 +36,13 @@ const char* engine_name(BatchEngine engine) { return engine == BatchEngine::Cpu 
 
 const char* engine_name(EngineChoice choice) {
   return choice == EngineChoice::Auto ? "auto" : choice == EngineChoice::Cpu ? "cpu" : "gpu";
+}
+
+EngineChoice engine_choice(const std::string& name) {
+  if (name == "auto") return EngineChoice::Auto;
+  if (name == "gpu") return EngineChoice::Gpu;
+  if (name == "cpu") return EngineChoice::Cpu;
+  throw std::invalid_argument("engine '" + name + "': auto, gpu or cpu");
 }
 
 PointQueryOptions PointQueryOptions::paper() const {

@@ -27,21 +27,12 @@
 #include "gpgpu/gpu.h"
 #include "nurbs/model_report.h"
 #include "nurbs/paper_switch.h"
+#include "queries/engine.h"
 #include "queries/point_batch.h"
 #include "queries/point_distance.h"
 #include "queries/prepared_model.h"
 
 namespace queries {
-
-/// Where a batched descent runs, as asked: Auto resolves by choose_engine.
-enum class EngineChoice { Auto, Gpu, Cpu };
-
-/// The engine a request runs on: Auto is the CPU twin in double where the GL renderer rasterizes
-/// on the CPU (llvmpipe: the float pass runs on the same cores, slower than the twin), the GPU
-/// otherwise.
-[[nodiscard]] BatchEngine choose_engine(EngineChoice choice, const gpgpu::Gpu& gpu);
-[[nodiscard]] const char* engine_name(BatchEngine engine);  ///< "gpu" or "cpu"
-[[nodiscard]] const char* engine_name(EngineChoice choice);  ///< "auto", "gpu" or "cpu"
 
 /// The rule every answer is held to: a bound within the tolerance T (both in model units), with
 /// room for the rounding of T itself.

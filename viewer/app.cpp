@@ -114,7 +114,7 @@ void App::set_mode(Mode mode) {
   if (mode == Mode::Clearance) clearance_dirty_ = true;
   if (mode == Mode::Thickness && a_ && !thickness_.ready() && thickness_error_.empty()) {
     try {
-      thickness_.compute(a_->faces, 20000);
+      thickness_.compute(a_->loaded, 20000);
     } catch (const std::exception& e) {  // said in the panel; the other modes go on
       thickness_error_ = e.what();
     }
@@ -138,6 +138,14 @@ void App::print_scripted_results() {
   if (clearance_)
     fmt::print("clearance {:.9g} +- {:.3g}{}\n", clearance_->distance, clearance_->bound,
                clearance_->intersecting ? " (intersecting)" : "");
+  // The mesh and the thickness map as `nurbsgl tessellate` and `nurbsgl thickness` report them on
+  // the same model (the same front doors): the test compares them.
+  if (mode_ == Mode::Tessellation && a_)
+    fmt::print("mesh {} triangles, {} vertices, eps {:.9g}\n", a_->tess.stats.triangles, a_->tess.stats.vertices,
+               a_->tess_eps);
+  if (mode_ == Mode::Thickness && thickness_.ready())
+    fmt::print("thickness {} rays, {} hits, min {}, max {}\n", thickness_.rays, thickness_.hits, thickness_.lo,
+               thickness_.hi);
   // B's placement as `nurbsgl clearance` options, every digit of the doubles: the CLI rerun at it
   // builds the same motion bit for bit.
   if (mode_ == Mode::Clearance && has_b()) fmt::print("placement {}\n", placement_.cli_arguments(17));

@@ -217,6 +217,11 @@ void App::panel_thickness() {
   if (!thickness_.ready()) return;
   ImGui::Text("%lld rays, %lld hits in %.2f s (CPU ray caster)", thickness_.rays, thickness_.hits, thickness_.seconds);
   ImGui::Text("thickness %.5g to %.5g", thickness_.lo, thickness_.hi);
+  if (!thickness_.uncertified.empty()) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "not certified: %s", thickness_.uncertified.c_str());
+    ImGui::PopTextWrapPos();
+  }
   if (thick_threshold_ <= 0.0f) thick_threshold_ = static_cast<float>(thickness_.quantile(0.05));
   ImGui::SliderFloat("threshold", &thick_threshold_, float(thickness_.lo), float(thickness_.hi), "%.4g");
   ImGui::Text("%lld of %lld samples below (striped white)", thickness_.below(thick_threshold_), thickness_.hits);

@@ -25,6 +25,30 @@ function(expect_cli_readout out)
   endif()
 endfunction()
 
+# The figures the regular expression `pattern` captures from the viewer's stdout `out` must be the
+# JSON fields `fields` (a key path each, keys separated by spaces) of `nurbsgl ARGN --json`, as numbers
+# (the viewer prints the shortest text of a double, the JSON parser 17 digits: EQUAL reads both).
+function(expect_cli_figures out pattern fields)
+  execute_process(COMMAND ${NURBSGL} ${ARGN} --json RESULT_VARIABLE crc OUTPUT_VARIABLE cli ERROR_VARIABLE cerr)
+  list(JOIN ARGN " " arguments)
+  if(NOT crc EQUAL 0)
+    message(FATAL_ERROR "nurbsgl ${arguments} exited with ${crc}: ${cerr}")
+  endif()
+  if(NOT out MATCHES "${pattern}")
+    message(FATAL_ERROR "the viewer printed no '${pattern}' (${out})")
+  endif()
+  set(k 1)
+  foreach(field IN LISTS fields)
+    string(REPLACE " " ";" path "${field}")
+    string(JSON expected GET "${cli}" ${path})
+    if(NOT "${CMAKE_MATCH_${k}}" EQUAL "${expected}")
+      message(FATAL_ERROR "viewer ${field} ${CMAKE_MATCH_${k}} != nurbsgl ${arguments}: ${expected}")
+    endif()
+    message("viewer ${field} ${CMAKE_MATCH_${k}} = nurbsgl ${arguments}")
+    math(EXPR k "${k} + 1")
+  endforeach()
+endfunction()
+
 # viewer_check_screenshot on `png`: not blank, at least `min_segment` pixels of the segment's magenta
 # (ARGN: more options of the check, e.g. --count R,G,B M).
 function(check_picture png min_segment)
@@ -76,6 +100,14 @@ if(CASE STREQUAL "modes")
     message("${args}: exit ${rc} ${out}${err}")
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "the viewer exited with ${rc} (${args})")
+    endif()
+    # The mesh and the thickness map are the CLI's on the same model (one front door each).
+    if(args MATCHES "tessellation")
+      expect_cli_figures("${out}" "mesh ([0-9]+) triangles, ([0-9]+) vertices" "triangles;vertices"
+                         tessellate ${MODEL_A} --eps 1e-3 --relative)
+    elseif(args MATCHES "thickness")
+      expect_cli_figures("${out}" "thickness ([0-9]+) rays, ([0-9]+) hits, min ([^,]+), max ([^ \n]+)"
+                         "rays;hits;thickness min;thickness max" thickness ${MODEL_A})
     endif()
     # A click at the middle of the free part of the window hits the sphere (the only face).
     if(args MATCHES "--pick" AND NOT err MATCHES "picked A face 0")

@@ -1,10 +1,13 @@
 #pragma once
 /// \file thickness_view.h
-/// Thickness mode: wall thickness by ray casting (Lemasson et al., nurbs/raycast/thickness.h) on
-/// the CPU ray caster, as `nurbsgl thickness` computes it, shown as a mesh of the sample grids
-/// coloured by thickness (one vertex per sample, two triangles per grid cell of material samples).
+/// Thickness mode: wall thickness by ray casting (Lemasson et al.) through the library's front door
+/// queries::thickness_map on the CPU ray caster, as `nurbsgl thickness` computes it, shown as a mesh
+/// of the sample grids coloured by thickness (one vertex per sample, two triangles per grid cell of
+/// material samples).
+#include <string>
 #include <vector>
 
+#include "nurbs/model_report.h"
 #include "nurbs/triangle_mesh.h"
 #include "nurbs/trimmed_surface.h"
 #include "viewer/draw_buffers.h"
@@ -13,8 +16,8 @@ namespace viewer {
 
 class ThicknessView {
  public:
-  /// Casts about `samples` rays over `faces` (world coordinates) and uploads the coloured mesh.
-  void compute(const std::vector<nurbs::TrimmedSurface>& faces, long long samples);
+  /// Casts about `samples` rays over `model` and uploads the coloured mesh.
+  void compute(const nurbs::LoadedModel& model, long long samples);
   [[nodiscard]] bool ready() const { return ready_; }
   /// Samples with a hit thinner than `threshold` (model units).
   [[nodiscard]] long long below(double threshold) const;
@@ -25,6 +28,7 @@ class ThicknessView {
   double lo = 0.0, hi = 0.0;  ///< thinnest and thickest hit
   long long rays = 0, hits = 0;
   double seconds = 0.0;
+  std::string uncertified;  ///< why the map is not certified (queries::ThicknessMap::failure); empty when it is
 
  private:
   bool ready_ = false;

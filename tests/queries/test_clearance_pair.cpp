@@ -14,26 +14,13 @@
 
 namespace {
 
-/// A model of one sphere body of radius r (model units) at the origin; `unit`: millimetres per unit.
-nurbs::LoadedModel sphere_model(double r, double unit = 1.0) {
-  nurbs::LoadedModel m;
-  nurbs::Body body;
-  body.name = "ball";
-  body.faces.push_back(nurbs::TrimmedSurface{models::rational_sphere(r)});
-  m.model.bodies.push_back(std::move(body));
-  m.model.unit_scale_to_mm = unit;
-  m.report = nurbs::model_report(m.model);
-  m.path = "sphere.igs";
-  return m;
-}
-
 glm::dmat4 move(double x) { return glm::translate(glm::dmat4(1.0), glm::dvec3(x, 0.0, 0.0)); }
 
 }  // namespace
 
 TEST_CASE("clearance pair: placements answered within their bounds, on the GPU or the CPU alone") {
   gpgpu::Gpu& gpu = test::gpu();
-  const nurbs::LoadedModel a = sphere_model(10.0);
+  const nurbs::LoadedModel a = models::loaded_sphere(10.0);
   for (const queries::EngineChoice engine : {queries::EngineChoice::Auto, queries::EngineChoice::Gpu}) {
     queries::ClearanceOptions o;
     o.tolerance = 1e-4;
@@ -64,7 +51,7 @@ TEST_CASE("clearance pair: placements answered within their bounds, on the GPU o
 
 TEST_CASE("clearance pair: B in inches is scaled into A's millimetres") {
   gpgpu::Gpu& gpu = test::gpu();
-  const nurbs::LoadedModel a = sphere_model(10.0), b = sphere_model(10.0 / 25.4, 25.4);
+  const nurbs::LoadedModel a = models::loaded_sphere(10.0), b = models::loaded_sphere(10.0 / 25.4, 25.4);
   queries::ClearancePair pair(a, &b, {}, &gpu);
   pair.prepare(std::vector{move(30.0)});
   const queries::ClearanceAnswer answer = pair.query(move(30.0));
@@ -75,14 +62,16 @@ TEST_CASE("clearance pair: a body the model does not have is refused, naming it"
   gpgpu::Gpu& gpu = test::gpu();
   queries::ClearanceOptions o;
   o.body_b = "wheel";
+  nurbs::LoadedModel sphere = models::loaded_sphere(10.0);
+  sphere.path = "sphere.igs";
   try {
-    queries::ClearancePair pair(sphere_model(10.0), nullptr, o, &gpu);
+    queries::ClearancePair pair(sphere, nullptr, o, &gpu);
     FAIL("no error");
   } catch (const nurbs::RequestError& e) {
     CHECK(std::string(e.what()).find("--body-b: sphere.igs has no body 'wheel'") != std::string::npos);
   }
   o.body_b = "ball";  // by name
-  queries::ClearancePair pair(sphere_model(10.0), nullptr, o, &gpu);
+  queries::ClearancePair pair(models::loaded_sphere(10.0), nullptr, o, &gpu);
   CHECK(pair.faces_b() == 1);
 }
 

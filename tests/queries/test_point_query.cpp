@@ -15,17 +15,6 @@
 
 namespace {
 
-/// A sphere of radius 10 at the origin, as a reader would hand it over.
-nurbs::LoadedModel sphere_model() {
-  nurbs::LoadedModel m;
-  nurbs::Body body;
-  body.name = "sphere";
-  body.faces.push_back(nurbs::TrimmedSurface{models::rational_sphere(10.0)});
-  m.model.bodies.push_back(std::move(body));
-  m.report = nurbs::model_report(m.model);
-  return m;
-}
-
 std::vector<glm::dvec3> points_around() {
   return {{0.0, 0.0, 25.0}, {13.0, -4.0, 2.0}, {3.0, 1.0, -1.0}, {-30.0, 8.0, 5.0}, {0.5, 0.5, 0.5}};
 }
@@ -34,7 +23,7 @@ std::vector<glm::dvec3> points_around() {
 
 TEST_CASE("point query: both paths answer within their bounds, and the answers meet the tolerance") {
   gpgpu::Gpu& gpu = test::gpu();
-  const nurbs::LoadedModel sphere = sphere_model();
+  const nurbs::LoadedModel sphere = models::loaded_sphere(10.0);
   for (const bool per_point : {false, true}) {
     CAPTURE(per_point);
     queries::PointQueryOptions o;
@@ -59,7 +48,7 @@ TEST_CASE("point query: both paths answer within their bounds, and the answers m
 
 TEST_CASE("point query: a model that lost a face certifies nothing unless the partial model is accepted") {
   gpgpu::Gpu& gpu = test::gpu();
-  nurbs::LoadedModel sphere = sphere_model();
+  nurbs::LoadedModel sphere = models::loaded_sphere(10.0);
   sphere.model.dropped_faces.push_back({"#12", "its surface could not be read"});
   sphere.report = nurbs::model_report(sphere.model);
   queries::PointQueryOptions o;
@@ -89,7 +78,7 @@ TEST_CASE("point query: a face whose grid needs more than max_samples is refused
   o.cache = false;
   for (const bool per_point : {false, true}) {
     o.per_point = per_point;
-    CHECK_THROWS_AS(queries::PointQuery(gpu, sphere_model(), o), nurbs::RequestError);
+    CHECK_THROWS_AS(queries::PointQuery(gpu, models::loaded_sphere(10.0), o), nurbs::RequestError);
   }
 }
 
@@ -101,7 +90,7 @@ TEST_CASE("point query: paper() sets the paper's switches, each with its section
   CHECK(nurbs::paper_section(queries::PointQueryOptions::paper_switches(), "search") == "§3.1, §4");
   CHECK(nurbs::paper_section(queries::PointQueryOptions::paper_switches(), "boxes").empty());
   gpgpu::Gpu& gpu = test::gpu();
-  queries::PointQuery q(gpu, sphere_model(), paper);
+  queries::PointQuery q(gpu, models::loaded_sphere(10.0), paper);
   CHECK_FALSE(q.batched());
   CHECK(q.grids() == queries::Search::Faithful);
   CHECK(q.host_cells_used() == 0);

@@ -11,26 +11,11 @@
 #include "nurbs/request_error.h"
 #include "nurbs/tessellation/model_mesh.h"
 
-namespace {
-
-nurbs::LoadedModel sphere_model() {
-  nurbs::LoadedModel m;
-  nurbs::Body body;
-  body.name = "ball";
-  body.closed = true;
-  body.faces.push_back(nurbs::TrimmedSurface{models::rational_sphere(10.0)});
-  m.model.bodies.push_back(std::move(body));
-  m.report = nurbs::model_report(m.model);
-  return m;
-}
-
-}  // namespace
-
 TEST_CASE("model mesh: the guaranteed mesh of a sphere lies within eps of it, measured both ways") {
   nurbs::tess::ModelMeshOptions o;
   o.eps = 2e-3;
   o.check = true;
-  const nurbs::tess::ModelMesh m = nurbs::tess::mesh_model(sphere_model(), o);
+  const nurbs::tess::ModelMesh m = nurbs::tess::mesh_model(models::loaded_sphere(10.0), o);
   CHECK(m.eps == doctest::Approx(2e-3 * m.size));
   CHECK(m.failure().empty());
   REQUIRE(m.deviation.has_value());
@@ -42,23 +27,23 @@ TEST_CASE("model mesh: the guaranteed mesh of a sphere lies within eps of it, me
 TEST_CASE("model mesh: requests refused before the work") {
   nurbs::tess::ModelMeshOptions o;
   o.eps = 1e-9;
-  CHECK_THROWS_AS((void)nurbs::tess::mesh_model(sphere_model(), o), nurbs::RequestError);
+  CHECK_THROWS_AS((void)nurbs::tess::mesh_model(models::loaded_sphere(10.0), o), nurbs::RequestError);
   o.eps = 1e-2;
   o.faces = {1};
-  CHECK_THROWS_WITH_AS((void)nurbs::tess::mesh_model(sphere_model(), o), "--face 1: the model has faces 0..0",
+  CHECK_THROWS_WITH_AS((void)nurbs::tess::mesh_model(models::loaded_sphere(10.0), o), "--face 1: the model has faces 0..0",
                        nurbs::RequestError);
 }
 
 TEST_CASE("model mesh: a model that lost a face, or a face with an invalid trim, is not certified") {
   nurbs::tess::ModelMeshOptions o;
   o.eps = 1e-2;
-  nurbs::LoadedModel partial = sphere_model();
+  nurbs::LoadedModel partial = models::loaded_sphere(10.0);
   partial.model.dropped_faces.push_back({"#7", "unreadable"});
   partial.report = nurbs::model_report(partial.model);
   CHECK(nurbs::tess::mesh_model(partial, o).failure() == partial.report.uncertified_reason(false));
   o.accept_partial = true;
   CHECK(nurbs::tess::mesh_model(partial, o).failure().empty());
-  nurbs::LoadedModel invalid = sphere_model();
+  nurbs::LoadedModel invalid = models::loaded_sphere(10.0);
   invalid.model.bodies[0].faces[0].trim_problem = "the loop crosses itself";
   invalid.report = nurbs::model_report(invalid.model);
   const std::string why = nurbs::tess::mesh_model(invalid, o).failure();
