@@ -112,6 +112,121 @@ GpuWork evaluate_alone(gpgpu::Gpu& gpu, const nurbs::TrimmedSurface& f, const nu
   return w;
 }
 
+/// What the GPU evaluated: per face its work (a batch or tiles alone) and, with --obj, its points.
+struct Evaluated {
+  std::vector<GpuWork> gpu_work;
+  std::vector<nurbs::io::SampledGrid> grids;
+  std::vector<nurbs::ParamGrid> params;
+  nlohmann::json batches;
+  std::vector<int> alone;  ///< faces evaluated alone, in tiles
+  int side = 0;
+};
+
+/// Step 2: the faces `work` (chosen[k] in the model) on their grids `reports`, in atlases of
+/// batches where the method allows, the others alone.
+Evaluated evaluate_on_gpu(gpgpu::Gpu& gpu, const std::vector<nurbs::TrimmedSurface>& work,
+                          const std::vector<nurbs::FaceGridReport>& reports, const std::vector<int>& chosen,
+                          const Options& o, bool progress) {
+  const queries::TileLimits limits{0, static_cast<long long>(o.tile_mb) << 20};
+  const int side = queries::tile_side(gpu.info(), limits);
+  std::vector<GpuWork> gpu_work(work.size());
+  std::vector<nurbs::io::SampledGrid> grids(work.size());
+  std::vector<nurbs::ParamGrid> params;
+  std::vector<std::pair<int, int>> sizes;
+  for (size_t k = 0; k < work.size(); ++k) {
+    params.push_back(reports[k].grid.grid);
+    sizes.emplace_back(int(params.back().u.size()), int(params.back().v.size()));
+    grids[k] = {{}, sizes.back().first, sizes.back().second, fmt::format("face{}", chosen[k])};
+    if (!o.obj.empty()) grids[k].points.resize(size_t(params.back().samples()));
+  }
+  std::vector<int> alone;
+  std::vector<queries::AtlasPlan> plans;
+  if (o.batch && o.method == queries::EvalMethod::Tabulated) {
+    plans = queries::plan_atlases(sizes, side, (static_cast<long long>(o.tile_mb) << 20) / 33, alone);
+  } else {
+    for (int k = 0; k < int(work.size()); ++k) alone.push_back(k);
+  }
+  nlohmann::json batches = nlohmann::json::array();
+  std::vector<double> flatten;
+  for (const auto& p : params) flatten.push_back(queries::trim_flatten_tolerance(p));
+  if (!plans.empty()) {  // build the atlas program outside the timing
+    (void)queries::evaluate_atlas(gpu, {1, 1, {}}, work, params, flatten);
+    gpu.finish();
+  }
+  for (size_t b = 0; b < plans.size(); ++b) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const queries::FaceAtlas atlas = queries::evaluate_atlas(gpu, plans[b], work, params, flatten);
+    gpu.finish();
+    const double ms = ms_since(t0);
+    long long samples = 0;
+    for (const auto& sl : plans[b].slots) {
+      gpu_work[size_t(sl.face)].batch = int(b);
+      samples += static_cast<long long>(sl.width) * sl.height;
+    }
+    batches.push_back({{"faces", plans[b].slots.size()},
+                       {"atlas", {plans[b].width, plans[b].height}},
+                       {"samples", samples},
+                       {"ms", ms}});
+    if (!o.obj.empty()) {
+      const auto pts = atlas.points.read();
+      for (const auto& sl : plans[b].slots)
+        for (int j = 0; j < sl.height; ++j)
+          for (int i = 0; i < sl.width; ++i) {
+            const size_t t = (size_t(sl.y + j) * size_t(plans[b].width) + size_t(sl.x + i)) * 4;
+            grids[size_t(sl.face)].points[size_t(j) * size_t(sl.width) + size_t(i)] = {pts[t], pts[t + 1], pts[t + 2]};
+          }
+    }
+  }
+  std::set<int> compiled;
+  for (size_t a = 0; a < alone.size(); ++a) {
+    const auto k = size_t(alone[a]);
+    gpu_work[k] =
+        evaluate_alone(gpu, work[k], params[k], o, limits, side, compiled, o.obj.empty() ? nullptr : &grids[k]);
+    if (progress) fmt::print(stderr, "\r[{}/{}] faces evaluated alone", a + 1, alone.size());
+  }
+  if (progress && !alone.empty()) fmt::print(stderr, "\n");
+
+  return {std::move(gpu_work), std::move(grids), std::move(params), std::move(batches), std::move(alone), side};
+}
+
+/// Step 3: the JSON row of face `index` (the model's) on its grid.
+nlohmann::json face_row(int index, const nurbs::TrimmedSurface& f, const nurbs::FaceGridReport& report,
+                        const nurbs::ParamGrid& grid, const GpuWork& w, double size, double tolerance, const Options& o) {
+  const nurbs::CertifiedGrid& cg = report.grid;
+  nlohmann::json row{
+      {"face", index},
+      {"face_id", f.face_id},
+      {"degree", {f.surface.degree_u, f.surface.degree_v}},
+      {"control_points", {f.surface.count_u, f.surface.count_v}},
+      {"grid", {grid.u.size(), grid.v.size()}},
+      {"segments", {cg.cells_u.size(), cg.cells_v.size()}},
+      {"K", finite_or_null(cg.k)},
+      {"K_e", finite_or_null(cg.k_e)},
+      {"K_e_over_size", finite_or_null(cg.k_e / size)},
+      {"tolerance", o.grid > 0 && !o.tolerance_given ? nlohmann::json(nullptr) : nlohmann::json(tolerance)},
+      {"meets_tolerance", cg.meets_tolerance},
+      {"bound_ratio", finite_or_null(report.bound_ratio)},
+      {"trimmed", !f.loops.empty()}};
+  if (w.batch >= 0) {
+    row["batch"] = w.batch;
+  } else {
+    row["tiles"] = w.tiles;
+    row["eval_ms"] = w.eval_ms;
+    row["trim_ms"] = w.trim_ms;
+  }
+  if (!cg.meets_tolerance) row["reason"] = cg.reason;
+  if (o.spans) {
+    nlohmann::json ke = nlohmann::json::array();
+    for (double k : nurbs::segment_k(report.bound, cg)) ke.push_back(finite_or_null(k));
+    row["spans"] = {{"lines_u", cg.lines_u},
+                    {"lines_v", cg.lines_v},
+                    {"cells_u", cg.cells_u},
+                    {"cells_v", cg.cells_v},
+                    {"K_e", ke}};
+  }
+  return row;
+}
+
 void run(const GlobalOptions& global, const Options& o) {
   // --obj is checked before the work, in a --dump folder once that exists.
   if (global.dump_dir.empty()) check_output(o.obj, "--obj");
@@ -145,64 +260,8 @@ void run(const GlobalOptions& global, const Options& o) {
   // faces too large for an atlas alone in tiles.
   auto gpu = start_gpu(global);
   if (!global.dump_dir.empty()) check_output(o.obj, "--obj");
-  const queries::TileLimits limits{0, static_cast<long long>(o.tile_mb) << 20};
-  const int side = queries::tile_side(gpu->info(), limits);
-  std::vector<GpuWork> gpu_work(work.size());
-  std::vector<nurbs::io::SampledGrid> grids(work.size());
-  std::vector<nurbs::ParamGrid> params;
-  std::vector<std::pair<int, int>> sizes;
-  for (size_t k = 0; k < work.size(); ++k) {
-    params.push_back(reports[k].grid.grid);
-    sizes.emplace_back(int(params.back().u.size()), int(params.back().v.size()));
-    grids[k] = {{}, sizes.back().first, sizes.back().second, fmt::format("face{}", chosen[k])};
-    if (!o.obj.empty()) grids[k].points.resize(size_t(params.back().samples()));
-  }
-  std::vector<int> alone;
-  std::vector<queries::AtlasPlan> plans;
-  if (o.batch && o.method == queries::EvalMethod::Tabulated) {
-    plans = queries::plan_atlases(sizes, side, (static_cast<long long>(o.tile_mb) << 20) / 33, alone);
-  } else {
-    for (int k = 0; k < int(work.size()); ++k) alone.push_back(k);
-  }
-  nlohmann::json batches = nlohmann::json::array();
-  std::vector<double> flatten;
-  for (const auto& p : params) flatten.push_back(queries::trim_flatten_tolerance(p));
-  if (!plans.empty()) {  // build the atlas program outside the timing
-    (void)queries::evaluate_atlas(*gpu, {1, 1, {}}, work, params, flatten);
-    gpu->finish();
-  }
-  for (size_t b = 0; b < plans.size(); ++b) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const queries::FaceAtlas atlas = queries::evaluate_atlas(*gpu, plans[b], work, params, flatten);
-    gpu->finish();
-    const double ms = ms_since(t0);
-    long long samples = 0;
-    for (const auto& sl : plans[b].slots) {
-      gpu_work[size_t(sl.face)].batch = int(b);
-      samples += static_cast<long long>(sl.width) * sl.height;
-    }
-    batches.push_back({{"faces", plans[b].slots.size()},
-                       {"atlas", {plans[b].width, plans[b].height}},
-                       {"samples", samples},
-                       {"ms", ms}});
-    if (!o.obj.empty()) {
-      const auto pts = atlas.points.read();
-      for (const auto& sl : plans[b].slots)
-        for (int j = 0; j < sl.height; ++j)
-          for (int i = 0; i < sl.width; ++i) {
-            const size_t t = (size_t(sl.y + j) * size_t(plans[b].width) + size_t(sl.x + i)) * 4;
-            grids[size_t(sl.face)].points[size_t(j) * size_t(sl.width) + size_t(i)] = {pts[t], pts[t + 1], pts[t + 2]};
-          }
-    }
-  }
-  std::set<int> compiled;
-  for (size_t a = 0; a < alone.size(); ++a) {
-    const auto k = size_t(alone[a]);
-    gpu_work[k] =
-        evaluate_alone(*gpu, work[k], params[k], o, limits, side, compiled, o.obj.empty() ? nullptr : &grids[k]);
-    if (progress) fmt::print(stderr, "\r[{}/{}] faces evaluated alone", a + 1, alone.size());
-  }
-  if (progress && !alone.empty()) fmt::print(stderr, "\n");
+  const Evaluated e = evaluate_on_gpu(*gpu, work, reports, chosen, o, progress);
+  const auto& [gpu_work, grids, params, batches, alone, side] = e;
 
   // 3. Report.
   nlohmann::json rows = nlohmann::json::array();
@@ -225,37 +284,7 @@ void run(const GlobalOptions& global, const Options& o) {
     total_samples += params[k].samples();
     largest = std::max(largest, params[k].samples());
     total_ms += w.eval_ms + w.trim_ms;
-    nlohmann::json row{
-        {"face", index},
-        {"face_id", f.face_id},
-        {"degree", {f.surface.degree_u, f.surface.degree_v}},
-        {"control_points", {f.surface.count_u, f.surface.count_v}},
-        {"grid", {params[k].u.size(), params[k].v.size()}},
-        {"segments", {cg.cells_u.size(), cg.cells_v.size()}},
-        {"K", finite_or_null(cg.k)},
-        {"K_e", finite_or_null(cg.k_e)},
-        {"K_e_over_size", finite_or_null(cg.k_e / size)},
-        {"tolerance", o.grid > 0 && !o.tolerance_given ? nlohmann::json(nullptr) : nlohmann::json(tolerance)},
-        {"meets_tolerance", cg.meets_tolerance},
-        {"bound_ratio", finite_or_null(reports[k].bound_ratio)},
-        {"trimmed", !f.loops.empty()}};
-    if (w.batch >= 0) {
-      row["batch"] = w.batch;
-    } else {
-      row["tiles"] = w.tiles;
-      row["eval_ms"] = w.eval_ms;
-      row["trim_ms"] = w.trim_ms;
-    }
-    if (!cg.meets_tolerance) row["reason"] = cg.reason;
-    if (o.spans) {
-      nlohmann::json ke = nlohmann::json::array();
-      for (double k : nurbs::segment_k(reports[k].bound, cg)) ke.push_back(finite_or_null(k));
-      row["spans"] = {{"lines_u", cg.lines_u},
-                      {"lines_v", cg.lines_v},
-                      {"cells_u", cg.cells_u},
-                      {"cells_v", cg.cells_v},
-                      {"K_e", ke}};
-    }
+    nlohmann::json row = face_row(index, f, reports[k], params[k], w, size, tolerance, o);
     if (!o.json && !progress)
       fmt::print(
           "{:>5} {:>3}x{:<3} {:>5}x{:<5} {:>5}x{:<5} {:>4}x{:<4} {:>10.4g} {:>10.4g} {:>9.3g} {:>6.2f} {:>9}{}\n",
