@@ -3,7 +3,7 @@
 // levels of one texture; level 0 = the box of each cell's four samples, ungrown) depth first, the
 // four children of a node visited nearest first (their point-box minimum distance, Eqs. 9-12), a
 // node pruned when that distance exceeds the best triangle distance so far plus the float slack.
-// At the cells the two triangles of the four samples (the diagonal of queries/point_distance.cpp);
+// At the cells the two triangles of the four samples (the split of queries/cell_triangles.h);
 // at a cell that a trim edge crosses, their material part (point_batch_trim.frag).
 // Output per point: (best triangle distance, cell x, cell y, cells tested); (+inf, -1, -1, n) when
 // no cell is material; the fourth channel is -1 - cells tested when the walk was cut short:

@@ -67,7 +67,8 @@ float segment_dist2(vec3 p, vec3 a, vec3 b) {
   return dot(e, e);
 }
 
-// (s, t) in the unit cell -> its triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t > s.
+// (s, t) in the unit cell -> its triangle: (0, 1, 3) where s >= t, (0, 3, 2) where t > s (the split of
+// queries/cell_triangles.h, the CPU twins' too).
 vec3 on_cell(vec2 st, bool lower, vec3 c0, vec3 c1, vec3 c2, vec3 c3) {
   return lower ? c0 + st.x * (c1 - c0) + st.y * (c3 - c1) : c0 + st.y * (c2 - c0) + st.x * (c3 - c2);
 }

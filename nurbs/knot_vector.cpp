@@ -85,10 +85,18 @@ int find_span(const std::vector<double>& knots, int degree, int count, double u)
 }
 
 void basis_functions(const std::vector<double>& knots, int degree, int span, double u, double* out) {
+  SmallBuffer<double, 16> scratch(2 * (static_cast<size_t>(degree) + 1));
+  basis_functions(knots, degree, span, u, out, scratch.data());
+}
+
+void basis_functions(const std::vector<double>& knots, int degree, int span, double u, double* out, double* scratch,
+                     double* lower) {
   const int p = degree;
-  SmallBuffer<double, 8> left(static_cast<size_t>(p) + 1), right(static_cast<size_t>(p) + 1);
+  double* left = scratch;
+  double* right = scratch + (p + 1);
   out[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
+    if (j == p && lower) std::copy(out, out + p, lower);  // the degree p - 1 functions
     left[j] = u - knots[static_cast<size_t>(span + 1 - j)];
     right[j] = knots[static_cast<size_t>(span + j)] - u;
     double saved = 0.0;

@@ -48,6 +48,11 @@ struct Interval {
 /// The degree+1 non-zero basis functions N_{span-p,p}(u) .. N_{span,p}(u) written to `out`
 /// (A2.2, "inverted triangle" with left/right differences; no divisions by zero on valid input).
 void basis_functions(const std::vector<double>& knots, int degree, int span, double u, double* out);
+/// The same with the caller's scratch of 2 (degree + 1) doubles (no allocation per call), and, when
+/// `lower` is given, the `degree` functions of degree - 1 copied there on the way (for the first
+/// derivatives, The NURBS Book Eq. 2.9).
+void basis_functions(const std::vector<double>& knots, int degree, int span, double u, double* out, double* scratch,
+                     double* lower = nullptr);
 
 /// Basis functions and their derivatives up to order `order` (A2.3). `out` receives (order+1) rows
 /// of degree+1 values: out[k * (degree+1) + j] = d^k/du^k N_{span-p+j,p}(u). Orders above the degree

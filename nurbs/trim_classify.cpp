@@ -86,6 +86,10 @@ double query_flatten_tolerance(const Surface& s) {
   return 1e-6 * std::min(surface_domain_u(s).width(), surface_domain_v(s).width());
 }
 
+double mesh_flatten_tolerance(const Surface& s) {
+  return 1e-7 * std::max(surface_domain_u(s).width(), surface_domain_v(s).width());
+}
+
 TrimPolygons flatten_trim(const TrimmedSurface& face, double tolerance) {
   TrimPolygons t;
   t.domain_u = surface_domain_u(face.surface);

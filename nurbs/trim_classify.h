@@ -35,6 +35,10 @@ struct TrimPolygons {
 /// the face's extent along the narrow one).
 [[nodiscard]] double query_flatten_tolerance(const Surface& s);
 
+/// The (u, v) tolerance a mesh's checks flatten a face's loops with (which samples are material):
+/// 1e-7 of the wider side of its domain, far below any eps the tessellation accepts.
+[[nodiscard]] double mesh_flatten_tolerance(const Surface& s);
+
 /// Winding number of a closed polygon around p (Sunday's crossing rule: upward edges count +1 when p
 /// is strictly left, downward edges -1 when strictly right, half-open in y so a vertex on the ray is
 /// counted once). CCW loops give +1 inside.

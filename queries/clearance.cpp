@@ -1,5 +1,7 @@
 #include "queries/clearance.h"
 
+#include "queries/cell_triangles.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -116,20 +118,17 @@ std::vector<Hierarchy> build_all(gpgpu::Gpu& gpu, const PreparedModel& m, const 
   return out;
 }
 
-/// Two triangles of cell c of model m, in double, mapped by `motion`, with their corners' (u, v).
-struct CellTriangles {
-  glm::dvec3 p[2][3];
-  glm::dvec2 uv[2][3];
-  /// The cell's corners in TrimEdges order: (u_{i + (k & 1)}, v_{j + (k >> 1)}).
-  [[nodiscard]] std::array<glm::dvec3, 4> corners() const { return {p[0][0], p[0][1], p[1][2], p[0][2]}; }
-};
+/// The two triangles of cell c of model m (cell_triangles.h), in double, mapped by `motion`.
 CellTriangles cell_triangles(const PreparedModel& m, const FaceCell& c, const glm::dmat4& motion) {
   const nurbs::Surface& s = m.faces[size_t(c.face)].surface;
   const nurbs::ParamGrid& g = m.grids[size_t(c.face)].grid;
   const double u0 = g.u[size_t(c.i)], u1 = g.u[size_t(c.i) + 1], v0 = g.v[size_t(c.j)], v1 = g.v[size_t(c.j) + 1];
-  auto at = [&](double u, double v) { return glm::dvec3(motion * glm::dvec4(nurbs::surface_point(s, u, v), 1.0)); };
-  const glm::dvec3 a = at(u0, v0), b = at(u1, v0), cc = at(u0, v1), d = at(u1, v1);
-  return {{{a, b, d}, {a, d, cc}}, {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}}};
+  glm::dvec3 corner[4];
+  for (int k = 0; k < 4; ++k) {
+    const glm::dvec2 uv = cell_corner_uv(k, u0, u1, v0, v1);
+    corner[k] = glm::dvec3(motion * glm::dvec4(nurbs::surface_point(s, uv.x, uv.y), 1.0));
+  }
+  return queries::cell_triangles(corner, u0, u1, v0, v1);
 }
 
 /// The distinct cells of one side of the leaf pairs (sorted), with their triangles and K_e: the

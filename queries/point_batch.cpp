@@ -1,5 +1,7 @@
 #include "queries/point_batch.h"
 
+#include "queries/cell_triangles.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -284,18 +286,17 @@ PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int 
   const auto f = size_t(cell.face);
   const int i = cell.i, j = cell.j;
   const nurbs::ParamGrid& g = m_.grids[f].grid;
-  const double u0 = g.u[size_t(i)], u1 = g.u[size_t(i) + 1], v0 = g.v[size_t(j)], v1 = g.v[size_t(j) + 1];
-  // The two triangles of point_distance.cpp cell_hit, with their corners' parameters.
-  const glm::dvec3 tri[2][3] = {{corner[0], corner[1], corner[3]}, {corner[0], corner[3], corner[2]}};
-  const glm::dvec2 par[2][3] = {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}};
+  // The cell's two triangles (cell_triangles.h), with their corners' parameters.
+  const CellTriangles tri =
+      cell_triangles(corner, g.u[size_t(i)], g.u[size_t(i) + 1], g.v[size_t(j)], g.v[size_t(j) + 1]);
   PointDistance r;
   r.distance = kInf;
   for (int t = 0; t < 2; ++t) {
     if (triangle >= 0 && t != triangle) continue;
     glm::dvec3 w;
-    const glm::dvec3 c = closest_on_triangle(p, tri[t][0], tri[t][1], tri[t][2], w);
+    const glm::dvec3 c = closest_on_triangle(p, tri.p[t][0], tri.p[t][1], tri.p[t][2], w);
     const double d = glm::length(c - p);
-    if (d < r.distance) r.distance = d, r.point = c, r.uv = w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2];
+    if (d < r.distance) r.distance = d, r.point = c, r.uv = tri.uv_at(t, w);
   }
   r.found = true;
   r.face = cell.face;

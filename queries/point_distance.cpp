@@ -1,5 +1,7 @@
 #include "queries/point_distance.h"
 
+#include "queries/cell_triangles.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -39,19 +41,17 @@ std::array<glm::dvec3, 4> cell_corners(const nurbs::Surface& s, const nurbs::Par
   return c;
 }
 
-/// The closest points to p of the two triangles of cell (i, j): (0, 1, 3) and (0, 3, 2), the
-/// (i, j)-(i+1, j+1) diagonal, with their (u, v).
+/// The closest points to p of the two triangles of cell (i, j) (cell_triangles.h), with their (u, v).
 std::array<CellHit, 2> triangle_hits(const nurbs::Surface& s, const nurbs::ParamGrid& g, int i, int j,
                                      const glm::dvec3& p) {
-  const double u0 = g.u[size_t(i)], u1 = g.u[size_t(i) + 1], v0 = g.v[size_t(j)], v1 = g.v[size_t(j) + 1];
   const auto c = cell_corners(s, g, i, j);
-  const glm::dvec3 tri[2][3] = {{c[0], c[1], c[3]}, {c[0], c[3], c[2]}};
-  const glm::dvec2 par[2][3] = {{{u0, v0}, {u1, v0}, {u1, v1}}, {{u0, v0}, {u1, v1}, {u0, v1}}};
+  const CellTriangles tri =
+      cell_triangles(c.data(), g.u[size_t(i)], g.u[size_t(i) + 1], g.v[size_t(j)], g.v[size_t(j) + 1]);
   std::array<CellHit, 2> hits;
   for (int t = 0; t < 2; ++t) {
     glm::dvec3 w;
-    const glm::dvec3 q = closest_on_triangle(p, tri[t][0], tri[t][1], tri[t][2], w);
-    hits[size_t(t)] = {glm::length(q - p), q, w.x * par[t][0] + w.y * par[t][1] + w.z * par[t][2]};
+    const glm::dvec3 q = closest_on_triangle(p, tri.p[t][0], tri.p[t][1], tri.p[t][2], w);
+    hits[size_t(t)] = {glm::length(q - p), q, tri.uv_at(t, w)};
   }
   return hits;
 }

@@ -59,7 +59,7 @@ struct PreparedModel {
   /// sample (x, y). Such a cell is not culled even when its four samples are trimmed away: the
   /// paper's §5.3 corner test alone loses material between samples (a thin strip along a trim).
   std::vector<gpgpu::Texture> crossed;
-  /// Per face: its trim loops flattened within 1e-6 of its u domain width, for classifying the
+  /// Per face: its trim loops flattened within nurbs::query_flatten_tolerance, for classifying the
   /// closest points the queries find (empty for untrimmed faces).
   std::vector<nurbs::TrimPolygons> trims;
   glm::dvec3 centre{0.0};  ///< centre of the control-point box of all faces

@@ -1,5 +1,7 @@
 #include "queries/refine.h"
 
+#include "queries/cell_triangles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,15 +45,14 @@ struct Cell {
   glm::dvec3 piece[4][3];
   glm::dvec2 piece_uv[4][3];
 
-  [[nodiscard]] glm::dvec2 uv(int c) const { return {c & 1 ? u1 : u0, c & 2 ? v1 : v0}; }
-  /// Triangle t (0: corners 0, 1, 3; 1: corners 0, 3, 2), the diagonal of the GPU path's cells.
-  static constexpr int kTri[2][3] = {{0, 1, 3}, {0, 3, 2}};
+  [[nodiscard]] glm::dvec2 uv(int c) const { return cell_corner_uv(c, u0, u1, v0, v1); }
+  /// Triangle t of the cell (cell_triangles.h: the diagonal of the GPU path's cells).
   void triangle(int t, glm::dvec3 out[3]) const {
-    for (int k = 0; k < 3; ++k) out[k] = corner[kTri[t][k]];
+    for (int k = 0; k < 3; ++k) out[k] = corner[kCellTriangle[t][k]];
   }
   /// (u, v) of the point with barycentric weights w in triangle t.
   [[nodiscard]] glm::dvec2 uv_at(int t, const glm::dvec3& w) const {
-    return w.x * uv(kTri[t][0]) + w.y * uv(kTri[t][1]) + w.z * uv(kTri[t][2]);
+    return w.x * uv(kCellTriangle[t][0]) + w.y * uv(kCellTriangle[t][1]) + w.z * uv(kCellTriangle[t][2]);
   }
   /// The triangles that bound the cell's material for the lower bounds: the pieces, else the two
   /// triangles; with (u, v) at barycentric weights w.
@@ -79,7 +80,7 @@ void cut_by_edge(Cell& c, glm::dvec2 a, glm::dvec2 b, double side) {
   for (int t = 0; t < 2; ++t) {
     glm::dvec2 in[3];
     glm::dvec3 pos[3];
-    for (int k = 0; k < 3; ++k) in[k] = c.uv(Cell::kTri[t][k]), pos[k] = c.corner[Cell::kTri[t][k]];
+    for (int k = 0; k < 3; ++k) in[k] = c.uv(kCellTriangle[t][k]), pos[k] = c.corner[kCellTriangle[t][k]];
     // Sutherland-Hodgman against the half-plane sign >= 0: at most 4 vertices.
     glm::dvec2 out[4];
     int n = 0;

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "nurbs/io/model_summary.h"
+#include "nurbs/raycast/thickness.h"
 #include "nurbs/request_error.h"
 #include "viewer/app.h"
 
@@ -15,14 +16,10 @@ namespace {
 
 std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
-/// Same ramp as viewer_mesh.frag's, for the legend.
+/// The thickness ramp (nurbs::ray::thickness_ramp), for the legend.
 ImU32 ramp(float t) {
-  const float k[4][3] = {{0.9f, 0.1f, 0.1f}, {0.95f, 0.85f, 0.1f}, {0.2f, 0.75f, 0.3f}, {0.15f, 0.35f, 0.9f}};
-  t = std::clamp(t, 0.0f, 1.0f) * 3.0f;
-  const int i = std::min(static_cast<int>(t), 2);
-  const float f = t - static_cast<float>(i);
-  return ImGui::GetColorU32(ImVec4(k[i][0] + f * (k[i + 1][0] - k[i][0]), k[i][1] + f * (k[i + 1][1] - k[i][1]),
-                                   k[i][2] + f * (k[i + 1][2] - k[i][2]), 1.0f));
+  const glm::dvec3 c = nurbs::ray::thickness_ramp(t);
+  return ImGui::GetColorU32(ImVec4(float(c.x), float(c.y), float(c.z), 1.0f));
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 // Drawing the scene into the window's default framebuffer. Every piece of state a draw needs is
 // set here each frame: the GPU queries run passes into their own framebuffers between frames.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gpgpu/gl_api.h"
+#include "nurbs/raycast/thickness.h"
 #include "viewer/app.h"
 #include "viewer/gl_extra.h"
 
@@ -74,6 +77,9 @@ void App::render_scene(int width, int height) {
     const bool thick = mode_ == Mode::Thickness && thickness_.ready();
     mp.set("u_style", thick ? 1 : 0);
     mp.set("u_range", float(thickness_.lo), float(thickness_.hi));
+    for (int k = 0; k < 4; ++k)
+      mp.set(fmt::format("u_ramp[{}]", k), float(nurbs::ray::kThicknessRamp[k][0]),
+             float(nurbs::ray::kThicknessRamp[k][1]), float(nurbs::ray::kThicknessRamp[k][2]));
     mp.set("u_threshold", thick_threshold_);
     mp.set("u_color", it.color.x, it.color.y, it.color.z);
     if (!wire_only) {

@@ -204,14 +204,17 @@ ThicknessRays thickness_rays(const ThicknessSamples& samples) {
   return out;
 }
 
+glm::dvec3 thickness_ramp(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  const auto stop = [](int k) { return glm::dvec3(kThicknessRamp[k][0], kThicknessRamp[k][1], kThicknessRamp[k][2]); };
+  if (x < 1.0 / 3.0) return glm::mix(stop(0), stop(1), 3.0 * x);
+  if (x < 2.0 / 3.0) return glm::mix(stop(1), stop(2), 3.0 * x - 1.0);
+  return glm::mix(stop(2), stop(3), 3.0 * x - 2.0);
+}
+
 glm::dvec3 thickness_colour(double t, double lo, double hi) {
   if (t < 0) return glm::dvec3(0.5);
-  const double x = hi > lo ? std::clamp((t - lo) / (hi - lo), 0.0, 1.0) : 0.0;
-  // The viewer's ramp (viewer/shaders/viewer_mesh.frag): red, yellow, green, blue.
-  const glm::dvec3 red(0.9, 0.1, 0.1), yellow(0.95, 0.85, 0.1), green(0.2, 0.75, 0.3), blue(0.15, 0.35, 0.9);
-  if (x < 1.0 / 3.0) return glm::mix(red, yellow, 3.0 * x);
-  if (x < 2.0 / 3.0) return glm::mix(yellow, green, 3.0 * x - 1.0);
-  return glm::mix(green, blue, 3.0 * x - 2.0);
+  return thickness_ramp(hi > lo ? (t - lo) / (hi - lo) : 0.0);
 }
 
 TriangleMesh thickness_mesh(const ThicknessSamples& samples, const SampleThickness& thickness, double lo, double hi,

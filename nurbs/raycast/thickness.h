@@ -75,8 +75,12 @@ struct ThicknessRays {
 /// is no ray or no hit.
 using SampleThickness = std::vector<std::vector<double>>;
 
-/// Red (thin, t <= lo) through yellow and green to blue (thick, t >= hi), the viewer's ramp; grey
-/// for t < 0.
+/// The thickness colour ramp, thin to thick: red, yellow, green, blue. Every picture of a thickness
+/// uses these stops (the PLY of `thickness -o`, the viewer's shader through a uniform, its legend).
+inline constexpr double kThicknessRamp[4][3] = {{0.9, 0.1, 0.1}, {0.95, 0.85, 0.1}, {0.2, 0.75, 0.3}, {0.15, 0.35, 0.9}};
+/// The ramp at x in [0, 1] (clamped): linear between the stops at 0, 1/3, 2/3 and 1.
+[[nodiscard]] glm::dvec3 thickness_ramp(double x);
+/// thickness_ramp of t from lo (thin) to hi (thick); grey for t < 0 (no hit).
 [[nodiscard]] glm::dvec3 thickness_colour(double t, double lo, double hi);
 
 /// The sample grids as one mesh: a vertex per material sample (normal = -inward, (u, v), face,

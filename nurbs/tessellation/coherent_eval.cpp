@@ -25,22 +25,8 @@ struct Direction {
 /// N' = p (N_{i,p-1} / (U[i+p] - U[i]) - N_{i+1,p-1} / (U[i+p+1] - U[i+1])) (The NURBS Book Eq. 2.9)
 /// into n1. `scratch` holds 4 (p + 1) doubles: no allocation per point, unlike A2.3's helper.
 void basis_d1(const std::vector<double>& U, int p, int span, double u, double* n0, double* n1, double* scratch) {
-  double* left = scratch;
-  double* right = scratch + (p + 1);
   double* prev = scratch + 2 * (p + 1);
-  n0[0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    if (j == p) std::copy(n0, n0 + p, prev);  // degree p - 1 functions, for the derivatives
-    left[j] = u - U[size_t(span + 1 - j)];
-    right[j] = U[size_t(span + j)] - u;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      const double temp = n0[r] / (right[r + 1] + left[j - r]);
-      n0[r] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    n0[j] = saved;
-  }
+  basis_functions(U, p, span, u, n0, scratch, prev);  // and the degree p - 1 functions, for the derivatives
   // Both denominators span the non-empty knot span [U[span], U[span+1]], so they are > 0.
   for (int k = 0; k <= p; ++k) {
     double d = 0.0;

@@ -134,7 +134,7 @@ Deviation measure_deviation(const std::vector<TrimmedSurface>& faces, const Tria
     const TrimmedSurface& f = faces[fi];
     const int m = largest > 0.0 ? std::clamp(int(std::ceil(n * extent[fi] / largest)), std::min(kMinGrid, n), n) : n;
     const Interval du = surface_domain_u(f.surface), dv = surface_domain_v(f.surface);
-    trims[fi] = flatten_trim(f, 1e-7 * std::max(du.width(), dv.width()));
+    trims[fi] = flatten_trim(f, mesh_flatten_tolerance(f.surface));
     banded[fi] = BandedTrim(trims[fi]);
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i) {

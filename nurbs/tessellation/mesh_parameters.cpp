@@ -21,7 +21,7 @@ TriangleMesh with_face_parameters(const std::vector<TrimmedSurface>& faces, cons
   std::vector<TrimPolygons> trims(faces.size());
   for (size_t f = 0; f < faces.size(); ++f) {
     const Interval du = surface_domain_u(faces[f].surface), dv = surface_domain_v(faces[f].surface);
-    trims[f] = flatten_trim(faces[f], 1e-7 * std::max(du.width(), dv.width()));
+    trims[f] = flatten_trim(faces[f], mesh_flatten_tolerance(faces[f].surface));
     for (int j = 0; j < grid; ++j)
       for (int i = 0; i < grid; ++i) {
         const glm::dvec2 uv(du.min + du.width() * (i + 0.5) / grid, dv.min + dv.width() * (j + 0.5) / grid);

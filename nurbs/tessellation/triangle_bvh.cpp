@@ -36,42 +36,17 @@ glm::dvec3 closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, c
   return best;
 }
 
-TriangleBvh::TriangleBvh(std::vector<std::array<glm::dvec3, 3>> triangles) : tris_(std::move(triangles)) {
-  order_.resize(tris_.size());
-  for (size_t i = 0; i < order_.size(); ++i) order_[i] = int(i);
-  nodes_.reserve(2 * tris_.size() / 4 + 2);
-  if (!tris_.empty()) build(0, int(tris_.size()));
-}
-
-int TriangleBvh::build(int first, int count) {
-  Node node{glm::dvec3(std::numeric_limits<double>::infinity()),
-            glm::dvec3(-std::numeric_limits<double>::infinity()),
-            first,
-            count,
-            -1,
-            -1};
-  for (int k = first; k < first + count; ++k)
-    for (const glm::dvec3& v : tris_[size_t(order_[size_t(k)])])
-      node.lo = glm::min(node.lo, v), node.hi = glm::max(node.hi, v);
-  const int index = int(nodes_.size());
-  nodes_.push_back(node);
-  if (count <= 4) return index;
-  const glm::dvec3 extent = node.hi - node.lo;
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-  const int mid = first + count / 2;
-  auto centroid = [&](int t) {
-    const auto& tri = tris_[size_t(t)];
-    return tri[0][axis] + tri[1][axis] + tri[2][axis];
-  };
-  std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + first + count,
-                   [&](int x, int y) { return centroid(x) < centroid(y); });
-  const int left = build(first, mid - first);
-  const int right = build(mid, first + count - mid);
-  nodes_[size_t(index)].count = 0;
-  nodes_[size_t(index)].left = left;
-  nodes_[size_t(index)].right = right;
-  return index;
-}
+TriangleBvh::TriangleBvh(std::vector<std::array<glm::dvec3, 3>> triangles)
+    : tris_(std::move(triangles)),
+      tree_(
+          int(tris_.size()),
+          [&](int t, auto add) {
+            for (const glm::dvec3& v : tris_[size_t(t)]) add(v);
+          },
+          [&](int t, int axis) {
+            const auto& tri = tris_[size_t(t)];
+            return tri[0][axis] + tri[1][axis] + tri[2][axis];
+          }) {}
 
 TriangleBvh::Hit TriangleBvh::closest(const glm::dvec3& p, double max_distance) const {
   Hit hit{std::numeric_limits<double>::infinity(), p, -1};
@@ -86,21 +61,21 @@ TriangleBvh::Hit TriangleBvh::closest(const glm::dvec3& p, double max_distance) 
 }
 
 bool TriangleBvh::any_within(const glm::dvec3& p, double radius) const {
-  if (nodes_.empty() || !(radius >= 0.0)) return false;
+  if (tree_.nodes.empty() || !(radius >= 0.0)) return false;
   int stack[128];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
-    const Node& n = nodes_[size_t(stack[--top])];
+    const MedianTree::Node& n = tree_.nodes[size_t(stack[--top])];
     if (box_distance(p, n.lo, n.hi) > radius) continue;
     if (n.count > 0) {
       for (int k = n.first; k < n.first + n.count; ++k) {
-        const auto& tri = tris_[size_t(order_[size_t(k)])];
+        const auto& tri = tris_[size_t(tree_.order[size_t(k)])];
         if (glm::length(closest_point_on_triangle(p, tri[0], tri[1], tri[2]) - p) <= radius) return true;
       }
       continue;
     }
-    const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
+    const MedianTree::Node &l = tree_.nodes[size_t(n.left)], &r = tree_.nodes[size_t(n.right)];
     const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
     stack[top++] = left_first ? n.right : n.left;
     stack[top++] = left_first ? n.left : n.right;

@@ -1,13 +1,15 @@
 #pragma once
 /// \file triangle_bvh.h
 /// Closest point on a set of triangles (or segments: triangles with a repeated corner), with a
-/// bounding volume hierarchy of axis-aligned boxes split at the median centroid. The deviation check
+/// bounding volume hierarchy of axis-aligned boxes split at the median centroid (median_tree.h). The deviation check
 /// of the tessellation (mesh_check.h) asks it millions of times.
 #include <array>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
+
+#include "nurbs/tessellation/median_tree.h"
 
 namespace nurbs::tess {
 
@@ -36,18 +38,19 @@ class TriangleBvh {
   /// nearer boxes first; `radius` is read again at every box, so the visits may shrink it.
   template <class Visit>
   void for_each_near(const glm::dvec3& p, const double& radius, Visit&& visit) const {
-    if (nodes_.empty()) return;
+    const auto& nodes = tree_.nodes;
+    if (nodes.empty()) return;
     int stack[128];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-      const Node& n = nodes_[size_t(stack[--top])];
+      const MedianTree::Node& n = nodes[size_t(stack[--top])];
       if (box_distance(p, n.lo, n.hi) >= radius) continue;
       if (n.count > 0) {
-        for (int k = n.first; k < n.first + n.count; ++k) visit(order_[size_t(k)]);
+        for (int k = n.first; k < n.first + n.count; ++k) visit(tree_.order[size_t(k)]);
         continue;
       }
-      const Node &l = nodes_[size_t(n.left)], &r = nodes_[size_t(n.right)];
+      const MedianTree::Node &l = nodes[size_t(n.left)], &r = nodes[size_t(n.right)];
       const bool left_first = box_distance(p, l.lo, l.hi) <= box_distance(p, r.lo, r.hi);
       stack[top++] = left_first ? n.right : n.left;
       stack[top++] = left_first ? n.left : n.right;
@@ -59,15 +62,8 @@ class TriangleBvh {
   }
 
  private:
-  struct Node {
-    glm::dvec3 lo, hi;
-    int first, count;  ///< leaf: triangles [first, first + count) of order_; inner: count = 0
-    int left, right;
-  };
-  int build(int first, int count);
   std::vector<std::array<glm::dvec3, 3>> tris_;
-  std::vector<int> order_;
-  std::vector<Node> nodes_;
+  MedianTree tree_;
 };
 
 }  // namespace nurbs::tess

@@ -1,5 +1,7 @@
 #include "nurbs/tessellation/watertight.h"
 
+#include "nurbs/tessellation/median_tree.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -23,22 +25,26 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Segment = std::array<glm::dvec3, 2>;
 
-/// Segments in 3D, median-split tree of boxes; near() visits every segment within r of a point
-/// (TriangleBvh only answers the single closest one, which here is the query point's own edge).
+/// Segments in 3D on the shared median tree (median_tree.h); near() visits every segment within r
+/// of a point, with its distance and foot (the closest one alone would be the point's own edge).
 class SegmentTree {
  public:
-  explicit SegmentTree(std::vector<Segment> segments) : segs_(std::move(segments)), order_(segs_.size()) {
-    std::iota(order_.begin(), order_.end(), 0);
-    if (!segs_.empty()) build(0, int(segs_.size()));
-  }
+  explicit SegmentTree(std::vector<Segment> segments)
+      : segs_(std::move(segments)),
+        tree_(
+            int(segs_.size()),
+            [&](int s, auto add) {
+              for (const glm::dvec3& v : segs_[size_t(s)]) add(v);
+            },
+            [&](int s, int axis) { return segs_[size_t(s)][0][axis] + segs_[size_t(s)][1][axis]; }) {}
   /// Calls visit(segment index, distance, foot parameter t in [0, 1]) for each segment within r of p.
   template <class Visit>
   void near(const glm::dvec3& p, double r, Visit&& visit) const {
-    if (nodes_.empty()) return;
+    if (tree_.nodes.empty()) return;
     int stack[128], top = 0;
     stack[top++] = 0;
     while (top > 0) {
-      const Node& n = nodes_[size_t(stack[--top])];
+      const MedianTree::Node& n = tree_.nodes[size_t(stack[--top])];
       if (glm::length(glm::max(glm::max(n.lo - p, p - n.hi), glm::dvec3(0.0))) > r) continue;
       if (n.left >= 0) {
         stack[top++] = n.left;
@@ -46,44 +52,19 @@ class SegmentTree {
         continue;
       }
       for (int k = n.first; k < n.first + n.count; ++k) {
-        const Segment& s = segs_[size_t(order_[size_t(k)])];
+        const Segment& s = segs_[size_t(tree_.order[size_t(k)])];
         const glm::dvec3 ab = s[1] - s[0];
         const double len2 = glm::dot(ab, ab);
         const double t = len2 > 0 ? std::clamp(glm::dot(p - s[0], ab) / len2, 0.0, 1.0) : 0.0;
         const double d = glm::length(s[0] + t * ab - p);
-        if (d <= r) visit(order_[size_t(k)], d, t);
+        if (d <= r) visit(tree_.order[size_t(k)], d, t);
       }
     }
   }
 
  private:
-  struct Node {
-    glm::dvec3 lo, hi;
-    int first, count, left = -1, right = -1;
-  };
-  int build(int first, int count) {
-    Node node{glm::dvec3(1e300), glm::dvec3(-1e300), first, count};
-    for (int k = first; k < first + count; ++k)
-      for (const glm::dvec3& v : segs_[size_t(order_[size_t(k)])])
-        node.lo = glm::min(node.lo, v), node.hi = glm::max(node.hi, v);
-    const int index = int(nodes_.size());
-    nodes_.push_back(node);
-    if (count <= 4) return index;
-    const glm::dvec3 e = node.hi - node.lo;
-    const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-    const int mid = first + count / 2;
-    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + first + count, [&](int x, int y) {
-      return segs_[size_t(x)][0][axis] + segs_[size_t(x)][1][axis] <
-             segs_[size_t(y)][0][axis] + segs_[size_t(y)][1][axis];
-    });
-    const int left = build(first, mid - first), right = build(mid, first + count - mid);
-    nodes_[size_t(index)].left = left;
-    nodes_[size_t(index)].right = right;
-    return index;
-  }
   std::vector<Segment> segs_;
-  std::vector<int> order_;
-  std::vector<Node> nodes_;
+  MedianTree tree_;
 };
 
 /// Union-find whose root is the smallest member (ids are numbered by face, loop, index).

@@ -13,12 +13,14 @@ uniform float u_threshold;
 
 out vec4 o_color;
 
-// Thin (0) red through yellow and green to thick (1) blue; viewer/app_panels.cpp draws the same ramp (legend).
+uniform vec3 u_ramp[4];  // the stops of nurbs::ray::kThicknessRamp, thin to thick
+
+// Thin (0) to thick (1), linear between the stops, as nurbs::ray::thickness_ramp (the legend's too).
 vec3 ramp(float t) {
   t = clamp(t, 0.0, 1.0);
-  if (t < 1.0 / 3.0) return mix(vec3(0.9, 0.1, 0.1), vec3(0.95, 0.85, 0.1), 3.0 * t);
-  if (t < 2.0 / 3.0) return mix(vec3(0.95, 0.85, 0.1), vec3(0.2, 0.75, 0.3), 3.0 * t - 1.0);
-  return mix(vec3(0.2, 0.75, 0.3), vec3(0.15, 0.35, 0.9), 3.0 * t - 2.0);
+  if (t < 1.0 / 3.0) return mix(u_ramp[0], u_ramp[1], 3.0 * t);
+  if (t < 2.0 / 3.0) return mix(u_ramp[1], u_ramp[2], 3.0 * t - 1.0);
+  return mix(u_ramp[2], u_ramp[3], 3.0 * t - 2.0);
 }
 
 void main() {

@@ -9,6 +9,7 @@
 
 #include "models/random_surfaces.h"
 #include "nurbs/trim_classify.h"
+#include "queries/cell_triangles.h"
 #include "queries/material_distance.h"
 #include "queries/point_distance.h"
 
@@ -33,7 +34,7 @@ struct Cell {
   nurbs::TrimPolygons trim;
   glm::dvec3 corners[4];
   glm::dvec3 tri[2][3];
-  glm::dvec2 uv[2][3] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+  glm::dvec2 uv[2][3];
   Cell(models::Random& rng, glm::dvec3 offset, double tilt) {
     trim.loops.push_back(star(rng));
     trim.outer.push_back(rng.uniform() < 0.5);
@@ -41,9 +42,9 @@ struct Cell {
     for (int k = 0; k < 4; ++k)
       corners[k] = offset + glm::dvec3(k & 1, k >> 1, 0.0) +
                    glm::dvec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), tilt * rng.uniform(-1.0, 1.0));
-    const glm::dvec3 t[2][3] = {{corners[0], corners[1], corners[3]}, {corners[0], corners[3], corners[2]}};
+    const queries::CellTriangles t = queries::cell_triangles(corners, 0.0, 1.0, 0.0, 1.0);
     for (int i = 0; i < 2; ++i)
-      for (int k = 0; k < 3; ++k) tri[i][k] = t[i][k];
+      for (int k = 0; k < 3; ++k) tri[i][k] = t.p[i][k], uv[i][k] = t.uv[i][k];
   }
 };
 
