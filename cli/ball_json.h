@@ -1,7 +1,7 @@
 #pragma once
 /// \file ball_json.h
 /// `thickness --ball`: the JSON of the rolling-ball thickness (queries::BallMap, made by the
-/// library's thickness map, queries/thickness_map.h).
+/// library's thickness map, queries/raycast/thickness_map.h).
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,7 +10,7 @@
 #include "nurbs/model.h"
 #include "nurbs/raycast/ball_thickness.h"
 #include "nurbs/raycast/thickness.h"
-#include "queries/thickness_map.h"
+#include "queries/raycast/thickness_map.h"
 
 namespace cli {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "nurbs/grid_report.h"
+#include "nurbs/distance/grid_report.h"
 #include "nurbs/model_ops.h"
 
 namespace cli {

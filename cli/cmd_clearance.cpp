@@ -1,6 +1,6 @@
 // `nurbsgl clearance A B [--move-b DX,DY,DZ] [--rotate-b AX,AY,AZ,DEG]`: minimum distance between two
 // models with the bound K_a + K_b through the library's front door queries::ClearancePair
-// (queries/clearance_pair.h), within --tol x the larger model size (found and
+// (queries/distance/clearance_pair.h), within --tol x the larger model size (found and
 // meets_tolerance in JSON; exit 1 when the bound is over it). B is first rotated by DEG degrees about
 // the axis (AX, AY, AZ) through the origin, then moved. JSON: distance, bound, point_bound, point_a,
 // point_b, face_a, face_b, uv_a, uv_b, seconds; with --timings the passes of the query. `--motion FILE` runs
@@ -22,7 +22,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/paper_switch.h"
 #include "nurbs/rigid_motion.h"
-#include "queries/clearance_pair.h"
+#include "queries/distance/clearance_pair.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the

@@ -1,9 +1,9 @@
 // `nurbsgl distance MODEL --point X,Y,Z | --points FILE`: minimum distance from points to a trimmed
 // NURBS model with the bounds of Krishnamurthy et al. §4, through the library's front door
-// queries::PointQuery (queries/point_query.h: preparation, refusals, cache, engine, answers). JSON for
+// queries::PointQuery (queries/distance/point_query.h: preparation, refusals, cache, engine, answers). JSON for
 // --point: found, meets_tolerance, query, distance, bound, point, face, uv, seconds (and point_bound,
 // on_trim_edge, candidates); for --points: {"points", "seconds", "not_found", "over_tolerance",
-// "results": [...]} in input order. --points runs the batched projection (queries/point_batch.h: all
+// "results": [...]} in input order. --points runs the batched projection (queries/distance/point_batch.h: all
 // points in one pass, on faithful grids within 1 GB or on coarse ones, every answer whose bound is
 // over the tolerance refined in double);
 // --per-point keeps one query per point. The rule (queries::meets_tolerance): an answer meets the
@@ -21,7 +21,7 @@
 #include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/paper_switch.h"
-#include "queries/point_query.h"
+#include "queries/distance/point_query.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the

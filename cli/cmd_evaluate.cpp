@@ -1,7 +1,7 @@
 // `nurbsgl evaluate MODEL`: evaluates every face (or the chosen ones) on the GPU into point and
 // normal textures on the knot-aligned grid whose Euclidean Filip bound K_e meets the tolerance on
-// every cell (nurbs/certified_grid.h): faces packed into atlases, one evaluation pass and one trim
-// fill per atlas (queries/face_atlas.h); a face too large for an atlas alone, in tiles. It reports
+// every cell (nurbs/distance/certified_grid.h): faces packed into atlases, one evaluation pass and one trim
+// fill per atlas (queries/distance/face_atlas.h); a face too large for an atlas alone, in tiles. It reports
 // per face the grid, K, K_e, the bound's ratio to the sampled second derivatives and whether the
 // tolerance is met. Exit 1 when a face does not meet it.
 #include <fmt/format.h>
@@ -15,14 +15,14 @@
 
 #include "cli/commands.h"
 #include "cli/validators.h"
-#include "nurbs/grid_report.h"
+#include "nurbs/distance/grid_report.h"
 #include "nurbs/io/obj_writer.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-#include "queries/face_atlas.h"
-#include "queries/surface_grid.h"
-#include "queries/trim_texture.h"
+#include "queries/distance/face_atlas.h"
+#include "queries/distance/surface_grid.h"
+#include "queries/distance/trim_texture.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the

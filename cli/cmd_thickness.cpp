@@ -1,7 +1,7 @@
 // `nurbsgl thickness MODEL [--samples N | --spacing S] [--min-wall T] [-o OUT.ply] [--csv F] [--exr DIR]`:
 // wall thickness by ray casting (Lemasson et al.): from samples on every face a ray along the inward
 // normal, the thickness is the distance to the nearest valid hit, through the library's front door
-// queries::thickness_map (queries/thickness_map.h).
+// queries::thickness_map (queries/raycast/thickness_map.h).
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -16,7 +16,7 @@
 #include "gpgpu/exr_dump.h"
 #include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/output_file.h"
-#include "queries/thickness_map.h"
+#include "queries/raycast/thickness_map.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the

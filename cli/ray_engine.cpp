@@ -14,7 +14,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
 #include "nurbs/system_memory.h"
-#include "queries/thickness_map.h"
+#include "queries/raycast/thickness_map.h"
 
 namespace cli {
 

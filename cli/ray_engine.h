@@ -14,7 +14,7 @@
 #include "cli/paper_preset.h"
 #include "nurbs/model.h"
 #include "nurbs/raycast/raycast_cpu.h"
-#include "queries/ray_caster.h"
+#include "queries/raycast/ray_caster.h"
 
 namespace cli {
 

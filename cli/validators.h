@@ -9,7 +9,7 @@
 #include <string>
 
 #include "cli/paper_preset.h"
-#include "queries/prepared_model.h"
+#include "queries/distance/prepared_model.h"
 
 namespace cli {
 

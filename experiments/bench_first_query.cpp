@@ -27,9 +27,9 @@
 #include "bench_machine.h"
 #include "models/paper_surfaces.h"
 #include "nurbs/model_ops.h"
-#include "queries/clearance.h"
-#include "queries/clearance_pair.h"
-#include "queries/prepared_model.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/clearance_pair.h"
+#include "queries/distance/prepared_model.h"
 
 namespace {
 

@@ -28,7 +28,7 @@
 #include "models/paper_surfaces.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/surface_eval.h"
-#include "queries/surface_grid.h"
+#include "queries/distance/surface_grid.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Benchmark of the batched point projection (queries/point_batch.h), not a test: it prints
+// Benchmark of the batched point projection (queries/distance/point_batch.h), not a test: it prints
 // figures. On the generated 100 x 105 surface (models/paper_surfaces.h), untrimmed and trimmed, at a
 // tolerance relative to the model size (default 1e-5): the one-time preparation (certified grid,
 // atlas, box pyramid), then N random points (fixed seed) in one batch, in the model's box grown by a
@@ -23,8 +23,8 @@
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-#include "queries/point_batch.h"
-#include "queries/point_distance.h"
+#include "queries/distance/point_batch.h"
+#include "queries/distance/point_distance.h"
 
 #ifdef NURBSGL_OCCT_PEER
 #include <GeomAPI_ProjectPointOnSurf.hxx>

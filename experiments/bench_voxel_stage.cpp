@@ -1,4 +1,4 @@
-// Benchmark of the object first stage of Krishnamurthy et al. §5.4 (queries/voxel_stage.h): the
+// Benchmark of the object first stage of Krishnamurthy et al. §5.4 (queries/distance/voxel_stage.h): the
 // teapot moved near the wall of the vase. Prints voxels per object, voxel pairs, surviving pairs,
 // face pairs kept of all, time per stage (GPU and the CPU twin), then the clearance three ways:
 // the hierarchy over all faces (queries::clearance as it is), and a driver that runs the voxel
@@ -13,8 +13,8 @@
 
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
-#include "queries/clearance.h"
-#include "queries/voxel_stage.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/voxel_stage.h"
 
 namespace {
 

@@ -2,8 +2,8 @@
 /// \file compact.h
 /// Non-uniform stream reduction of Krishnamurthy et al. §1.1 (their ref. [6]), done in fragment
 /// passes as a HistoPyramid: count levels built in log4 passes along rows, then along the column
-/// (glsl/histopyramid_build.frag), one read-back of the total, then one gather pass in which output
-/// element k descends the pyramid to its source texel (glsl/histopyramid_gather.frag).
+/// (glsl/gpgpu/histopyramid_build.frag), one read-back of the total, then one gather pass in which output
+/// element k descends the pyramid to its source texel (glsl/gpgpu/histopyramid_gather.frag).
 /// Reducing rows before columns (instead of 2x2 blocks) keeps the output in row-major input order.
 /// Beyond that, each level may count 16 texels instead of 4 (`fanout`): half the build passes
 /// (llvmpipe pays 0.1-0.3 ms a pass, whatever its size) for up to 4x the reads per gather step.

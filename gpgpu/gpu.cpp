@@ -39,7 +39,7 @@ Gpu::Gpu(std::unique_ptr<Context> context) : context_(std::move(context)) { init
 
 void Gpu::init() {
   profiler_.set_timer_queries(context_->info().timer_queries);
-  shaders_.add(embedded_glsl(), "glsl/");
+  shaders_.add(embedded_glsl(), "glsl/gpgpu/");
   framebuffer_ = std::make_unique<Framebuffer>();
   gl::CreateVertexArrays(1, &vao_);
   gl::check_error("creating the pass machinery");

@@ -1,7 +1,7 @@
 #pragma once
 /// \file reduce.h
 /// Standard reductions of Krishnamurthy et al. §1.1: min, max, sum and argmin of a texture in
-/// ceil(log2(max(w, h))) passes of 2x2 blocks (glsl/reduce_2x2.frag, glsl/argmin_2x2.frag), any size
+/// ceil(log2(max(w, h))) passes of 2x2 blocks (glsl/gpgpu/reduce_2x2.frag, glsl/gpgpu/argmin_2x2.frag), any size
 /// (1x1, 1xN, Nx1, odd, prime), then one read-back of a single texel.
 ///
 /// NaN policy (same on GPU and CPU twin): min/max/argmin ignore NaN entries; a sum containing NaN

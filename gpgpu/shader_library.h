@@ -17,7 +17,7 @@ struct ShaderFile {
   std::string_view text;
 };
 
-/// The files of glsl/, embedded by cmake/embed_glsl.cmake.
+/// The files of glsl/gpgpu/ (gpgpu's own kernels), embedded by cmake/embed_glsl.cmake.
 std::span<const ShaderFile> embedded_glsl();
 
 using Defines = std::vector<std::pair<std::string, std::string>>;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file surface_project.h
 /// Local closest point of a surface to a point (point inversion, The NURBS Book §6.1), the upper-bound
-/// step of the distance refinement (queries/refine.h) and the deviation check of the tessellation.
+/// step of the distance refinement (queries/distance/refine.h) and the deviation check of the tessellation.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 

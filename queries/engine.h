@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "gpgpu/gpu.h"
-#include "queries/point_batch.h"
+#include "queries/distance/point_batch.h"
 
 namespace queries {
 

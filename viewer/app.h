@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "gpgpu/gpu.h"
-#include "queries/clearance.h"
-#include "queries/clearance_pair.h"
-#include "queries/prepared_model.h"
-#include "queries/voxel_stage.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/clearance_pair.h"
+#include "queries/distance/prepared_model.h"
+#include "queries/distance/voxel_stage.h"
 #include "viewer/camera.h"
 #include "viewer/draw_buffers.h"
 #include "viewer/input_script.h"
@@ -115,7 +115,7 @@ class App {
   Placement placement_;
   glm::dvec3 final_move_{0.0};  ///< scripted run: B's placement on the last frame
   std::vector<double> scripted_query_ms_, scripted_frame_ms_;
-  /// Both models prepared for any placement of B (queries/clearance_pair.h), A's hierarchy kept
+  /// Both models prepared for any placement of B (queries/distance/clearance_pair.h), A's hierarchy kept
   /// between queries; declared after gpu_: destroyed first.
   std::unique_ptr<queries::ClearancePair> clearance_pair_;
   std::optional<queries::Clearance> clearance_;

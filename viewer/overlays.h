@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "nurbs/model_ops.h"
-#include "queries/prepared_model.h"
-#include "queries/voxel_stage.h"
+#include "queries/distance/prepared_model.h"
+#include "queries/distance/voxel_stage.h"
 #include "viewer/draw_buffers.h"
 
 namespace viewer {

@@ -4,7 +4,7 @@
 #include <chrono>
 
 #include "nurbs/raycast/thickness.h"
-#include "queries/thickness_map.h"
+#include "queries/raycast/thickness_map.h"
 
 namespace viewer {
 

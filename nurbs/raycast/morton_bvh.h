@@ -42,7 +42,7 @@ struct Bvh {
 [[nodiscard]] Bvh build_bvh(const std::vector<glm::dvec3>& box_min, const std::vector<glm::dvec3>& box_max);
 /// The same from given Morton codes (codes[i] of box i): keys = code << 32 | i, sorted, then
 /// Karras' internal nodes and the bottom-up boxes. The twin of the GPU build, whose codes come
-/// from float arithmetic (queries/bvh_gpu.h).
+/// from float arithmetic (queries/raycast/bvh_gpu.h).
 [[nodiscard]] Bvh build_bvh_codes(const std::vector<std::uint32_t>& codes, const std::vector<glm::dvec3>& box_min,
                                   const std::vector<glm::dvec3>& box_max);
 

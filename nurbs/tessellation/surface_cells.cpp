@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "nurbs/bezier_extraction.h"
-#include "nurbs/filip_bound.h"
+#include "nurbs/distance/filip_bound.h"
 #include "nurbs/knot_vector.h"
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"

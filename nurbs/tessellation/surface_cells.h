@@ -31,7 +31,7 @@
 /// mean σ: t/4; back to the surface: ε + t/4). proven_cell_bound() adds that rational extra term.
 ///
 /// Beyond the paper (CellBound::Filip, the default): Filip's bound from the cell's own Bézier
-/// pieces (nurbs/filip_bound.h, Euclidean norms M1..M3 of S_uu, S_uv, S_vv over the cell, rational
+/// pieces (nurbs/distance/filip_bound.h, Euclidean norms M1..M3 of S_uu, S_uv, S_vv over the cell, rational
 /// or not), K_e = (M1 h_u² + 2 M2 h_u h_v + M3 h_v²) / 8 with h the cell's widths, holds for ANY
 /// triangle with vertices on the surface inside the cell, at equal parameters: for x in the
 /// triangle with barycentrics λ_k, S(x) - Σλ_k S(x_k) = -Σλ_k R_k with Taylor remainders

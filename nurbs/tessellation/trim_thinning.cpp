@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "nurbs/filip_bound.h"
+#include "nurbs/distance/filip_bound.h"
 #include "nurbs/tessellation/douglas_peucker.h"
 
 namespace nurbs::tess {

@@ -42,16 +42,16 @@ TEST_CASE("shader: missing include names the including file and line") {
 TEST_CASE("shader: assembly puts version first and maps #line numbers") {
   gpgpu::ShaderLibrary lib;
   lib.add(kTestFiles, "tests/");
-  lib.add(gpgpu::embedded_glsl(), "glsl/");
+  lib.add(gpgpu::embedded_glsl(), "glsl/gpgpu/");
   const gpgpu::AssembledSource s = lib.assemble("broken.frag", {{"ANSWER", "42"}});
   CHECK(s.text.rfind("#version 450 core\n", 0) == 0);
   CHECK(s.text.find("#define ANSWER 42") != std::string::npos);
   REQUIRE(s.files.size() == 3);
   CHECK(s.files[1] == "tests/broken.frag");
-  CHECK(s.files[2] == "glsl/lib_float.glsl");
+  CHECK(s.files[2] == "glsl/gpgpu/lib_float.glsl");
   // Mesa and NVIDIA log formats are both rewritten.
   CHECK(gpgpu::rewrite_log("0:100004(7): error: x", s) == "tests/broken.frag:4:7: error: x");
-  CHECK(gpgpu::rewrite_log("0(200003) : error C1008: y", s) == "glsl/lib_float.glsl:3: error C1008: y");
+  CHECK(gpgpu::rewrite_log("0(200003) : error C1008: y", s) == "glsl/gpgpu/lib_float.glsl:3: error C1008: y");
   CHECK(s.text.find("#line 100002\n") != std::string::npos);  // back in broken.frag after the include
 }
 

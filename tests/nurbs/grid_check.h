@@ -8,7 +8,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "nurbs/certified_grid.h"
+#include "nurbs/distance/certified_grid.h"
 #include "nurbs/surface_eval.h"
 
 namespace grid_check {

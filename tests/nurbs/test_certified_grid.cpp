@@ -11,7 +11,7 @@
 
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
-#include "nurbs/certified_grid.h"
+#include "nurbs/distance/certified_grid.h"
 #include "nurbs/model_ops.h"
 #include "test_suites.h"
 #include "tests/nurbs/grid_check.h"

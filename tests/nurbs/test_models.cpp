@@ -11,7 +11,7 @@
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
-#include "nurbs/filip_bound.h"
+#include "nurbs/distance/filip_bound.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/validate.h"
 

@@ -78,7 +78,7 @@ inline Reference reference(const nurbs::Surface& s, const glm::dvec3& p, glm::dv
   return best;
 }
 
-/// The checks of a coarse-to-fine answer (queries/refine.h): found, within the tolerance, and the
+/// The checks of a coarse-to-fine answer (queries/distance/refine.h): found, within the tolerance, and the
 /// interval [distance - bound, distance] holds `truth` (a true distance, or one realised by a
 /// reference at least as close as the true minimum) up to `slack`.
 inline void check_proven(bool found, bool meets_tolerance, double distance, double bound, double tolerance,

@@ -1,5 +1,5 @@
 // Rolling-ball thickness (nurbs/raycast/ball_thickness.h) over the batched point query of
-// Krishnamurthy et al. (queries/point_batch.h) on an eccentric spherical shell built of exact
+// Krishnamurthy et al. (queries/distance/point_batch.h) on an eccentric spherical shell built of exact
 // rational spheres: the GPU query and its double-precision twin (PointBatch::query_cpu) against an
 // independent reference (bisection on the emptiness of the ball, with the spheres' exact
 // distances), each within its reported bound.
@@ -12,8 +12,8 @@
 #include "../gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "nurbs/raycast/ball_thickness.h"
-#include "queries/ball_nearest.h"
-#include "queries/prepared_model.h"
+#include "queries/distance/ball_nearest.h"
+#include "queries/distance/prepared_model.h"
 
 TEST_CASE("ball thickness over the GPU point batch and its CPU twin: eccentric shell within the bound") {
   const glm::dvec3 m(2.0, 0.0, 0.0);  // inner sphere radius 3 at m, outer radius 10 at the origin

@@ -1,4 +1,4 @@
-// The batched preparation's disk cache (queries/batch_cache.h): a state exported, written, read and
+// The batched preparation's disk cache (queries/distance/batch_cache.h): a state exported, written, read and
 // restored answers every point as the batch it came from, bit for bit; a file of another key, a
 // truncated, extended or damaged file, and a state of other grids are misses with a reason, never
 // errors and never a state.
@@ -14,8 +14,8 @@
 #include <iterator>
 
 #include "../gpgpu/gl_fixture.h"
-#include "queries/batch_cache.h"
-#include "queries/point_batch.h"
+#include "queries/distance/batch_cache.h"
+#include "queries/distance/point_batch.h"
 #include "tests/queries/point_batch_fixtures.h"
 
 namespace {

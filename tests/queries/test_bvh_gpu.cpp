@@ -1,4 +1,4 @@
-// The Morton BVH built on the GPU (queries/bvh_gpu.h, Lemasson et al. §3.2 after Karras 2012)
+// The Morton BVH built on the GPU (queries/raycast/bvh_gpu.h, Lemasson et al. §3.2 after Karras 2012)
 // against its CPU twin: the same float Morton codes, then nurbs::ray::build_bvh_codes. Node for
 // node: codes, leaf order, parents, children, leaf ranges, boxes (exact: min and max of floats),
 // and the ray caster's traversal vectors and siblings.
@@ -9,7 +9,7 @@
 #include <random>
 
 #include "../gpgpu/gl_fixture.h"
-#include "queries/bvh_gpu.h"
+#include "queries/raycast/bvh_gpu.h"
 #include "tests/test_suites.h"
 
 namespace {

@@ -15,9 +15,9 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/clearance.h"
-#include "queries/prepared_model.h"
-#include "queries/voxel_stage.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/prepared_model.h"
+#include "queries/distance/voxel_stage.h"
 #include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 
@@ -429,7 +429,7 @@ TEST_CASE("clearance: the CPU search (clearance_cpu) proves the GPU descent's an
 }
 
 TEST_CASE("clearance kernels: leaf boxes hold the moved surface, merges equal their children's, pair bounds the twin's") {
-  // glsl/aabb_leaf.frag, aabb_merge.frag and aabb_pairs_minmax.frag one at a time against their
+  // glsl/distance/aabb_leaf.frag, aabb_merge.frag and aabb_pairs_minmax.frag one at a time against their
   // twins: every leaf box holds the exact surface over its cell under the rigid motion (the Filip
   // bound's claim, sampled densely in double); every merged node is its children's box, bit for bit;
   // every pair's (min, max) distance that of queries::box_box_minmax in double on the same boxes.

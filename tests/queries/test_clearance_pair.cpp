@@ -1,4 +1,4 @@
-// The clearance query's front door (queries/clearance_pair.h): what it decides for every caller.
+// The clearance query's front door (queries/distance/clearance_pair.h): what it decides for every caller.
 // Answers against the exact distance of two spheres at several placements, B in another unit scaled
 // into A's, a body the model does not have refused as a request, faces culled for the placements
 // asked for refusing another, and the papers' settings.
@@ -10,7 +10,7 @@
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
-#include "queries/clearance_pair.h"
+#include "queries/distance/clearance_pair.h"
 
 namespace {
 

@@ -10,9 +10,9 @@
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-#include "queries/face_atlas.h"
-#include "queries/surface_grid.h"
-#include "queries/trim_texture.h"
+#include "queries/distance/face_atlas.h"
+#include "queries/distance/surface_grid.h"
+#include "queries/distance/trim_texture.h"
 
 namespace {
 

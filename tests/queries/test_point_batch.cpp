@@ -19,8 +19,8 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_batch.h"
-#include "queries/point_distance.h"
+#include "queries/distance/point_batch.h"
+#include "queries/distance/point_distance.h"
 #include "tests/queries/point_batch_fixtures.h"
 #include "tests/shared_models.h"
 

@@ -13,8 +13,8 @@
 #include "models/paper_surfaces.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_batch.h"
-#include "queries/prepared_model.h"
+#include "queries/distance/point_batch.h"
+#include "queries/distance/prepared_model.h"
 #include "tests/queries/point_batch_fixtures.h"
 
 namespace {

@@ -10,8 +10,8 @@
 
 #include "../gpgpu/gl_fixture.h"
 #include "nurbs/model_ops.h"
-#include "queries/point_batch.h"
-#include "queries/point_distance.h"
+#include "queries/distance/point_batch.h"
+#include "queries/distance/point_distance.h"
 #include "tests/queries/point_batch_fixtures.h"
 
 namespace {

@@ -19,8 +19,8 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/clearance.h"
-#include "queries/point_distance.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/point_distance.h"
 #include "tests/queries/distance_reference.h"
 #include "tests/shared_models.h"
 

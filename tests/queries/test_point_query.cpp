@@ -1,4 +1,4 @@
-// The point-set query's front door (queries/point_query.h): what it decides for every caller. The
+// The point-set query's front door (queries/distance/point_query.h): what it decides for every caller. The
 // answers against the paths it runs (PointBatch, PointDistanceQuery on the same grids), the reader's
 // doubts (a dropped face leaves every answer uncertified unless the partial model is accepted), the
 // refusal of a grid beyond max_samples, the papers' settings, and the one rule of meeting the
@@ -11,7 +11,7 @@
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
-#include "queries/point_query.h"
+#include "queries/distance/point_query.h"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include "nurbs/raycast/thickness.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/raycast_gpu.h"
+#include "queries/raycast/raycast_gpu.h"
 #include "tests/test_suites.h"
 
 using nurbs::ray::Hit;

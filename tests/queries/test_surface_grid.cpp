@@ -14,7 +14,7 @@
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-#include "queries/surface_grid.h"
+#include "queries/distance/surface_grid.h"
 #include "tests/shared_models.h"
 
 namespace {

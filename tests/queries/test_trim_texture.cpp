@@ -10,8 +10,8 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/surface_grid.h"
-#include "queries/trim_texture.h"
+#include "queries/distance/surface_grid.h"
+#include "queries/distance/trim_texture.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The object first stage of Krishnamurthy et al. §5.4 (queries/voxel_stage.h): the GPU pass against
+// The object first stage of Krishnamurthy et al. §5.4 (queries/distance/voxel_stage.h): the GPU pass against
 // its CPU twin in double on random trimmed models under random rigid motions, tiling, and on exact
 // spheres (closest face pair known in closed form) that the face pair holding the closest points
 // is always kept, that U is an honest upper bound, and that the stage prunes face pairs at all.
@@ -17,8 +17,8 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/clearance.h"
-#include "queries/voxel_stage.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/voxel_stage.h"
 
 namespace {
 

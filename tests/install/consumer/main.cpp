@@ -2,12 +2,12 @@
 // face by the CPU twin of the paper's search (double precision, with the certified bound K).
 #include <cstdio>
 
-#include "nurbs/certified_grid.h"
-#include "nurbs/filip_bound.h"
+#include "nurbs/distance/certified_grid.h"
+#include "nurbs/distance/filip_bound.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
-#include "queries/point_distance.h"
+#include "queries/distance/point_distance.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) return 2;

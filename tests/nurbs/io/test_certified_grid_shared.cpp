@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "nurbs/grid_report.h"
+#include "nurbs/distance/grid_report.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "shared_models.h"

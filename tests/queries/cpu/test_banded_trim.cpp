@@ -1,4 +1,4 @@
-// The band index of the trim polygons (queries/point_batch_trim.h: BandedTrim), shared by the
+// The band index of the trim polygons (queries/distance/point_batch_trim.h: BandedTrim), shared by the
 // batched projection and the coarse-to-fine refinement, against plain references on random trimmed
 // faces: the winding-number classification of nurbs::is_material and an edge-by-edge box test.
 #include <doctest/doctest.h>
@@ -10,7 +10,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_batch_trim.h"
+#include "queries/distance/point_batch_trim.h"
 
 namespace {
 

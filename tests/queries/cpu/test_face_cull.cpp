@@ -1,4 +1,4 @@
-// The face cull of a clearance query (queries/face_cull.h): against dense material samples of
+// The face cull of a clearance query (queries/distance/face_cull.h): against dense material samples of
 // random trimmed models under random motions, every face pair with points nearer than the bound U
 // is kept; U never comes from a point of a hole.
 #include <doctest/doctest.h>
@@ -12,7 +12,7 @@
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/face_cull.h"
+#include "queries/distance/face_cull.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Clearance's intersection test (queries/intersection.h): two overlapping exact spheres meet on
+// Clearance's intersection test (queries/distance/intersection.h): two overlapping exact spheres meet on
 // their circle; a point of that circle inside a hole of one face is no common point.
 #include <doctest/doctest.h>
 
@@ -11,7 +11,7 @@
 #include "models/exact_shapes.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
-#include "queries/intersection.h"
+#include "queries/distance/intersection.h"
 
 TEST_CASE("intersection: two overlapping spheres meet on their circle; not where a hole is") {
   nurbs::TrimmedSurface a, b;

@@ -1,4 +1,4 @@
-// The material part of a cell's triangles (queries/material_distance.h, §5.3's "continue the
+// The material part of a cell's triangles (queries/distance/material_distance.h, §5.3's "continue the
 // search"): the exact least distance between material points of two triangles against a plain
 // reference, every material sample pair of dense barycentric grids.
 #include <doctest/doctest.h>
@@ -9,9 +9,9 @@
 
 #include "models/random_surfaces.h"
 #include "nurbs/trim_classify.h"
-#include "queries/cell_triangles.h"
-#include "queries/material_distance.h"
-#include "queries/point_distance.h"
+#include "queries/distance/cell_triangles.h"
+#include "queries/distance/material_distance.h"
+#include "queries/distance/point_distance.h"
 
 namespace {
 

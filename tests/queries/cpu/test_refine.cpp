@@ -1,4 +1,4 @@
-// The coarse-to-fine refinement (queries/refine.h) on the CPU, from every cell of a coarse grid,
+// The coarse-to-fine refinement (queries/distance/refine.h) on the CPU, from every cell of a coarse grid,
 // against independent references in double: the answer is realised by material surface points, the
 // true distance lies in [distance - bound, distance], and bound <= T.
 #include <doctest/doctest.h>
@@ -13,8 +13,8 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_distance.h"
-#include "queries/refine.h"
+#include "queries/distance/point_distance.h"
+#include "queries/distance/refine.h"
 #include "test_suites.h"
 #include "tests/queries/distance_reference.h"
 

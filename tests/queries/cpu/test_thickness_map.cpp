@@ -1,4 +1,4 @@
-// The thickness map's front door (queries/thickness_map.h) on the CPU caster: a sphere's wall is its
+// The thickness map's front door (queries/raycast/thickness_map.h) on the CPU caster: a sphere's wall is its
 // diameter at every sample, within the hit residual; a spacing finer than the most samples allowed
 // is refused before the work; a model that lost a face, or a face with an invalid trim, leaves the
 // map uncertified, named; the papers' settings.
@@ -7,7 +7,7 @@
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
-#include "queries/thickness_map.h"
+#include "queries/raycast/thickness_map.h"
 
 TEST_CASE("thickness map: a sphere's wall is its diameter at every sample") {
   queries::ThicknessMapOptions o;

@@ -1,4 +1,4 @@
-// The triangle-triangle distance of the clearance query's CPU end (queries/triangle_distance.cpp)
+// The triangle-triangle distance of the clearance query's CPU end (queries/distance/triangle_distance.cpp)
 // against an independent reference: the distance from a point of A to triangle B is convex in the
 // point, so its minimum over A is found by nested ternary searches over A's barycentric coordinates.
 // Random pairs apart, stacked nearly parallel (the refinement's usual case), crossing and touching.
@@ -9,8 +9,8 @@
 #include <glm/geometric.hpp>
 
 #include "models/random_surfaces.h"
-#include "queries/clearance.h"
-#include "queries/point_distance.h"
+#include "queries/distance/clearance.h"
+#include "queries/distance/point_distance.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The cells of a face's grid that its trim edges cross (queries/point_batch_trim.h), on grids with
+// The cells of a face's grid that its trim edges cross (queries/distance/point_batch_trim.h), on grids with
 // a knot span a trillionth of the domain wide (a double knot written with rounding, as on the
 // Bottom model's faces 318 and 319): every cell an edge passes through is indexed, and the index
 // costs the cells crossed, not the edge's length in steps of the narrowest cell.
@@ -6,9 +6,9 @@
 
 #include <vector>
 
-#include "nurbs/certified_grid.h"
+#include "nurbs/distance/certified_grid.h"
 #include "nurbs/trim_classify.h"
-#include "queries/point_batch_trim.h"
+#include "queries/distance/point_batch_trim.h"
 
 TEST_CASE("trim edges: every cell an edge crosses is indexed, beside a span 1e-12 of the domain wide") {
   nurbs::ParamGrid grid;

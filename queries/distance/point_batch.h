@@ -1,0 +1,346 @@
+#pragma once
+/// \file point_batch.h
+/// Batched point projection (beyond the paper): many query points at once against a
+/// prepared model, one fragment per point (glsl/distance/point_batch.frag). Per atlas of the model:
+///  1. once: the box of every cell's four float samples (glsl/distance/aabb_leaf.frag, ungrown) merged 2x2
+///     up to one root (glsl/distance/aabb_merge.frag), the levels stored as mip levels of one texture
+///     (Krishnamurthy et al. §5.1 hierarchies);
+///  2. per batch: the points sorted along a Morton curve and laid out in 4 x 4 tiles (lanes that
+///     run together descend alike), one pass in which every point descends the pyramid depth
+///     first, nearest child first, with no stack array (siblings left per level in bit fields),
+///     pruned by its best triangle distance so far, ending at the closest cell triangle; one
+///     read-back of (distance, cell) for all points;
+///     At a cell that a trim edge crosses the pass takes the distance to the cell's material part
+///     (glsl/distance/point_batch_trim.frag: a triangle's closest point when a crossing count says it is
+///     material, else the closest point of the trim pieces inside the cell), so the walk ends at
+///     the closest material point (§5.3: "discard the point and continue the search");
+///  3. per point on the CPU, in double: the winning cell's two triangles from its float samples,
+///     the closest point and its (u, v) (barycentric on the cell's parameter triangle, as
+///     point_distance.cpp), the face; trimmed faces (§5.3) check the point with is_material, and a
+///     trimmed closest point is replaced by the cell's closest material point (material_cell; on
+///     a trim piece, on_trim_edge). Only when that cell holds no material in double (the float
+///     pass judged a point within rounding of a trim edge) is the point searched again on the CPU,
+///     best first over the same pyramid. Cells with all four samples trimmed that no trim edge
+///     crosses are culled; trim points are those of the flattened polygons (nurbs::flatten_trim,
+///     within 1e-6 of the u domain).
+/// Bound, per point (|distance - true distance| <= bound):
+///   K_e (Theorem 1, max over the faces' grids) + the float budget of the samples (float_budget)
+///   + 2 eps, eps = kFloatSlack (|p - centre| + radius): the float rounding of the pass's box and
+///   triangle distances, which can make it pick a cell up to 2 eps farther than the closest one
+///   (it prunes only boxes beyond best + eps). eps is a stated allowance (16 ulp; the distances
+///   are taken to points, edge lines and planes, a few roundings each), not a proof; the tests
+///   measure |pass - twin in double| <= 0.06 eps. point_bound = sqrt(4 K d + K^2) with K = bound.
+/// With Search::Faithful grids (the cells the answers come from meet the tolerance).
+///
+/// Models prepared with Search::CoarseToFine (grids at a coarse tolerance, a few thousand cells a
+/// face, whatever the degree and weights of the faces) are finished by refinement instead
+/// (point_batch_refine.cpp): the winner of step 3 is a material point, so the surface there bounds
+/// the distance from above (U); the pyramid's cells whose boxes, grown by their face's K_e, the
+/// float budget and eps, lie within U are subdivided in double by refine_point (refine.h) until the
+/// answer meets T. The bound is then the refinement's (U - L, in double, no float term): the float
+/// pass only chooses the cells, and any T can be met.
+///
+/// Beyond that (PointBoxes::Oriented, the default): the pyramid's boxes are oriented, each in the
+/// frame of its cells' mean tangent and normal (point_batch_obb.cpp). An axis-aligned box of a cell
+/// tilted to the axes is as thick as the cell is wide, so a point 5 mm off the 100x105 surface finds
+/// every cell within about one cell width of its distance below its best, and tests them all (90
+/// cells per point on the wave band); an oriented box is as thick as the cell is curved, and the
+/// same points test 5 (the prototype's count over 2000 points; 401 box tests -> 114).
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <glm/vec3.hpp>
+#include <span>
+#include <vector>
+
+#include "gpgpu/gpu.h"
+#include "queries/distance/point_batch_trim.h"
+#include "queries/distance/point_distance.h"
+#include "queries/distance/prepared_model.h"
+
+namespace queries {
+
+/// Relative float slack of the descent (16 float ulp of |q| + the model's radius).
+inline constexpr double kFloatSlack = 0x1.0p-20;
+/// Width of the trimmed cells' header and segment textures (glsl/distance/point_batch_trim.frag u_trim_width).
+inline constexpr int kTrimTextureWidth = 4096;
+
+/// Figures of the last batch.
+struct PointBatchStats {
+  long long points = 0;
+  long long cells_tested = 0;  ///< triangle pairs evaluated by the descent (summed over points)
+  long long fallbacks = 0;     ///< points searched again on the CPU: the winning cell holds no material in double
+  long long trimmed = 0;       ///< points whose winning cell a trim edge crosses (its material part, on the GPU)
+  long long cut = 0;           ///< points whose GPU walk was cut short, descended again by the CPU twin
+  long long refined_cells = 0;  ///< Search::CoarseToFine models: cells the refinement evaluated (summed)
+  double gpu_seconds = 0.0;    ///< upload, descent passes and read-back (0 with BatchEngine::Cpu)
+  double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
+};
+
+/// The best cell of one atlas for one point: triangle distance (+inf: none), the cell's texel,
+/// the cells tested.
+struct BatchCell {
+  double distance = 0.0;
+  int x = -1, y = -1;
+  long long tested = 0;
+  bool cut = false;  ///< the GPU walk was cut short (see glsl/distance/point_batch.frag): not the nearest cell
+};
+
+/// The boxes of the descent's pyramid: axis-aligned (Krishnamurthy et al. §5.1), or oriented.
+enum class PointBoxes { Aabb, Oriented };
+
+/// Where step 2 runs: the GPU pass (glsl/distance/point_batch.frag), or its twin in double (descend_cpu) on
+/// every hardware thread, each point's best distance over the atlases so far pruning the next
+/// atlas's descent. The same pyramid, cells and finishing, the same bound: the CPU engine is for
+/// a GL whose renderer is the CPU itself (llvmpipe), where the float pass is not faster.
+enum class BatchEngine { Gpu, Cpu };
+
+/// The grid tolerance for a batched model whose answers must carry bounds within `tolerance` (T):
+/// T less the float terms of the bound (the largest float budget of the samples and 2 eps for a
+/// point within the model's control box grown by its size), at least T / 2.
+[[nodiscard]] double batch_grid_tolerance(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance);
+
+/// The geometry of a batched query at tolerance T (model units) on atlases of `atlas_side`: faithful
+/// grids (at batch_grid_tolerance) when every face meets it within `max_samples` and fits an atlas
+/// and the whole takes at most `max_bytes` (estimate_batch_bytes), else the coarse grids of
+/// Search::CoarseToFine, whose answers PointBatch refines to T in double (high-degree rational
+/// faces whose Filip bound needs millions of samples a face at T). The choice depends on the model
+/// and T only, never on the points.
+[[nodiscard]] PreparedModel prepare_batch_geometry(const std::vector<nurbs::TrimmedSurface>& faces, double tolerance,
+                                                   long long max_samples, int atlas_side, PointBoxes boxes,
+                                                   long long max_bytes);
+
+/// The float terms of a batched answer's bound at a point p: the largest float budget of the faces'
+/// samples plus 2 eps, eps = kFloatSlack (|p - centre| + radius) (the centre and half diagonal of
+/// the faces' control box, as PointBatch). No tolerance at or below it can be met at p, whatever
+/// the grids: the float arithmetic of the pass, not the sampling, limits the answer there.
+struct BatchFloatFloor {
+  double budget = 0.0, radius = 0.0;
+  glm::dvec3 centre{0.0};
+  explicit BatchFloatFloor(const std::vector<nurbs::TrimmedSurface>& faces);
+  [[nodiscard]] double at(const glm::dvec3& p) const;
+};
+
+/// Bytes a batched query over `m` (prepared by prepare_geometry, no atlases yet) will hold at its
+/// peak, from the atlas plan that prepare_atlases will make with atlases of `atlas_side`: per atlas
+/// texel its samples, masks and indices (GPU and CPU copies), per texel of the pyramid's
+/// levels (padded to powers of two) its boxes (GPU and CPU), plus the GL driver's own. An estimate
+/// for refusing a request that cannot fit before the work, not a measurement.
+[[nodiscard]] long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes);
+
+/// What a PointBatch builds from a prepared model (oriented boxes), to keep between processes
+/// (batch_cache.h): per atlas its plan, the read-back samples, slot indices, masks and crossed
+/// cells, the trimmed cells' data, and the oriented pyramid with its empty texels left out.
+struct PointBatchState {
+  struct Level {
+    std::vector<uint32_t> texels;            ///< the non-empty texels, ascending
+    std::array<std::vector<float>, 3> boxes;  ///< their 4 floats per texture
+  };
+  struct Atlas {
+    AtlasPlan plan;
+    int w0 = 1, h0 = 1, levels = 1;
+    std::vector<float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
+    std::vector<Level> obb;
+  };
+  std::vector<Atlas> atlases;
+};
+
+/// The same arrays as views (save_batch_state writes them): of a live PointBatch (state_view(),
+/// valid while the batch lives; nothing is copied) or of a PointBatchState (view()).
+struct PointBatchStateView {
+  struct Level {
+    std::span<const uint32_t> texels;
+    std::array<std::span<const float>, 3> boxes;
+  };
+  struct Atlas {
+    const AtlasPlan* plan = nullptr;
+    int w0 = 1, h0 = 1, levels = 1;
+    std::span<const float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
+    std::vector<Level> obb;
+  };
+  std::vector<Atlas> atlases;
+};
+[[nodiscard]] PointBatchStateView view(const PointBatchState& state);
+
+/// A model from prepare_geometry with the atlases of `state` restored (plans and samples, uploaded;
+/// their normals, masks and slot textures left empty): what PointBatch(gpu, m, state) needs.
+void restore_atlases(PreparedModel& m, const PointBatchState& state);
+
+class PointBatch {
+ public:
+  /// From a state exported by an earlier PointBatch over the same model (same faces, grids and
+  /// atlas plans; PointBoxes::Oriented): the same pyramid and trimmed cells, uploaded, none built.
+  /// `m` has its atlases from restore_atlases.
+  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state);
+  /// This batch's state (PointBoxes::Oriented only, else std::logic_error): a copy, and views of
+  /// the batch's own arrays (what the disk cache writes while the batch answers points).
+  [[nodiscard]] PointBatchState export_state() const;
+  [[nodiscard]] PointBatchStateView state_view() const;
+
+  /// Builds the pyramids on the GPU (oriented boxes: on the CPU, uploaded) and reads the atlases'
+  /// samples, masks and slot indices back once. `m` (Search::Faithful, or Search::CoarseToFine:
+  /// answers finished by refinement) must outlive this object.
+  PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes = PointBoxes::Oriented);
+
+  /// All points at once (input order kept): distance, closest point, (u, v), face, bound, and
+  /// on_trim_edge as PointDistance has them; `candidates` = cells tested by the descent. More
+  /// points than points_per_pass() go in several passes.
+  ///
+  /// `within` (optional, one per point; <= 0: none): only a point nearer than within[i] is wanted.
+  /// The descent starts with that as its best distance, so it prunes every box beyond it; found
+  /// is false when no cell is nearer. Fast where many cells are nearly equidistant from the point
+  /// (the centre of a sphere, the axis of a cylinder), which the plain query must all visit.
+  std::vector<PointDistance> query(std::span<const glm::dvec3> points, std::span<const double> within = {});
+  /// Whether the pass takes the material part of the cells a trim edge crosses (the default), or
+  /// their whole triangles as the paper's corner test does, the CPU then searching again every
+  /// point whose winner lies in a trimmed region (best first, search_material).
+  void set_trim_on_gpu(bool on) { trim_on_gpu_ = on; }
+  void set_engine(BatchEngine e) { engine_ = e; }
+  /// T > 0: an answer whose bound exceeds T (the float terms grow with the point's distance from
+  /// the model) is refined in double until it meets T, as the answers of Search::CoarseToFine
+  /// models are (point_batch_refine.cpp). 0 (the default): answers keep the pass's bound.
+  void set_refine_tolerance(double t) { refine_to_ = t; }
+  [[nodiscard]] BatchEngine engine() const { return engine_; }
+  [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
+  [[nodiscard]] size_t points_per_pass() const { return points_per_pass_; }
+  void set_points_per_pass(size_t n) { points_per_pass_ = std::max<size_t>(n, 1); }
+  /// Called with (points done, points) after each pass of a query of several passes.
+  void set_progress(std::function<void(size_t, size_t)> f) { progress_ = std::move(f); }
+
+  /// CPU twin in double: the same pyramid built on the CPU from the read-back samples, the same
+  /// descent, the same finishing. The test oracle of query().
+  PointDistance query_cpu(const glm::dvec3& p, double within = 0.0);
+
+  /// Step 2 alone, per atlas then per point: the GPU pass and its twin (tests compare them).
+  std::vector<std::vector<BatchCell>> descend_gpu(std::span<const glm::dvec3> points,
+                                                  std::span<const double> within = {});
+  BatchCell descend_cpu(size_t atlas, const glm::dvec3& p, double within = 0.0);
+
+  /// Level `level` of atlas `a`'s axis-aligned pyramid (PointBoxes::Aabb; with oriented boxes the GPU
+  /// one is not filled), lo (or hi) corners, 4 floats per texel: from the GPU, and the CPU twin's
+  /// (3 floats per texel).
+  [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
+  [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
+  [[nodiscard]] int levels(size_t a) const { return atlases_[a].levels; }
+  [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].level_width(level); }
+  [[nodiscard]] int level_height(size_t a, int level) const { return atlases_[a].level_height(level); }
+
+  /// The part of every bound that does not depend on the point: K_e + float budget (model units;
+  /// with Search::CoarseToFine each answer carries the refinement's bound instead).
+  [[nodiscard]] double model_bound() const { return model_bound_; }
+  /// The float slack eps of the descent for point p (model units).
+  [[nodiscard]] double slack(const glm::dvec3& p) const;
+  [[nodiscard]] const PointBatchStats& stats() const { return stats_; }
+  [[nodiscard]] PointBoxes boxes() const { return boxes_; }
+  /// Level `level` of atlas `a`'s oriented pyramid as uploaded: texture k = 0, 1, 2 holds per texel
+  /// (centre, e0), (axis a0, e1), (axis a2 = normal, e2); a1 = a2 x a0; e0 < 0: empty.
+  [[nodiscard]] std::vector<float> oriented_level(size_t a, int level, int k) const;
+
+ private:
+  struct Atlas {
+    /// The pyramid's shape: level 0 padded to powers of two (w0 x h0), so that every level halves.
+    int w0 = 1, h0 = 1, levels = 1;
+    [[nodiscard]] int level_width(int l) const { return std::max(1, w0 >> l); }
+    [[nodiscard]] int level_height(int l) const { return std::max(1, h0 >> l); }
+    gpgpu::Texture lo, hi;  ///< PointBoxes::Aabb: the axis-aligned pyramid, mip levels (empty otherwise)
+    std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
+    std::vector<float> slot_of;              ///< slot index per texel, -1 outside
+    std::vector<float> mask;                 ///< trim mask per texel, 1 = material
+    std::vector<float> crossed;              ///< 1 where a trim edge crosses the texel's cell (PreparedModel)
+    std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
+    std::vector<std::vector<float>> cpu_hi;
+    std::array<gpgpu::Texture, 3> obb;                       ///< PointBoxes::Oriented: the pyramid, mip levels
+    /// The cells a trim edge crosses (glsl/distance/point_batch_trim.frag): per texel 0 or 1 + header index;
+    /// per header (first segment, crossing segments, pieces, reference side); per segment
+    /// (s0, t0, s1, t1) in unit-cell coordinates, a cell's crossing segments then its pieces.
+    std::vector<float> trim_cell, trim_head, trim_segs;
+    gpgpu::Texture trim_cell_tex, trim_head_tex, trim_segs_tex;
+    /// The oriented pyramid on the CPU, per level only its boxes (most texels of the padded levels
+    /// are empty): the texels that hold one, ascending, the box index of every texel (-1: empty),
+    /// and per box the uploaded texels' 3 x 4 floats.
+    struct ObbLevel {
+      std::vector<int32_t> index;
+      std::vector<uint32_t> texels;
+      std::array<std::vector<float>, 3> boxes;
+    };
+    std::vector<ObbLevel> cpu_obb;
+    bool uploaded = false;  ///< the trim textures and the oriented pyramid are on the GPU (ensure_uploaded)
+  };
+  /// Uploads what the GPU pass of atlas `at` reads and only it does (the trim textures, the oriented
+  /// pyramid), on the first pass: the CPU engine never does.
+  void ensure_uploaded(Atlas& at, size_t a);
+  /// Texture k of a sparse oriented level expanded to its n texels (empty boxes elsewhere).
+  static std::vector<float> expand_level(const Atlas::ObbLevel& level, int k, size_t n);
+  void build_cpu_pyramid(Atlas& at);
+  /// The parts of the constructor that depend on the model alone (bound, trim edges, radius).
+  void init_model();
+  /// Uploads at.trim_cell, trim_head and trim_segs (padding the last two to whole rows).
+  static void upload_trim_textures(Atlas& at, const AtlasPlan& plan);
+  /// Uploads at.cpu_obb into at.obb, level by level expanded to every texel.
+  static void upload_oriented_pyramid(Atlas& at);
+  /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
+  /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
+  [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;
+  /// The sample at texel (x, y) of atlas a as the GPU pass has it: float sample - float origin.
+  [[nodiscard]] glm::dvec3 float_sample(const Atlas& at, size_t a, int x, int y) const;
+  /// PointBoxes::Aabb: the pyramid's boxes on the GPU (aabb_leaf.frag, aabb_merge.frag) into at.lo, at.hi.
+  void build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index);
+  /// PointBoxes::Oriented: builds at.cpu_obb and uploads it into at.obb (point_batch_obb.cpp).
+  void build_oriented_pyramid(Atlas& at, size_t a);
+  /// Distance from q (relative to the float origin) to node (level, x, y) of atlas a's pyramid, in
+  /// double from the stored floats: the boxes the GPU pass reads; +inf for an empty node.
+  [[nodiscard]] double node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const;
+  /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
+  /// `within` > 0: only a point nearer than it is wanted (query's `within`).
+  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
+                       long long& trimmed, double within = 0.0) const;
+  PointDistance search_material(const glm::dvec3& p, double within = 0.0) const;
+  /// The closest material point to p of the cell at texel (x, y) of atlas a, in double: a triangle's
+  /// closest point when material, else the closest point of the cell's trim pieces; found = false
+  /// when the cell holds no material.
+  PointDistance material_cell(const glm::dvec3& p, size_t a, int x, int y) const;
+  /// The points whose hull holds the material part of the cell at texel (x, y) (corners: its float
+  /// samples relative to the origin): its material corners and its trim pieces' ends, mapped onto
+  /// its triangles (each triangle's material part is a polygon with those vertices). All four
+  /// corners for a cell without trim data; none for a cell without material.
+  void material_points(const Atlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
+                       std::vector<glm::dvec3>& out) const;
+  /// Fills at.trim_* for the trimmed faces of atlas a and uploads them.
+  void upload_trim_cells(Atlas& at, size_t a);
+  /// glsl/distance/point_batch_trim.frag trimmed_cell_dist2 in double on the uploaded floats (the twin):
+  /// q and the corners relative to the float origin.
+  [[nodiscard]] double trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
+                                             int header) const;
+  /// The closest point to p of the cell at texel (x, y) of atlas a: of its closer triangle, or of
+  /// `triangle` 0 (corners 0, 1, 3) or 1 (0, 3, 2) alone; `trim_edge`: classify its corners.
+  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true,
+                            int triangle = -1) const;
+  /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
+  FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
+  [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
+  /// Search::CoarseToFine: the answer for p refined from `start` (finish's material point) to T
+  /// (point_batch_refine.cpp); `within` as in query.
+  PointDistance refine(const glm::dvec3& p, const PointDistance& start, double within, double tolerance) const;
+  /// The cells (of every atlas) whose grown boxes lie within `upper` of p, best first; `upper` is
+  /// lowered on the way by the material corners met (point_batch_refine.cpp).
+  void refine_candidates(const glm::dvec3& p, double& upper, std::vector<FaceCell>& out) const;
+
+  gpgpu::Gpu& gpu_;
+  const PreparedModel& m_;
+  std::vector<Atlas> atlases_;
+  std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
+  /// Per face: the float budget of its samples, and that plus its grid's K_e (how far its surface
+  /// may lie from its cells' float triangles); grow_max_ the largest.
+  std::vector<double> budget_, grow_;
+  double grow_max_ = 0.0;
+  double refine_to_ = 0.0;  ///< set_refine_tolerance
+  double model_bound_ = 0.0, radius_ = 0.0;
+  PointBoxes boxes_ = PointBoxes::Oriented;
+  PointBatchStats stats_;
+  size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
+  std::function<void(size_t, size_t)> progress_;
+  bool trim_on_gpu_ = true;
+  BatchEngine engine_ = BatchEngine::Gpu;
+};
+
+}  // namespace queries

@@ -1,0 +1,237 @@
+#include "queries/distance/point_query.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "nurbs/model_ops.h"
+#include "nurbs/request_error.h"
+#include "nurbs/system_memory.h"
+#include "queries/distance/batch_cache.h"
+
+namespace queries {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// The faithful grids of a batched preparation fit this many bytes (and the memory free), else
+/// coarse grids are taken.
+constexpr long long kFaithfulBytes = 1LL << 30;
+
+}  // namespace
+
+BatchEngine choose_engine(EngineChoice choice, const gpgpu::Gpu& gpu) {
+  if (choice == EngineChoice::Gpu) return BatchEngine::Gpu;
+  if (choice == EngineChoice::Cpu) return BatchEngine::Cpu;
+  return gpu.info().software_renderer() ? BatchEngine::Cpu : BatchEngine::Gpu;
+}
+
+const char* engine_name(BatchEngine engine) { return engine == BatchEngine::Cpu ? "cpu" : "gpu"; }
+
+const char* engine_name(EngineChoice choice) {
+  return choice == EngineChoice::Auto ? "auto" : choice == EngineChoice::Cpu ? "cpu" : "gpu";
+}
+
+EngineChoice engine_choice(const std::string& name) {
+  if (name == "auto") return EngineChoice::Auto;
+  if (name == "gpu") return EngineChoice::Gpu;
+  if (name == "cpu") return EngineChoice::Cpu;
+  throw std::invalid_argument("engine '" + name + "': auto, gpu or cpu");
+}
+
+PointQueryOptions PointQueryOptions::paper() const {
+  PointQueryOptions o = *this;
+  o.per_point = true;
+  o.search = Search::Faithful;
+  o.host_cells = 0;
+  return o;
+}
+
+std::vector<nurbs::PaperSwitch> PointQueryOptions::paper_switches() {
+  return {{"per-point", "§3.1"}, {"search", "§3.1, §4"}, {"host-cells", "§3.1"}};
+}
+
+std::string PointQueryResult::failure() const {
+  if (!model_reason.empty()) return model_reason;
+  if (uncertified > 0)
+    return fmt::format("{} of {} answers not certified: {}", uncertified, answers.size(),
+                       *std::find_if(reasons.begin(), reasons.end(), [](const std::string& w) { return !w.empty(); }));
+  if (not_found == 0 && over_tolerance > 0 && widened == over_tolerance)
+    return fmt::format("{} of {} answers with a bound over the tolerance {:.3g} only by the file's edges lying off "
+                       "their faces near them (the edge_gaps; a larger --tol)",
+                       over_tolerance, answers.size(), tolerance);
+  if (not_found > 0 || over_tolerance > 0)
+    return fmt::format(
+        "{} of {} answers not found, {} with a bound over the tolerance {:.3g} (a point far from the model: the "
+        "float slack grows with its distance; a finer --tol or --per-point)",
+        not_found, answers.size(), over_tolerance, tolerance);
+  return {};
+}
+
+PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQueryOptions options)
+    : options_(std::move(options)),
+      model_reason_(model.report.uncertified_reason(options_.accept_partial)),
+      size_(model.checked_size()),
+      faces_(nurbs::world_faces(model.model)),
+      doubts_(faces_),
+      engine_(choose_engine(options_.engine, gpu)) {
+  // The reader's edge gaps widen the bounds near them (nurbs/model_report.h): the query aims that
+  // much below the tolerance, up to half of it, so that an answer beside a gap still meets it.
+  const double tolerance = options_.tolerance * size_;
+  query_tolerance_ = tolerance - std::min(0.5 * tolerance, model.report.largest_gap());
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    if (options_.per_point) {
+      single_.emplace(gpu, faces_, query_tolerance_, options_.max_samples, options_.search);
+      single_->set_host_cells(options_.host_cells);
+    } else {
+      prepare_batched(gpu, model.path, query_tolerance_);
+    }
+  } catch (const GridLimitError& e) {
+    throw nurbs::RequestError(
+        fmt::format("--tol {:g} --max-samples {}: {}", options_.tolerance, options_.max_samples, e.what()));
+  }
+  gpu.finish();
+  prepare_seconds_ = since(t0);
+}
+
+PointQuery::~PointQuery() {
+  if (cache_write_.valid()) cache_write_.wait();
+}
+
+void PointQuery::prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& path, double tolerance) {
+  // Faithful grids within 1 GB (and the memory free), else coarse ones; answers whose bound is
+  // over T refined in double (point_batch.h), so no tolerance is beyond the float pass. Refused
+  // before the work: a preparation larger than the memory this machine has free.
+  const int side = std::min(gpu.info().max_texture_size, kAtlasSide);
+  const long long free = nurbs::available_memory();
+  PreparedModel geometry =
+      prepare_batch_geometry(faces_, tolerance, options_.max_samples, side, options_.boxes,
+                             free > 0 ? std::min(free, kFaithfulBytes) : kFaithfulBytes);
+  const long long need = estimate_batch_bytes(geometry, side, options_.boxes);
+  if (free > 0 && need > free)
+    throw nurbs::RequestError(fmt::format(
+        "--tol {:g}: the grids of {} faces need about {:.1f} GB, and this machine has {:.1f} GB free; a larger --tol",
+        options_.tolerance, faces_.size(), double(need) / 1e9, double(free) / 1e9));
+  // The atlases and the pyramid from the disk cache when an earlier run made them, else built and
+  // stored there.
+  const std::filesystem::path dir = batch_cache_directory();
+  cache_.used = options_.cache && options_.boxes == PointBoxes::Oriented && !gpu.dump_dir() && !dir.empty() &&
+                !path.empty();
+  std::string key;
+  std::optional<PointBatchState> state;
+  if (cache_.used) {
+    const auto c0 = std::chrono::steady_clock::now();
+    key = batch_cache_key(path, geometry.grid_tolerance, options_.max_samples, side, gpu.info().renderer);
+    cache_.file = batch_cache_file(dir, key);
+    BatchCacheRead read = load_batch_state(cache_.file, key);
+    if (read.state && !state_matches(geometry, *read.state))
+      read = {std::nullopt, "its atlases do not match the model's grids"};
+    if (!read.problem.empty() && options_.log)  // rebuilt below and written over it
+      options_.log(fmt::format("warning: the cache file {} is not used: {}; the preparation is rebuilt",
+                               cache_.file.string(), read.problem));
+    cache_.problem = read.problem;
+    state = std::move(read.state);
+    cache_.hit = state.has_value();
+    cache_.read_seconds = since(c0);
+  }
+  if (state) {
+    restore_atlases(geometry, *state);
+    prepared_.emplace(std::move(geometry));
+    batch_.emplace(gpu, *prepared_, std::move(*state));
+  } else {
+    prepare_atlases(gpu, geometry, side);
+    prepared_.emplace(std::move(geometry));
+    batch_.emplace(gpu, *prepared_, options_.boxes);
+    if (cache_.used)  // exported and written on another thread while the points are answered (the
+                      // query reads the batch's atlases and pyramid, never changes them)
+      cache_write_ = std::async(std::launch::async, [&b = *batch_, file = cache_.file, key] {
+        const auto c0 = std::chrono::steady_clock::now();
+        std::string why = save_batch_state(file, key, b.state_view());
+        return std::pair{why, since(c0)};
+      });
+  }
+  batch_->set_engine(engine_);
+  batch_->set_refine_tolerance(tolerance);
+}
+
+void PointQuery::finish_cache_write() {
+  if (!cache_write_.valid()) return;
+  const auto [why, seconds] = cache_write_.get();
+  cache_.write_problem = why;
+  cache_.write_seconds = seconds;
+  if (!why.empty() && options_.log) options_.log(fmt::format("the preparation is not cached: {}", why));
+}
+
+Search PointQuery::grids() const { return prepared_ ? prepared_->search : single_->model().search; }
+
+long long PointQuery::samples() const {
+  long long n = 0;
+  for (const auto& g : prepared_ ? prepared_->grids : single_->grids()) n += g.grid.samples();
+  return n;
+}
+
+const PointBatchStats& PointQuery::stats() const {
+  static const PointBatchStats none;
+  return batch_ ? batch_->stats() : none;
+}
+
+PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
+  PointQueryResult out;
+  out.tolerance = options_.tolerance * size_;
+  out.model_reason = model_reason_;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (batch_) {
+    // Long work shows: the preparation once it took a second, then the points pass by pass
+    // (passes of at least 65536 points: llvmpipe spreads a pass's 64 x 64 tiles over its threads,
+    // and a pass of 4096 points is one tile, one thread: 2x slower in all).
+    if (prepare_seconds_ >= 1.0 && options_.log)
+      options_.log(fmt::format("{} faces prepared in {:.1f} s; {} points", faces_.size(), prepare_seconds_,
+                               points.size()));
+    batch_->set_points_per_pass(std::max<size_t>(65536, (points.size() + 7) / 8));
+    batch_->set_progress(options_.progress);
+    out.answers = batch_->query(points);
+  } else {
+    out.answers.reserve(points.size());
+    for (size_t k = 0; k < points.size(); ++k) {
+      out.answers.push_back(single_->query(points[k]));
+      if (options_.progress && k % 100 == 0) options_.progress(k, points.size());
+    }
+    if (options_.progress) options_.progress(points.size(), points.size());
+  }
+  out.seconds = since(t0);
+  finish_cache_write();
+  // An answer is a distance only with a face and finite figures: anything else is not found,
+  // never a distance.
+  for (auto& r : out.answers)
+    if (r.found && (r.face < 0 || !std::isfinite(r.distance) || !std::isfinite(r.bound))) r.found = false;
+  // The reader's doubts (nurbs/model_report.h): a face within reach whose edges lie off its surface
+  // widens the bound by the gap; one whose trim could not be made valid, or a model that lost faces,
+  // leaves the answer uncertified.
+  out.reasons.resize(out.answers.size());
+  const double T = out.tolerance;
+  for (size_t k = 0; k < out.answers.size(); ++k) {
+    auto& r = out.answers[k];
+    if (!r.found) continue;
+    const nurbs::FaceDoubts::Verdict v = doubts_.at(points[k], r.distance, r.bound);
+    r.bound += v.widen;
+    out.widened += v.widen > 0.0 && within_tolerance(r.bound - v.widen, T) && !within_tolerance(r.bound, T);
+    out.reasons[k] = !model_reason_.empty() ? model_reason_ : v.reason;
+    if (!out.reasons[k].empty()) r.meets_tolerance = false;
+  }
+  for (size_t k = 0; k < out.answers.size(); ++k) {
+    const auto& r = out.answers[k];
+    out.uncertified += !out.reasons[k].empty();
+    out.not_found += !r.found;
+    out.over_tolerance += r.found && out.reasons[k].empty() && !meets_tolerance(r, T);
+  }
+  return out;
+}
+
+}  // namespace queries

@@ -1,0 +1,113 @@
+#include "queries/raycast/ray_caster.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+
+#include "nurbs/parallel.h"
+#include "nurbs/raycast/thickness.h"
+#include "queries/raycast/raycast_gpu.h"
+
+namespace queries {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// DACRT keeps no structure: each thread takes a contiguous part of the rays.
+std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, const std::vector<nurbs::ray::Ray>& rays,
+                                            double t_min, int threads, const nurbs::ray::DacrtOptions& options,
+                                            RayCasterFigures& f) {
+  std::vector<std::vector<nurbs::ray::Hit>> parts(static_cast<size_t>(threads));
+  std::vector<nurbs::ray::DacrtStats> stats(static_cast<size_t>(threads));
+  std::vector<std::thread> pool;
+  const size_t per = (rays.size() + size_t(threads) - 1) / size_t(threads);
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      const size_t a = std::min(rays.size(), size_t(t) * per), b = std::min(rays.size(), a + per);
+      const std::vector<nurbs::ray::Ray> part(rays.begin() + long(a), rays.begin() + long(b));
+      parts[size_t(t)] = nurbs::ray::cast_rays_dacrt(scene, part, t_min, options, &stats[size_t(t)]);
+    });
+  for (auto& t : pool) t.join();
+  std::vector<nurbs::ray::Hit> hits;
+  for (int t = 0; t < threads; ++t) {
+    hits.insert(hits.end(), parts[size_t(t)].begin(), parts[size_t(t)].end());
+    f.box_tests += stats[size_t(t)].box_tests;
+    f.patch_tests += stats[size_t(t)].patch_tests;
+  }
+  return hits;
+}
+
+}  // namespace
+
+RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOptions& options, gpgpu::Gpu* gpu)
+    : options_(options) {
+  if (gpu && options.method != RayMethod::Bvh) throw std::invalid_argument("RayCaster: only the BVH runs on the GPU");
+  const auto start = std::chrono::steady_clock::now();
+  nurbs::ray::SceneOptions o;
+  o.tolerance = options.tolerance;
+  if (gpu) o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
+  scene_ = nurbs::ray::build_scene(std::move(faces), o);
+  if (gpu) {
+    gpu_caster_ = std::make_unique<GpuRaycaster>(*gpu, scene_, options.bvh_build);
+    gpu_caster_->set_threads(options.threads);  // its hits finished in double on the CPU
+    figures_.bvh_gpu_seconds = gpu_caster_->build_stats().seconds;
+    figures_.bvh_gpu_passes = gpu_caster_->build_stats().passes;
+  } else {
+    figures_.bytes_bvh = options.method == RayMethod::Bvh ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0;
+    figures_.bytes_patches = scene_.patches.size() * sizeof(nurbs::ray::BicubicPatch);
+    for (const auto& t : scene_.trims)
+      for (const auto& l : t.loops) figures_.bytes_trims += l.size() * sizeof(glm::dvec2);
+  }
+  figures_.build_seconds = seconds_since(start);
+}
+
+RayCaster::~RayCaster() = default;
+
+void RayCaster::rays_start_on_surfaces() {
+  if (!gpu_caster_) return;
+  figures_.near_guard = 4.0 * options_.tolerance * scene_.size;
+  gpu_caster_->set_near_guard(figures_.near_guard);
+  gpu_caster_->set_recast_misses(true);
+}
+
+std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min,
+                                             const std::function<void(long long, long long)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<nurbs::ray::Hit> out;
+  out.reserve(rays.size());
+  const size_t chunk_rays = gpu_caster_ ? gpu_caster_->rays_per_pass() : size_t(1) << 14;
+  const int threads = nurbs::thread_count(options_.threads);
+  RayCasterFigures& f = figures_;
+  for (size_t first = 0; first < rays.size(); first += chunk_rays) {
+    const std::vector<nurbs::ray::Ray> chunk(rays.begin() + long(first),
+                                             rays.begin() + long(std::min(rays.size(), first + chunk_rays)));
+    std::vector<nurbs::ray::Hit> hits;
+    if (gpu_caster_) {
+      hits = gpu_caster_->cast(chunk, t_min);
+      const RaycastGpuStats& g = gpu_caster_->stats();  // of this cast
+      f.box_tests += g.box_tests;
+      f.patch_tests += g.patch_tests;
+      f.gpu_seconds += g.gpu_seconds;
+      f.finish_seconds += g.cpu_seconds;
+      f.fallbacks += g.fallbacks;
+      f.bytes_bvh = g.bytes_bvh, f.bytes_patches = g.bytes_patches, f.bytes_trims = g.bytes_trims;
+    } else if (options_.method == RayMethod::Dacrt) {
+      hits = dacrt_parallel(scene_, chunk, t_min, threads, options_.dacrt, f);
+    } else {
+      nurbs::ray::TraversalStats stats;
+      hits = nurbs::ray::cast_rays_parallel(scene_, chunk, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);
+      f.box_tests += stats.box_tests;
+      f.patch_tests += stats.patch_tests;
+    }
+    out.insert(out.end(), hits.begin(), hits.end());
+    if (progress) progress(static_cast<long long>(out.size()), static_cast<long long>(rays.size()));
+  }
+  f.rays += static_cast<long long>(rays.size());
+  f.cast_seconds += seconds_since(start);
+  return out;
+}
+
+}  // namespace queries

@@ -1,0 +1,73 @@
+#pragma once
+/// \file ray_caster.h
+/// Ray casting of a model, as the CLI, the viewer and the experiments use it: the scene
+/// built once (Lemasson et al. §3.1-3.2: bicubic patches, trims, BVH), then batches of rays cast
+/// by the BVH or DACRT method on the CPU (double, every core; nurbs/raycast/) or by the fragment-
+/// shader pass (raycast_gpu.h, BVH only), in chunks, with progress and the paper's figures (tests
+/// per ray, Fig. 7; memory, Fig. 11).
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "gpgpu/gpu.h"
+#include "nurbs/raycast/dacrt.h"
+#include "nurbs/raycast/raycast_cpu.h"
+#include "queries/raycast/raycast_gpu.h"
+
+namespace queries {
+
+enum class RayMethod { Bvh, Dacrt };
+
+struct RayCasterOptions {
+  RayMethod method = RayMethod::Bvh;
+  int threads = 0;                     ///< CPU threads, 0 = every hardware thread
+  double tolerance = 1e-5;             ///< bicubic tolerance relative to the model size
+  nurbs::ray::DacrtOptions dacrt;      ///< DACRT's two brute-force thresholds (patches, rays)
+  BvhBuild bvh_build = BvhBuild::Cpu;  ///< GPU path: the scene's BVH, or one built on the GPU (§3.2)
+};
+
+/// Totals over every cast so far.
+struct RayCasterFigures {
+  double build_seconds = 0.0, cast_seconds = 0.0;
+  double gpu_seconds = 0.0, finish_seconds = 0.0;  ///< GPU: the passes, and the finishing in double
+  double near_guard = 0.0;                         ///< see rays_start_on_surfaces
+  double bvh_gpu_seconds = 0.0;                    ///< BvhBuild::Gpu: the build on the GPU (in build_seconds)
+  int bvh_gpu_passes = 0;
+  long long rays = 0, box_tests = 0, patch_tests = 0, fallbacks = 0;
+  size_t bytes_bvh = 0, bytes_patches = 0, bytes_trims = 0;  ///< GPU textures, or the CPU tables
+};
+
+class RayCaster {
+ public:
+  /// The CPU path when `gpu` is null, else the GPU pass (which must outlive this object); the GPU
+  /// tests trims on the §3.4 cubics, the CPU on the exact flattened loops. Throws
+  /// std::invalid_argument for DACRT on the GPU.
+  RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOptions& options, gpgpu::Gpu* gpu = nullptr);
+  ~RayCaster();
+  RayCaster(const RayCaster&) = delete;
+  RayCaster& operator=(const RayCaster&) = delete;
+
+  /// Nearest hits (t > t_min) of every ray (unit directions), input order kept. `progress`
+  /// (optional) is called with (rays done, rays) after every chunk.
+  std::vector<nurbs::ray::Hit> cast(const std::vector<nurbs::ray::Ray>& rays, double t_min,
+                                    const std::function<void(long long, long long)>& progress = {});
+
+  /// For rays that start on the surface (thickness): the GPU pass ignores hits within 4 x the
+  /// bicubic tolerance of the origin (its own face; raycast_gpu.h), else every such ray would go
+  /// back to the CPU; a ray it finds no hit for is cast again on the CPU (a ray from inside a solid
+  /// must leave it: a grazing hit at an edge can hide from the float pass). Walls thinner than the
+  /// guard are not seen on the GPU where a farther hit exists. No effect on the CPU.
+  void rays_start_on_surfaces();
+
+  [[nodiscard]] const nurbs::ray::Scene& scene() const { return scene_; }
+  [[nodiscard]] bool on_gpu() const { return gpu_caster_ != nullptr; }
+  [[nodiscard]] const RayCasterFigures& figures() const { return figures_; }
+
+ private:
+  RayCasterOptions options_;
+  nurbs::ray::Scene scene_;
+  std::unique_ptr<GpuRaycaster> gpu_caster_;
+  RayCasterFigures figures_;
+};
+
+}  // namespace queries
