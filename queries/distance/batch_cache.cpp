@@ -49,6 +49,7 @@ uint64_t avalanche(uint64_t x) {
 class Checksum {
  public:
   void update(const void* data, size_t n) {
+    if (n == 0) return;  // an empty array's data() may be null, which memcpy must not get
     const auto* p = static_cast<const unsigned char*>(data);
     length_ += n;
     if (fill_ > 0) {

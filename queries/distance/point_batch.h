@@ -55,6 +55,8 @@
 
 #include "gpgpu/gpu.h"
 #include "queries/distance/point_batch_trim.h"
+#include "queries/distance/point_batch_atlas.h"
+#include "queries/distance/point_batch_state.h"
 #include "queries/distance/point_distance.h"
 #include "queries/distance/prepared_model.h"
 
@@ -128,44 +130,6 @@ struct BatchFloatFloor {
 /// for refusing a request that cannot fit before the work, not a measurement.
 [[nodiscard]] long long estimate_batch_bytes(const PreparedModel& m, int atlas_side, PointBoxes boxes);
 
-/// What a PointBatch builds from a prepared model (oriented boxes), to keep between processes
-/// (batch_cache.h): per atlas its plan, the read-back samples, slot indices, masks and crossed
-/// cells, the trimmed cells' data, and the oriented pyramid with its empty texels left out.
-struct PointBatchState {
-  struct Level {
-    std::vector<uint32_t> texels;            ///< the non-empty texels, ascending
-    std::array<std::vector<float>, 3> boxes;  ///< their 4 floats per texture
-  };
-  struct Atlas {
-    AtlasPlan plan;
-    int w0 = 1, h0 = 1, levels = 1;
-    std::vector<float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
-    std::vector<Level> obb;
-  };
-  std::vector<Atlas> atlases;
-};
-
-/// The same arrays as views (save_batch_state writes them): of a live PointBatch (state_view(),
-/// valid while the batch lives; nothing is copied) or of a PointBatchState (view()).
-struct PointBatchStateView {
-  struct Level {
-    std::span<const uint32_t> texels;
-    std::array<std::span<const float>, 3> boxes;
-  };
-  struct Atlas {
-    const AtlasPlan* plan = nullptr;
-    int w0 = 1, h0 = 1, levels = 1;
-    std::span<const float> samples, slot_of, mask, crossed, trim_cell, trim_head, trim_segs;
-    std::vector<Level> obb;
-  };
-  std::vector<Atlas> atlases;
-};
-[[nodiscard]] PointBatchStateView view(const PointBatchState& state);
-
-/// A model from prepare_geometry with the atlases of `state` restored (plans and samples, uploaded;
-/// their normals, masks and slot textures left empty): what PointBatch(gpu, m, state) needs.
-void restore_atlases(PreparedModel& m, const PointBatchState& state);
-
 class PointBatch {
  public:
   /// From a state exported by an earlier PointBatch over the same model (same faces, grids and
@@ -237,47 +201,13 @@ class PointBatch {
   [[nodiscard]] std::vector<float> oriented_level(size_t a, int level, int k) const;
 
  private:
-  struct Atlas {
-    /// The pyramid's shape: level 0 padded to powers of two (w0 x h0), so that every level halves.
-    int w0 = 1, h0 = 1, levels = 1;
-    [[nodiscard]] int level_width(int l) const { return std::max(1, w0 >> l); }
-    [[nodiscard]] int level_height(int l) const { return std::max(1, h0 >> l); }
-    gpgpu::Texture lo, hi;  ///< PointBoxes::Aabb: the axis-aligned pyramid, mip levels (empty otherwise)
-    std::vector<float> samples;              ///< RGBA per atlas texel (model coordinates, float)
-    std::vector<float> slot_of;              ///< slot index per texel, -1 outside
-    std::vector<float> mask;                 ///< trim mask per texel, 1 = material
-    std::vector<float> crossed;              ///< 1 where a trim edge crosses the texel's cell (PreparedModel)
-    std::vector<std::vector<float>> cpu_lo;  ///< the twin's pyramid (built on first use), xyz
-    std::vector<std::vector<float>> cpu_hi;
-    std::array<gpgpu::Texture, 3> obb;                       ///< PointBoxes::Oriented: the pyramid, mip levels
-    /// The cells a trim edge crosses (glsl/distance/point_batch_trim.frag): per texel 0 or 1 + header index;
-    /// per header (first segment, crossing segments, pieces, reference side); per segment
-    /// (s0, t0, s1, t1) in unit-cell coordinates, a cell's crossing segments then its pieces.
-    std::vector<float> trim_cell, trim_head, trim_segs;
-    gpgpu::Texture trim_cell_tex, trim_head_tex, trim_segs_tex;
-    /// The oriented pyramid on the CPU, per level only its boxes (most texels of the padded levels
-    /// are empty): the texels that hold one, ascending, the box index of every texel (-1: empty),
-    /// and per box the uploaded texels' 3 x 4 floats.
-    struct ObbLevel {
-      std::vector<int32_t> index;
-      std::vector<uint32_t> texels;
-      std::array<std::vector<float>, 3> boxes;
-    };
-    std::vector<ObbLevel> cpu_obb;
-    bool uploaded = false;  ///< the trim textures and the oriented pyramid are on the GPU (ensure_uploaded)
-  };
+  using Atlas = BatchAtlas;
   /// Uploads what the GPU pass of atlas `at` reads and only it does (the trim textures, the oriented
   /// pyramid), on the first pass: the CPU engine never does.
   void ensure_uploaded(Atlas& at, size_t a);
-  /// Texture k of a sparse oriented level expanded to its n texels (empty boxes elsewhere).
-  static std::vector<float> expand_level(const Atlas::ObbLevel& level, int k, size_t n);
   void build_cpu_pyramid(Atlas& at);
   /// The parts of the constructor that depend on the model alone (bound, trim edges, radius).
   void init_model();
-  /// Uploads at.trim_cell, trim_head and trim_segs (padding the last two to whole rows).
-  static void upload_trim_textures(Atlas& at, const AtlasPlan& plan);
-  /// Uploads at.cpu_obb into at.obb, level by level expanded to every texel.
-  static void upload_oriented_pyramid(Atlas& at);
   /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
   /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
   [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;

@@ -12,6 +12,7 @@
 
 #include "nurbs/parallel.h"
 #include "queries/distance/point_batch.h"
+#include "queries/distance/cell_triangles.h"
 
 namespace queries {
 namespace {
@@ -142,11 +143,11 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
                                         at.trim_head.size() / 4, at.trim_segs.size() / 4));
 }
 
-void PointBatch::upload_trim_textures(Atlas& at, const AtlasPlan& plan) {
-  at.trim_cell_tex = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R32F);
-  at.trim_cell_tex.upload(at.trim_cell);
-  at.trim_head_tex = rows_texture(at.trim_head);
-  at.trim_segs_tex = rows_texture(at.trim_segs);
+void BatchAtlas::upload_trim_textures(const AtlasPlan& plan) {
+  trim_cell_tex = gpgpu::Texture(plan.width, plan.height, gpgpu::Format::R32F);
+  trim_cell_tex.upload(trim_cell);
+  trim_head_tex = rows_texture(trim_head);
+  trim_segs_tex = rows_texture(trim_segs);
 }
 
 double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
@@ -154,10 +155,12 @@ double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, c
   const float* head = &at.trim_head[4 * size_t(header)];
   double best = kInf;
   glm::dvec3 w;
-  const glm::dvec3 p0 = closest_on_triangle(q, c[0], c[1], c[3], w);  // triangle (0, 1, 3): (s, t) = (w1 + w2, w2)
+  // The cell's triangles (cell_triangles.h): on triangle 0, (s, t) = (w1 + w2, w2); on 1, (w1, w1 + w2).
+  constexpr auto& T = kCellTriangle;
+  const glm::dvec3 p0 = closest_on_triangle(q, c[T[0][0]], c[T[0][1]], c[T[0][2]], w);
   const double d0 = glm::length(p0 - q);
   if (trim_material({w.y + w.z, w.z}, head, at.trim_segs)) best = d0;
-  const glm::dvec3 p1 = closest_on_triangle(q, c[0], c[3], c[2], w);  // triangle (0, 3, 2): (s, t) = (w1, w1 + w2)
+  const glm::dvec3 p1 = closest_on_triangle(q, c[T[1][0]], c[T[1][1]], c[T[1][2]], w);
   const double d1 = glm::length(p1 - q);
   if (trim_material({w.y, w.y + w.z}, head, at.trim_segs)) best = std::min(best, d1);
   // A piece lies on its triangle, no nearer than the triangle's closest point: the pieces of a

@@ -120,7 +120,7 @@ Box load(const std::array<std::vector<float>, 3>& in, size_t i) {
 
 /// Texture k of a sparse level expanded to its n texels: the stored boxes, every other texel an
 /// empty Box (what the GPU pass reads).
-std::vector<float> PointBatch::expand_level(const Atlas::ObbLevel& level, int k, size_t n) {
+std::vector<float> BatchAtlas::expand_level(const ObbLevel& level, int k, size_t n) {
   const Box none;
   std::array<std::vector<float>, 3> one;
   for (auto& v : one) v.resize(4);
@@ -218,19 +218,18 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
   }
 }
 
-void PointBatch::upload_oriented_pyramid(Atlas& at) {
-  for (int k = 0; k < 3; ++k) at.obb[size_t(k)] = gpgpu::Texture(at.w0, at.h0, gpgpu::Format::RGBA32F, at.levels);
-  for (int l = 0; l < at.levels; ++l)
+void BatchAtlas::upload_oriented_pyramid() {
+  for (int k = 0; k < 3; ++k) obb[size_t(k)] = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
+  for (int l = 0; l < levels; ++l)
     for (int k = 0; k < 3; ++k) {
-      std::vector<float> level =
-          expand_level(at.cpu_obb[size_t(l)], k, size_t(at.level_width(l)) * size_t(at.level_height(l)));
-      at.obb[size_t(k)].upload_level(l, level);
+      std::vector<float> level = expand_level(cpu_obb[size_t(l)], k, size_t(level_width(l)) * size_t(level_height(l)));
+      obb[size_t(k)].upload_level(l, level);
     }
 }
 
 std::vector<float> PointBatch::oriented_level(size_t a, int level, int k) const {
   const Atlas& at = atlases_[a];
-  return expand_level(at.cpu_obb[size_t(level)], k, size_t(at.level_width(level)) * size_t(at.level_height(level)));
+  return BatchAtlas::expand_level(at.cpu_obb[size_t(level)], k, size_t(at.level_width(level)) * size_t(at.level_height(level)));
 }
 
 }  // namespace queries
