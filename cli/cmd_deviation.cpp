@@ -42,7 +42,7 @@ void run(const GlobalOptions& global, const DeviationArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const LoadedModel loaded = load_model(a.model, "deviation");
   const nurbs::Model& model = loaded.model;
-  const double size = checked_model_size(model, a.model);
+  const double size = nurbs::checked_model_size(model, a.model);
   const double eps = a.relative ? a.eps * size : a.eps;
   if (a.eps_given && (!(eps > 0) || !std::isfinite(eps)))
     throw BadInput(fmt::format("--eps: {} is not a positive tolerance", eps));

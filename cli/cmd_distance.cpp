@@ -123,7 +123,6 @@ void run(const GlobalOptions& global, const Options& o) {
   if (o.point.empty() == o.points.empty()) throw BadInput("give exactly one of --point X,Y,Z and --points FILE");
   const LoadedModel loaded = load_model(o.path, "distance");
   const double limit = nurbs::coordinate_limit(nurbs::model_box(loaded.model));
-  checked_model_size(loaded.model, o.path);
   const std::vector<glm::dvec3> points =
       o.point.empty() ? nurbs::io::parse_points(read_input_text(o.points, "--points"), o.points, limit)
                       : std::vector{nurbs::io::parse_point(o.point, "--point", limit)};

@@ -233,7 +233,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const LoadedModel loaded = load_model(o.path, "evaluate");
   const nurbs::Model& model = loaded.model;
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(model);
-  const double size = checked_model_size(model, o.path);
+  const double size = nurbs::checked_model_size(model, o.path);
   std::vector<int> chosen = o.faces;
   for (int index : chosen)
     if (index < 0 || index >= int(faces.size()))

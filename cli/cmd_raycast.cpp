@@ -26,7 +26,7 @@ struct RaycastArgs {
 void run(const GlobalOptions& global, const RaycastArgs& a) {
   const LoadedModel loaded = load_model(a.model, "raycast");
   const nurbs::Model& model = loaded.model;
-  (void)checked_model_size(model, a.model);
+  (void)nurbs::checked_model_size(model, a.model);
   // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may hide or add a hit
   // anywhere; an edge gap widens where a hit near an edge lies.
   const double gap = loaded.report.largest_gap();

@@ -90,13 +90,6 @@ void report_profile(gpgpu::Gpu& gpu, const GlobalOptions& options) {
   fmt::print(stderr, "\n{}", gpu.profiler().table());
 }
 
-double checked_model_size(const nurbs::Model& model, const std::string& path) {
-  const double size = nurbs::model_size(model);
-  if (const auto problems = nurbs::validate_model_size(size); !problems.empty())
-    throw BadInput(fmt::format("{}: {}", path, problems.front()));
-  return size;
-}
-
 CommandProgress command_progress(const std::string& command, const std::string& unit) {
   auto bar = std::make_shared<Progress>(command, unit);
   return {[bar](size_t done, size_t total) { bar->update((long long)done, (long long)total); },

@@ -83,10 +83,6 @@ class Progress {
   bool shown_ = false;
 };
 
-/// nurbs::model_size of the model read from `path`, refused as bad input (BadInput naming the
-/// file) when no tolerance can refer to it (nurbs::validate_model_size).
-double checked_model_size(const nurbs::Model& model, const std::string& path);
-
 /// An options value that steers a library query to a person watching: progress of `unit` on stderr
 /// (Progress) and the query's lines prefixed by `command`.
 struct CommandProgress {

@@ -195,7 +195,7 @@ FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {
   return v;
 }
 
-double LoadedModel::checked_size() const {
+double checked_model_size(const Model& model, const std::filesystem::path& path) {
   const double size = model_size(model);
   if (const auto problems = validate_model_size(size); !problems.empty())
     throw RequestError(fmt::format("{}: {}", path.string(), problems.front()));

@@ -58,6 +58,10 @@ struct ModelReport {
 /// The report of `model` as read (faces indexed as world_faces(model) lists them).
 [[nodiscard]] ModelReport model_report(const Model& model);
 
+/// model_size(model), or RequestError "PATH: PROBLEM" when no tolerance can refer to it
+/// (validate_model_size); `path` names the model in the message.
+[[nodiscard]] double checked_model_size(const Model& model, const std::filesystem::path& path);
+
 /// A model with its reader's report and the file it came from: what every query's front door takes
 /// (nurbs::io::load_model reads one).
 struct LoadedModel {
@@ -65,9 +69,8 @@ struct LoadedModel {
   ModelReport report;
   std::filesystem::path path;  ///< the file read; empty for a model built in memory (no disk cache)
 
-  /// model_size(model), or RequestError "PATH: PROBLEM" when no tolerance can refer to it
-  /// (validate_model_size).
-  [[nodiscard]] double checked_size() const;
+  /// checked_model_size(model, path).
+  [[nodiscard]] double checked_size() const { return checked_model_size(model, path); }
 };
 
 /// The doubtful faces of a face list, by box, for deciding per answer which of them it may depend

@@ -10,7 +10,7 @@
 // llvmpipe ends an invocation's loops after 65535 iterations in all, which a point equidistant
 // from a large part of the model (the centre of a sphere: every cell within the best distance)
 // reaches; the answer is then not the nearest, and the CPU searches that point again. Every triangle lies in its cell's box, so the pruning never drops a closer
-// triangle; the CPU twin is queries/distance/point_batch_cpu.cpp PointBatch::descend_cpu().
+// triangle; the CPU twin is descend_cpu() in queries/distance/point_batch_descent.h.
 #include "point_batch_triangle.frag"
 #include "point_batch_trim.frag"
 

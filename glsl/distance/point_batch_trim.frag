@@ -3,8 +3,8 @@
 // two triangles, so that the descent ends at the closest material point and not at a trimmed one.
 // The closest material point of a triangle is its closest point when that is material, else a
 // point of a trim-edge piece inside it (the distance is convex on a triangle); the cell's edges
-// are its neighbours'. The CPU twin is PointBatch::trimmed_cell_distance (point_batch_cpu.cpp),
-// the per-cell data queries/distance/point_batch.cpp upload_trim_cells.
+// are its neighbours'. The CPU twin is BatchGeometry::trimmed_cell_distance (point_batch_cells.cpp),
+// the per-cell data PointBatch::upload_trim_cells (point_batch_cells.cpp).
 uniform sampler2D u_trim_cell;  // R32F per atlas texel: 0, or 1 + the index of its cell's header
 uniform sampler2D u_trim_head;  // RGBA32F: (first segment, crossing segments, pieces, reference side)
 uniform sampler2D u_trim_segs;  // RGBA32F: (s0, t0, s1, t1) in unit-cell coordinates

@@ -9,16 +9,9 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/stopwatch.h"
 
 namespace nurbs::tess {
-
-namespace {
-
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-}  // namespace
 
 ModelMeshOptions ModelMeshOptions::paper() const {
   ModelMeshOptions o = *this;
@@ -109,10 +102,10 @@ ModelMesh mesh_model(const LoadedModel& loaded, const ModelMeshOptions& options)
   if (out.guaranteed) {
     auto t0 = std::chrono::steady_clock::now();
     out.off_surface = triangles_off_surface(faces, r.mesh, eps);
-    out.surface_check_seconds = since(t0);
+    out.surface_check_seconds = nurbs::seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     out.outside = triangles_outside_trim(faces, r.mesh, eps);
-    out.trim_check_seconds = since(t0);
+    out.trim_check_seconds = nurbs::seconds_since(t0);
   }
   // Watertight: the mesh's shared boundary vertices made one (welded as the tessellator welds
   // them), and its edges counted as they are. Otherwise each face keeps its vertices, and the count

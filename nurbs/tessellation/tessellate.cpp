@@ -23,13 +23,12 @@
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/triangulate.h"
 #include "nurbs/tessellation/watertight.h"
+#include "nurbs/stopwatch.h"
 
 namespace nurbs::tess {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
 /// One face's mesh and figures, merged in face order afterwards.
 struct FaceOut {
   FaceMesh mesh;
@@ -115,7 +114,7 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   out.stats.cells = cs.leaves;
   out.stats.cell_nodes = cs.nodes;
   out.stats.unconverged_cells = cs.unconverged;
-  out.stats.seconds_surface = since(t);
+  out.stats.seconds_surface = nurbs::seconds_since(t);
   if (guaranteed && cs.unconverged > 0)  // the mesh is still made, but not within eps
     out.failure = fmt::format(
         "the surface subdivision stopped at its limit ({} nodes, depth {}) with {} cells "
@@ -125,12 +124,12 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   // §6 trimming, §7 triangulation.
   t = Clock::now();
   const TrimmedPolygons polys = trim_cells(cells, loops);
-  out.stats.seconds_trimming = since(t);
+  out.stats.seconds_trimming = nurbs::seconds_since(t);
   t = Clock::now();
   TriangulationStats ts;
   std::vector<glm::ivec3> tris = triangulate_polygons(polys, &ts);
   out.stats.degenerate_triangles = ts.degenerate_triangles;
-  out.stats.seconds_triangulation = since(t);
+  out.stats.seconds_triangulation = nurbs::seconds_since(t);
   if (tris.empty()) {
     out.failure = "trimming left no material polygon";
     return out;
@@ -169,7 +168,7 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
     for (glm::dvec3& n : m.normal) n = -n;
   }
   m.triangles = std::move(tris);
-  out.stats.seconds_evaluation = since(t);
+  out.stats.seconds_evaluation = nurbs::seconds_since(t);
   out.stats.triangles = (long long)m.triangles.size();
   out.stats.vertices = (long long)m.uv.size();
   return out;
@@ -310,7 +309,7 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   s.failed_faces = int(r.failures.size());
   s.triangles = (long long)mesh.triangles.size();
   s.vertices = (long long)mesh.positions.size();
-  s.seconds = since(start);
+  s.seconds = nurbs::seconds_since(start);
   return r;
 }
 

@@ -12,14 +12,11 @@
 #include "nurbs/request_error.h"
 #include "queries/distance/face_cull.h"
 #include "queries/distance/refine.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 
 namespace {
-
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// `model` with only the body `spec` names (its index as the model lists them, or its name);
 /// `model` itself when `spec` is empty. `option` and `file` name the request in the error.
@@ -114,12 +111,9 @@ ClearancePair::ClearancePair(const nurbs::LoadedModel& a, const nurbs::LoadedMod
   if (b || options_.body_b != options_.body_a)
     b_ = select_body(b ? b->model : a.model, options_.body_b, "--body-b", file_b);
   const nurbs::Model& mb = model_b();
-  const auto checked = [](const nurbs::Model& m, const std::string& file) {
-    return nurbs::LoadedModel{m, {}, file}.checked_size();
-  };
   const double scale_b = mb.unit_scale_to_mm / a_.unit_scale_to_mm;  // B in A's unit
-  const double size_a = checked(a_, file_a);
-  size_ = b_ ? std::max(size_a, checked(mb, file_b) * scale_b) : size_a;
+  const double size_a = nurbs::checked_model_size(a_, file_a);
+  size_ = b_ ? std::max(size_a, nurbs::checked_model_size(mb, file_b) * scale_b) : size_a;
   move_limit_ = nurbs::coordinate_limit(nurbs::model_box(a_)) + scale_b * nurbs::coordinate_limit(nurbs::model_box(mb));
   tolerance_ = options_.tolerance * size_;
   const nurbs::ModelReport& report_b = b ? b->report : a.report;
@@ -175,7 +169,7 @@ void ClearancePair::prepare(std::span<const glm::dmat4> frames) {
     keep(fa_, index_a_, cull.keep_a), keep(fb_, index_b_, cull.keep_b);
     cull_.faces_a = fa_.size(), cull_.faces_b = fb_.size(), cull_.face_pairs = cull.pairs;
     cull_.upper = cull.upper;
-    cull_.seconds = since(c0);
+    cull_.seconds = nurbs::seconds_since(c0);
   }
   trimmed_ = any_trimmed(fa_) || any_trimmed(fb_);
   // The search on the CPU alone (coarse grids, the cell pairs within an upper bound refined in
@@ -220,7 +214,7 @@ void ClearancePair::prepare(std::span<const glm::dmat4> frames) {
     voxels_b_ = voxelize(pair_.b, {options_.voxels});
   }
   if (gpu_) gpu_->finish();
-  prepare_seconds_ = since(t0);
+  prepare_seconds_ = nurbs::seconds_since(t0);
 }
 
 void ClearancePair::start_gpu() {
@@ -271,7 +265,7 @@ Clearance ClearancePair::query_kept(const glm::dmat4& motion, ClearanceAnswer& o
   if (!options_.voxel_stage) return clearance(*gpu_, a, b, motion, nullptr, nullptr, options_.limits, cache_.get());
   const auto v0 = std::chrono::steady_clock::now();
   out.first_stage = voxel_stage(*gpu_, voxels_a_, voxels_b_, motion);
-  out.first_stage_seconds = since(v0);
+  out.first_stage_seconds = nurbs::seconds_since(v0);
   return clearance(*gpu_, a, b, motion, &out.first_stage->faces_a, &out.first_stage->faces_b, options_.limits);
 }
 
@@ -283,7 +277,7 @@ ClearanceAnswer ClearancePair::query(const glm::dmat4& motion) {
   ClearanceAnswer out;
   out.tolerance = tolerance_;
   Clearance c = query_kept(motion, out);
-  out.seconds = since(t0);
+  out.seconds = nurbs::seconds_since(t0);
   // Widens c's bound by the gaps within reach; why it is not certified (empty: it may be).
   out.reason = model_reason_;
   if (!doubts_a_->empty() || !doubts_b_->empty()) {

@@ -1,5 +1,7 @@
 #include "queries/distance/point_batch.h"
 
+#include "queries/distance/point_batch_descent.h"
+
 #include "queries/distance/cell_triangles.h"
 
 #include <fmt/format.h>
@@ -10,7 +12,6 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <limits>
-#include <queue>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -20,6 +21,7 @@
 #include "nurbs/parallel.h"
 #include "nurbs/trim_classify.h"
 #include "queries/shaders.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {
@@ -31,31 +33,6 @@ int pow2_at_least(int n) {
   int p = 1;
   while (p < n) p *= 2;
   return p;
-}
-
-/// Indices of `points` sorted by the Morton code of their position in the cube of half side
-/// `half` about `centre` (10 bits per axis, outside points clamped to its faces).
-std::vector<uint32_t> morton_order(std::span<const glm::dvec3> points, const glm::dvec3& centre, double half) {
-  const auto spread = [](uint32_t v) {  // 10 bits -> every third of 30
-    v = (v | (v << 16)) & 0x030000FFu;
-    v = (v | (v << 8)) & 0x0300F00Fu;
-    v = (v | (v << 4)) & 0x030C30C3u;
-    return (v | (v << 2)) & 0x09249249u;
-  };
-  std::vector<std::pair<uint32_t, uint32_t>> keyed(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const glm::dvec3 t = glm::clamp((points[i] - centre) / (2.0 * std::max(half, 1e-300)) + 0.5, 0.0, 1.0);
-    const glm::uvec3 c(t * 1023.0);
-    keyed[i] = {spread(c.x) | (spread(c.y) << 1) | (spread(c.z) << 2), uint32_t(i)};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<uint32_t> order(points.size());
-  for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
-  return order;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
 }  // namespace
@@ -115,32 +92,8 @@ PreparedModel prepare_batch_geometry(const std::vector<nurbs::TrimmedSurface>& f
   return prepare_geometry(faces, tolerance, max_samples, Search::CoarseToFine);
 }
 
-void PointBatch::init_model() {
-  const PreparedModel& m = m_;
-  glm::dvec3 lo(kInf), hi(-kInf);
-  double k = 0.0, budget = 0.0;
-  for (size_t f = 0; f < m.faces.size(); ++f) {
-    k = std::max(k, m.grids[f].k_e);
-    budget = std::max(budget, float_budget(m.faces[f].surface));
-    const nurbs::Box box = nurbs::control_box(m.faces[f].surface);
-    lo = glm::min(lo, box.min);
-    hi = glm::max(hi, box.max);
-  }
-  model_bound_ = k + budget;
-  budget_.resize(m.faces.size()), grow_.resize(m.faces.size());
-  for (size_t f = 0; f < m.faces.size(); ++f) {
-    budget_[f] = float_budget(m.faces[f].surface);
-    grow_[f] = m.grids[f].k_e + budget_[f];
-  }
-  grow_max_ = grow_.empty() ? 0.0 : *std::max_element(grow_.begin(), grow_.end());
-  trim_edges_.resize(m.faces.size());
-  for (size_t f = 0; f < m.faces.size(); ++f)
-    if (!m.faces[f].loops.empty()) trim_edges_[f] = TrimEdges(m.trims[f], m.grids[f].grid);
-  radius_ = m.faces.empty() ? 0.0 : 0.5 * glm::length(hi - lo);
-}
 
-PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), m_(m), boxes_(boxes) {
-  init_model();
+PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes) : gpu_(gpu), g_(m, boxes) {
   for (const FaceAtlas& fa : m.atlases) {
     // Level 0 padded to powers of two, so that every level halves exactly (mip sizes round down).
     const int w0 = pow2_at_least(fa.plan.width), h0 = pow2_at_least(fa.plan.height);
@@ -150,7 +103,7 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
     at.w0 = w0, at.h0 = h0, at.levels = levels;
     const size_t index = size_t(&fa - m.atlases.data());
     // The axis-aligned pyramid on the GPU; the oriented one is built on the CPU below.
-    if (boxes_ == PointBoxes::Aabb) {
+    if (g_.boxes == PointBoxes::Aabb) {
       at.lo = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
       at.hi = gpgpu::Texture(w0, h0, gpgpu::Format::RGBA32F, levels);
       build_aabb_pyramid(at, fa, index);
@@ -160,13 +113,13 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBoxes boxes
     at.mask = fa.mask.read();
     at.crossed = m.crossed[index].read();
     upload_trim_cells(at, index);
-    if (boxes_ == PointBoxes::Oriented) build_oriented_pyramid(at, index);
-    atlases_.push_back(std::move(at));
+    if (g_.boxes == PointBoxes::Oriented) build_oriented_pyramid(at, index);
+    g_.atlases.push_back(std::move(at));
   }
 }
 
 void PointBatch::build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index) {
-  const glm::vec3 o(m_.centre);
+  const glm::vec3 o(g_.m.centre);
   gpgpu::Program& fill = queries::program(gpu_, "fill_constant.frag");
   for (gpgpu::Texture* t : {&at.lo, &at.hi}) {  // empty boxes in the padding
     const float v = t == &at.lo ? kInfF : -kInfF;
@@ -184,7 +137,7 @@ void PointBatch::build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index
                              {"u_slot_of", &fa.slot_of},
                              {"u_mask", &fa.mask},
                              {"u_grow", &no_growth},
-                             {"u_crossed", &m_.crossed[index]}};
+                             {"u_crossed", &g_.m.crossed[index]}};
   gpgpu::Texture* boxes[] = {&at.lo, &at.hi};
   gpu_.run("point_batch_leaf", leaf, in, boxes, gpgpu::Region{0, 0, fa.plan.width, fa.plan.height});
   gpgpu::Program& merge = queries::program(gpu_, "aabb_merge.frag");
@@ -194,150 +147,11 @@ void PointBatch::build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index
   }
 }
 
-double PointBatch::slack(const glm::dvec3& p) const { return kFloatSlack * (glm::length(p - m_.centre) + radius_); }
 
-std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm::dvec3> points,
-                                                            std::span<const double> within) {
-  std::vector<std::vector<BatchCell>> out(atlases_.size());
-  if (points.empty()) return out;
-  // Neighbouring fragments run in lockstep (SIMD lanes, warps), each as long as its slowest point:
-  // points sorted along a Morton curve and laid out in 4 x 4 tiles keep the lanes' paths alike.
-  const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
-  const int max_size = std::min(gpu_.info().max_texture_size, kAtlasSide);
-  int width = 4;
-  while (width < max_size && int64_t(width) * width < int64_t(points.size())) width *= 2;
-  const int64_t tiles_per_row = width / 4, tiles = (int64_t(points.size()) + 15) / 16;
-  const int height = int(4 * ((tiles + tiles_per_row - 1) / tiles_per_row));
-  if (height > max_size) throw std::length_error(fmt::format("PointBatch: {} points in one batch", points.size()));
-  const auto texel_of = [&](size_t i) {  // slot i of the sorted points -> texel index
-    const int64_t tile = int64_t(i >> 4), t = int64_t(i & 15);
-    return size_t((4 * (tile / tiles_per_row) + (t >> 2)) * width + 4 * (tile % tiles_per_row) + (t & 3));
-  };
-  std::vector<float> q(size_t(width) * size_t(height) * 4, 0.0f);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const glm::vec3 d(points[order[i]] - m_.centre);
-    std::copy_n(&d.x, 3, q.begin() + ptrdiff_t(4 * texel_of(i)));
-    if (!within.empty()) q[4 * texel_of(i) + 3] = float(std::max(within[order[i]], 0.0));
-  }
-  gpgpu::PooledTexture pts = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
-  pts->upload(q);
-  gpgpu::PooledTexture res = gpu_.acquire(width, height, gpgpu::Format::RGBA32F);
-  const bool oriented = boxes_ == PointBoxes::Oriented;
-  gpgpu::Program& prog =
-      oriented ? queries::program(gpu_, "point_batch.frag", {{"ORIENTED", "1"}}) : queries::program(gpu_, "point_batch.frag");
-  const glm::vec3 o(m_.centre);
-  prog.set("u_origin", o.x, o.y, o.z);
-  prog.set("u_count", int(points.size()));
-  prog.set("u_width", width);
-  prog.set("u_slack", float(kFloatSlack));
-  prog.set("u_radius", float(radius_));
-  prog.set("u_two", 2);
-  prog.set("u_trim_width", kTrimTextureWidth);
-  prog.set("u_trim_on", trim_on_gpu_ ? 1 : 0);
-  for (size_t a = 0; a < atlases_.size(); ++a) {
-    prog.set("u_top", atlases_[a].levels - 1);
-    prog.set("u_size", atlases_[a].w0, atlases_[a].h0);
-    Atlas& at = atlases_[a];
-    ensure_uploaded(at, a);
-    const gpgpu::Input in_aabb[] = {{"u_points", pts.get()},
-                                    {"u_lo", &at.lo},
-                                    {"u_hi", &at.hi},
-                                    {"u_samples", &m_.atlases[a].points},
-                                    {"u_trim_cell", &at.trim_cell_tex},
-                                    {"u_trim_head", &at.trim_head_tex},
-                                    {"u_trim_segs", &at.trim_segs_tex}};
-    const gpgpu::Input in_obb[] = {{"u_points", pts.get()},
-                                   {"u_obb0", &at.obb[0]},
-                                   {"u_obb1", &at.obb[1]},
-                                   {"u_obb2", &at.obb[2]},
-                                   {"u_samples", &m_.atlases[a].points},
-                                   {"u_trim_cell", &at.trim_cell_tex},
-                                   {"u_trim_head", &at.trim_head_tex},
-                                   {"u_trim_segs", &at.trim_segs_tex}};
-    gpgpu::Texture* target[] = {res.get()};
-    if (oriented)
-      gpu_.run("point_batch", prog, in_obb, target);
-    else
-      gpu_.run("point_batch", prog, in_aabb, target);
-    const std::vector<float> r = res->read();
-    out[a].resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      const float* v = &r[4 * texel_of(i)];
-      const bool cut = v[3] < 0.0f;
-      out[a][order[i]] = {double(v[0]), int(v[1]), int(v[2]), (long long)(cut ? -1.0f - v[3] : v[3]), cut};
-    }
-  }
-  return out;
-}
 
-FaceCell PointBatch::cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const {
-  const Atlas& at = atlases_[a];
-  const AtlasPlan& plan = m_.atlases[a].plan;
-  const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
-  for (int k = 0; k < 4; ++k) {
-    const float* s = &at.samples[4 * (size_t(y + (k >> 1)) * size_t(plan.width) + size_t(x + (k & 1)))];
-    corners[k] = glm::dvec3(s[0], s[1], s[2]);
-  }
-  return {sl.face, x - sl.x, y - sl.y};
-}
 
-PointDistance PointBatch::cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge, int triangle) const {
-  glm::dvec3 corner[4];
-  const FaceCell cell = cell_corners(a, x, y, corner);
-  const auto f = size_t(cell.face);
-  const int i = cell.i, j = cell.j;
-  const nurbs::ParamGrid& g = m_.grids[f].grid;
-  // The cell's two triangles (cell_triangles.h), with their corners' parameters.
-  const CellTriangles tri =
-      cell_triangles(corner, g.u[size_t(i)], g.u[size_t(i) + 1], g.v[size_t(j)], g.v[size_t(j) + 1]);
-  PointDistance r;
-  r.distance = kInf;
-  for (int t = 0; t < 2; ++t) {
-    if (triangle >= 0 && t != triangle) continue;
-    glm::dvec3 w;
-    const glm::dvec3 c = closest_on_triangle(p, tri.p[t][0], tri.p[t][1], tri.p[t][2], w);
-    const double d = glm::length(c - p);
-    if (d < r.distance) r.distance = d, r.point = c, r.uv = tri.uv_at(t, w);
-  }
-  r.found = true;
-  r.face = cell.face;
-  if (trim_edge && !m_.faces[f].loops.empty())
-    for (int c = 0; c < 4; ++c)
-      if (!trim_edges_[f].is_material({g.u[size_t(i + (c & 1))], g.v[size_t(j + (c >> 1))]})) r.on_trim_edge = true;
-  const double k = model_bound_ + 2.0 * slack(p);
-  r.bound = k;
-  r.point_bound = std::sqrt(4 * k * r.distance + k * k);
-  return r;
-}
 
-bool PointBatch::material(const PointDistance& r) const {
-  const auto f = size_t(r.face);
-  return m_.faces[f].loops.empty() || trim_edges_[f].is_material(r.uv);
-}
 
-PointDistance PointBatch::finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
-                                 long long& trimmed, double within) const {
-  size_t win = best.size();
-  long long tested = 0;
-  for (size_t a = 0; a < best.size(); ++a) {
-    tested += best[a].tested;
-    if (best[a].x >= 0 && (win == best.size() || best[a].distance < best[win].distance)) win = a;
-  }
-  PointDistance r;
-  if (win < best.size()) r = cell_result(p, win, best[win].x, best[win].y);
-  if (r.found && !material(r)) {  // §5.3: the closest triangle point lies in a trimmed region
-    ++trimmed;
-    if (trim_on_gpu_) r = material_cell(p, win, best[win].x, best[win].y);
-    if (!trim_on_gpu_ || !r.found) {  // (or the float pass judged a point within rounding of a trim edge)
-      ++fallbacks;
-      r = search_material(p, within);
-    }
-  }
-  r.candidates = tested;
-  if (m_.search == Search::CoarseToFine) return refine(p, r, within, m_.tolerance);
-  if (refine_to_ > 0.0 && r.found && r.bound > refine_to_) return refine(p, r, within, refine_to_);
-  return r;
-}
 
 std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points, std::span<const double> within) {
   if (!within.empty() && within.size() != points.size())
@@ -369,7 +183,7 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::vector<BatchCell>> cells;
   if (on_gpu) cells = descend_gpu(points, within);
-  stats_.gpu_seconds = on_gpu ? seconds_since(t0) : 0.0;
+  stats_.gpu_seconds = on_gpu ? nurbs::seconds_since(t0) : 0.0;
   const auto t1 = std::chrono::steady_clock::now();
   // The searches of points whose winner is trimmed, the points whose walk was cut, the refinement's
   // candidates and the CPU engine read the CPU pyramids: built before the threads.
@@ -377,9 +191,9 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   for (const auto& per_atlas : cells)
     for (const BatchCell& c : per_atlas) any_cut |= c.cut;
   bool trimmed = false;
-  for (size_t f = 0; f < m_.faces.size(); ++f) trimmed |= !m_.faces[f].loops.empty();
-  if (boxes_ == PointBoxes::Aabb && (!on_gpu || any_cut || trimmed || m_.search == Search::CoarseToFine))
-    for (Atlas& at : atlases_) build_cpu_pyramid(at);
+  for (size_t f = 0; f < g_.m.faces.size(); ++f) trimmed |= !g_.m.faces[f].loops.empty();
+  if (g_.boxes == PointBoxes::Aabb && (!on_gpu || any_cut || trimmed || g_.m.search == Search::CoarseToFine))
+    for (size_t a = 0; a < g_.atlases.size(); ++a) build_cpu_pyramid(g_, a, g_.atlases[a]);
   // Per point independent work on the CPU (the pass is over): one contiguous share per thread, at
   // least 128 points each (the tests' batches of hundreds run on two threads).
   std::vector<PointDistance> out(points.size());
@@ -388,28 +202,29 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
       refined(threads, 0);
   // The points along a Morton curve, as the GPU pass lays them out: neighbours walk the same boxes
   // and cells, which then stay in the caches (in input order each point fetches its own).
-  const std::vector<uint32_t> order = morton_order(points, m_.centre, 2.0 * radius_);
+  const std::vector<uint32_t> order = morton_order(points, g_.m.centre, 2.0 * g_.radius);
+  const BatchFinish finish = finishing();
   nurbs::for_shares(points.size(), threads, [&](size_t t, size_t begin, size_t end) {
-    std::vector<BatchCell> best(atlases_.size());
+    std::vector<BatchCell> best(g_.atlases.size());
     for (size_t k = begin; k < end; ++k) {
       const size_t i = order[k];
       const double wanted = within.empty() ? 0.0 : within[i];
       if (on_gpu) {
         bool was_cut = false;
-        for (size_t a = 0; a < atlases_.size(); ++a) {
+        for (size_t a = 0; a < g_.atlases.size(); ++a) {
           best[a] = cells[a][i];
           if (best[a].cut)  // the twin's walk
-            best[a] = descend_cpu(a, points[i], wanted), was_cut = true;
+            best[a] = queries::descend_cpu(g_, a, points[i], wanted, trim_on_gpu_), was_cut = true;
         }
         cut[t] += was_cut;
       } else {  // the twin's walk in every atlas, pruned by the best cell of the atlases before
         double w = wanted;
-        for (size_t a = 0; a < atlases_.size(); ++a) {
-          best[a] = descend_cpu(a, points[i], w);
+        for (size_t a = 0; a < g_.atlases.size(); ++a) {
+          best[a] = queries::descend_cpu(g_, a, points[i], w, trim_on_gpu_);
           if (best[a].x >= 0) w = best[a].distance;
         }
       }
-      out[i] = finish(points[i], best, fallbacks[t], in_trim[t], wanted);
+      out[i] = finish.finish(points[i], best, fallbacks[t], in_trim[t], wanted);
       tested[t] += out[i].candidates;
       refined[t] += out[i].refined_cells;
     }
@@ -417,26 +232,42 @@ std::vector<PointDistance> PointBatch::query(std::span<const glm::dvec3> points,
   for (size_t t = 0; t < threads; ++t)
     stats_.fallbacks += fallbacks[t], stats_.trimmed += in_trim[t], stats_.cells_tested += tested[t],
         stats_.cut += cut[t], stats_.refined_cells += refined[t];
-  stats_.cpu_seconds = seconds_since(t1);
+  stats_.cpu_seconds = nurbs::seconds_since(t1);
   return out;
 }
 
 void PointBatch::ensure_uploaded(Atlas& at, size_t a) {
   if (at.uploaded) return;
-  at.upload_trim_textures(m_.atlases[a].plan);
-  if (boxes_ == PointBoxes::Oriented) at.upload_oriented_pyramid();
+  at.upload_trim_textures(g_.m.atlases[a].plan);
+  if (g_.boxes == PointBoxes::Oriented) at.upload_oriented_pyramid();
   at.uploaded = true;
 }
 
+BatchCell PointBatch::descend_cpu(size_t a, const glm::dvec3& p, double within) {
+  if (g_.boxes == PointBoxes::Aabb) build_cpu_pyramid(g_, a, g_.atlases[a]);  // the oriented one exists from the start
+  return queries::descend_cpu(g_, a, p, within, trim_on_gpu_);
+}
+
+PointDistance PointBatch::query_cpu(const glm::dvec3& p, double within) {
+  std::vector<BatchCell> best;
+  for (size_t a = 0; a < g_.atlases.size(); ++a) best.push_back(descend_cpu(a, p, within));  // builds the pyramids
+  long long fallbacks = 0, trimmed = 0;
+  return finishing().finish(p, best, fallbacks, trimmed, within);
+}
+
+const std::vector<float>& PointBatch::cpu_level(size_t a, int level, bool hi) {
+  build_cpu_pyramid(g_, a, g_.atlases[a]);
+  return (hi ? g_.atlases[a].cpu_hi : g_.atlases[a].cpu_lo)[size_t(level)];
+}
+
 std::vector<float> PointBatch::gpu_level(size_t a, int level, bool hi) const {
-  return (hi ? atlases_[a].hi : atlases_[a].lo).read_level(level);
+  return (hi ? g_.atlases[a].hi : g_.atlases[a].lo).read_level(level);
 }
 
 PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState state)
-    : gpu_(gpu), m_(m), boxes_(PointBoxes::Oriented) {
+    : gpu_(gpu), g_(m, PointBoxes::Oriented) {
   if (state.atlases.size() != m.atlases.size())
     throw std::invalid_argument("PointBatch: the state is of another model");
-  init_model();
   for (PointBatchState::Atlas& sa : state.atlases) {
     Atlas at;
     at.w0 = sa.w0, at.h0 = sa.h0, at.levels = sa.levels;
@@ -462,17 +293,17 @@ PointBatch::PointBatch(gpgpu::Gpu& gpu, const PreparedModel& m, PointBatchState 
       }
       out.texels = std::move(in.texels), out.boxes = std::move(in.boxes);
     }
-    atlases_.push_back(std::move(at));
+    g_.atlases.push_back(std::move(at));
   }
 }
 
 PointBatchStateView PointBatch::state_view() const {
-  if (boxes_ != PointBoxes::Oriented) throw std::logic_error("PointBatch::state_view: oriented boxes only");
+  if (g_.boxes != PointBoxes::Oriented) throw std::logic_error("PointBatch::state_view: oriented boxes only");
   PointBatchStateView s;
-  for (size_t a = 0; a < atlases_.size(); ++a) {
-    const Atlas& at = atlases_[a];
+  for (size_t a = 0; a < g_.atlases.size(); ++a) {
+    const Atlas& at = g_.atlases[a];
     PointBatchStateView::Atlas& sa = s.atlases.emplace_back();
-    sa.plan = &m_.atlases[a].plan;
+    sa.plan = &g_.m.atlases[a].plan;
     sa.w0 = at.w0, sa.h0 = at.h0, sa.levels = at.levels;
     sa.samples = at.samples, sa.slot_of = at.slot_of, sa.mask = at.mask, sa.crossed = at.crossed;
     sa.trim_cell = at.trim_cell, sa.trim_head = at.trim_head, sa.trim_segs = at.trim_segs;

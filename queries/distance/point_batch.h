@@ -34,7 +34,7 @@
 ///
 /// Models prepared with Search::CoarseToFine (grids at a coarse tolerance, a few thousand cells a
 /// face, whatever the degree and weights of the faces) are finished by refinement instead
-/// (point_batch_refine.cpp): the winner of step 3 is a material point, so the surface there bounds
+/// (point_batch_finish.h): the winner of step 3 is a material point, so the surface there bounds
 /// the distance from above (U); the pyramid's cells whose boxes, grown by their face's K_e, the
 /// float budget and eps, lie within U are subdivided in double by refine_point (refine.h) until the
 /// answer meets T. The bound is then the refinement's (U - L, in double, no float term): the float
@@ -54,18 +54,13 @@
 #include <vector>
 
 #include "gpgpu/gpu.h"
-#include "queries/distance/point_batch_trim.h"
-#include "queries/distance/point_batch_atlas.h"
+#include "queries/distance/point_batch_finish.h"
+#include "queries/distance/point_batch_geometry.h"
 #include "queries/distance/point_batch_state.h"
 #include "queries/distance/point_distance.h"
 #include "queries/distance/prepared_model.h"
 
 namespace queries {
-
-/// Relative float slack of the descent (16 float ulp of |q| + the model's radius).
-inline constexpr double kFloatSlack = 0x1.0p-20;
-/// Width of the trimmed cells' header and segment textures (glsl/distance/point_batch_trim.frag u_trim_width).
-inline constexpr int kTrimTextureWidth = 4096;
 
 /// Figures of the last batch.
 struct PointBatchStats {
@@ -78,18 +73,6 @@ struct PointBatchStats {
   double gpu_seconds = 0.0;    ///< upload, descent passes and read-back (0 with BatchEngine::Cpu)
   double cpu_seconds = 0.0;    ///< the double-precision finishing and fallbacks, on every hardware thread
 };
-
-/// The best cell of one atlas for one point: triangle distance (+inf: none), the cell's texel,
-/// the cells tested.
-struct BatchCell {
-  double distance = 0.0;
-  int x = -1, y = -1;
-  long long tested = 0;
-  bool cut = false;  ///< the GPU walk was cut short (see glsl/distance/point_batch.frag): not the nearest cell
-};
-
-/// The boxes of the descent's pyramid: axis-aligned (Krishnamurthy et al. §5.1), or oriented.
-enum class PointBoxes { Aabb, Oriented };
 
 /// Where step 2 runs: the GPU pass (glsl/distance/point_batch.frag), or its twin in double (descend_cpu) on
 /// every hardware thread, each point's best distance over the atlases so far pruning the next
@@ -162,7 +145,7 @@ class PointBatch {
   void set_engine(BatchEngine e) { engine_ = e; }
   /// T > 0: an answer whose bound exceeds T (the float terms grow with the point's distance from
   /// the model) is refined in double until it meets T, as the answers of Search::CoarseToFine
-  /// models are (point_batch_refine.cpp). 0 (the default): answers keep the pass's bound.
+  /// models are (point_batch_finish.h). 0 (the default): answers keep the pass's bound.
   void set_refine_tolerance(double t) { refine_to_ = t; }
   [[nodiscard]] BatchEngine engine() const { return engine_; }
   [[nodiscard]] bool trim_on_gpu() const { return trim_on_gpu_; }
@@ -185,17 +168,17 @@ class PointBatch {
   /// (3 floats per texel).
   [[nodiscard]] std::vector<float> gpu_level(size_t a, int level, bool hi) const;
   [[nodiscard]] const std::vector<float>& cpu_level(size_t a, int level, bool hi);
-  [[nodiscard]] int levels(size_t a) const { return atlases_[a].levels; }
-  [[nodiscard]] int level_width(size_t a, int level) const { return atlases_[a].level_width(level); }
-  [[nodiscard]] int level_height(size_t a, int level) const { return atlases_[a].level_height(level); }
+  [[nodiscard]] int levels(size_t a) const { return g_.atlases[a].levels; }
+  [[nodiscard]] int level_width(size_t a, int level) const { return g_.atlases[a].level_width(level); }
+  [[nodiscard]] int level_height(size_t a, int level) const { return g_.atlases[a].level_height(level); }
 
   /// The part of every bound that does not depend on the point: K_e + float budget (model units;
   /// with Search::CoarseToFine each answer carries the refinement's bound instead).
-  [[nodiscard]] double model_bound() const { return model_bound_; }
+  [[nodiscard]] double model_bound() const { return g_.model_bound; }
   /// The float slack eps of the descent for point p (model units).
-  [[nodiscard]] double slack(const glm::dvec3& p) const;
+  [[nodiscard]] double slack(const glm::dvec3& p) const { return g_.slack(p); }
   [[nodiscard]] const PointBatchStats& stats() const { return stats_; }
-  [[nodiscard]] PointBoxes boxes() const { return boxes_; }
+  [[nodiscard]] PointBoxes boxes() const { return g_.boxes; }
   /// Level `level` of atlas `a`'s oriented pyramid as uploaded: texture k = 0, 1, 2 holds per texel
   /// (centre, e0), (axis a0, e1), (axis a2 = normal, e2); a1 = a2 x a0; e0 < 0: empty.
   [[nodiscard]] std::vector<float> oriented_level(size_t a, int level, int k) const;
@@ -205,67 +188,18 @@ class PointBatch {
   /// Uploads what the GPU pass of atlas `at` reads and only it does (the trim textures, the oriented
   /// pyramid), on the first pass: the CPU engine never does.
   void ensure_uploaded(Atlas& at, size_t a);
-  void build_cpu_pyramid(Atlas& at);
-  /// The parts of the constructor that depend on the model alone (bound, trim edges, radius).
-  void init_model();
-  /// Whether texel (x, y) of the atlas is a cell of the pyramid's level 0 (four samples of one slot,
-  /// a material sample or a trim edge crossing it: aabb_leaf.frag with TRIM_CROSSED).
-  [[nodiscard]] bool pyramid_cell(const Atlas& at, size_t a, int x, int y) const;
-  /// The sample at texel (x, y) of atlas a as the GPU pass has it: float sample - float origin.
-  [[nodiscard]] glm::dvec3 float_sample(const Atlas& at, size_t a, int x, int y) const;
   /// PointBoxes::Aabb: the pyramid's boxes on the GPU (aabb_leaf.frag, aabb_merge.frag) into at.lo, at.hi.
   void build_aabb_pyramid(Atlas& at, const FaceAtlas& fa, size_t index);
   /// PointBoxes::Oriented: builds at.cpu_obb and uploads it into at.obb (point_batch_obb.cpp).
   void build_oriented_pyramid(Atlas& at, size_t a);
-  /// Distance from q (relative to the float origin) to node (level, x, y) of atlas a's pyramid, in
-  /// double from the stored floats: the boxes the GPU pass reads; +inf for an empty node.
-  [[nodiscard]] double node_distance(const Atlas& at, const glm::dvec3& q, int level, int x, int y) const;
-  /// Step 3 for one point (thread-safe once the CPU pyramids exist when a face is trimmed).
-  /// `within` > 0: only a point nearer than it is wanted (query's `within`).
-  PointDistance finish(const glm::dvec3& p, const std::vector<BatchCell>& best, long long& fallbacks,
-                       long long& trimmed, double within = 0.0) const;
-  PointDistance search_material(const glm::dvec3& p, double within = 0.0) const;
-  /// The closest material point to p of the cell at texel (x, y) of atlas a, in double: a triangle's
-  /// closest point when material, else the closest point of the cell's trim pieces; found = false
-  /// when the cell holds no material.
-  PointDistance material_cell(const glm::dvec3& p, size_t a, int x, int y) const;
-  /// The points whose hull holds the material part of the cell at texel (x, y) (corners: its float
-  /// samples relative to the origin): its material corners and its trim pieces' ends, mapped onto
-  /// its triangles (each triangle's material part is a polygon with those vertices). All four
-  /// corners for a cell without trim data; none for a cell without material.
-  void material_points(const Atlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
-                       std::vector<glm::dvec3>& out) const;
   /// Fills at.trim_* for the trimmed faces of atlas a and uploads them.
   void upload_trim_cells(Atlas& at, size_t a);
-  /// glsl/distance/point_batch_trim.frag trimmed_cell_dist2 in double on the uploaded floats (the twin):
-  /// q and the corners relative to the float origin.
-  [[nodiscard]] double trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
-                                             int header) const;
-  /// The closest point to p of the cell at texel (x, y) of atlas a: of its closer triangle, or of
-  /// `triangle` 0 (corners 0, 1, 3) or 1 (0, 3, 2) alone; `trim_edge`: classify its corners.
-  PointDistance cell_result(const glm::dvec3& p, size_t a, int x, int y, bool trim_edge = true,
-                            int triangle = -1) const;
-  /// The cell whose lower-left sample is texel (x, y) of atlas a: its face, (i, j) and four float samples.
-  FaceCell cell_corners(size_t a, int x, int y, glm::dvec3 corners[4]) const;
-  [[nodiscard]] bool material(const PointDistance& r) const;  ///< is_material of r.uv on r.face
-  /// Search::CoarseToFine: the answer for p refined from `start` (finish's material point) to T
-  /// (point_batch_refine.cpp); `within` as in query.
-  PointDistance refine(const glm::dvec3& p, const PointDistance& start, double within, double tolerance) const;
-  /// The cells (of every atlas) whose grown boxes lie within `upper` of p, best first; `upper` is
-  /// lowered on the way by the material corners met (point_batch_refine.cpp).
-  void refine_candidates(const glm::dvec3& p, double& upper, std::vector<FaceCell>& out) const;
+  /// Step 3 with this batch's settings.
+  [[nodiscard]] BatchFinish finishing() const { return BatchFinish(g_, trim_on_gpu_, refine_to_); }
 
   gpgpu::Gpu& gpu_;
-  const PreparedModel& m_;
-  std::vector<Atlas> atlases_;
-  std::vector<TrimEdges> trim_edges_;  ///< per face (empty for untrimmed faces)
-  /// Per face: the float budget of its samples, and that plus its grid's K_e (how far its surface
-  /// may lie from its cells' float triangles); grow_max_ the largest.
-  std::vector<double> budget_, grow_;
-  double grow_max_ = 0.0;
+  BatchGeometry g_;
   double refine_to_ = 0.0;  ///< set_refine_tolerance
-  double model_bound_ = 0.0, radius_ = 0.0;
-  PointBoxes boxes_ = PointBoxes::Oriented;
   PointBatchStats stats_;
   size_t points_per_pass_ = size_t(1) << 22;  ///< a 4096 x 1024 texture of points
   std::function<void(size_t, size_t)> progress_;

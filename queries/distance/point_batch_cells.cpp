@@ -12,6 +12,7 @@
 
 #include "nurbs/parallel.h"
 #include "queries/distance/point_batch.h"
+#include "queries/distance/point_batch_finish.h"
 #include "queries/distance/cell_triangles.h"
 
 namespace queries {
@@ -73,7 +74,7 @@ gpgpu::Texture rows_texture(std::vector<float>& v) {
 }  // namespace
 
 void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
-  const AtlasPlan& plan = m_.atlases[a].plan;
+  const AtlasPlan& plan = g_.m.atlases[a].plan;
   at.trim_cell.assign(size_t(plan.width) * size_t(plan.height), 0.0f);
   at.trim_head.clear(), at.trim_segs.clear();
   // Per slot on the hardware threads, then appended in slot order.
@@ -88,9 +89,9 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
     const glm::dvec3 corners[4]{};  // pieces are stored by their parameters only
     for (size_t s = s0; s < s1; ++s) {
       const AtlasSlot& sl = plan.slots[s];
-      const TrimEdges& edges = trim_edges_[size_t(sl.face)];
-      if (m_.faces[size_t(sl.face)].loops.empty()) continue;
-      const nurbs::ParamGrid& g = m_.grids[size_t(sl.face)].grid;
+      const TrimEdges& edges = g_.trim_edges[size_t(sl.face)];
+      if (g_.m.faces[size_t(sl.face)].loops.empty()) continue;
+      const nurbs::ParamGrid& g = g_.m.grids[size_t(sl.face)].grid;
       Part& part = parts[s];
       // The cells an edge crosses, and the other cells of the pyramid that may be trimmed (a
       // trimmed corner sample, or crossed by PreparedModel's conservative count): those hold no
@@ -101,7 +102,7 @@ void PointBatch::upload_trim_cells(Atlas& at, size_t a) {
       for (int j = 0; j < g.cells_v(); ++j)
         for (int i = 0; i < g.cells_u(); ++i) {
           const int x = sl.x + i, y = sl.y + j;
-          if (listed[size_t(j) * size_t(g.cells_u()) + size_t(i)] || !pyramid_cell(at, a, x, y)) continue;
+          if (listed[size_t(j) * size_t(g.cells_u()) + size_t(i)] || !g_.pyramid_cell(at, a, x, y)) continue;
           bool all_material = at.crossed[size_t(y) * size_t(plan.width) + size_t(x)] < 0.5f;
           for (int k = 0; k < 4; ++k)
             all_material =
@@ -150,7 +151,7 @@ void BatchAtlas::upload_trim_textures(const AtlasPlan& plan) {
   trim_segs_tex = rows_texture(trim_segs);
 }
 
-double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
+double BatchGeometry::trimmed_cell_distance(const BatchAtlas& at, const glm::dvec3& q, const glm::dvec3 c[4],
                                          int header) const {
   const float* head = &at.trim_head[4 * size_t(header)];
   double best = kInf;
@@ -181,20 +182,20 @@ double PointBatch::trimmed_cell_distance(const Atlas& at, const glm::dvec3& q, c
   return best;
 }
 
-void PointBatch::material_points(const Atlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
+void BatchGeometry::material_points(const BatchAtlas& at, size_t a, int x, int y, const glm::dvec3 corners[4],
                                  std::vector<glm::dvec3>& out) const {
   out.clear();
-  const float header = at.trim_cell[size_t(y) * size_t(m_.atlases[a].plan.width) + size_t(x)];
+  const float header = at.trim_cell[size_t(y) * size_t(m.atlases[a].plan.width) + size_t(x)];
   if (!(header > 0.0f)) {
     out.assign(corners, corners + 4);
     return;
   }
   const float* head = &at.trim_head[4 * size_t(header - 1.0f)];
-  const AtlasPlan& plan = m_.atlases[a].plan;  // (at is not in atlases_ yet while the pyramid is built)
+  const AtlasPlan& plan = m.atlases[a].plan;  // (at is not in atlases yet while the pyramid is built)
   const AtlasSlot& sl = plan.slots[size_t(at.slot_of[size_t(y) * size_t(plan.width) + size_t(x)])];
   const FaceCell c{sl.face, x - sl.x, y - sl.y};
-  const nurbs::ParamGrid& g = m_.grids[size_t(c.face)].grid;
-  const TrimEdges& edges = trim_edges_[size_t(c.face)];
+  const nurbs::ParamGrid& g = m.grids[size_t(c.face)].grid;
+  const TrimEdges& edges = trim_edges[size_t(c.face)];
   for (int k = 0; k < 4; ++k) {
     const bool material = head[1] == 0.0f && head[2] == 0.0f  // no edge: the reference's side throughout
                               ? head[3] > 0.5f
@@ -209,18 +210,18 @@ void PointBatch::material_points(const Atlas& at, size_t a, int x, int y, const 
   }
 }
 
-PointDistance PointBatch::material_cell(const glm::dvec3& p, size_t a, int x, int y) const {
+PointDistance BatchFinish::material_cell(const glm::dvec3& p, size_t a, int x, int y) const {
   PointDistance best;
   best.distance = kInf;
   glm::dvec3 corners[4];
-  const FaceCell c = cell_corners(a, x, y, corners);
+  const FaceCell c = g_.cell_corners(a, x, y, corners);
   // A cell no edge crosses is material throughout or not at all (as the pass takes it): its
   // boundary points too, where is_material's half-open rule may say trimmed (an edge of the loop
   // on the cell's side, a loop touching it at a vertex).
-  const TrimEdges& edges = trim_edges_[size_t(c.face)];
+  const TrimEdges& edges = g_.trim_edges[size_t(c.face)];
   std::optional<bool> uniform;
-  if (!m_.faces[size_t(c.face)].loops.empty() && !edges.crossed(c.i, c.j))
-    uniform = reference_side(edges, m_.grids[size_t(c.face)].grid, c.i, c.j);
+  if (!g_.m.faces[size_t(c.face)].loops.empty() && !edges.crossed(c.i, c.j))
+    uniform = reference_side(edges, g_.m.grids[size_t(c.face)].grid, c.i, c.j);
   int triangle = -1;  // the material triangle point's triangle, -1: none
   for (int t = 0; t < 2; ++t) {
     const PointDistance rt = cell_result(p, a, x, y, false, t);
@@ -234,7 +235,7 @@ PointDistance PointBatch::material_cell(const glm::dvec3& p, size_t a, int x, in
   best.distance = h.distance, best.point = h.point, best.uv = h.uv, best.face = c.face;
   best.found = true;
   best.on_trim_edge = true;
-  best.bound = model_bound_ + 2.0 * slack(p);
+  best.bound = g_.model_bound + 2.0 * g_.slack(p);
   best.point_bound = std::sqrt(4 * best.bound * best.distance + best.bound * best.bound);
   return best;
 }

@@ -1,7 +1,7 @@
 // The oriented box pyramid of the batched point projection (point_batch.h, PointBoxes::Oriented;
 // beyond the paper, whose §5.1 hierarchies hold axis-aligned boxes). Built on the CPU in double from
 // the atlas's float samples, stored as floats, uploaded into three mip-mapped textures that
-// glsl/distance/point_batch.frag (ORIENTED) reads; the twin (PointBatch::node_distance) reads the same floats.
+// glsl/distance/point_batch.frag (ORIENTED) reads; the twin (BatchGeometry::node_distance) reads the same floats.
 //
 // A node's box: centre c, orthonormal axes a0 (tangent), a1 = a2 x a0, a2 (normal), half extents
 // e0, e1, e2. Level 0, a cell: a0 along the cell's mean u edge, a2 its mean normal, the extents those
@@ -134,8 +134,8 @@ std::vector<float> BatchAtlas::expand_level(const ObbLevel& level, int k, size_t
 }
 
 void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
-  const int w = m_.atlases[a].plan.width, levels = at.levels;
-  auto sample = [&](int x, int y) { return float_sample(at, a, x, y); };
+  const int w = g_.m.atlases[a].plan.width, levels = at.levels;
+  auto sample = [&](int x, int y) { return g_.float_sample(at, a, x, y); };
   at.cpu_obb.assign(size_t(levels), {});
   // A level's boxes come share by share (rows of texels, ascending), each share's (texel, box) in
   // texel order; joined in share order the texels ascend.
@@ -157,17 +157,17 @@ void PointBatch::build_oriented_pyramid(Atlas& at, size_t a) {
       sh = {};
     }
   };
-  const int h = m_.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
+  const int h = g_.m.atlases[a].plan.height;  // cells lie inside the plan (level 0 is padded)
   std::vector<Share> shares(nurbs::share_count(size_t(h), 16));
   nurbs::for_shares(size_t(h), shares.size(), [&](size_t s, size_t y0, size_t y1) {
     std::vector<glm::dvec3> hull;
     for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x + 1 < w; ++x) {
-        if (!pyramid_cell(at, a, x, y)) continue;
+        if (!g_.pyramid_cell(at, a, x, y)) continue;
         const glm::dvec3 p[4] = {sample(x, y), sample(x + 1, y), sample(x, y + 1), sample(x + 1, y + 1)};
         // A cell a trim edge crosses: the box of its material part only (the pass's distance there
         // is to that part), so a point near the trimmed-away rest does not descend into it.
-        material_points(at, a, x, y, p, hull);
+        g_.material_points(at, a, x, y, p, hull);
         if (hull.empty()) continue;
         Box b;
         const glm::dvec3 du = (p[1] - p[0]) + (p[3] - p[2]), dv = (p[2] - p[0]) + (p[3] - p[1]);
@@ -228,7 +228,7 @@ void BatchAtlas::upload_oriented_pyramid() {
 }
 
 std::vector<float> PointBatch::oriented_level(size_t a, int level, int k) const {
-  const Atlas& at = atlases_[a];
+  const Atlas& at = g_.atlases[a];
   return BatchAtlas::expand_level(at.cpu_obb[size_t(level)], k, size_t(at.level_width(level)) * size_t(at.level_height(level)));
 }
 

@@ -11,14 +11,11 @@
 #include "nurbs/request_error.h"
 #include "nurbs/system_memory.h"
 #include "queries/distance/batch_cache.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 
 namespace {
-
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// The faithful grids of a batched preparation fit this many bytes (and the memory free), else
 /// coarse grids are taken.
@@ -98,7 +95,7 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
         fmt::format("--tol {:g} --max-samples {}: {}", options_.tolerance, options_.max_samples, e.what()));
   }
   gpu.finish();
-  prepare_seconds_ = since(t0);
+  prepare_seconds_ = nurbs::seconds_since(t0);
 }
 
 PointQuery::~PointQuery() {
@@ -139,7 +136,7 @@ void PointQuery::prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& p
     cache_.problem = read.problem;
     state = std::move(read.state);
     cache_.hit = state.has_value();
-    cache_.read_seconds = since(c0);
+    cache_.read_seconds = nurbs::seconds_since(c0);
   }
   if (state) {
     restore_atlases(geometry, *state);
@@ -154,7 +151,7 @@ void PointQuery::prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& p
       cache_write_ = std::async(std::launch::async, [&b = *batch_, file = cache_.file, key] {
         const auto c0 = std::chrono::steady_clock::now();
         std::string why = save_batch_state(file, key, b.state_view());
-        return std::pair{why, since(c0)};
+        return std::pair{why, nurbs::seconds_since(c0)};
       });
   }
   batch_->set_engine(engine_);
@@ -191,8 +188,8 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
     // Long work shows: the preparation once it took a second, then the points pass by pass
     // (passes of at least 65536 points: llvmpipe spreads a pass's 64 x 64 tiles over its threads,
     // and a pass of 4096 points is one tile, one thread: 2x slower in all).
-    if (prepare_seconds_ >= 1.0 && options_.log)
-      options_.log(fmt::format("{} faces prepared in {:.1f} s; {} points", faces_.size(), prepare_seconds_,
+    if (prepare_seconds_ >= 1.0 && options_.log && !told_prepared_)
+      told_prepared_ = true, options_.log(fmt::format("{} faces prepared in {:.1f} s; {} points", faces_.size(), prepare_seconds_,
                                points.size()));
     batch_->set_points_per_pass(std::max<size_t>(65536, (points.size() + 7) / 8));
     batch_->set_progress(options_.progress);
@@ -205,7 +202,7 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
     }
     if (options_.progress) options_.progress(points.size(), points.size());
   }
-  out.seconds = since(t0);
+  out.seconds = nurbs::seconds_since(t0);
   finish_cache_write();
   // An answer is a distance only with a face and finite figures: anything else is not found,
   // never a distance.

@@ -158,6 +158,7 @@ class PointQuery {
   PointQueryCache cache_;
   std::future<std::pair<std::string, double>> cache_write_;
   double prepare_seconds_ = 0.0;
+  bool told_prepared_ = false;  ///< the preparation's time logged (once, with the first query)
 };
 
 }  // namespace queries

@@ -12,7 +12,7 @@
 /// Float budget of the GPU path (tabulated): basis functions computed in double and rounded to
 /// float (relative error 2^-24), control points sent relative to the centre of their box, the
 /// (p+1)(q+1)-term sums in float: measured on degrees 1-7 up to about 1.6e-6 of the control box
-/// (tests/queries/test_surface_grid.cpp allows 4e-6). The per-fragment method also rounds knots and
+/// (tests/queries/distance/test_surface_grid.cpp allows 4e-6). The per-fragment method also rounds knots and
 /// parameters to float, which adds |S_u| 2^-24 per unit of normalised parameter: large on thin spans.
 #include <functional>
 #include <glm/vec3.hpp>

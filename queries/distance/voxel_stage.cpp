@@ -14,15 +14,12 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "queries/shaders.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// One face's inputs to the voxelization.
 struct FaceInput {
@@ -186,7 +183,7 @@ VoxelGrid build(const std::vector<FaceInput>& in, const VoxelizeOptions& o) {
     const auto it = std::lower_bound(g.voxels.begin(), g.voxels.end(), i.x + o.n * (i.y + o.n * i.z));
     if (it != g.voxels.end() && *it == i.x + o.n * (i.y + o.n * i.z)) g.witness[size_t(it - g.voxels.begin())] = 1;
   }
-  g.seconds = since(t0);
+  g.seconds = nurbs::seconds_since(t0);
   return g;
 }
 
@@ -387,7 +384,7 @@ VoxelStage voxel_stage_cpu(const VoxelGrid& a, const VoxelGrid& b, const glm::dm
       }
     }
   finish(a, b, mark, r);
-  r.timings.total = since(t0);
+  r.timings.total = nurbs::seconds_since(t0);
   return r;
 }
 
@@ -397,7 +394,7 @@ VoxelStage voxel_stage(gpgpu::Gpu& gpu, const VoxelGrid& a, const VoxelGrid& b, 
   const auto t0 = t;
   const auto lap = [&](double& field) {
     gpu.finish();
-    field += since(t);
+    field += nurbs::seconds_since(t);
     t = std::chrono::steady_clock::now();
   };
   VoxelStage r = start(a, b);
@@ -478,7 +475,7 @@ VoxelStage voxel_stage(gpgpu::Gpu& gpu, const VoxelGrid& a, const VoxelGrid& b, 
     }
   finish(a, b, mark, r);
   lap(r.timings.readback);
-  r.timings.total = since(t0);
+  r.timings.total = nurbs::seconds_since(t0);
   return r;
 }
 

@@ -8,13 +8,10 @@
 #include "nurbs/parallel.h"
 #include "nurbs/raycast/thickness.h"
 #include "queries/raycast/raycast_gpu.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// DACRT keeps no structure: each thread takes a contiguous part of the rays.
 std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, const std::vector<nurbs::ray::Ray>& rays,
@@ -61,7 +58,7 @@ RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOp
     for (const auto& t : scene_.trims)
       for (const auto& l : t.loops) figures_.bytes_trims += l.size() * sizeof(glm::dvec2);
   }
-  figures_.build_seconds = seconds_since(start);
+  figures_.build_seconds = nurbs::seconds_since(start);
 }
 
 RayCaster::~RayCaster() = default;
@@ -106,7 +103,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
     if (progress) progress(static_cast<long long>(out.size()), static_cast<long long>(rays.size()));
   }
   f.rays += static_cast<long long>(rays.size());
-  f.cast_seconds += seconds_since(start);
+  f.cast_seconds += nurbs::seconds_since(start);
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "nurbs/trim_classify.h"
 #include "queries/raycast/bvh_gpu.h"
 #include "queries/shaders.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {
@@ -24,10 +25,6 @@ namespace {
 using nurbs::ray::Hit;
 using nurbs::ray::Ray;
 using nurbs::ray::Scene;
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// An RGBA32F table of `texels` elements in a power-of-two-wide layout (glsl/gpgpu/lib_layout.glsl
 /// pow2_texel), at least 1 x 1; `data` holds 4 floats per element and is padded here.
@@ -139,7 +136,7 @@ void GpuRaycaster::build_gpu_bvh() {
   patches_ = gather_leaves(gpu_, g, patches_, 4);  // 16 texels per patch
   nodes_ = std::move(g.nodes);
   leaf_patch_ = read_order(g);
-  build_stats_ = {g.passes + 1, seconds_since(t0)};
+  build_stats_ = {g.passes + 1, nurbs::seconds_since(t0)};
 }
 
 double GpuRaycaster::float_floor(const glm::dvec3& origin) const {
@@ -221,7 +218,7 @@ std::vector<RawRayHit> GpuRaycaster::cast_raw(std::span<const Ray> rays, double 
     out.insert(out.end(), part.begin(), part.end());
   }
   gpu_.finish();
-  stats_.gpu_seconds = seconds_since(t0);
+  stats_.gpu_seconds = nurbs::seconds_since(t0);
   for (const RawRayHit& r : out) stats_.box_tests += r.box_tests, stats_.patch_tests += r.patch_tests;
   return out;
 }
@@ -258,7 +255,7 @@ std::vector<Hit> GpuRaycaster::cast(std::span<const Ray> rays, double t_min) {
     for (size_t i = begin; i < end; ++i) out[i] = finish(rays[i], raw[i], t_min, fallbacks[t]);
   });
   for (long long f : fallbacks) stats_.fallbacks += f;
-  stats_.cpu_seconds = seconds_since(t1);
+  stats_.cpu_seconds = nurbs::seconds_since(t1);
   return out;
 }
 

@@ -12,14 +12,11 @@
 #include "queries/distance/ball_nearest.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/prepared_model.h"
+#include "nurbs/stopwatch.h"
 
 namespace queries {
 
 namespace {
-
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// Per face and sample of `samples`, -1 everywhere.
 nurbs::ray::SampleThickness empty_map(const nurbs::ray::ThicknessSamples& samples) {
@@ -59,7 +56,7 @@ BallMap ball_map(gpgpu::Gpu& gpu, const nurbs::Model& model, const nurbs::ray::T
   out.engine = choose_engine(engine, gpu);
   batch.set_engine(out.engine);
   gpu.finish();
-  out.prepare_seconds = since(t0);
+  out.prepare_seconds = nurbs::seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   std::vector<glm::dvec3> points, inward;
   std::vector<double> start;
@@ -83,7 +80,7 @@ BallMap ball_map(gpgpu::Gpu& gpu, const nurbs::Model& model, const nurbs::ray::T
   o.max_radius = size;
   out.samples = nurbs::ray::ball_thickness(points, inward, start, nearest, o, &out.figures);
   if (progress) progress(total, total);
-  out.seconds = since(t1);
+  out.seconds = nurbs::seconds_since(t1);
   return out;
 }
 
@@ -153,7 +150,7 @@ ThicknessMap thickness_map(const nurbs::LoadedModel& loaded, const ThicknessMapO
       out.ball_thickness[size_t(out.rays.source[r].first)][size_t(out.rays.source[r].second)] =
           out.ball->samples[r].thickness;
   }
-  out.seconds = since(start);
+  out.seconds = nurbs::seconds_since(start);
   return out;
 }
 

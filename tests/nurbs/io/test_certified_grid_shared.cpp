@@ -14,7 +14,7 @@
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "shared_models.h"
-#include "tests/nurbs/grid_check.h"
+#include "tests/nurbs/distance/grid_check.h"
 
 namespace fs = std::filesystem;
 

@@ -9,8 +9,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../gpgpu/gl_fixture.h"
-#include "../shared_models.h"
+#include "tests/gpgpu/gl_fixture.h"
+#include "tests/shared_models.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/io/read_model.h"

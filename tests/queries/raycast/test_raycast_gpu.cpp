@@ -12,7 +12,7 @@
 #include <limits>
 #include <string>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/raycast/thickness.h"

@@ -13,10 +13,10 @@
 #include <fstream>
 #include <iterator>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "queries/distance/batch_cache.h"
 #include "queries/distance/point_batch.h"
-#include "tests/queries/point_batch_fixtures.h"
+#include "tests/queries/distance/point_batch_fixtures.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "queries/raycast/bvh_gpu.h"
 #include "tests/test_suites.h"
 

@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"

@@ -1,5 +1,5 @@
-// The batched point projection finished by refinement (point_batch.h, point_batch_refine in
-// point_batch_cpu.cpp): on coarse grids (Search::CoarseToFine) every answer is refined in double to
+// The batched point projection finished by refinement (point_batch.h, BatchFinish::refine in
+// point_batch_finish.h): on coarse grids (Search::CoarseToFine) every answer is refined in double to
 // T, and on faithful grids so is every answer whose float bound exceeds T (points far from the
 // model). Both against the per-point coarse-to-fine query (refine.h): the same distances within
 // both bounds, every bound within T wherever the point lies.
@@ -8,11 +8,11 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "nurbs/model_ops.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/point_distance.h"
-#include "tests/queries/point_batch_fixtures.h"
+#include "tests/queries/distance/point_batch_fixtures.h"
 
 namespace {
 

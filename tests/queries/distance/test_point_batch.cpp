@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <glm/geometric.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
@@ -21,7 +21,7 @@
 #include "nurbs/trim_classify.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/point_distance.h"
-#include "tests/queries/point_batch_fixtures.h"
+#include "tests/queries/distance/point_batch_fixtures.h"
 #include "tests/shared_models.h"
 
 namespace {

@@ -9,13 +9,13 @@
 #include <glm/geometric.hpp>
 #include <map>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/trim_classify.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/prepared_model.h"
-#include "tests/queries/point_batch_fixtures.h"
+#include "tests/queries/distance/point_batch_fixtures.h"
 
 namespace {
 

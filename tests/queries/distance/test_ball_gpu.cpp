@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 #include <random>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "nurbs/raycast/ball_thickness.h"
 #include "queries/distance/ball_nearest.h"

@@ -6,7 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"

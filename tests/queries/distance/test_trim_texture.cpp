@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"

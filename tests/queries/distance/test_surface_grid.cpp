@@ -8,7 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/io/read_model.h"

@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
@@ -21,7 +21,7 @@
 #include "nurbs/trim_classify.h"
 #include "queries/distance/clearance.h"
 #include "queries/distance/point_distance.h"
-#include "tests/queries/distance_reference.h"
+#include "tests/queries/distance/distance_reference.h"
 #include "tests/shared_models.h"
 
 TEST_CASE("point distance: GPU query = CPU twin, within K of the reference (Theorems 1 and 2)") {

@@ -16,7 +16,7 @@
 #include "queries/distance/point_distance.h"
 #include "queries/distance/refine.h"
 #include "test_suites.h"
-#include "tests/queries/distance_reference.h"
+#include "tests/queries/distance/distance_reference.h"
 
 namespace {
 

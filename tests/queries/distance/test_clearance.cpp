@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/surface_eval.h"
@@ -19,7 +19,7 @@
 #include "queries/distance/prepared_model.h"
 #include "queries/distance/voxel_stage.h"
 #include "test_suites.h"
-#include "tests/queries/distance_reference.h"
+#include "tests/queries/distance/distance_reference.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <glm/geometric.hpp>
 
-#include "../gpgpu/gl_fixture.h"
+#include "tests/gpgpu/gl_fixture.h"
 #include "gpgpu/polygon_fill.h"
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"

@@ -14,7 +14,7 @@
 #include "nurbs/distance/certified_grid.h"
 #include "nurbs/model_ops.h"
 #include "test_suites.h"
-#include "tests/nurbs/grid_check.h"
+#include "tests/nurbs/distance/grid_check.h"
 
 namespace {
 
