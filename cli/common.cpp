@@ -113,16 +113,6 @@ void check_output(const std::string& path, const std::string& option) {
   }
 }
 
-std::string unit_name(const nurbs::Model& model) {
-  const double k = model.unit_scale_to_mm;
-  const std::pair<double, const char*> known[] = {{1.0, "mm"},    {25.4, "in"}, {304.8, "ft"}, {1000.0, "m"},
-                                                  {10.0, "cm"},   {0.001, "um"}, {1e6, "km"},  {0.0254, "mil"},
-                                                  {1609344.0, "mi"}};
-  for (const auto& [scale, name] : known)
-    if (std::abs(k - scale) <= 1e-9 * scale) return name;
-  return fmt::format("x {:g} mm", k);
-}
-
 namespace {
 bool g_json_printed = false;
 

@@ -114,8 +114,7 @@ void print_json_streamed(nlohmann::json j, const std::string& key, size_t count,
 /// did-you-mean.
 [[nodiscard]] std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names);
 
-/// The model's length unit as text ("mm", "in", "m", ...; "x 2.5 mm" for another scale), from the
-/// file's unit (Model::unit_scale_to_mm): what the distances a command prints are in.
-[[nodiscard]] std::string unit_name(const nurbs::Model& model);
+/// The model's length unit as text (nurbs::unit_name): what the distances a command prints are in.
+using nurbs::unit_name;
 
 }  // namespace cli

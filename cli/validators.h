@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli/paper_preset.h"
+#include "nurbs/request_error.h"
 #include "queries/distance/prepared_model.h"
 
 namespace cli {
@@ -31,7 +32,7 @@ inline CLI::Validator relative_tolerance() {
       [](std::string& text) -> std::string {
         double v = 0;
         if (std::string e = parse_double(text, v, ""); !e.empty()) return e;
-        if (!std::isfinite(v) || v < 1e-9 || v > 1.0)
+        if (!std::isfinite(v) || v < nurbs::kMinRelativeTolerance || v > nurbs::kMaxRelativeTolerance)
           return text + " is not a finite number from 1e-9 to 1 (a fraction of the model size)";
         return "";
       },

@@ -69,4 +69,8 @@ inline constexpr double kCoordinateReach = 1e15;
 /// refuse the model with this message.
 [[nodiscard]] std::vector<std::string> validate_model_size(double size);
 
+/// The model's length unit as text ("mm", "in", "m", ...; "x 2.5 mm" for another scale), from the
+/// file's unit (Model::unit_scale_to_mm): what the distances of an answer are in.
+[[nodiscard]] std::string unit_name(const Model& model);
+
 }  // namespace nurbs

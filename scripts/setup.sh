@@ -19,6 +19,9 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev # command line, JSON output, formatting
   libeigen3-dev                              # SVD of the trim-curve lifting (tessellation §4)
   libimgui-dev libstb-dev                    # viewer panels (GLFW + OpenGL 3 backends); PNG screenshots
+  python3-dev pybind11-dev python3-numpy     # the Python module nurbsgl (python/)
+  python3-pytest python3-distributed         # its tests; scale-out on Dask (nurbsgl.dask)
+  python3-matplotlib                         # the deviation histogram (PNG)
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -33,6 +36,7 @@ if ((${#missing[@]})); then
 fi
 
 if [ ! -f "$build_dir/CMakeCache.txt" ]; then
-  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
+  # Debian's python3, whose packages apt installed above (another python3 first on PATH lacks them).
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython3_EXECUTABLE=/usr/bin/python3 "$@" >/dev/null
 fi
 cmake --build "$build_dir" -j"$(nproc)"

@@ -16,6 +16,7 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/tessellation/coherent_eval.h"
 #include "nurbs/tessellation/half_edge_trim.h"
@@ -23,7 +24,6 @@
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/triangulate.h"
 #include "nurbs/tessellation/watertight.h"
-#include "nurbs/stopwatch.h"
 
 namespace nurbs::tess {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/stopwatch.h"
 #include "queries/distance/face_cull.h"
 #include "queries/distance/refine.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 
@@ -105,6 +105,7 @@ std::string ClearanceAnswer::failure() const {
 ClearancePair::ClearancePair(const nurbs::LoadedModel& a, const nurbs::LoadedModel* b, ClearanceOptions options,
                              gpgpu::Gpu* gpu, GpuStart start)
     : options_(std::move(options)), gpu_(gpu), start_(std::move(start)) {
+  nurbs::require_relative_tolerance(options_.tolerance, "tolerance");
   const std::string file_a = a.path.string(), file_b = b ? b->path.string() : file_a;
   a_ = select_body(a.model, options_.body_a, "--body-a", file_a);
   // B is a model of its own unless it is A's file with the same body.

@@ -19,9 +19,9 @@
 #include "gpgpu/layout.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/trim_classify.h"
 #include "queries/shaders.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {

@@ -9,9 +9,9 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/system_memory.h"
 #include "queries/distance/batch_cache.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 
@@ -78,6 +78,7 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
       faces_(nurbs::world_faces(model.model)),
       doubts_(faces_),
       engine_(choose_engine(options_.engine, gpu)) {
+  nurbs::require_relative_tolerance(options_.tolerance, "tolerance");
   // The reader's edge gaps widen the bounds near them (nurbs/model_report.h): the query aims that
   // much below the tolerance, up to half of it, so that an answer beside a gap still meets it.
   const double tolerance = options_.tolerance * size_;

@@ -12,9 +12,9 @@
 #include "gpgpu/layout.h"
 #include "gpgpu/reduce.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/surface_eval.h"
 #include "queries/shaders.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {

@@ -7,8 +7,8 @@
 
 #include "nurbs/parallel.h"
 #include "nurbs/raycast/thickness.h"
-#include "queries/raycast/raycast_gpu.h"
 #include "nurbs/stopwatch.h"
+#include "queries/raycast/raycast_gpu.h"
 
 namespace queries {
 namespace {

@@ -14,10 +14,10 @@
 
 #include "gpgpu/layout.h"
 #include "nurbs/parallel.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/trim_classify.h"
 #include "queries/raycast/bvh_gpu.h"
 #include "queries/shaders.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 namespace {

@@ -8,11 +8,11 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/stopwatch.h"
 #include "nurbs/system_memory.h"
 #include "queries/distance/ball_nearest.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/prepared_model.h"
-#include "nurbs/stopwatch.h"
 
 namespace queries {
 

@@ -1,0 +1,245 @@
+#include "python/queries_binding.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "nurbs/model_ops.h"
+#include "nurbs/request_error.h"
+#include "nurbs/tessellation/model_mesh.h"
+#include "python/convert.h"
+#include "python/gl_thread.h"
+#include "queries/distance/clearance_pair.h"
+#include "queries/raycast/ray_caster.h"
+#include "queries/raycast/thickness_map.h"
+
+namespace nurbsgl_python {
+namespace {
+
+queries::EngineChoice engine_of(const std::string& name) {
+  try {
+    return queries::engine_choice(name);
+  } catch (const std::invalid_argument&) {
+    throw py::value_error(fmt::format("engine: '{}' is not one of auto, cpu, gpu", name));
+  }
+}
+
+double coordinate_limit(const nurbs::Model& model) { return nurbs::coordinate_limit(nurbs::model_box(model)); }
+
+/// The prepared point query of `m` for these options, prepared on the GL thread on first use.
+std::shared_ptr<queries::PointQuery> point_query(ModelBinding& m, const queries::PointQueryOptions& o) {
+  const ModelBinding::Key key{o.tolerance, o.per_point, int(o.engine), o.accept_partial, o.cache};
+  std::lock_guard lock(m.mutex);  // one preparation per key, also when two threads ask at once
+  if (auto it = m.point_queries.find(key); it != m.point_queries.end()) return it->second;
+  std::unique_ptr<queries::PointQuery> q;
+  GlThread::instance().run(
+      [&] { q = std::make_unique<queries::PointQuery>(GlThread::instance().gpu(), *m.loaded, o); });
+  auto shared = on_gl_thread(std::move(q));
+  m.point_queries.emplace(key, shared);
+  return shared;
+}
+
+}  // namespace
+
+py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, const std::string& engine,
+                        bool per_point, bool accept_partial, bool cache) {
+  const std::vector<glm::dvec3> p = points_from(points, "points", coordinate_limit(m.loaded->model));
+  queries::PointQueryOptions o;
+  o.tolerance = tol, o.per_point = per_point, o.engine = engine_of(engine), o.accept_partial = accept_partial;
+  o.cache = cache;
+  queries::PointQueryResult r;
+  std::shared_ptr<queries::PointQuery> q;
+  {
+    py::gil_scoped_release release;
+    q = point_query(m, o);
+    GlThread::instance().run([&] { r = q->query(p); });
+  }
+  const size_t n = r.answers.size();
+  std::vector<double> distance(n), bound(n), point_bound(n);
+  std::vector<glm::dvec3> closest(n);
+  std::vector<glm::dvec2> uv(n);
+  std::vector<int32_t> face(n);
+  std::vector<char> meets(n);
+  py::list reasons;
+  for (size_t k = 0; k < n; ++k) {
+    const queries::PointDistance& a = r.answers[k];
+    distance[k] = a.found ? a.distance : std::nan("");
+    bound[k] = a.found ? a.bound : std::nan("");
+    point_bound[k] = a.found ? a.point_bound : std::nan("");
+    closest[k] = a.point, uv[k] = a.uv, face[k] = a.found ? a.face : -1;
+    meets[k] = r.meets(k);
+    reasons.append(r.reasons[k]);
+  }
+  py::dict d;
+  d["distance"] = array1(distance), d["bound"] = array1(bound), d["point_bound"] = array1(point_bound);
+  d["point"] = array3(closest), d["uv"] = array2(uv), d["face"] = array1(face), d["meets_tolerance"] = bools(meets);
+  d["reasons"] = reasons;
+  d["tolerance"] = r.tolerance;
+  d["engine"] = queries::engine_name(q->engine());
+  d["batched"] = q->batched();
+  d["seconds"] = r.seconds;
+  d["prepare_seconds"] = q->prepare_seconds();
+  d["failure"] = r.failure();
+  return d;
+}
+
+py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight, bool guaranteed, bool check,
+                    bool accept_partial) {
+  nurbs::tess::ModelMeshOptions o;
+  o.eps = eps, o.relative = relative, o.check = check, o.accept_partial = accept_partial;
+  o.tess.watertight = watertight;
+  o.tess.mode = guaranteed ? nurbs::tess::TessMode::Guaranteed : nurbs::tess::TessMode::Approximate;
+  nurbs::tess::ModelMesh mesh;
+  {
+    py::gil_scoped_release release;
+    mesh = nurbs::tess::mesh_model(*m.loaded, o);
+  }
+  const nurbs::TriangleMesh& t = mesh.result.mesh;
+  py::array_t<int32_t> triangles({py::ssize_t(t.triangles.size()), py::ssize_t(3)});
+  int32_t* tri = triangles.mutable_data();
+  for (size_t i = 0; i < t.triangles.size(); ++i)
+    tri[3 * i] = t.triangles[i].x, tri[3 * i + 1] = t.triangles[i].y, tri[3 * i + 2] = t.triangles[i].z;
+  py::dict d;
+  d["vertices"] = array3(t.positions);
+  d["triangles"] = triangles;
+  d["triangle_face"] = array1(std::vector<int32_t>(t.triangle_face.begin(), t.triangle_face.end()));
+  d["normals"] = array3(t.normals);
+  d["eps"] = mesh.eps;
+  d["bound"] = mesh.bound();
+  d["guaranteed"] = mesh.guaranteed;
+  d["failure"] = mesh.failure();
+  if (mesh.deviation)
+    d["deviation"] = std::max(mesh.deviation->surface_to_mesh, mesh.deviation->mesh_to_surface);
+  return d;
+}
+
+py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
+                 const std::string& engine, double tol) {
+  const double limit = coordinate_limit(m.loaded->model);
+  const std::vector<glm::dvec3> o = points_from(origins, "origins", limit);
+  const std::vector<glm::dvec3> dir = points_from(directions, "directions", 1e300);
+  if (o.size() != dir.size())
+    throw py::value_error(fmt::format("origins and directions: {} and {} rows", o.size(), dir.size()));
+  std::vector<nurbs::ray::Ray> rays(o.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const double len = glm::length(dir[i]);
+    if (!(len > 0.0)) throw py::value_error(fmt::format("directions: row {} is zero", i));
+    rays[i] = {o[i], dir[i] / len};
+  }
+  const queries::EngineChoice e = engine_of(engine);
+  queries::RayCasterOptions options;
+  options.tolerance = tol;
+  std::vector<nurbs::ray::Hit> hits;
+  {
+    py::gil_scoped_release release;
+    GlThread::instance().run([&] {
+      queries::RayCaster caster(nurbs::world_faces(m.loaded->model), options,
+                                e == queries::EngineChoice::Gpu ? &GlThread::instance().gpu() : nullptr);
+      hits = caster.cast(rays, t_min);
+    });
+  }
+  std::vector<char> hit(hits.size());
+  std::vector<double> t(hits.size());
+  std::vector<glm::dvec3> point(hits.size());
+  std::vector<glm::dvec2> uv(hits.size());
+  std::vector<int32_t> face(hits.size());
+  for (size_t i = 0; i < hits.size(); ++i) {
+    hit[i] = hits[i].face >= 0;
+    t[i] = hit[i] ? hits[i].t : std::nan("");
+    point[i] = hits[i].point, uv[i] = hits[i].uv, face[i] = hits[i].face;
+  }
+  py::dict d;
+  d["hit"] = bools(hit), d["t"] = array1(t), d["point"] = array3(point), d["uv"] = array2(uv);
+  d["face"] = array1(face);
+  d["failure"] = m.loaded->report.invalid_trim_reason();
+  return d;
+}
+
+py::dict thickness(ModelBinding& m, long long samples, const std::string& engine, bool ball, double min_wall,
+                   bool accept_partial) {
+  queries::ThicknessMapOptions o;
+  o.samples = samples, o.ball = ball, o.min_wall = min_wall, o.accept_partial = accept_partial;
+  o.gpu = engine_of(engine) == queries::EngineChoice::Gpu;
+  queries::ThicknessMap map;
+  {
+    py::gil_scoped_release release;
+    GlThread::instance().run([&] {
+      map = queries::thickness_map(*m.loaded, o, o.gpu || o.ball ? &GlThread::instance().gpu() : nullptr);
+    });
+  }
+  const size_t n = map.rays.rays.size();
+  std::vector<glm::dvec3> origin(n), direction(n);
+  std::vector<double> value(n, -1.0), ball_value;
+  std::vector<int32_t> face(n);
+  for (size_t i = 0; i < n; ++i) {
+    origin[i] = map.rays.rays[i].origin, direction[i] = map.rays.rays[i].direction;
+    const auto [f, g] = map.rays.source[i];
+    face[i] = map.samples.faces[size_t(f)].face;
+    value[i] = map.thickness[size_t(f)][size_t(g)];
+  }
+  if (map.ball)
+    for (const nurbs::ray::BallThickness& b : map.ball->samples) ball_value.push_back(b.thickness);
+  py::dict d;
+  d["origin"] = array3(origin), d["direction"] = array3(direction), d["face"] = array1(face);
+  d["thickness"] = array1(value);
+  if (map.ball) d["ball"] = array1(ball_value);
+  d["min"] = map.summary.min, d["median"] = map.summary.median, d["mean"] = map.summary.mean;
+  d["max"] = map.summary.max, d["hits"] = map.hit_count, d["below_min_wall"] = map.below_min_wall;
+  d["spacing"] = map.spacing;
+  d["failure"] = map.failure();
+  return d;
+}
+
+py::list clearance(ModelBinding& a, ModelBinding* b, const py::list& motions, const std::string& body_a,
+                   const std::string& body_b, double tol, const std::string& engine, bool voxel_stage,
+                   bool accept_partial) {
+  std::vector<glm::dmat4> frames;
+  for (const py::handle& h : motions) {
+    const auto arr = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+    if (!arr || arr.ndim() != 2 || arr.shape(0) != 4 || arr.shape(1) != 4)
+      throw py::value_error("motion: a 4 x 4 array (row-major, acting on column vectors) is wanted");
+    glm::dmat4 f(1.0);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) {
+        f[c][r] = arr.at(r, c);
+        if (!std::isfinite(f[c][r])) throw py::value_error("motion: not finite");
+      }
+    frames.push_back(f);
+  }
+  if (frames.empty()) frames.emplace_back(1.0);
+  queries::ClearanceOptions o;
+  o.tolerance = tol, o.engine = engine_of(engine), o.voxel_stage = voxel_stage, o.accept_partial = accept_partial;
+  o.body_a = body_a, o.body_b = body_b;
+  std::vector<queries::ClearanceAnswer> answers;
+  {
+    py::gil_scoped_release release;
+    GlThread::instance().run([&] {
+      queries::ClearancePair pair(*a.loaded, b ? b->loaded.get() : nullptr, o, &GlThread::instance().gpu());
+      pair.prepare(frames);
+      for (const glm::dmat4& f : frames) answers.push_back(pair.query(f));
+    });
+  }
+  py::list out;
+  for (const queries::ClearanceAnswer& answer : answers) {
+    const queries::Clearance& c = answer.clearance;
+    py::dict d;
+    d["found"] = c.found, d["distance"] = c.distance, d["bound"] = c.bound, d["point_bound"] = c.point_bound();
+    d["point_a"] = py::make_tuple(c.point_a.x, c.point_a.y, c.point_a.z);
+    d["point_b"] = py::make_tuple(c.point_b.x, c.point_b.y, c.point_b.z);
+    d["face_a"] = c.face_a, d["face_b"] = c.face_b;
+    d["uv_a"] = py::make_tuple(c.uv_a.x, c.uv_a.y), d["uv_b"] = py::make_tuple(c.uv_b.x, c.uv_b.y);
+    d["intersecting"] = c.intersecting;
+    if (c.intersecting) d["intersection"] = py::make_tuple(c.intersection.x, c.intersection.y, c.intersection.z);
+    d["meets_tolerance"] = answer.meets();
+    d["uncertified"] = answer.reason;
+    d["failure"] = answer.failure();
+    d["tolerance"] = answer.tolerance;
+    d["seconds"] = answer.seconds;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace nurbsgl_python
