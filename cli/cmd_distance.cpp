@@ -16,8 +16,10 @@
 #include <span>
 
 #include "cli/commands.h"
+#include "cli/deviation_outputs.h"
 #include "cli/paper_preset.h"
 #include "cli/validators.h"
+#include "nurbs/io/mesh_writer.h"
 #include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/paper_switch.h"
@@ -36,6 +38,10 @@ struct Options {
   std::string engine = "auto";     ///< where the batched descent runs (queries::EngineChoice)
   bool no_cache = false;
   PaperPreset preset;  ///< --paper
+  // The scan's deviation report (deviation_outputs.h).
+  std::vector<double> within;  ///< --within, model units
+  std::string ply, histogram;
+  [[nodiscard]] bool report() const { return query.signed_distance || !within.empty() || !ply.empty() || !histogram.empty(); }
 };
 
 nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const glm::dvec3& query,
@@ -55,8 +61,25 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
                       {"uv", {d.uv.x, d.uv.y}},
                       {"on_trim_edge", d.on_trim_edge},
                       {"candidates", d.candidates}};
+  if (!r.signed_distance.empty()) j["signed_distance"] = r.signed_distance[k];
   if (!r.reasons[k].empty()) j["uncertified"] = r.reasons[k];
   return j;
+}
+
+/// The deviation report of a scan: its JSON (into j, when not null), the PLY and the histogram.
+void write_report(const queries::PointQueryResult& r, std::span<const glm::dvec3> points, const Options& o,
+                  const std::string& unit, nlohmann::json* j) {
+  const queries::DeviationReport report = queries::deviation_report(r, o.within);
+  if (!o.ply.empty()) {
+    const double green = o.within.empty() ? r.tolerance : *std::min_element(o.within.begin(), o.within.end());
+    nurbs::io::write_mesh_file(o.ply, queries::deviation_cloud(points, report, green));
+  }
+  if (!o.histogram.empty()) write_histogram(o.histogram, report, o.within, unit);
+  if (!j) return print_deviation(report, unit);
+  (*j)["deviation"] = deviation_json(report);
+  if (!r.signed_distance.empty())
+    (*j)["deviation"]["sides"] = {
+        {"by_normal", r.sides.by_normal}, {"by_rays", r.sides.by_rays}, {"unsure", r.sides.unsure}};
 }
 
 /// The batched path's figures in the JSON object.
@@ -127,6 +150,7 @@ void run(const GlobalOptions& global, const Options& o) {
       o.point.empty() ? nurbs::io::parse_points(read_input_text(o.points, "--points"), o.points, limit)
                       : std::vector{nurbs::io::parse_point(o.point, "--point", limit)};
   const std::string unit = unit_name(loaded.model);  // of every distance printed
+  if (!o.histogram.empty()) check_histogram_python();
   auto gpu = start_gpu(global);
   queries::PointQueryOptions q = o.query;
   q.per_point = q.per_point || o.points.empty();
@@ -159,6 +183,7 @@ void run(const GlobalOptions& global, const Options& o) {
     j["tolerance"] = r.tolerance, j["unit"] = unit;
     if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
     if (batched) add_batch_json(j, query, o), j["engine"]["renderer"] = gpu->info().renderer;
+    if (o.report()) write_report(r, points, o, unit, &j);
     if (o.point.empty())
       print_json_streamed(std::move(j), "results", points.size(),
                           [&](size_t k) { return result_json(r, k, points[k], query.faces()); });
@@ -166,6 +191,7 @@ void run(const GlobalOptions& global, const Options& o) {
       print_json(j);
   } else {
     print_text(query, r, points, unit, o);
+    if (o.report()) write_report(r, points, o, unit, nullptr);
   }
   report_profile(*gpu, global);
   if (const std::string why = r.failure(); !why.empty()) throw CommandFailed(why);
@@ -222,6 +248,22 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   o->preset.govern(per_point, o->query.per_point, paper.per_point, section("per-point"));
   govern_search(o->preset, search, o->query.search, section("search"));
   o->preset.govern(host_cells, o->query.host_cells, paper.host_cells, section("host-cells"));
+  cmd->add_flag("--signed", o->query.signed_distance,
+                "Also the signed distance, negative inside the model's solids (by the outward normal at the closest "
+                "point, by rays where that cannot tell); refused for a model whose bodies are not stated closed");
+  cmd->add_option("--within", o->within,
+                  "Tolerances (model units, comma-separated) whose share of points the deviation report gives, each "
+                  "also counted with the answers' bounds (certainly / possibly within)")
+      ->delimiter(',')
+      ->check(positive_number("a positive distance"));
+  cmd->add_option("--ply", o->ply,
+                  "Write the points coloured by deviation (green within the first --within, else the tolerance; "
+                  "yellow to red outside, cyan to blue inside) as PLY, with the per-point value 'deviation'")
+      ->check(extension_is(".ply"));
+  cmd->add_option("--histogram", o->histogram,
+                  "Write the deviation histogram with the --within bands and their shares as PNG (python3 with "
+                  "matplotlib: $NURBSGL_PYTHON, else the interpreter found at build time)")
+      ->check(extension_is(".png"));
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine] {
     o->preset.apply();

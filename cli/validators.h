@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cmath>
 #include <string>
 
@@ -63,6 +64,17 @@ inline CLI::Validator finite_range(double lo, double hi) {
         return "";
       },
       fmt::format("in [{:g}, {:g}]", lo, hi));
+}
+
+/// A file name ending in `ext` (any case), e.g. ".ply".
+inline CLI::Validator extension_is(const std::string& ext) {
+  return CLI::Validator(
+      [ext](std::string& text) -> std::string {
+        std::string tail = text.size() >= ext.size() ? text.substr(text.size() - ext.size()) : "";
+        for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
+        return tail == ext ? "" : text + ": a " + ext + " file is wanted";
+      },
+      "*" + ext);
 }
 
 /// `--search faithful|coarse-to-fine` (queries::Search): the paper's grids at the tolerance, or

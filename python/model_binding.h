@@ -16,8 +16,8 @@ namespace nurbsgl_python {
 
 struct ModelBinding {
   std::shared_ptr<const nurbs::LoadedModel> loaded;
-  /// Prepared point queries by (tolerance, per point, engine, accept partial, cache).
-  using Key = std::tuple<double, bool, int, bool, bool>;
+  /// Prepared point queries by (tolerance, per point, engine, accept partial, cache, signed).
+  using Key = std::tuple<double, bool, int, bool, bool, bool>;
   std::map<Key, std::shared_ptr<queries::PointQuery>> point_queries;
   std::mutex mutex;  ///< guards point_queries
 };

@@ -30,7 +30,7 @@ double coordinate_limit(const nurbs::Model& model) { return nurbs::coordinate_li
 
 /// The prepared point query of `m` for these options, prepared on the GL thread on first use.
 std::shared_ptr<queries::PointQuery> point_query(ModelBinding& m, const queries::PointQueryOptions& o) {
-  const ModelBinding::Key key{o.tolerance, o.per_point, int(o.engine), o.accept_partial, o.cache};
+  const ModelBinding::Key key{o.tolerance, o.per_point, int(o.engine), o.accept_partial, o.cache, o.signed_distance};
   std::lock_guard lock(m.mutex);  // one preparation per key, also when two threads ask at once
   if (auto it = m.point_queries.find(key); it != m.point_queries.end()) return it->second;
   std::unique_ptr<queries::PointQuery> q;
@@ -44,11 +44,11 @@ std::shared_ptr<queries::PointQuery> point_query(ModelBinding& m, const queries:
 }  // namespace
 
 py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, const std::string& engine,
-                        bool per_point, bool accept_partial, bool cache) {
+                        bool per_point, bool accept_partial, bool cache, bool signed_distance) {
   const std::vector<glm::dvec3> p = points_from(points, "points", coordinate_limit(m.loaded->model));
   queries::PointQueryOptions o;
   o.tolerance = tol, o.per_point = per_point, o.engine = engine_of(engine), o.accept_partial = accept_partial;
-  o.cache = cache;
+  o.cache = cache, o.signed_distance = signed_distance;
   queries::PointQueryResult r;
   std::shared_ptr<queries::PointQuery> q;
   {
@@ -76,6 +76,7 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   d["distance"] = array1(distance), d["bound"] = array1(bound), d["point_bound"] = array1(point_bound);
   d["point"] = array3(closest), d["uv"] = array2(uv), d["face"] = array1(face), d["meets_tolerance"] = bools(meets);
   d["reasons"] = reasons;
+  if (signed_distance) d["signed_distance"] = array1(r.signed_distance);
   d["tolerance"] = r.tolerance;
   d["engine"] = queries::engine_name(q->engine());
   d["batched"] = q->batched();

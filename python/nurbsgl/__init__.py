@@ -16,8 +16,9 @@ entity), RequestError (a request refused before the work, as the command line's 
 
 from ._nurbsgl import NoGLError, ReadError, RequestError, gl_info
 from . import _nurbsgl
+from . import histogram
 
-__all__ = ["load", "clearance", "Model", "Result", "ReadError", "RequestError", "NoGLError", "gl_info"]
+__all__ = ["load", "clearance", "histogram", "Model", "Result", "ReadError", "RequestError", "NoGLError", "gl_info"]
 
 
 class Result:
@@ -64,7 +65,8 @@ class Model:
         return (f"nurbsgl.Model({self.path!r}: {len(self.bodies)} bodies, {self.faces} faces, "
                 f"size {self.size:.6g} {self.unit}{', changed by the reader' if self.changed else ''})")
 
-    def distance(self, points, tol=1e-5, engine="auto", per_point=False, accept_partial=False, cache=True):
+    def distance(self, points, tol=1e-5, engine="auto", per_point=False, accept_partial=False, cache=True,
+                 signed=False):
         """Minimum distance from every point of an (N, 3) float64 array (model units, the model's frame)
         to the model (Krishnamurthy et al.), each answer within `tol` x the model size.
 
@@ -74,8 +76,10 @@ class Model:
         answer meets the tolerance, "" when all do). The model is prepared once per set of options
         (and stored in the disk cache, as the command line does); later calls reuse it.
         engine: "auto" (the CPU twin where OpenGL renders on the CPU), "cpu" or "gpu".
-        per_point: the paper's one query at a time instead of the batched projection."""
-        return Result(self._m.distance(points, tol, engine, per_point, accept_partial, cache))
+        per_point: the paper's one query at a time instead of the batched projection.
+        signed: also signed_distance, negative inside the model's solids (RequestError for a model
+        whose bodies are not stated closed); nurbsgl.histogram.plot draws its histogram."""
+        return Result(self._m.distance(points, tol, engine, per_point, accept_partial, cache, signed))
 
     def tessellate(self, eps=1e-3, relative=True, watertight=False, guaranteed=True, check=False,
                    accept_partial=False):

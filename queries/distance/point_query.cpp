@@ -9,6 +9,7 @@
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/tessellation/model_mesh.h"
 #include "nurbs/stopwatch.h"
 #include "nurbs/system_memory.h"
 #include "queries/distance/batch_cache.h"
@@ -79,6 +80,10 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
       doubts_(faces_),
       engine_(choose_engine(options_.engine, gpu)) {
   nurbs::require_relative_tolerance(options_.tolerance, "tolerance");
+  if (options_.signed_distance) {
+    require_closed_solids(model);
+    sides_ = std::make_unique<SideTest>(faces_);
+  }
   // The reader's edge gaps widen the bounds near them (nurbs/model_report.h): the query aims that
   // much below the tolerance, up to half of it, so that an answer beside a gap still meets it.
   const double tolerance = options_.tolerance * size_;
@@ -97,6 +102,62 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
   }
   gpu.finish();
   prepare_seconds_ = nurbs::seconds_since(t0);
+}
+
+void PointQuery::require_closed_solids(const nurbs::LoadedModel& model) {
+  const auto refuse = [&](size_t b, const std::string& why) {
+    const std::string& name = model.model.bodies[b].name;
+    throw nurbs::RequestError(fmt::format("{}: signed distances need closed solids, and body {}{} {}",
+                                          model.path.string(), b, name.empty() ? "" : " (" + name + ")", why));
+  };
+  for (size_t b = 0; b < model.model.bodies.size(); ++b)
+    if (!model.model.bodies[b].closed)
+      refuse(b, "is not stated closed (an open shell or loose faces: its inside is not defined)");
+  // A file may state a solid whose faces do not close (a face missing, edges that do not meet):
+  // the rays of the side test would then pass through the gaps. A watertight mesh shows it (at the
+  // tessellation's default eps: coarser meshes may leave cracks of their own).
+  nurbs::tess::ModelMeshOptions o;
+  o.eps = 1e-3, o.relative = true, o.accept_partial = true;
+  o.tess.watertight = true;  // guaranteed: the approximate mode may leave cracks at coarse eps
+  const nurbs::tess::ModelMesh mesh = nurbs::tess::mesh_model(model, o);
+  if (mesh.solid_open == 0 && mesh.result.failures.empty()) return;
+  // The body of the first face that leaves open edges (or was not meshed): faces in body order.
+  int face = mesh.result.failures.empty() ? -1 : mesh.result.failures.front().face;
+  for (const auto& [f, n] : mesh.edges.open_by_face)
+    if (face < 0 && f >= 0) face = f;
+  size_t b = 0;
+  for (int first = 0; b + 1 < model.model.bodies.size(); ++b) {
+    first += int(model.model.bodies[b].faces.size());
+    if (face < first) break;
+  }
+  refuse(b, mesh.result.failures.empty()
+                ? fmt::format("is stated closed, but its faces leave {} open edges ({})", mesh.solid_open,
+                              fmt::join(mesh.solid_cracks, "; "))
+                : fmt::format("is stated closed, but face {} could not be meshed to check it: {}", face,
+                              mesh.result.failures.front().reason));
+}
+
+void PointQuery::sign_answers(std::span<const glm::dvec3> points, PointQueryResult& out) {
+  const std::vector<Side> side = sides_->sides(points, out.answers);
+  out.sides = sides_->figures();
+  out.signed_distance.assign(out.answers.size(), std::nan(""));
+  for (size_t k = 0; k < out.answers.size(); ++k) {
+    PointDistance& r = out.answers[k];
+    if (!r.found) continue;
+    if (side[k] != Side::Unsure) {
+      out.signed_distance[k] = side[k] == Side::Inside ? -r.distance : r.distance;
+    } else {
+      // Either side: the true signed distance lies within d + d* <= 2 d + bound of +d. Certified
+      // only where that still meets the tolerance (a point on the surface, or within its bound).
+      out.signed_distance[k] = r.distance;
+      r.bound += 2.0 * r.distance;
+      if (!within_tolerance(r.bound, out.tolerance) && out.reasons[k].empty()) {
+        r.meets_tolerance = false;
+        out.reasons[k] = "inside or outside unsure: the rays from the point disagree (the solids overlap, or a face "
+                         "is missing or misoriented)";
+      }
+    }
+  }
 }
 
 PointQuery::~PointQuery() {
@@ -223,6 +284,7 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
     out.reasons[k] = !model_reason_.empty() ? model_reason_ : v.reason;
     if (!out.reasons[k].empty()) r.meets_tolerance = false;
   }
+  if (sides_) sign_answers(points, out);
   for (size_t k = 0; k < out.answers.size(); ++k) {
     const auto& r = out.answers[k];
     out.uncertified += !out.reasons[k].empty();

@@ -29,6 +29,7 @@
 #include "nurbs/paper_switch.h"
 #include "queries/engine.h"
 #include "queries/distance/point_batch.h"
+#include "queries/distance/side_test.h"
 #include "queries/distance/point_distance.h"
 #include "queries/distance/prepared_model.h"
 
@@ -61,6 +62,9 @@ struct PointQueryOptions {
   EngineChoice engine = EngineChoice::Auto;  ///< batched: where the points descend the pyramid
   /// Answers on a model whose reader dropped faces may be certified, on the faces read.
   bool accept_partial = false;
+  /// Also the signed distance of every point, negative inside the model's solids (side_test.h);
+  /// refused for a model with a body the file does not state closed, or whose faces do not close.
+  bool signed_distance = false;
   /// Called as a batch is answered: points done, points in all.
   std::function<void(size_t done, size_t total)> progress;
   /// Lines for people about the work (a slow preparation, a cache file not used or not written).
@@ -97,6 +101,11 @@ struct PointQueryResult {
   size_t uncertified = 0;
   size_t widened = 0;  ///< over T only by the reader's edge gaps near them
   double seconds = 0.0;  ///< answering the points
+  /// PointQueryOptions::signed_distance: per answer the distance, negative inside (NaN where not
+  /// found); its bound is the answer's, widened by 2 d where no side was found (either side is then
+  /// possible): such an answer is certified only if that still meets the tolerance.
+  std::vector<double> signed_distance;
+  SideFigures sides;  ///< how the sides were found
   /// Why no answer on the model is certified (faces dropped, not accepted); empty when none.
   std::string model_reason;
 
@@ -144,6 +153,11 @@ class PointQuery {
  private:
   void prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& path, double query_tolerance);
   void finish_cache_write();
+  /// RequestError unless every body is stated closed and its faces close (a coarse watertight mesh
+  /// has no open edges on them).
+  static void require_closed_solids(const nurbs::LoadedModel& model);
+  /// The signed distances and sides of `out`'s answers (signed_distance).
+  void sign_answers(std::span<const glm::dvec3> points, PointQueryResult& out);
 
   PointQueryOptions options_;
   std::string model_reason_;  ///< ModelReport::uncertified_reason
@@ -159,6 +173,7 @@ class PointQuery {
   std::future<std::pair<std::string, double>> cache_write_;
   double prepare_seconds_ = 0.0;
   bool told_prepared_ = false;  ///< the preparation's time logged (once, with the first query)
+  std::unique_ptr<SideTest> sides_;  ///< signed_distance
 };
 
 }  // namespace queries
