@@ -22,6 +22,7 @@ void add_generate(CLI::App& app, const GlobalOptions& global);
 void add_evaluate(CLI::App& app, const GlobalOptions& global);
 void add_distance(CLI::App& app, const GlobalOptions& global);
 void add_clearance(CLI::App& app, const GlobalOptions& global);
+void add_clash(CLI::App& app, const GlobalOptions& global);
 void add_tessellate(CLI::App& app, const GlobalOptions& global);
 void add_deviation(CLI::App& app, const GlobalOptions& global);
 void add_raycast(CLI::App& app, const GlobalOptions& global);

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   cli::add_evaluate(app, global);
   cli::add_distance(app, global);
   cli::add_clearance(app, global);
+  cli::add_clash(app, global);
   cli::add_tessellate(app, global);
   cli::add_deviation(app, global);
   cli::add_raycast(app, global);
