@@ -84,6 +84,8 @@ PYBIND11_MODULE(_nurbsgl, m) {
   m.def("load", &load, py::arg("path"), "Reads an IGES, STEP or .bpt file.");
   m.def("clearance", &clearance, py::arg("a"), py::arg("b"), py::arg("motions"), py::arg("body_a"),
         py::arg("body_b"), py::arg("tol"), py::arg("engine"), py::arg("voxel_stage"), py::arg("accept_partial"));
+  m.def("clash", &clash, py::arg("model"), py::arg("min_clearance"), py::arg("tol"), py::arg("engine"),
+        py::arg("accept_partial"), py::arg("pairs"));
   m.def(
       "gl_info",
       [] {

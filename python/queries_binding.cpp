@@ -11,6 +11,7 @@
 #include "nurbs/tessellation/model_mesh.h"
 #include "python/convert.h"
 #include "python/gl_thread.h"
+#include "queries/distance/clash.h"
 #include "queries/distance/clearance_pair.h"
 #include "queries/raycast/ray_caster.h"
 #include "queries/raycast/thickness_map.h"
@@ -193,6 +194,56 @@ py::dict thickness(ModelBinding& m, long long samples, const std::string& engine
   return d;
 }
 
+namespace {
+
+py::dict answer_dict(const queries::ClearanceAnswer& answer) {
+  const queries::Clearance& c = answer.clearance;
+  py::dict d;
+  d["found"] = c.found, d["distance"] = c.distance, d["bound"] = c.bound, d["point_bound"] = c.point_bound();
+  d["point_a"] = py::make_tuple(c.point_a.x, c.point_a.y, c.point_a.z);
+  d["point_b"] = py::make_tuple(c.point_b.x, c.point_b.y, c.point_b.z);
+  d["face_a"] = c.face_a, d["face_b"] = c.face_b;
+  d["uv_a"] = py::make_tuple(c.uv_a.x, c.uv_a.y), d["uv_b"] = py::make_tuple(c.uv_b.x, c.uv_b.y);
+  d["intersecting"] = c.intersecting;
+  if (c.intersecting) d["intersection"] = py::make_tuple(c.intersection.x, c.intersection.y, c.intersection.z);
+  d["meets_tolerance"] = answer.meets();
+  d["uncertified"] = answer.reason;
+  d["failure"] = answer.failure();
+  d["tolerance"] = answer.tolerance;
+  d["seconds"] = answer.seconds;
+  return d;
+}
+
+}  // namespace
+
+py::dict clash(ModelBinding& m, double min_clearance, double tol, const std::string& engine, bool accept_partial,
+               const std::vector<std::pair<int, int>>& pairs) {
+  queries::ClashOptions o;
+  o.clearance.tolerance = tol, o.clearance.engine = engine_of(engine), o.clearance.accept_partial = accept_partial;
+  o.min_clearance = min_clearance;
+  o.pairs = pairs;
+  queries::ClashReport r;
+  {
+    py::gil_scoped_release release;
+    GlThread::instance().run([&] { r = queries::clash_report(*m.loaded, o, &GlThread::instance().gpu()); });
+  }
+  py::list rows;
+  for (const queries::ClashRow& row : r.rows) {
+    py::dict d = row.computed ? answer_dict(row.answer) : py::dict();
+    d["body_a"] = row.body_a, d["body_b"] = row.body_b, d["name_a"] = row.name_a, d["name_b"] = row.name_b;
+    d["box_distance"] = row.box_distance, d["computed"] = row.computed;
+    d["beyond_min_clearance"] = row.beyond(r.min_clearance);
+    if (row.computed) d["engine"] = row.engine;
+    rows.append(d);
+  }
+  py::dict d;
+  d["rows"] = rows, d["bodies"] = r.bodies, d["pairs"] = r.rows.size(), d["pairs_computed"] = r.computed;
+  d["pairs_beyond"] = r.beyond_boxes, d["pairs_beyond_computed"] = r.beyond_computed;
+  d["pairs_intersecting"] = r.intersecting, d["pairs_uncertified"] = r.uncertified;
+  d["min_clearance"] = r.min_clearance, d["seconds"] = r.seconds, d["failure"] = r.failure();
+  return d;
+}
+
 py::list clearance(ModelBinding& a, ModelBinding* b, const py::list& motions, const std::string& body_a,
                    const std::string& body_b, double tol, const std::string& engine, bool voxel_stage,
                    bool accept_partial) {
@@ -223,23 +274,7 @@ py::list clearance(ModelBinding& a, ModelBinding* b, const py::list& motions, co
     });
   }
   py::list out;
-  for (const queries::ClearanceAnswer& answer : answers) {
-    const queries::Clearance& c = answer.clearance;
-    py::dict d;
-    d["found"] = c.found, d["distance"] = c.distance, d["bound"] = c.bound, d["point_bound"] = c.point_bound();
-    d["point_a"] = py::make_tuple(c.point_a.x, c.point_a.y, c.point_a.z);
-    d["point_b"] = py::make_tuple(c.point_b.x, c.point_b.y, c.point_b.z);
-    d["face_a"] = c.face_a, d["face_b"] = c.face_b;
-    d["uv_a"] = py::make_tuple(c.uv_a.x, c.uv_a.y), d["uv_b"] = py::make_tuple(c.uv_b.x, c.uv_b.y);
-    d["intersecting"] = c.intersecting;
-    if (c.intersecting) d["intersection"] = py::make_tuple(c.intersection.x, c.intersection.y, c.intersection.z);
-    d["meets_tolerance"] = answer.meets();
-    d["uncertified"] = answer.reason;
-    d["failure"] = answer.failure();
-    d["tolerance"] = answer.tolerance;
-    d["seconds"] = answer.seconds;
-    out.append(d);
-  }
+  for (const queries::ClearanceAnswer& answer : answers) out.append(answer_dict(answer));
   return out;
 }
 

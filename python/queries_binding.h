@@ -40,4 +40,9 @@ py::list clearance(ModelBinding& a, ModelBinding* b, const py::list& motions, co
                    const std::string& body_b, double tol, const std::string& engine, bool voxel_stage,
                    bool accept_partial);
 
+/// The clash report of the model's bodies (queries::clash_report): rows (one dict per pair, in the
+/// report's order) and the counts; `pairs` (a list of (i, j)) a shard of the pairs, empty: all.
+py::dict clash(ModelBinding& m, double min_clearance, double tol, const std::string& engine, bool accept_partial,
+               const std::vector<std::pair<int, int>>& pairs);
+
 }  // namespace nurbsgl_python

@@ -18,7 +18,7 @@ from ._nurbsgl import NoGLError, ReadError, RequestError, gl_info
 from . import _nurbsgl
 from . import histogram
 
-__all__ = ["load", "clearance", "histogram", "Model", "Result", "ReadError", "RequestError", "NoGLError", "gl_info"]
+__all__ = ["load", "clearance", "clash", "histogram", "Model", "Result", "ReadError", "RequestError", "NoGLError", "gl_info"]
 
 
 class Result:
@@ -134,3 +134,20 @@ def clearance(a, b=None, motion=None, bodies=(None, None), tol=1e-5, engine="aut
                                  voxel_stage, accept_partial)
     results = [Result(r) for r in answers]
     return results[0] if single else results
+
+
+def clash(model, min_clearance=None, tol=1e-5, engine="auto", accept_partial=False, pairs=None):
+    """The clash report of an assembly (or any model of several bodies): the clearance of every pair
+    of bodies, as nurbsgl.clearance(model, bodies=(i, j)) answers it. Pairs whose bodies' boxes lie
+    farther apart than min_clearance (model units; None: every pair computed) are left out. pairs: a
+    shard, a list of (i, j); None: every pair i < j.
+
+    Returns a Result with rows (one Result per pair, intersecting pairs first, then by clearance, then
+    those left out by their boxes: body_a, body_b, name_a, name_b, box_distance, computed,
+    beyond_min_clearance and, when computed, the fields of nurbsgl.clearance), bodies, pairs,
+    pairs_computed, pairs_beyond, pairs_beyond_computed, pairs_intersecting, pairs_uncertified,
+    seconds, failure ("" when every computed pair is certified)."""
+    r = _nurbsgl.clash(model._m, float("inf") if min_clearance is None else float(min_clearance), tol, engine,
+                       accept_partial, [] if pairs is None else [(int(i), int(j)) for i, j in pairs])
+    r["rows"] = [Result(row) for row in r["rows"]]
+    return Result(r)
