@@ -25,7 +25,9 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
                        {"max_texture_units", i.max_texture_units},
                        {"float_targets_ok", i.float_targets_ok},
                        {"timer_queries", i.timer_queries},
-                       {"software_threads", i.software_threads}};
+                       {"software_threads", i.software_threads},
+                       {"software_renderer", gpgpu::software_renderer(i.renderer)},
+                       {"hardware_unused", i.hardware_unused}};
       print_json(j);
       return;
     }
@@ -41,6 +43,7 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
     fmt::print("timer queries      {}\n", i.timer_queries ? "yes" : "no");
     fmt::print("LP_NUM_THREADS     {}\n",
                i.software_threads.empty() ? "(not set: llvmpipe's default)" : i.software_threads);
+    if (!i.hardware_unused.empty()) fmt::print("hardware unused    {}\n", i.hardware_unused);
     report_profile(*gpu, global);
     if (!i.float_targets_ok) throw CommandFailed("float render targets do not work on this GL");
   });

@@ -61,6 +61,8 @@ std::unique_ptr<gpgpu::Gpu> start_gpu(const GlobalOptions& options) {
   }
   ctx.software_threads = options.gl_threads;
   auto gpu = std::make_unique<gpgpu::Gpu>(ctx);
+  // A software renderer where hardware exists is a setting to change, not a fact to accept.
+  if (const std::string& note = gpu->info().hardware_unused; !note.empty()) fmt::print(stderr, "nurbsgl: {}\n", note);
   if (!options.dump_dir.empty()) gpu->set_dump_dir(options.dump_dir);
   gpu->profiler().set_enabled(options.profile);
   gpu->profiler().set_sync(options.profile);

@@ -103,6 +103,12 @@ std::unique_ptr<Context> detail::finish_context(std::unique_ptr<Context> ctx, vo
   }
 }
 
+bool software_renderer(const std::string& renderer) {
+  for (const char* name : {"llvmpipe", "softpipe", "swrast"})
+    if (renderer.find(name) != std::string::npos) return true;
+  return false;
+}
+
 std::unique_ptr<Context> Context::create(const ContextOptions& options) {
   // llvmpipe reads LP_NUM_THREADS when its screen starts, that is with the first context.
   if (options.software_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(options.software_threads).c_str(), 1);
@@ -136,6 +142,15 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     if (ctx) {
       ctx->info_.backend = std::string(backend_name(b));
       ctx->info_.software_threads = threads ? threads : "";
+      if (software_renderer(ctx->info_.renderer)) {
+        const std::vector<std::string> hardware = detail::egl_hardware_devices();
+        if (!hardware.empty())
+          ctx->info_.hardware_unused =
+              fmt::format("the GL renderer ({}) rasterizes on the CPU while the EGL device platform lists {} hardware "
+                          "device(s) ({}): --gl egl-device (NURBSGL_GL=egl-device, NURBSGL_EGL_DEVICE=i) runs on it{}",
+                          ctx->info_.renderer, hardware.size(), fmt::join(hardware, "; "),
+                          tried.empty() ? "" : fmt::format(" (not started here: {})", tried));
+      }
       return ctx;
     }
     tried += fmt::format("{}{}: {}", tried.empty() ? "" : "; ", backend_name(b), why);

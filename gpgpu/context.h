@@ -54,6 +54,9 @@ struct ContextInfo {
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
   bool debug_output = false;      ///< KHR_debug messages go to stderr and check_error (gl_debug.h)
   std::string software_threads;   ///< LP_NUM_THREADS when the context started; empty = llvmpipe's default
+  /// Set when the renderer rasterizes on the CPU (llvmpipe, softpipe, swrast) while the EGL device
+  /// platform lists a hardware device: which, and how to use it; empty otherwise.
+  std::string hardware_unused;
   /// Whether the renderer rasterizes on the CPU (Mesa's llvmpipe, softpipe or swrast, SwiftShader):
   /// its "GPU" passes run on the same cores as the host code.
   [[nodiscard]] bool software_renderer() const {
@@ -105,7 +108,13 @@ class Context {
                                                          std::string&);
 };
 
+/// Whether `renderer` (GL_RENDERER) rasterizes on the CPU: Mesa's llvmpipe, softpipe or swrast.
+[[nodiscard]] bool software_renderer(const std::string& renderer);
+
 namespace detail {
+/// The hardware devices of the EGL device platform, one line each ("device 1: EGL_NV_device_cuda
+/// ..."); empty when there are none or no EGL device platform.
+std::vector<std::string> egl_hardware_devices();
 /// Each backend's factory: returns nullptr and sets `why` when it cannot start.
 std::unique_ptr<Context> create_egl(const ContextOptions& options, bool device_only, std::string& why);
 std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::string& why);

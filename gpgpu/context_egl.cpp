@@ -122,6 +122,22 @@ DeviceChoice choose_device(bool allow_software, std::string& why) {
 
 }  // namespace
 
+std::vector<std::string> egl_hardware_devices() {
+  if (dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL) == nullptr) return {};
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (client == nullptr || !has_extension(client, "EGL_EXT_device_enumeration")) return {};
+  EGLDeviceEXT devices[16];
+  EGLint count = 0;
+  if (!eglQueryDevicesEXT(16, devices, &count)) return {};
+  std::vector<std::string> out;
+  for (EGLint i = 0; i < count; ++i) {
+    const char* exts = eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS);
+    if (!has_extension(exts, "EGL_MESA_device_software"))
+      out.push_back(fmt::format("device {}: {}", i, exts ? exts : "no extensions listed"));
+  }
+  return out;
+}
+
 std::unique_ptr<Context> create_egl(const ContextOptions& /*options*/, bool device_only, std::string& why) {
   // libepoxy loads libEGL on the first EGL call and aborts the process when it cannot: look first.
   if (dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL) == nullptr) {

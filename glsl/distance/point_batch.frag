@@ -6,10 +6,12 @@
 // At the cells the two triangles of the four samples (the split of queries/distance/cell_triangles.h);
 // at a cell that a trim edge crosses, their material part (point_batch_trim.frag).
 // Output per point: (best triangle distance, cell x, cell y, cells tested); (+inf, -1, -1, n) when
-// no cell is material; the fourth channel is -1 - cells tested when the walk was cut short:
-// llvmpipe ends an invocation's loops after 65535 iterations in all, which a point equidistant
-// from a large part of the model (the centre of a sphere: every cell within the best distance)
-// reaches; the answer is then not the nearest, and the CPU searches that point again. Every triangle lies in its cell's box, so the pruning never drops a closer
+// no cell is material; the fourth channel is -1 - cells tested when the walk was cut short: after
+// u_max_steps node expansions (a bound on one fragment's work on any GPU, whose watchdog ends a
+// long draw), or when the renderer ended the loops itself (llvmpipe ends an invocation's loops after
+// 65535 iterations in all). A point equidistant from a large part of the model (the centre of a
+// sphere: every cell within the best distance) is such a walk; its answer is then not the nearest,
+// and the CPU twin descends that point again. Every triangle lies in its cell's box, so the pruning never drops a closer
 // triangle; the CPU twin is descend_cpu() in queries/distance/point_batch_descent.h.
 #include "point_batch_triangle.frag"
 #include "point_batch_trim.frag"
@@ -35,6 +37,7 @@ uniform ivec2 u_size;      // size of level 0 (powers of two: level l is max(1, 
 uniform float u_slack;     // relative float slack (times |q| + u_radius)
 uniform float u_radius;    // half the diagonal of the model's box
 uniform int u_two;         // 2: the end-of-walk probe loop runs twice unless the loop budget is spent
+uniform int u_max_steps;   // node expansions before the walk is cut short (kWalkBudget)
 uniform int u_trim_on;     // 1: the material part of the cells a trim edge crosses (point_batch_trim.frag)
 out vec4 o_result;
 
@@ -99,7 +102,9 @@ void main() {
   uvec4 pend = uvec4(0u);
   uint busy = 0u;
   bool done = box_dist(q, xy, level) == kInf;
+  int steps = 0;
   while (!done) {
+    if (++steps > u_max_steps) break;
     // Expand the node (level, xy): its four children's boxes.
     ivec2 base = 2 * xy;
     // Not textureSize(u_lo, level - 1): llvmpipe answers a size query for the first fragment's lod
@@ -168,6 +173,6 @@ void main() {
   // raycast.frag).
   int probe = 0;
   for (int i = 0; i < u_two; ++i) ++probe;
-  bool cut = !done || probe != 2;
+  bool cut = !done || steps > u_max_steps || probe != 2;
   o_result = vec4(best, float(cell.x), float(cell.y), cut ? -1.0 - float(tested) : float(tested));
 }

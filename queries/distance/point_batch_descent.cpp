@@ -175,6 +175,7 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   prog.set("u_slack", float(kFloatSlack));
   prog.set("u_radius", float(g_.radius));
   prog.set("u_two", 2);
+  prog.set("u_max_steps", kWalkBudget);
   prog.set("u_trim_width", kTrimTextureWidth);
   prog.set("u_trim_on", trim_on_gpu_ ? 1 : 0);
   for (size_t a = 0; a < g_.atlases.size(); ++a) {

@@ -15,6 +15,11 @@
 
 namespace queries {
 
+/// Node expansions of one point's walk in the GPU pass before it is cut short and descended again
+/// by the twin: a bound on one fragment's work on any GPU (a hardware watchdog ends long draws), below
+/// llvmpipe's own end of an invocation's loops (65535 iterations in all).
+inline constexpr int kWalkBudget = 1 << 13;
+
 /// Indices of `points` sorted by the Morton code of their position in the cube of half side
 /// `half` about `centre` (10 bits per axis, outside points clamped to its faces): the order the
 /// pass lays the points out in, and the finishing walks them in.

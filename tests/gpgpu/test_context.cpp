@@ -1,5 +1,6 @@
 // Context backends: the one under test (NURBSGL_GL) starts with a 4.5 core context and float
-// render targets; backend names parse; an unknown name is rejected with the valid list.
+// render targets; backend names parse; an unknown name is rejected with the valid list; a software
+// renderer is recognised, and noted when the EGL device platform lists hardware.
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -25,4 +26,16 @@ TEST_CASE("context: backend names") {
   CHECK_THROWS_WITH_AS(gpgpu::parse_backend("vulkan"),
                        "unknown GL backend 'vulkan' (choose auto, egl, egl-device, osmesa or glfw)",
                        std::invalid_argument);
+}
+
+TEST_CASE("context: a software renderer is named as such, and says so when hardware is listed") {
+  CHECK(gpgpu::software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+  CHECK(gpgpu::software_renderer("softpipe"));
+  CHECK(gpgpu::software_renderer("Software Rasterizer (swrast)"));
+  CHECK_FALSE(gpgpu::software_renderer("NVIDIA H200/PCIe/SSE2"));
+  CHECK_FALSE(gpgpu::software_renderer("AMD Radeon RX 7900 XTX (radeonsi, navi31, LLVM 15.0.7, DRM 3.54)"));
+  // The note exists exactly when the renderer is software and the device platform lists hardware.
+  const gpgpu::ContextInfo& info = test::gpu().info();
+  const bool hardware_listed = !gpgpu::detail::egl_hardware_devices().empty();
+  CHECK(!info.hardware_unused.empty() == (gpgpu::software_renderer(info.renderer) && hardware_listed));
 }
