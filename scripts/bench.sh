@@ -4,7 +4,8 @@
 # nurbsgl itself).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-peer=(libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev libtbb-dev)
+peer=(libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev libtbb-dev
+      libcgal-dev libembree-dev)  # the mesh pipeline peer (experiments/peer_mesh_pipeline.cpp)
 missing=()
 for p in "${peer[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -21,3 +22,8 @@ build-bench/experiments/bench_peer_occt --gl egl
 echo
 # Trim classification vs OpenCASCADE's BRepClass_FaceClassifier on every shared IGES model.
 build-bench/experiments/peer_occt_classify --csv build-bench/peer_occt_classify.csv
+# Points and rays against the mesh pipeline (BRepMesh, CGAL's AABB tree, Embree) on the shared models.
+if [[ -x build-bench/experiments/peer_mesh_pipeline ]]; then
+  /usr/bin/python3 experiments/mesh_pipeline.py --cli build-bench/cli/nurbsgl \
+    --peer build-bench/experiments/peer_mesh_pipeline --out build-bench/experiments/mesh_pipeline
+fi
