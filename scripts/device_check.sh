@@ -57,7 +57,9 @@ step "gpu-info (every backend)" 60 "$ng" gpu-info --gl egl-device
 step "selftest (egl-device)" 120 "$ng" selftest --gl egl-device
 step "GL test programs (EGL, EGL device)" 300 bash -c "cd $build && ctest -j\$(nproc) --output-on-failure -R 'gpgpu_tests\\[(egl|egl-device)\\]|queries_tests\\[(egl|egl-device)(,shared)?\\]'"
 
-# Queries on the shared models, GPU engines beside the CPU ones (the same points and rays).
+# Queries on the shared models, GPU engines beside the CPU ones (the same points and rays). The
+# Ventilator at 1e-3: its file edges lie up to 2e-4 of its size off their faces, and a bound widened
+# by that gap meets only a tolerance of twice it.
 if [[ -d $models ]]; then
   vent=$models/step/pythonocc_Ventilator.stp motor=$models/generated/occt_Motor-c.step
   comp8=$models/step/gmsh_component8.step asm=$models/assembly/gmsh_as1-tu-203.stp
@@ -66,11 +68,11 @@ if [[ -d $models ]]; then
   awk 'BEGIN { srand(9); for (i = 0; i < 100000; ++i) { x = -60 + 120*rand(); y = -60 + 120*rand();
        printf "%.6f %.6f 40 %.6f %.6f -1\n", x, y, 0.2*(rand() - 0.5), 0.2*(rand() - 0.5) } }' >"$build/rays_vent.txt"
   for engine in gpu cpu; do
-    query "distance_vent_$engine" "$ng" distance "$vent" --points "$build/points_vent.txt" --tol 1e-5 --engine "$engine" --no-cache
-    query "distance_motor_$engine" "$ng" distance "$motor" --points "$build/points_motor.txt" --tol 1e-5 --engine "$engine" --no-cache
+    query "distance_vent_$engine" "$ng" distance "$vent" --points "$build/points_vent.txt" --tol 1e-3 --engine "$engine" --no-cache
+    query "distance_motor_$engine" "$ng" distance "$motor" --points "$build/points_motor.txt" --tol 1e-4 --engine "$engine" --no-cache
     query "raycast_vent_$engine" "$ng" raycast "$vent" --rays "$build/rays_vent.txt" --engine "$engine"
     query "thickness_comp8_$engine" "$ng" thickness "$comp8" --engine "$engine"
-    query "clearance_comp8_$engine" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-5 --engine "$engine"
+    query "clearance_comp8_$engine" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-4 --engine "$engine"
   done
   query "thickness_comp8_ball_gpu" "$ng" thickness "$comp8" --ball --ball-engine gpu
   query "clearance_comp8_paper" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-4 --paper
