@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every test on a fresh Debian 12 machine: set up, build, run ctest (GL tests once per backend:
-# EGL, OSMesa, the EGL device platform, GLFW under xvfb), then everything again built with
+# EGL, OSMesa, the EGL device platform, GLFW under xvfb; the Python module's pytest and Dask suite as
+# python.pytest), then everything but Python again built with
 # ASan + UBSan: CPU tests with leak detection, GL tests on EGL without it (drivers keep allocations).
 set -euo pipefail
 cd "$(dirname "$0")/.."
