@@ -38,6 +38,8 @@ MODELS = {
 def run(cmd, env=None):
     t = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if not p.stdout.strip():
+        raise RuntimeError(f"{' '.join(cmd)}: exit {p.returncode}, no output; {p.stderr.strip()[-400:]}")
     return p, time.perf_counter() - t
 
 

@@ -11,6 +11,9 @@
 // deflection}; --out writes one line per query: the distance (points) or t (rays; -1: miss).
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
 #include <Poly_Triangulation.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
@@ -112,6 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads);
   CLI11_PARSE(app, argc, argv);
   if (points.empty() == rays.empty()) return std::fprintf(stderr, "give one of --points and --rays\n"), 2;
+  Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the readers' chatter
   try {
     nlohmann::json j;
     double read_seconds = 0.0;
