@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nurbs/bezier_extraction.h"
+#include "nurbs/distance/certified_grid.h"
 #include "nurbs/distance/filip_bound.h"
 #include "nurbs/knot_vector.h"
 #include "nurbs/restrict.h"
@@ -276,6 +277,39 @@ double proven_cell_bound(const Cell& cell, bool rational, bool any_triangle) {
   return std::min(f * cell.bilinear + cell.twist * (0.25 + (rational ? 0.25 * f : 0.0)), cell.filip);
 }
 
+namespace {
+
+/// Subdivision::Grid: the cells of certified_grid at eps_surface (K_e, Euclidean) that meet the
+/// rectangle [u] x [v], clipped to it; each carries its own K_e (filip_k_rect) as its bound.
+void grid_cells(const Surface& s, const CellOptions& opt, Interval u, Interval v, CellStats& st,
+                std::vector<Cell>& cells) {
+  const FilipBound b = filip_bound(s);
+  GridLimits limits;
+  limits.max_samples = opt.max_nodes;
+  const CertifiedGrid g = certified_grid(b, opt.eps_surface, limits, KNorm::Euclidean);
+  const auto span = [](const std::vector<double>& lines, Interval t) {
+    std::vector<Interval> out;
+    for (size_t i = 0; i + 1 < lines.size(); ++i) {
+      const Interval c{std::max(lines[i], t.min), std::min(lines[i + 1], t.max)};
+      if (c.min < c.max) out.push_back(c);
+    }
+    return out;
+  };
+  const std::vector<Interval> cu = span(g.grid.u, u), cv = span(g.grid.v, v);
+  cells.reserve(cu.size() * cv.size());
+  for (const Interval& y : cv)
+    for (const Interval& x : cu) {
+      Cell c{x, y};
+      c.filip = filip_k_rect(b, x, y, KNorm::Euclidean);
+      c.bilinear = c.filip;  // error(): the proven bound, for any triangle in the cell
+      if (!(c.filip <= opt.eps_surface)) ++st.unconverged;
+      cells.push_back(c);
+    }
+  st.nodes = st.leaves = int(std::min<size_t>(cells.size(), size_t(std::numeric_limits<int>::max())));
+}
+
+}  // namespace
+
 std::vector<Cell> subdivide_surface(const Surface& s, const CellOptions& opt, CellStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   CellStats local;
@@ -290,7 +324,9 @@ std::vector<Cell> subdivide_surface(const Surface& s, const CellOptions& opt, Ce
   KnotSnap snap_u(s.knots_u, du), snap_v(s.knots_v, dv);
   u = {snap_u(u.min), snap_u(u.max)};
   v = {snap_v(v.min), snap_v(v.max)};
-  if (u.min < u.max && v.min < v.max) {
+  if (u.min < u.max && v.min < v.max && opt.subdivision == Subdivision::Grid) {
+    grid_cells(s, opt, u, v, st, cells);
+  } else if (u.min < u.max && v.min < v.max) {
     Subdivider sub(opt, st, std::move(snap_u), std::move(snap_v));
     sub.run(Node{restrict_surface(s, u, v), u, v, 0}, cells);
   }

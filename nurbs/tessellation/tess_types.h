@@ -22,8 +22,13 @@ enum class SurfaceError {
   Conservative,  ///< control points vs the bilinear approximation, plus the twist term: guaranteed
   Approximate,   ///< surface points at the control points' parameters instead: fewer triangles
 };
-/// How the surface domain is subdivided (§5): the paper's kd-tree, or the quadtree of [Kah02].
-enum class Subdivision { KdTree, Quadtree };
+/// How the surface domain is subdivided (§5): the paper's kd-tree, or the quadtree of [Kah02]; or,
+/// beyond the paper, the knot-aligned tensor grid of Krishnamurthy et al. §2.2 whose every cell's
+/// Filip bound K_e meets the cells' share of eps (nurbs/distance/certified_grid.h): chosen per face
+/// in one pass with no recursion, so several times faster than the kd-tree on B-rep faces at small
+/// eps, for somewhat more cells. K_e holds for any triangle inside the cell (surface_cells.h), so
+/// the guarantee is the kd-tree's.
+enum class Subdivision { KdTree, Quadtree, Grid };
 /// The proven bound of a Conservative cell (beyond the paper: the paper's control-net test alone,
 /// or also Filip's bound from the cell's second-derivative hull, the smaller of the two kept).
 enum class CellBound {

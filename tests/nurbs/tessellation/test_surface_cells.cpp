@@ -485,3 +485,29 @@ TEST_CASE("surface cells: a domain end a rounding away from a knot does not driv
     CHECK(exact.unconverged == 0);
   }
 }
+
+TEST_CASE("surface cells: the certified grid's cells tile the rectangle and hold their Filip bound") {
+  // Subdivision::Grid: the cells of certified_grid clipped to the rectangle asked for; each cell's
+  // own K_e is its bound for any triangle inside it (check_leaves samples both).
+  models::Random rng(5);
+  for (std::uint64_t seed = 0; seed < 40; ++seed) {
+    const Surface s = models::random_surface(seed, 1 + int(seed % 3), 3, false);
+    CellOptions o = options(0.05, SurfaceError::Conservative, Subdivision::Grid);
+    o.bilinear_factor = 2.0;
+    const Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    o.domain_u = Interval{lerp(du, 0.1), lerp(du, 0.8)};
+    CellStats st;
+    const auto cells = subdivide_surface(s, o, &st);
+    CAPTURE(seed);
+    REQUIRE(st.unconverged == 0);
+    double area = 0.0;
+    for (const Cell& c : cells) {
+      CHECK(c.u.min >= o.domain_u->min);
+      CHECK(c.u.max <= o.domain_u->max);
+      CHECK(c.filip <= o.eps_surface);
+      area += (c.u.max - c.u.min) * (c.v.max - c.v.min);
+    }
+    CHECK(area == doctest::Approx((o.domain_u->max - o.domain_u->min) * (dv.max - dv.min)).epsilon(1e-12));
+    (void)check_leaves(s, cells, o.eps_surface, rng);
+  }
+}

@@ -81,6 +81,10 @@ TEST_CASE(
       // Fig. 2: on a cylinder the kd-tree splits only across the curved direction.
       if (name == "cylinder") CHECK(2 * r.stats.triangles < q.stats.triangles);
       if (rel > 1e-2) CHECK(nurbs::tess::measure_deviation(faces, q.mesh, {24, 0.0, 0}).max() <= o.eps);
+      o.subdivision = nurbs::tess::Subdivision::Grid;  // the certified grid's cells: the same guarantee
+      const auto g = nurbs::tess::tessellate(faces, o);
+      REQUIRE(g.failures.empty());
+      CHECK(nurbs::tess::measure_deviation(faces, g.mesh, {24, 0.0, 0}).max() <= o.eps);
       MESSAGE(name << " eps " << o.eps << ": kd-tree " << r.stats.triangles << " triangles, quadtree "
                    << q.stats.triangles << ", deviation " << d.max());
     }
