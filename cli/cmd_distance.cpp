@@ -36,6 +36,7 @@ struct Options {
   bool json = false;
   std::string boxes = "oriented";  ///< the batched projection's pyramid (point_batch.h)
   std::string engine = "auto";     ///< where the batched descent runs (queries::EngineChoice)
+  std::string point_path = "auto";  ///< many points: certified mesh or grids (queries::PointPath)
   bool no_cache = false;
   PaperPreset preset;  ///< --paper
   // The scan's deviation report (deviation_outputs.h).
@@ -82,6 +83,14 @@ void write_report(const queries::PointQueryResult& r, std::span<const glm::dvec3
         {"by_normal", r.sides.by_normal}, {"by_rays", r.sides.by_rays}, {"unsure", r.sides.unsure}};
 }
 
+/// The mesh path's figures in the JSON object.
+void add_mesh_json(nlohmann::json& j, const queries::MeshDistance& m) {
+  j["mesh"] = {{"triangles", m.triangles()},
+               {"eps", m.eps()},
+               {"tessellate_seconds", m.tessellate_seconds()},
+               {"build_seconds", m.build_seconds()}};
+}
+
 /// The batched path's figures in the JSON object.
 void add_batch_json(nlohmann::json& j, const queries::PointQuery& q, const Options& o) {
   const queries::PointBatchStats& st = q.stats();
@@ -107,9 +116,13 @@ void add_batch_json(nlohmann::json& j, const queries::PointQuery& q, const Optio
 void print_text(const queries::PointQuery& q, const queries::PointQueryResult& r, std::span<const glm::dvec3> points,
                 const std::string& unit, const Options& o) {
   o.preset.print_text();
-  fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", q.faces().size(),
-             q.model_size(), unit, r.tolerance, q.prepare_seconds(),
-             q.cache().hit ? " (atlases and pyramid from the cache)" : "");
+  if (const queries::MeshDistance* m = q.mesh())
+    fmt::print("{} faces, model size {:.6g} {}, certified mesh of {} triangles within {:.3g}: prepared in {:.3f} s\n",
+               q.faces().size(), q.model_size(), unit, m->triangles(), m->eps(), q.prepare_seconds());
+  else
+    fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", q.faces().size(),
+               q.model_size(), unit, r.tolerance, q.prepare_seconds(),
+               q.cache().hit ? " (atlases and pyramid from the cache)" : "");
   for (size_t k = 0; k < points.size(); ++k) {
     const auto& a = r.answers[k];
     if (!a.found) {
@@ -121,7 +134,7 @@ void print_text(const queries::PointQuery& q, const queries::PointQueryResult& r
                "{:.3g}, face {} (u, v) = ({:.6g}, {:.6g}){}, {} {}\n",
                points[k].x, points[k].y, points[k].z, a.distance, a.bound, a.point.x, a.point.y, a.point.z,
                a.point_bound, a.face, a.uv.x, a.uv.y, a.on_trim_edge ? " on a trim edge" : "", a.candidates,
-               q.batched() ? "cells tested" : "candidate cells");
+               q.meshed() ? "triangles tested" : q.batched() ? "cells tested" : "candidate cells");
     if (!r.reasons[k].empty())
       fmt::print("  not certified: {}\n", r.reasons[k]);
     else if (!queries::meets_tolerance(a, r.tolerance))
@@ -135,11 +148,12 @@ void print_text(const queries::PointQuery& q, const queries::PointQueryResult& r
     fmt::print("distances ({}): min {:.9g}, median {:.9g}, max {:.9g}\n", unit, d.front(), d[d.size() / 2], d.back());
   fmt::print("{} queries in {:.3f} s ({:.2f} ms each{})\n", points.size(), r.seconds,
              1e3 * r.seconds / double(points.size()),
-             q.batched() ? fmt::format(", batched, descent on the {}; {} searched again on the CPU, {} walks cut short "
-                                       "and finished there",
-                                       q.engine() == queries::BatchEngine::Cpu ? "CPU in double" : "GPU",
-                                       q.stats().fallbacks, q.stats().cut)
-                         : "");
+             q.meshed()    ? std::string(", certified mesh")
+             : q.batched() ? fmt::format(", batched, descent on the {}; {} searched again on the CPU, {} walks cut "
+                                         "short and finished there",
+                                         q.engine() == queries::BatchEngine::Cpu ? "CPU in double" : "GPU",
+                                         q.stats().fallbacks, q.stats().cut)
+                           : std::string());
 }
 
 void run(const GlobalOptions& global, const Options& o) {
@@ -156,6 +170,7 @@ void run(const GlobalOptions& global, const Options& o) {
   q.per_point = q.per_point || o.points.empty();
   q.boxes = o.boxes == "aabb" ? queries::PointBoxes::Aabb : queries::PointBoxes::Oriented;
   q.engine = queries::engine_choice(o.engine);
+  q.path = queries::point_path(o.point_path);
   q.cache = !o.no_cache;
   q.accept_partial = global.accept_partial;
   const CommandProgress watch = command_progress("distance", "points");
@@ -175,14 +190,16 @@ void run(const GlobalOptions& global, const Options& o) {
     add_model_json(j, loaded.report, global);
     j["prepare_seconds"] = query.prepare_seconds();
     // The switches of --paper as used; null where the batched projection does not use them.
-    const bool batched = query.batched();
+    const bool batched = query.batched() || query.meshed();
     const auto one_at_a_time = [&](const nlohmann::json& v) { return batched ? nlohmann::json() : v; };
     j["preset"] = o.preset.json({{"per-point", !batched},
                                  {"search", one_at_a_time(search_name(q.search))},
                                  {"host-cells", one_at_a_time(query.host_cells_used())}});
     j["tolerance"] = r.tolerance, j["unit"] = unit;
-    if (!o.points.empty()) j["path"] = batched ? "batched" : "per-point";
-    if (batched) add_batch_json(j, query, o), j["engine"]["renderer"] = gpu->info().renderer;
+    if (!o.points.empty()) j["path"] = query.meshed() ? "mesh" : batched ? "batched" : "per-point";
+    if (!query.mesh_refused().empty()) j["mesh_refused"] = query.mesh_refused();
+    if (query.meshed()) add_mesh_json(j, *query.mesh());
+    if (query.batched()) add_batch_json(j, query, o), j["engine"]["renderer"] = gpu->info().renderer;
     if (o.report()) write_report(r, points, o, unit, &j);
     if (o.point.empty())
       print_json_streamed(std::move(j), "results", points.size(),
@@ -239,6 +256,13 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "renderer rasterizes on the CPU (llvmpipe), gpu otherwise")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->capture_default_str();
+  auto* path = cmd->add_option("--path", o->point_path,
+                  "With --points: mesh = the faces tessellated within the tolerance in guaranteed mode and every "
+                  "point's closest triangle found in Embree's BVH (beyond the paper; each bound the mesh's proven "
+                  "distance to the faces); batched = the grids' box pyramid (--boxes, --engine, --no-cache); auto: "
+                  "mesh, unless one of those three is given or the mesh cannot be made")
+      ->check(CLI::IsMember({"auto", "mesh", "batched"}))
+      ->capture_default_str();
   // --paper: queries::PointQueryOptions::paper.
   const queries::PointQueryOptions paper = o->query.paper();
   const auto section = [](const char* option) {
@@ -265,7 +289,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "matplotlib: $NURBSGL_PYTHON, else the interpreter found at build time)")
       ->check(extension_is(".png"));
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
-  cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine] {
+  cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine, path] {
     o->preset.apply();
     // Options of the other path are refused, not ignored: --search and --host-cells steer one query
     // at a time, --boxes the batched projection.
@@ -274,9 +298,14 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
     if (batched && host_cells->count() > 0)
       throw BadInput("--host-cells applies to one query at a time: add --per-point");
     const std::string why = o->preset.paper() ? " (--paper sets --per-point)" : "";
-    for (const CLI::Option* b : {boxes, no_cache, engine})
+    for (const CLI::Option* b : {boxes, no_cache, engine, path})
       if (!batched && b->count() > 0)
         throw BadInput(fmt::format("{} applies to the batched --points projection{}", b->get_name(), why));
+    for (const CLI::Option* b : {boxes, no_cache, engine}) {
+      if (b->count() > 0 && o->point_path == "mesh")
+        throw BadInput(fmt::format("{} applies to the grids' pyramid, not to --path mesh", b->get_name()));
+      if (b->count() > 0) o->point_path = "batched";
+    }
     run(global, *o);
   });
 }

@@ -20,6 +20,7 @@ packages=(
   libeigen3-dev                              # SVD of the trim-curve lifting (tessellation §4)
   libimgui-dev libstb-dev                    # viewer panels (GLFW + OpenGL 3 backends); PNG screenshots
   python3-dev pybind11-dev python3-numpy     # the Python module nurbsgl (python/)
+  libembree-dev                              # BVH of the certified meshes (queries/distance/mesh_distance.h)
   python3-pytest python3-distributed         # its tests; scale-out on Dask (nurbsgl.dask)
   python3-matplotlib                         # the deviation histogram (PNG)
 )

@@ -43,6 +43,17 @@ EngineChoice engine_choice(const std::string& name) {
   throw std::invalid_argument("engine '" + name + "': auto, gpu or cpu");
 }
 
+const char* path_name(PointPath path) {
+  return path == PointPath::Auto ? "auto" : path == PointPath::Mesh ? "mesh" : "batched";
+}
+
+PointPath point_path(const std::string& name) {
+  if (name == "auto") return PointPath::Auto;
+  if (name == "mesh") return PointPath::Mesh;
+  if (name == "batched") return PointPath::Batched;
+  throw std::invalid_argument("path '" + name + "': auto, mesh or batched");
+}
+
 PointQueryOptions PointQueryOptions::paper() const {
   PointQueryOptions o = *this;
   o.per_point = true;
@@ -94,7 +105,9 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
       single_.emplace(gpu, faces_, query_tolerance_, options_.max_samples, options_.search);
       single_->set_host_cells(options_.host_cells);
     } else {
-      prepare_batched(gpu, model.path, query_tolerance_);
+      const bool mesh = options_.path == PointPath::Mesh ||
+                        (options_.path == PointPath::Auto && options_.engine != EngineChoice::Gpu);
+      if (!mesh || !prepare_mesh(query_tolerance_)) prepare_batched(gpu, model.path, query_tolerance_);
     }
   } catch (const GridLimitError& e) {
     throw nurbs::RequestError(
@@ -220,6 +233,23 @@ void PointQuery::prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& p
   batch_->set_refine_tolerance(tolerance);
 }
 
+bool PointQuery::prepare_mesh(double tolerance) {
+  try {
+    auto mesh = std::make_unique<MeshDistance>(faces_, tolerance);
+    const auto& failures = mesh->tessellation().failures;
+    if (failures.empty()) {
+      mesh_ = std::move(mesh);
+      return true;
+    }
+    mesh_refused_ = fmt::format("{} of {} faces could not be meshed within the tolerance (face {}: {})",
+                                failures.size(), faces_.size(), failures.front().face, failures.front().reason);
+  } catch (const nurbs::tess::WorkLimitError& e) {
+    mesh_refused_ = fmt::format("the mesh would be too large: {}", e.what());
+  }
+  if (options_.log) options_.log(fmt::format("the certified mesh is not used: {}; the grids' pyramid answers", mesh_refused_));
+  return false;
+}
+
 void PointQuery::finish_cache_write() {
   if (!cache_write_.valid()) return;
   const auto [why, seconds] = cache_write_.get();
@@ -228,10 +258,13 @@ void PointQuery::finish_cache_write() {
   if (!why.empty() && options_.log) options_.log(fmt::format("the preparation is not cached: {}", why));
 }
 
-Search PointQuery::grids() const { return prepared_ ? prepared_->search : single_->model().search; }
+Search PointQuery::grids() const {
+  return prepared_ ? prepared_->search : single_ ? single_->model().search : Search::Faithful;
+}
 
 long long PointQuery::samples() const {
   long long n = 0;
+  if (mesh_) return 0;
   for (const auto& g : prepared_ ? prepared_->grids : single_->grids()) n += g.grid.samples();
   return n;
 }
@@ -246,7 +279,13 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
   out.tolerance = options_.tolerance * size_;
   out.model_reason = model_reason_;
   const auto t0 = std::chrono::steady_clock::now();
-  if (batch_) {
+  if (mesh_) {
+    if (prepare_seconds_ >= 1.0 && options_.log && !told_prepared_)
+      told_prepared_ = true,
+      options_.log(fmt::format("{} faces meshed ({} triangles) in {:.1f} s; {} points", faces_.size(),
+                               mesh_->triangles(), prepare_seconds_, points.size()));
+    out.answers = mesh_->query(points, options_.progress);
+  } else if (batch_) {
     // Long work shows: the preparation once it took a second, then the points pass by pass
     // (passes of at least 65536 points: llvmpipe spreads a pass's 64 x 64 tiles over its threads,
     // and a pass of 4096 points is one tile, one thread: 2x slower in all).

@@ -8,8 +8,12 @@
 /// with a face and finite figures), its bound widened by the reader's edge gaps near it, and with
 /// the reason when it is not certified.
 ///
-/// Two paths:
-///  - batched (the default): all points descend one box pyramid per atlas (point_batch.h), on
+/// Three paths:
+///  - mesh (the default, beyond the paper): a guaranteed tessellation within the tolerance on the
+///    knot-aligned grids, its triangles in Embree's BVH (mesh_distance.h): every answer's bound is
+///    the mesh's proven distance to the faces; taken unless the GPU engine is asked for, and left
+///    for the batched path when the mesh would exceed its cell limit or a face cannot be meshed;
+///  - batched: all points descend one box pyramid per atlas (point_batch.h), on
 ///    faithful grids within 1 GB and the memory free, else coarse ones, every answer over the
 ///    tolerance refined in double;
 ///  - per point (`per_point`, the paper's §3.1): one query at a time (point_distance.h), with the
@@ -28,6 +32,7 @@
 #include "nurbs/model_report.h"
 #include "nurbs/paper_switch.h"
 #include "queries/engine.h"
+#include "queries/distance/mesh_distance.h"
 #include "queries/distance/point_batch.h"
 #include "queries/distance/side_test.h"
 #include "queries/distance/point_distance.h"
@@ -45,8 +50,20 @@ namespace queries {
   return d.found && d.meets_tolerance && within_tolerance(d.bound, tolerance);
 }
 
+/// How a query of many points is answered (PointQueryOptions::path).
+enum class PointPath {
+  Auto,     ///< Mesh, unless the GPU engine is asked for or the mesh cannot be made
+  Mesh,     ///< the certified mesh (mesh_distance.h); the batched path when it cannot be made
+  Batched,  ///< the box pyramid of the grids (point_batch.h)
+};
+[[nodiscard]] const char* path_name(PointPath path);  ///< "auto", "mesh" or "batched"
+/// "auto", "mesh" or "batched"; std::invalid_argument for another name.
+[[nodiscard]] PointPath point_path(const std::string& name);
+
 struct PointQueryOptions {
   double tolerance = 1e-5;  ///< every answer's bound, relative to the model size
+  /// Many points: the certified mesh or the grids' box pyramid (per_point overrides both).
+  PointPath path = PointPath::Auto;
   /// One query at a time (PointDistanceQuery) instead of the batched projection; `search` and
   /// `host_cells` apply to it alone.
   bool per_point = false;
@@ -132,6 +149,12 @@ class PointQuery {
 
   [[nodiscard]] const PointQueryOptions& options() const { return options_; }
   [[nodiscard]] bool batched() const { return batch_.has_value(); }
+  /// The certified mesh answers the points (PointPath::Mesh, or Auto resolved to it).
+  [[nodiscard]] bool meshed() const { return mesh_ != nullptr; }
+  /// The certified mesh, when meshed().
+  [[nodiscard]] const MeshDistance* mesh() const { return mesh_.get(); }
+  /// Why the mesh path was asked for (or Auto) and not taken; empty when it was, or not considered.
+  [[nodiscard]] const std::string& mesh_refused() const { return mesh_refused_; }
   [[nodiscard]] double model_size() const { return size_; }
   [[nodiscard]] double tolerance() const { return options_.tolerance * size_; }
   /// The faces queried (nurbs::world_faces of the model): answers' `face` index them.
@@ -152,6 +175,8 @@ class PointQuery {
 
  private:
   void prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& path, double query_tolerance);
+  /// The certified mesh at `query_tolerance`; false (mesh_refused_ says why) when it cannot be made.
+  bool prepare_mesh(double query_tolerance);
   void finish_cache_write();
   /// RequestError unless every body is stated closed and its faces close (a coarse watertight mesh
   /// has no open edges on them).
@@ -169,6 +194,8 @@ class PointQuery {
   std::optional<PointDistanceQuery> single_;
   std::optional<PreparedModel> prepared_;
   std::optional<PointBatch> batch_;
+  std::unique_ptr<MeshDistance> mesh_;
+  std::string mesh_refused_;
   PointQueryCache cache_;
   std::future<std::pair<std::string, double>> cache_write_;
   double prepare_seconds_ = 0.0;

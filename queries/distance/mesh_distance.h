@@ -1,0 +1,71 @@
+#pragma once
+/// \file mesh_distance.h
+/// Point distances from a certified mesh (beyond the papers): the faces tessellated in the
+/// guaranteed mode of Balázs, Guthe and Klein at eps, on the knot-aligned grids of Krishnamurthy et
+/// al. §2.2 (nurbs::tess::Subdivision::Grid), the triangles put in Embree's BVH, and every point's
+/// closest triangle found by Embree's point query with the distances taken in double.
+///
+/// Bound. The guaranteed mesh lies within eps of the faces and the faces within eps of the mesh
+/// (the cells' Filip bound K_e for any triangle inside a cell, the trim loops within their share of
+/// eps: tessellate.h), so the distance d from a point to the mesh brackets its distance d* to the
+/// faces: |d - d*| <= eps. An answer is d with bound eps, its closest point on the mesh, the face of
+/// that triangle and the (u, v) of the point by the triangle's barycentric weights; point_bound is
+/// Krishnamurthy et al.'s sqrt(4 K d + K^2) with K = eps, as for the grids' triangles.
+///
+/// Floats. Embree keeps its boxes and triangles in float (relative to the mesh's centre); a box it
+/// prunes is beyond the best distance so far grown by the float rounding of the triangles and the
+/// point (2^-18 (R + |p - centre|), R the mesh's radius, 64 times the rounding of the coordinates),
+/// so no triangle nearer than the best in double is pruned: the answer is the mesh's closest
+/// triangle in double, with no float term in its bound.
+#include <functional>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "nurbs/tessellation/tessellate.h"
+#include "nurbs/trimmed_surface.h"
+#include "queries/distance/point_distance.h"
+
+namespace queries {
+
+class MeshDistance {
+ public:
+  /// Tessellates `faces` within `eps` (absolute; guaranteed mode, Subdivision::Grid) on `threads`
+  /// (0: every hardware thread) and builds the BVH. Throws nurbs::tess::WorkLimitError when the
+  /// mesh would exceed `max_cells` (tessellate.h). Faces that could not be meshed within eps are
+  /// listed by failures(): answers are then not certified (query() leaves them as it finds them;
+  /// the caller decides).
+  MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, double eps, int threads = 0,
+               long long max_cells = nurbs::tess::TessellateOptions{}.max_cells);
+  ~MeshDistance();
+  MeshDistance(const MeshDistance&) = delete;
+  MeshDistance& operator=(const MeshDistance&) = delete;
+
+  /// The closest mesh point of every point (input order), on every hardware thread; found false
+  /// only for a mesh without triangles. `progress` (optional): points done, points in all.
+  [[nodiscard]] std::vector<PointDistance> query(std::span<const glm::dvec3> points,
+                                                 const std::function<void(size_t, size_t)>& progress = {}) const;
+  /// The same for one point, by testing every triangle (the reference the tests hold the BVH to).
+  [[nodiscard]] PointDistance brute_force(const glm::dvec3& p) const;
+
+  [[nodiscard]] double eps() const { return eps_; }
+  [[nodiscard]] const nurbs::tess::TessellateResult& tessellation() const { return tess_; }
+  [[nodiscard]] long long triangles() const { return (long long)tess_.mesh.triangles.size(); }
+  [[nodiscard]] double tessellate_seconds() const { return tess_seconds_; }
+  [[nodiscard]] double build_seconds() const { return build_seconds_; }
+
+ private:
+  struct Scene;
+  PointDistance answer(const glm::dvec3& p, int triangle, double distance, const glm::dvec3& point,
+                       const glm::dvec3& weights, long long tested) const;
+  double eps_ = 0.0;
+  int threads_ = 0;
+  nurbs::tess::TessellateResult tess_;
+  double tess_seconds_ = 0.0, build_seconds_ = 0.0;
+  glm::dvec3 centre_{0.0};
+  double radius_ = 0.0;
+  std::unique_ptr<Scene> scene_;
+};
+
+}  // namespace queries
