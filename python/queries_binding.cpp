@@ -79,8 +79,9 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   d["reasons"] = reasons;
   if (signed_distance) d["signed_distance"] = array1(r.signed_distance);
   d["tolerance"] = r.tolerance;
-  d["engine"] = queries::engine_name(q->engine());
+  d["engine"] = q->meshed() ? "mesh" : queries::engine_name(q->engine());
   d["batched"] = q->batched();
+  d["path"] = q->meshed() ? "mesh" : q->batched() ? "batched" : "per-point";
   d["seconds"] = r.seconds;
   d["prepare_seconds"] = q->prepare_seconds();
   d["failure"] = r.failure();

@@ -72,10 +72,13 @@ class Model:
 
         Returns a Result with, per point: distance, bound, point_bound, point (N, 3), face, uv (N, 2),
         meets_tolerance (bool), reasons (why an answer is not certified, "" where it may be); and
-        tolerance (model units), engine, batched, seconds, prepare_seconds, failure (why not every
-        answer meets the tolerance, "" when all do). The model is prepared once per set of options
-        (and stored in the disk cache, as the command line does); later calls reuse it.
-        engine: "auto" (the CPU twin where OpenGL renders on the CPU), "cpu" or "gpu".
+        tolerance (model units), engine, path ("mesh", "batched" or "per-point"), batched, seconds,
+        prepare_seconds, failure (why not every answer meets the tolerance, "" when all do). The model
+        is prepared once per set of options; later calls reuse it.
+        engine: "auto" (the certified mesh: the faces tessellated within the tolerance, every
+        point's closest triangle from Embree's BVH, each bound the mesh's proven distance to the
+        faces; the grids' pyramid where the mesh cannot be made), or the grids' pyramid descended
+        on "cpu" (its twin in double) or "gpu" (the fragment-shader pass).
         per_point: the paper's one query at a time instead of the batched projection.
         signed: also signed_distance, negative inside the model's solids (RequestError for a model
         whose bodies are not stated closed); nurbsgl.histogram.plot draws its histogram."""

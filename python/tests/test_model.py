@@ -53,6 +53,13 @@ def test_distance_is_within_its_bound_of_the_exact_one(sphere):
     assert (r.face == 0).all()
 
 
+def test_the_mesh_and_the_pyramid_agree_within_their_bounds(sphere):
+    p = sphere_points(500, seed=3)
+    mesh, pyramid = sphere.distance(p, tol=1e-4), sphere.distance(p, tol=1e-4, engine="cpu")
+    assert mesh.path == "mesh" and pyramid.path == "batched"
+    assert (np.abs(mesh.distance - pyramid.distance) <= mesh.bound + pyramid.bound).all()
+
+
 def test_distance_equals_the_command_line(sphere, sphere_path, cli, tmp_path):
     p = sphere_points(300, seed=7)
     points = tmp_path / "points.txt"

@@ -106,7 +106,7 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
       single_->set_host_cells(options_.host_cells);
     } else {
       const bool mesh = options_.path == PointPath::Mesh ||
-                        (options_.path == PointPath::Auto && options_.engine != EngineChoice::Gpu);
+                        (options_.path == PointPath::Auto && options_.engine == EngineChoice::Auto);
       if (!mesh || !prepare_mesh(query_tolerance_)) prepare_batched(gpu, model.path, query_tolerance_);
     }
   } catch (const GridLimitError& e) {

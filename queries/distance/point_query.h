@@ -11,7 +11,7 @@
 /// Three paths:
 ///  - mesh (the default, beyond the paper): a guaranteed tessellation within the tolerance on the
 ///    knot-aligned grids, its triangles in Embree's BVH (mesh_distance.h): every answer's bound is
-///    the mesh's proven distance to the faces; taken unless the GPU engine is asked for, and left
+///    the mesh's proven distance to the faces; taken unless an engine of the pyramid is asked for, and left
 ///    for the batched path when the mesh would exceed its cell limit or a face cannot be meshed;
 ///  - batched: all points descend one box pyramid per atlas (point_batch.h), on
 ///    faithful grids within 1 GB and the memory free, else coarse ones, every answer over the
@@ -52,7 +52,7 @@ namespace queries {
 
 /// How a query of many points is answered (PointQueryOptions::path).
 enum class PointPath {
-  Auto,     ///< Mesh, unless the GPU engine is asked for or the mesh cannot be made
+  Auto,     ///< Mesh, unless an engine (gpu or cpu) is asked for or the mesh cannot be made
   Mesh,     ///< the certified mesh (mesh_distance.h); the batched path when it cannot be made
   Batched,  ///< the box pyramid of the grids (point_batch.h)
 };
