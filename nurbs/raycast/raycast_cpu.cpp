@@ -38,6 +38,11 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
     scene.face_stats.push_back(st);
     all.insert(all.end(), p.begin(), p.end());
   }
+  auto material = std::make_shared<SceneMaterial>();
+  material->trims = scene.trims;
+  material->banded.reserve(material->trims.size());
+  for (const TrimPolygons& t : material->trims) material->banded.emplace_back(t);
+  scene.material = std::move(material);
   std::vector<glm::dvec3> bmin(all.size()), bmax(all.size());
   const glm::dvec3 pad(2.0 * bo.tolerance);  // the exact surface lies within the tolerance of its patch
   for (size_t i = 0; i < all.size(); ++i) {
@@ -66,7 +71,7 @@ void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, i
       if (!face.loops.empty()) {
         const bool material = scene.options.trim == SceneOptions::Trim::Cubics
                                   ? inside_trim(scene.cubics[patch.face], e.uv)
-                                  : is_material(scene.trims[patch.face], e.uv);
+                                  : scene.is_material(patch.face, e.uv);
         if (!material) continue;
       }
       best = {e.t, patch.face, e.uv, e.point, hits[h].t};

@@ -5,6 +5,7 @@
 /// BVH (§3.2) -> per candidate patch the two-plane Newton (§3.3), then the final Newton step on the
 /// exact NURBS face and the point-in-trim test: the winding number on the face's flattened trim
 /// loops (trim_classify.h, the oracle) or the paper's §3.4 test on cubic trims (trim_test.h).
+#include <memory>
 #include <vector>
 
 #include "nurbs/raycast/bicubic_patches.h"
@@ -33,9 +34,22 @@ struct SceneOptions {
   RayPatchOptions patch;
 };
 
+/// The material test of a scene's faces: each face's flattened loops with their bands
+/// (BandedTrim: is_material's answer, bit for bit, reading only the point's band), shared by the
+/// scene's copies (a BandedTrim points into its loops).
+struct SceneMaterial {
+  std::vector<TrimPolygons> trims;
+  std::vector<BandedTrim> banded;
+};
+
 struct Scene {
   std::vector<TrimmedSurface> faces;
   std::vector<TrimPolygons> trims;    ///< per face; empty loops = untrimmed
+  std::shared_ptr<const SceneMaterial> material;  ///< the same loops, banded (build_scene)
+  /// Whether (u, v) of face f is material: is_material on its flattened loops (true untrimmed).
+  [[nodiscard]] bool is_material(int f, glm::dvec2 uv) const {
+    return faces[size_t(f)].loops.empty() || material->banded[size_t(f)].is_material(uv);
+  }
   std::vector<TrimCubics> cubics;     ///< per face, filled when options.trim == Cubics
   std::vector<BicubicPatch> patches;  ///< in BVH leaf order (patches[k] is leaf k)
   std::vector<BicubicStats> face_stats;

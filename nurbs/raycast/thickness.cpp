@@ -43,7 +43,7 @@ glm::dvec2 grid_uv(const UvBox& b, int i, int j, int nu, int nv, double offset) 
 }
 
 bool material(const Scene& scene, int face, glm::dvec2 uv) {
-  return scene.faces[face].loops.empty() || is_material(scene.trims[face], uv);
+  return scene.is_material(face, uv);
 }
 
 FaceExtent measure_face(const Scene& scene, int face) {

@@ -238,7 +238,7 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
       nurbs::ray::refine_on_surface(face.surface, ray, nurbs::ray::ray_planes(ray), uv, scene_.options.exact_iterations,
                                     scene_.options.exact_residual * scene_.size);
   if (!e.ok || !(e.t > t_min)) return again();
-  if (!face.loops.empty() && !nurbs::is_material(scene_.trims[size_t(p.face)], e.uv)) return again();
+  if (!scene_.is_material(p.face, e.uv)) return again();
   return {e.t, p.face, e.uv, e.point, double(raw.t)};
 }
 
