@@ -84,7 +84,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   fmt::print("rays      {}  hits {}  misses {}\n", rays.size(), hit_count, (long long)rays.size() - hit_count);
   fmt::print("time      build {:.3f} s, cast {:.3f} s ({:.0f} rays/s, {} on the {})\n",
              f["seconds_build"].get<double>(), engine.cast_seconds(), f["rays_per_second"].get<double>(),
-             a.engine.method, a.engine.device);
+             method_used(a.engine), a.engine.device);
   if (a.engine.bvh_build == "gpu")
     fmt::print("bvh       built on the gpu: {} passes, {:.3f} s\n", f["gpu"]["bvh_build_gpu_passes"].get<int>(),
                f["gpu"]["bvh_build_gpu_seconds"].get<double>());

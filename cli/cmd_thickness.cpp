@@ -131,7 +131,7 @@ void print_text(const ThicknessArgs& a, const queries::ThicknessMap& m, const nl
              m.samples.orientation_flips, m.samples.orientation_unsure);
   fmt::print("time       {:.3f} s (build {:.3f}, orientation {:.3f}, rays {:.3f} = {:.0f} rays/s, {}, {})\n", m.seconds,
              f["seconds_build"].get<double>(), m.orientation_seconds, m.cast_seconds,
-             m.cast_seconds > 0 ? double(n) / m.cast_seconds : 0.0, a.engine.method, a.engine.device);
+             m.cast_seconds > 0 ? double(n) / m.cast_seconds : 0.0, method_used(a.engine), a.engine.device);
   fmt::print("tests      {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
 }

@@ -30,8 +30,11 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
   auto* method =
       cmd->add_option("--method", args.method,
                       "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
-                      "ray tracing without a kept structure (§3.2)")
-          ->check(CLI::IsMember({"bvh", "dacrt"}))
+                      "ray tracing without a kept structure (§3.2); mesh: each ray's first triangle of a guaranteed "
+                      "tessellation within --tolerance from Embree's BVH, then the same Newton step on the exact "
+                      "face and trim test (beyond the paper; the BVH for the rays it cannot finish); auto: mesh on "
+                      "the cpu, bvh on the gpu")
+          ->check(CLI::IsMember({"auto", "mesh", "bvh", "dacrt"}))
           ->capture_default_str();
   auto* device =
       cmd->add_option("--engine,--device", args.device,
@@ -76,7 +79,8 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
 RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global)
     : args_(args), global_(global) {
   const bool gpu = args.device == "gpu";
-  if (gpu && args.method != "bvh") throw BadInput("--engine gpu: only --method bvh runs on the GPU");
+  if (gpu && args.method != "bvh" && args.method != "auto")
+    throw BadInput("--engine gpu: only --method bvh runs on the GPU");
   if (!gpu && args.bvh_build == "gpu") throw BadInput("--bvh-build gpu needs --engine gpu");
   if (gpu) gpu_ = start_gpu(global);
   caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), caster_options(args), gpu_.get());
@@ -84,13 +88,20 @@ RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const
 
 queries::RayCasterOptions caster_options(const RayEngineArgs& args) {
   queries::RayCasterOptions o;
-  o.method = args.method == "dacrt" ? queries::RayMethod::Dacrt : queries::RayMethod::Bvh;
+  o.method = args.method == "dacrt"                                     ? queries::RayMethod::Dacrt
+             : args.method == "bvh" || (args.method == "auto" && args.device == "gpu") ? queries::RayMethod::Bvh
+                                                                                        : queries::RayMethod::Mesh;
   o.threads = args.threads;
   o.tolerance = args.tolerance;
   o.dacrt.patch_leaf = args.dacrt_patches;
   o.dacrt.ray_leaf = args.dacrt_rays;
   o.bvh_build = args.bvh_build == "gpu" ? queries::BvhBuild::Gpu : queries::BvhBuild::Cpu;
   return o;
+}
+
+std::string method_used(const RayEngineArgs& args) {
+  const queries::RayMethod used = caster_options(args).method;
+  return used == queries::RayMethod::Mesh ? "mesh" : used == queries::RayMethod::Dacrt ? "dacrt" : "bvh";
 }
 
 RayEngine::~RayEngine() {
@@ -121,7 +132,9 @@ nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEng
          {"bvh_build_gpu_passes", f.bvh_gpu_passes}};
   nlohmann::json dacrt = nullptr;
   if (args.method == "dacrt") dacrt = {{"patch_leaf", args.dacrt_patches}, {"ray_leaf", args.dacrt_rays}};
-  return {{"method", args.method},
+  return {{"method", method_used(args)},
+          {"mesh_triangles", f.mesh_triangles},
+          {"fallbacks", f.fallbacks},
           {"dacrt", dacrt},
           {"engine", args.device},
           {"device", args.device},  // the engine under the switch's other name

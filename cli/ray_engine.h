@@ -26,7 +26,7 @@ namespace cli {
 [[nodiscard]] std::vector<nurbs::ray::Ray> read_rays(const std::string& path, double coordinate_limit);
 
 struct RayEngineArgs {
-  std::string method = "bvh";             ///< bvh: Morton BVH, stackless traversal; dacrt: divide and conquer
+  std::string method = "auto";            ///< mesh (auto on the cpu), bvh (auto on the gpu): Morton BVH, stackless traversal; dacrt: divide and conquer
   std::string device = "cpu";             ///< --engine: cpu, the double-precision path; gpu, the fragment-shader pass (bvh only)
   std::string bvh_build = "cpu";          ///< --engine gpu: the BVH built on the cpu (build_scene) or the gpu
   int threads = 0;                        ///< 0 = every hardware thread
@@ -35,6 +35,9 @@ struct RayEngineArgs {
 };
 /// The options of RayEngineArgs on `cmd`, and --paper governing --method, --device and --bvh-build.
 void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& preset);
+
+/// The method the caster runs, as named on the command line: "mesh", "bvh" or "dacrt" (auto resolved).
+[[nodiscard]] std::string method_used(const RayEngineArgs& args);
 
 /// The caster's options as RayEngineArgs give them.
 [[nodiscard]] queries::RayCasterOptions caster_options(const RayEngineArgs& args);

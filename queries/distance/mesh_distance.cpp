@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,9 @@ namespace queries {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Rays: the shells lie this many eps along the vertex normals to either side of the mesh, the
+/// tubes have this many eps as radius (the faces lie within eps of the mesh).
+constexpr double kShellOffset = 1.5, kTubeRadius = 2.0;
 
 /// One point's search: the point in double, the best triangle so far.
 struct ClosestSearch {
@@ -50,14 +54,39 @@ bool closest_triangle(RTCPointQueryFunctionArguments* args) {
 struct MeshDistance::Scene {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  RTCScene tubes = nullptr;  ///< boundary_tubes
   ~Scene() {
+    if (tubes) rtcReleaseScene(tubes);
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
   }
 };
 
+namespace {
+
+/// The edges of `m` that one triangle alone uses (per face: each face's vertices are its own), as
+/// vertex pairs.
+std::vector<std::pair<int, int>> boundary_edges(const nurbs::TriangleMesh& m) {
+  std::vector<uint64_t> keys;
+  keys.reserve(3 * m.triangles.size());
+  for (const glm::ivec3& t : m.triangles)
+    for (const auto& [a, b] : {std::pair{t.x, t.y}, {t.y, t.z}, {t.z, t.x}})
+      keys.push_back(uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)));
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::pair<int, int>> out;
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i == 1) out.emplace_back(int(keys[i] >> 32), int(keys[i] & 0xffffffffu));
+    i = j;
+  }
+  return out;
+}
+
+}  // namespace
+
 MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, double eps, int threads,
-                           long long max_cells)
+                           long long max_cells, bool rays)
     : eps_(eps), threads_(threads), scene_(std::make_unique<Scene>()) {
   nurbs::tess::TessellateOptions o;
   o.eps = eps;
@@ -81,28 +110,65 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
   scene_->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!scene_->device) throw std::runtime_error(fmt::format("Embree: no device ({})", int(rtcGetDeviceError(nullptr))));
   scene_->scene = rtcNewScene(scene_->device);
-  if (!m.triangles.empty()) {
-    RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), m.positions.size()));
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                3 * sizeof(unsigned), m.triangles.size()));
-    if (!v || !idx) {
-      rtcReleaseGeometry(g);
-      throw std::runtime_error(fmt::format("Embree: no memory for {} triangles", m.triangles.size()));
-    }
-    for (size_t i = 0; i < m.positions.size(); ++i) {
-      const glm::vec3 f(m.positions[i] - centre_);
-      v[3 * i] = f.x, v[3 * i + 1] = f.y, v[3 * i + 2] = f.z;
-    }
-    for (size_t i = 0; i < m.triangles.size(); ++i)
-      idx[3 * i] = unsigned(m.triangles[i].x), idx[3 * i + 1] = unsigned(m.triangles[i].y),
-              idx[3 * i + 2] = unsigned(m.triangles[i].z);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene_->scene, g);
-    rtcReleaseGeometry(g);
+  if (!rays) {
+    add_triangles(scene_->scene, m.positions, 0.0);
+  } else {  // the two shells, inside and outside
+    add_triangles(scene_->scene, m.positions, -kShellOffset * eps);
+    add_triangles(scene_->scene, m.positions, kShellOffset * eps);
   }
   rtcCommitScene(scene_->scene);
+  if (rays) {
+    const std::vector<std::pair<int, int>> edges = boundary_edges(m);
+    scene_->tubes = rtcNewScene(scene_->device);
+    if (!edges.empty()) {
+      RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                            4 * sizeof(float), 2 * edges.size()));
+      auto* idx = static_cast<unsigned*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), edges.size()));
+      if (!v || !idx) {
+        rtcReleaseGeometry(g);
+        throw std::runtime_error(fmt::format("Embree: no memory for {} boundary edges", edges.size()));
+      }
+      const float r = float(kTubeRadius * eps);
+      for (size_t k = 0; k < edges.size(); ++k) {
+        for (int e = 0; e < 2; ++e) {
+          const glm::vec3 f(m.positions[size_t(e ? edges[k].second : edges[k].first)] - centre_);
+          float* out = v + 4 * (2 * k + size_t(e));
+          out[0] = f.x, out[1] = f.y, out[2] = f.z, out[3] = r;
+        }
+        idx[k] = unsigned(2 * k);
+      }
+      rtcCommitGeometry(g);
+      rtcAttachGeometry(scene_->tubes, g);
+      rtcReleaseGeometry(g);
+    }
+    // Points whose normal the surface leaves undefined (poles, where a row of the grid collapses)
+    // and the collapsed boundary edges there: the shells pinch to the point, and a ray through it
+    // may pass between the triangles that meet there. A ball of the tubes' radius around each.
+    std::vector<glm::dvec3> balls;
+    for (size_t i = 0; i < m.positions.size(); ++i)
+      if (i >= m.normals.size() || !(glm::length(m.normals[i]) > 0.5)) balls.push_back(m.positions[i]);
+    for (const auto& [a, b] : edges)
+      if (m.positions[size_t(a)] == m.positions[size_t(b)]) balls.push_back(m.positions[size_t(a)]);
+    if (!balls.empty()) {
+      RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                            4 * sizeof(float), balls.size()));
+      if (!v) {
+        rtcReleaseGeometry(g);
+        throw std::runtime_error(fmt::format("Embree: no memory for {} balls", balls.size()));
+      }
+      for (size_t k = 0; k < balls.size(); ++k) {
+        const glm::vec3 f(balls[k] - centre_);
+        v[4 * k] = f.x, v[4 * k + 1] = f.y, v[4 * k + 2] = f.z, v[4 * k + 3] = float(kTubeRadius * eps);
+      }
+      rtcCommitGeometry(g);
+      rtcAttachGeometry(scene_->tubes, g);
+      rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(scene_->tubes);
+  }
   if (const RTCError e = rtcGetDeviceError(scene_->device); e != RTC_ERROR_NONE)
     throw std::runtime_error(fmt::format("Embree: the scene of {} triangles failed (error {})", m.triangles.size(),
                                          int(e)));
@@ -110,6 +176,31 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
 }
 
 MeshDistance::~MeshDistance() = default;
+
+void MeshDistance::add_triangles(RTCScene scene, const std::vector<glm::dvec3>& positions, double offset) {
+  const nurbs::TriangleMesh& m = tess_.mesh;
+  if (m.triangles.empty()) return;
+  RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), m.triangles.size()));
+  if (!v || !idx) {
+    rtcReleaseGeometry(g);
+    throw std::runtime_error(fmt::format("Embree: no memory for {} triangles", m.triangles.size()));
+  }
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const glm::dvec3 n = offset != 0.0 && i < m.normals.size() ? m.normals[i] : glm::dvec3(0.0);
+    const glm::vec3 f(positions[i] + offset * n - centre_);
+    v[3 * i] = f.x, v[3 * i + 1] = f.y, v[3 * i + 2] = f.z;
+  }
+  for (size_t i = 0; i < m.triangles.size(); ++i)
+    idx[3 * i] = unsigned(m.triangles[i].x), idx[3 * i + 1] = unsigned(m.triangles[i].y),
+            idx[3 * i + 2] = unsigned(m.triangles[i].z);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+}
 
 PointDistance MeshDistance::answer(const glm::dvec3& p, int triangle, double distance, const glm::dvec3& point,
                                    const glm::dvec3& w, long long tested) const {
@@ -158,6 +249,52 @@ std::vector<PointDistance> MeshDistance::query(std::span<const glm::dvec3> point
       kChunk);
   if (progress) progress(points.size(), points.size());
   return out;
+}
+
+MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
+                                   double t_max) const {
+  const glm::vec3 o(origin - centre_), d(direction);
+  RTCRayHit rh;
+  rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
+  rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+  rh.ray.tnear = float(std::max(t_min, 0.0));
+  rh.ray.tfar = t_max < 3e38 ? float(t_max) : std::numeric_limits<float>::infinity();
+  rh.ray.time = 0.0f, rh.ray.mask = 0xFFFFFFFFu, rh.ray.id = 0, rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID, rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(scene_->scene, &context, &rh);
+  MeshRayHit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  const nurbs::TriangleMesh& m = tess_.mesh;
+  h.triangle = int(rh.hit.primID);
+  h.t = double(rh.ray.tfar);
+  h.face = m.triangle_face[size_t(h.triangle)];
+  const glm::ivec3 t = m.triangles[size_t(h.triangle)];
+  const double u = rh.hit.u, v = rh.hit.v;
+  h.uv = (1.0 - u - v) * m.uv[size_t(t.x)] + u * m.uv[size_t(t.y)] + v * m.uv[size_t(t.z)];
+  return h;
+}
+
+bool MeshDistance::near_boundary(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
+                                 double t_max) const {
+  if (!scene_->tubes) throw std::logic_error("MeshDistance::near_boundary: built for points");
+  const glm::vec3 o(origin - centre_), d(direction);
+  RTCRay ray;
+  ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
+  ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z;
+  ray.tnear = float(std::max(t_min, 0.0));
+  ray.tfar = t_max < 3e38 ? float(t_max) : std::numeric_limits<float>::infinity();
+  ray.time = 0.0f, ray.mask = 0xFFFFFFFFu, ray.id = 0, ray.flags = 0;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(scene_->tubes, &context, &ray);
+  return ray.tfar < 0.0f;  // (-inf when occluded)
+}
+
+double MeshDistance::t_rounding(const glm::dvec3& origin) const {
+  return std::ldexp(radius_ + glm::length(origin - centre_), -18);
 }
 
 PointDistance MeshDistance::brute_force(const glm::dvec3& p) const {

@@ -12,6 +12,14 @@
 /// that triangle and the (u, v) of the point by the triangle's barycentric weights; point_bound is
 /// Krishnamurthy et al.'s sqrt(4 K d + K^2) with K = eps, as for the grids' triangles.
 ///
+/// Rays: the faces lie within eps of the mesh, so within the slab between two shells, the mesh
+/// moved 1.5 eps to either side along the vertex normals (inside a face; beside its edges, within
+/// tubes around the mesh's face boundaries). A ray meets a face only inside the slab: first_hit
+/// gives the first shell triangle it crosses (Embree's rtcIntersect1), with the face and the
+/// (u, v) of the crossing by the triangle's barycentric weights, where a ray caster starts its
+/// Newton step on the exact face (queries/raycast/ray_caster.h, RayMethod::Mesh); a ray that
+/// crosses no shell and no tube meets no face.
+///
 /// Floats. Embree keeps its boxes and triangles in float (relative to the mesh's centre); a box it
 /// prunes is beyond the best distance so far grown by the float rounding of the triangles and the
 /// point (2^-18 (R + |p - centre|), R the mesh's radius, 64 times the rounding of the coordinates),
@@ -27,7 +35,17 @@
 #include "nurbs/trimmed_surface.h"
 #include "queries/distance/point_distance.h"
 
+struct RTCSceneTy;  // Embree's scene (embree3/rtcore.h)
+
 namespace queries {
+
+/// The first mesh triangle a ray meets (MeshDistance::first_hit).
+struct MeshRayHit {
+  int triangle = -1;  ///< -1: none
+  double t = -1.0;    ///< along the unit direction (Embree's, in float)
+  int face = -1;
+  glm::dvec2 uv{0.0};
+};
 
 class MeshDistance {
  public:
@@ -35,9 +53,11 @@ class MeshDistance {
   /// (0: every hardware thread) and builds the BVH. Throws nurbs::tess::WorkLimitError when the
   /// mesh would exceed `max_cells` (tessellate.h). Faces that could not be meshed within eps are
   /// listed by failures(): answers are then not certified (query() leaves them as it finds them;
-  /// the caller decides).
+  /// the caller decides). `rays`: for first_hit and near_boundary instead of query: the BVH then
+  /// holds two shells, the mesh's vertices moved 1.5 eps along their normals to either side, and
+  /// tubes of radius 2 eps around every face's mesh boundary.
   MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, double eps, int threads = 0,
-               long long max_cells = nurbs::tess::TessellateOptions{}.max_cells);
+               long long max_cells = nurbs::tess::TessellateOptions{}.max_cells, bool rays = false);
   ~MeshDistance();
   MeshDistance(const MeshDistance&) = delete;
   MeshDistance& operator=(const MeshDistance&) = delete;
@@ -46,6 +66,18 @@ class MeshDistance {
   /// only for a mesh without triangles. `progress` (optional): points done, points in all.
   [[nodiscard]] std::vector<PointDistance> query(std::span<const glm::dvec3> points,
                                                  const std::function<void(size_t, size_t)>& progress = {}) const;
+  /// The first triangle the ray (origin, unit direction) meets at t in (t_min, t_max): of the mesh
+  /// (built for points) or of its shells (built for rays).
+  [[nodiscard]] MeshRayHit first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
+                                     double t_max) const;
+  /// Whether the ray passes within about 2 eps of a face's mesh boundary at t in (t_min, t_max):
+  /// where a face's true edge may lie up to eps outside its mesh, so that the ray may meet the face
+  /// and miss its triangles (needs boundary_tubes).
+  [[nodiscard]] bool near_boundary(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
+                                   double t_max) const;
+  /// The float rounding of a t from first_hit, at a ray whose origin lies at `origin`: a step
+  /// past a hit by more than this leaves its triangle behind.
+  [[nodiscard]] double t_rounding(const glm::dvec3& origin) const;
   /// The same for one point, by testing every triangle (the reference the tests hold the BVH to).
   [[nodiscard]] PointDistance brute_force(const glm::dvec3& p) const;
 
@@ -57,6 +89,7 @@ class MeshDistance {
 
  private:
   struct Scene;
+  void add_triangles(::RTCSceneTy* scene, const std::vector<glm::dvec3>& positions, double offset);
   PointDistance answer(const glm::dvec3& p, int triangle, double distance, const glm::dvec3& point,
                        const glm::dvec3& weights, long long tested) const;
   double eps_ = 0.0;

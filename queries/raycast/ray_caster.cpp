@@ -1,6 +1,7 @@
 #include "queries/raycast/ray_caster.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -41,7 +42,7 @@ std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, cons
 
 RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOptions& options, gpgpu::Gpu* gpu)
     : options_(options) {
-  if (gpu && options.method != RayMethod::Bvh) throw std::invalid_argument("RayCaster: only the BVH runs on the GPU");
+  if (gpu && options.method == RayMethod::Dacrt) throw std::invalid_argument("RayCaster: only the BVH runs on the GPU");
   const auto start = std::chrono::steady_clock::now();
   nurbs::ray::SceneOptions o;
   o.tolerance = options.tolerance;
@@ -53,7 +54,12 @@ RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOp
     figures_.bvh_gpu_seconds = gpu_caster_->build_stats().seconds;
     figures_.bvh_gpu_passes = gpu_caster_->build_stats().passes;
   } else {
-    figures_.bytes_bvh = options.method == RayMethod::Bvh ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0;
+    if (options.method == RayMethod::Mesh) {
+      mesh_ = std::make_unique<MeshDistance>(scene_.faces, options.mesh_tolerance * scene_.size, options.threads,
+                                             nurbs::tess::TessellateOptions{}.max_cells, true);
+      figures_.mesh_triangles = mesh_->triangles();
+    }
+    figures_.bytes_bvh = options.method != RayMethod::Dacrt ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0;
     figures_.bytes_patches = scene_.patches.size() * sizeof(nurbs::ray::BicubicPatch);
     for (const auto& t : scene_.trims)
       for (const auto& l : t.loops) figures_.bytes_trims += l.size() * sizeof(glm::dvec2);
@@ -91,6 +97,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
       f.finish_seconds += g.cpu_seconds;
       f.fallbacks += g.fallbacks;
       f.bytes_bvh = g.bytes_bvh, f.bytes_patches = g.bytes_patches, f.bytes_trims = g.bytes_trims;
+    } else if (mesh_) {
+      hits = cast_mesh(chunk, t_min, threads);
     } else if (options_.method == RayMethod::Dacrt) {
       hits = dacrt_parallel(scene_, chunk, t_min, threads, options_.dacrt, f);
     } else {
@@ -105,6 +113,65 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   f.rays += static_cast<long long>(rays.size());
   f.cast_seconds += nurbs::seconds_since(start);
   return out;
+}
+
+std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min,
+                                                  int threads) {
+  std::vector<nurbs::ray::Hit> hits(chunk.size());
+  std::vector<char> again(chunk.size(), 0);
+  const double eps = mesh_->eps(), window = 64.0 * eps;
+  const nurbs::ray::SceneOptions& so = scene_.options;
+  nurbs::parallel_for(
+      chunk.size(), threads,
+      [&](size_t k, int) {
+        const nurbs::ray::Ray& ray = chunk[k];
+        const nurbs::ray::RayPlanes planes = nurbs::ray::ray_planes(ray);
+        const double step = 4.0 * mesh_->t_rounding(ray.origin);
+        double from = t_min;
+        nurbs::ray::Hit best;  // the nearest exact hit so far
+        for (int tries = 0; tries < 8; ++tries) {
+          const MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, from, 3.4e38);
+          // Near a face's edge before the crossing, the face may reach the ray where its mesh does
+          // not (the mesh's boundary lies within eps inside the face's): the BVH decides.
+          const double until = m.triangle < 0 ? 3.4e38 : best.face >= 0 ? std::min(m.t, best.t) : m.t;
+          if (mesh_->near_boundary(ray.origin, ray.direction, from, until)) break;
+          // Every hit lies inside the slab, after a crossing: a crossing beyond the best hit ends
+          // the search, and no crossing at all leaves no hit. But a ray that left a crossing behind
+          // (its own face, a trimmed part) and finds none after it may have slipped along an edge
+          // of the triangles in float: the BVH decides.
+          if (best.face >= 0 && (m.triangle < 0 || m.t >= best.t)) {
+            hits[k] = best;
+            return;
+          }
+          if (m.triangle < 0 && tries == 0) return;
+          if (m.triangle < 0) break;
+          const nurbs::TrimmedSurface& face = scene_.faces[size_t(m.face)];
+          const nurbs::ray::ExactHit e = nurbs::ray::refine_on_surface(face.surface, ray, planes, m.uv,
+                                                                       so.exact_iterations, so.exact_residual * scene_.size);
+          // No exact hit near the crossing (a step that does not converge, or lands far away): the
+          // face may still meet the ray inside the slab (grazing it): the BVH decides.
+          if (!e.ok || std::abs(e.t - m.t) > window) break;
+          if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material(m.face, e.uv))
+            best = {e.t, m.face, e.uv, e.point, m.t};
+          from = m.t + step;  // the next crossing (the face behind t_min, or trimmed away here)
+        }
+        again[k] = 1;
+      },
+      256);
+  std::vector<nurbs::ray::Ray> rest;
+  std::vector<size_t> where;
+  for (size_t k = 0; k < chunk.size(); ++k)
+    if (again[k]) rest.push_back(chunk[k]), where.push_back(k);
+  if (!rest.empty()) {
+    nurbs::ray::TraversalStats stats;
+    const std::vector<nurbs::ray::Hit> h =
+        nurbs::ray::cast_rays_parallel(scene_, rest, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);
+    for (size_t i = 0; i < rest.size(); ++i) hits[where[i]] = h[i];
+    figures_.box_tests += stats.box_tests;
+    figures_.patch_tests += stats.patch_tests;
+    figures_.fallbacks += (long long)rest.size();
+  }
+  return hits;
 }
 
 }  // namespace queries

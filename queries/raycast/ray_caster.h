@@ -12,16 +12,28 @@
 #include "gpgpu/gpu.h"
 #include "nurbs/raycast/dacrt.h"
 #include "nurbs/raycast/raycast_cpu.h"
+#include "queries/distance/mesh_distance.h"
 #include "queries/raycast/raycast_gpu.h"
 
 namespace queries {
 
-enum class RayMethod { Bvh, Dacrt };
+/// Bvh and Dacrt: Lemasson et al. §3.2. Mesh (beyond the paper, CPU only): a guaranteed
+/// tessellation within the bicubic tolerance, the slab around it that holds the faces
+/// (queries/distance/mesh_distance.h, Embree's BVH); each ray's crossings of the slab's shells in
+/// order, from each the same Newton step on the exact face and the same trim test, until the next
+/// crossing lies beyond the nearest exact hit: that hit is the answer. A ray that passes near a
+/// face's mesh boundary first, whose step at a crossing fails or lands far from it, or that needs
+/// more than 8 crossings, is cast by the BVH method.
+enum class RayMethod { Bvh, Dacrt, Mesh };
 
 struct RayCasterOptions {
-  RayMethod method = RayMethod::Bvh;
+  RayMethod method = RayMethod::Mesh;
   int threads = 0;                     ///< CPU threads, 0 = every hardware thread
   double tolerance = 1e-5;             ///< bicubic tolerance relative to the model size
+  /// RayMethod::Mesh: the guaranteed tessellation's eps relative to the model size. The mesh only
+  /// finds where each ray meets the slab around it (the hits are the exact faces'): a coarser mesh
+  /// is quicker to make, a finer one sends fewer rays near edges to the BVH.
+  double mesh_tolerance = 1e-4;
   nurbs::ray::DacrtOptions dacrt;      ///< DACRT's two brute-force thresholds (patches, rays)
   BvhBuild bvh_build = BvhBuild::Cpu;  ///< GPU path: the scene's BVH, or one built on the GPU (§3.2)
 };
@@ -34,14 +46,15 @@ struct RayCasterFigures {
   double bvh_gpu_seconds = 0.0;                    ///< BvhBuild::Gpu: the build on the GPU (in build_seconds)
   int bvh_gpu_passes = 0;
   long long rays = 0, box_tests = 0, patch_tests = 0, fallbacks = 0;
+  long long mesh_triangles = 0;  ///< RayMethod::Mesh: the mesh's triangles (fallbacks: rays cast by the BVH)
   size_t bytes_bvh = 0, bytes_patches = 0, bytes_trims = 0;  ///< GPU textures, or the CPU tables
 };
 
 class RayCaster {
  public:
-  /// The CPU path when `gpu` is null, else the GPU pass (which must outlive this object); the GPU
-  /// tests trims on the §3.4 cubics, the CPU on the exact flattened loops. Throws
-  /// std::invalid_argument for DACRT on the GPU.
+  /// The CPU path when `gpu` is null, else the GPU pass (which must outlive this object; Mesh runs
+  /// there as Bvh); the GPU tests trims on the §3.4 cubics, the CPU on the exact flattened loops.
+  /// Throws std::invalid_argument for DACRT on the GPU.
   RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOptions& options, gpgpu::Gpu* gpu = nullptr);
   ~RayCaster();
   RayCaster(const RayCaster&) = delete;
@@ -67,6 +80,9 @@ class RayCaster {
   RayCasterOptions options_;
   nurbs::ray::Scene scene_;
   std::unique_ptr<GpuRaycaster> gpu_caster_;
+  std::unique_ptr<MeshDistance> mesh_;  ///< RayMethod::Mesh
+  /// RayMethod::Mesh: the rays of `chunk` cast through the mesh, the BVH for the rest.
+  std::vector<nurbs::ray::Hit> cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min, int threads);
   RayCasterFigures figures_;
 };
 

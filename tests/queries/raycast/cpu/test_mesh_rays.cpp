@@ -1,0 +1,87 @@
+// The ray caster's mesh method (queries/raycast/ray_caster.h, RayMethod::Mesh) against the BVH of
+// Lemasson et al. and every patch tested (brute force): the same hits on random trimmed faces and
+// exact shapes, no hit of its own later than theirs, and rays from a surface through a sphere.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "models/exact_shapes.h"
+#include "models/random_surfaces.h"
+#include "nurbs/model_ops.h"
+#include "queries/raycast/ray_caster.h"
+
+namespace {
+
+std::vector<nurbs::ray::Ray> random_rays(std::uint64_t seed, int n, double spread) {
+  models::Random rng(seed);
+  std::vector<nurbs::ray::Ray> rays;
+  for (int k = 0; k < n; ++k) {
+    const glm::dvec3 o(rng.uniform(-spread, spread), rng.uniform(-spread, spread), rng.uniform(-spread, spread));
+    const glm::dvec3 aim(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    rays.push_back({o, glm::normalize(aim - o)});
+  }
+  return rays;
+}
+
+struct Compared {
+  int hits = 0, differ = 0, later = 0;
+};
+
+/// Mesh against brute force: hit or miss alike, the same t (1e-9 size); `later` counts mesh hits
+/// beyond the brute force's (a nearer hit missed).
+Compared compare(const std::vector<nurbs::TrimmedSurface>& faces, const std::vector<nurbs::ray::Ray>& rays,
+                 double mesh_tolerance, double t_min = 0.0, long long* fallbacks = nullptr) {
+  queries::RayCasterOptions o;
+  o.method = queries::RayMethod::Mesh;
+  o.mesh_tolerance = mesh_tolerance;
+  queries::RayCaster mesh(faces, o);
+  const auto m = mesh.cast(rays, t_min);
+  const auto& scene = mesh.scene();
+  const auto b = nurbs::ray::cast_rays(scene, rays, t_min, nurbs::ray::Traversal::BruteForce);
+  Compared c;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    c.hits += b[k].face >= 0;
+    c.differ += (m[k].face >= 0) != (b[k].face >= 0) ||
+                (m[k].face >= 0 && std::abs(m[k].t - b[k].t) > 1e-9 * scene.size);
+    c.later += m[k].face >= 0 && b[k].face >= 0 && m[k].t > b[k].t + 1e-9 * scene.size;
+  }
+  if (fallbacks) *fallbacks = mesh.figures().fallbacks;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("mesh rays: the same nearest hits as every patch tested, on random trimmed faces") {
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) faces.push_back(models::random_trimmed_surface(seed));
+  for (double mesh_tolerance : {1e-3, 1e-4}) {
+    long long fallbacks = 0;
+    const Compared c = compare(faces, random_rays(5, 600, 4.0), mesh_tolerance, 0.0, &fallbacks);
+    CAPTURE(mesh_tolerance);
+    CHECK(c.hits > 150);
+    CHECK(c.later == 0);
+    CHECK(c.differ == 0);
+    MESSAGE("mesh at " << mesh_tolerance << ": " << c.hits << " hits of 600, " << fallbacks << " rays to the BVH");
+  }
+}
+
+TEST_CASE("mesh rays: a sphere from outside, from its surface and along its equator's plane") {
+  const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(models::loaded_sphere(10.0).model);
+  std::vector<nurbs::ray::Ray> rays = random_rays(9, 400, 30.0);
+  // From the surface inwards, some in the plane z = 0 of the grid's lines (a ray along triangle edges).
+  for (int k = 0; k < 64; ++k) {
+    const double a = 2.0 * M_PI * k / 64, z = k % 2 ? 0.0 : 3.0;
+    const glm::dvec3 p = glm::normalize(glm::dvec3(std::cos(a), std::sin(a), z / 10.0)) * 10.0;
+    rays.push_back({p, -glm::normalize(p)});
+  }
+  queries::RayCaster mesh(faces, queries::RayCasterOptions{});
+  const auto m = mesh.cast(rays, 1e-6);
+  for (size_t k = 400; k < rays.size(); ++k) {
+    CAPTURE(k);
+    REQUIRE(m[k].face >= 0);
+    CHECK(std::abs(m[k].t - 20.0) < 1e-8);
+  }
+  const Compared c = compare(faces, rays, 1e-4, 1e-6);  // (not the rays' own surface points)
+  CHECK(c.differ == 0);
+}
