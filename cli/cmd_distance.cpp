@@ -20,6 +20,7 @@
 #include "cli/paper_preset.h"
 #include "cli/validators.h"
 #include "nurbs/io/mesh_writer.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/query_text.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/paper_switch.h"
@@ -42,6 +43,7 @@ struct Options {
   // The scan's deviation report (deviation_outputs.h).
   std::vector<double> within;  ///< --within, model units
   std::string ply, histogram;
+  std::string csv;  ///< --csv: one row per point, instead of the JSON's results
   [[nodiscard]] bool report() const { return query.signed_distance || !within.empty() || !ply.empty() || !histogram.empty(); }
 };
 
@@ -65,6 +67,30 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
   if (!r.signed_distance.empty()) j["signed_distance"] = r.signed_distance[k];
   if (!r.reasons[k].empty()) j["uncertified"] = r.reasons[k];
   return j;
+}
+
+/// One row per point (the fields of result_json), written to a temporary file and renamed.
+void write_csv(const std::string& path, const queries::PointQueryResult& r, std::span<const glm::dvec3> points) {
+  nurbs::io::write_file(path, [&](std::ostream& out) {
+    out << "point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,face,u,v"
+        << (r.signed_distance.empty() ? "" : ",signed_distance") << ",uncertified\n";
+    std::string line;
+    for (size_t k = 0; k < points.size(); ++k) {
+      const queries::PointDistance& d = r.answers[k];
+      line = fmt::format("{},{:.17g},{:.17g},{:.17g},{},{}", k, points[k].x, points[k].y, points[k].z,
+                         d.found ? "true" : "false", r.meets(k) ? "true" : "false");
+      if (d.found)
+        line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{},{:.17g},{:.17g}", d.distance, d.bound,
+                            d.point_bound, d.point.x, d.point.y, d.point.z, d.face, d.uv.x, d.uv.y);
+      else
+        line += ",,,,,,,-1,,";
+      if (!r.signed_distance.empty()) line += fmt::format(",{:.17g}", r.signed_distance[k]);
+      line += ",\"";
+      for (char c : r.reasons[k]) line += c == '"' ? std::string("\"\"") : std::string(1, c);
+      line += "\"\n";
+      out << line;
+    }
+  });
 }
 
 /// The deviation report of a scan: its JSON (into j, when not null), the PLY and the histogram.
@@ -123,7 +149,7 @@ void print_text(const queries::PointQuery& q, const queries::PointQueryResult& r
     fmt::print("{} faces, model size {:.6g} {}, grids with K_e <= {:.3g}: prepared in {:.3f} s{}\n", q.faces().size(),
                q.model_size(), unit, r.tolerance, q.prepare_seconds(),
                q.cache().hit ? " (atlases and pyramid from the cache)" : "");
-  for (size_t k = 0; k < points.size(); ++k) {
+  for (size_t k = 0; k < (o.csv.empty() ? points.size() : 0); ++k) {
     const auto& a = r.answers[k];
     if (!a.found) {
       fmt::print("point ({:.6g}, {:.6g}, {:.6g}): no surface point found (every cell trimmed away?)\n", points[k].x,
@@ -165,6 +191,7 @@ void run(const GlobalOptions& global, const Options& o) {
                       : std::vector{nurbs::io::parse_point(o.point, "--point", limit)};
   const std::string unit = unit_name(loaded.model);  // of every distance printed
   if (!o.histogram.empty()) check_histogram_python();
+  if (!o.csv.empty()) check_output(o.csv, "--csv");
   auto gpu = start_gpu(global);
   queries::PointQueryOptions q = o.query;
   q.per_point = q.per_point || o.points.empty();
@@ -177,6 +204,7 @@ void run(const GlobalOptions& global, const Options& o) {
   q.progress = watch.progress, q.log = watch.log;
   queries::PointQuery query(*gpu, loaded, q);
   const queries::PointQueryResult r = query.query(points);
+  if (!o.csv.empty()) write_csv(o.csv, r, points);
   if (o.json) {
     nlohmann::json j;
     if (!o.point.empty()) {
@@ -201,7 +229,9 @@ void run(const GlobalOptions& global, const Options& o) {
     if (query.meshed()) add_mesh_json(j, *query.mesh());
     if (query.batched()) add_batch_json(j, query, o), j["engine"]["renderer"] = gpu->info().renderer;
     if (o.report()) write_report(r, points, o, unit, &j);
-    if (o.point.empty())
+    if (!o.csv.empty())
+      j["results_file"] = o.csv, print_json(j);
+    else if (o.point.empty())
       print_json_streamed(std::move(j), "results", points.size(),
                           [&](size_t k) { return result_json(r, k, points[k], query.faces()); });
     else
@@ -288,6 +318,10 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
                   "Write the deviation histogram with the --within bands and their shares as PNG (python3 with "
                   "matplotlib: $NURBSGL_PYTHON, else the interpreter found at build time)")
       ->check(extension_is(".png"));
+  cmd->add_option("--csv", o->csv,
+                  "Write one row per point (the fields of the JSON's results) as CSV; the JSON then names the file "
+                  "(results_file) instead of listing the results, and the text lists no points")
+      ->check(extension_is(".csv"));
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o, search, boxes, host_cells, no_cache, engine, path] {
     o->preset.apply();

@@ -8,6 +8,8 @@
 #include "cli/commands.h"
 #include "cli/paper_preset.h"
 #include "cli/ray_engine.h"
+#include "cli/validators.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 
@@ -21,7 +23,23 @@ struct RaycastArgs {
   RayEngineArgs engine;
   PaperPreset preset;  ///< --paper
   bool json = false;
+  std::string csv;  ///< --csv: one row per ray, instead of the JSON's results
 };
+
+/// One row per ray (the fields of the JSON's results), written to a temporary file and renamed.
+void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits) {
+  nurbs::io::write_file(path, [&](std::ostream& out) {
+    out << "ray,hit,t,face,u,v,x,y,z\n";
+    for (size_t k = 0; k < hits.size(); ++k) {
+      const nurbs::ray::Hit& h = hits[k];
+      if (h.face >= 0)
+        out << fmt::format("{},true,{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", k, h.t, h.face, h.uv.x,
+                           h.uv.y, h.point.x, h.point.y, h.point.z);
+      else
+        out << fmt::format("{},false,,-1,,,,,\n", k);
+    }
+  });
+}
 
 void run(const GlobalOptions& global, const RaycastArgs& a) {
   const LoadedModel loaded = load_model(a.model, "raycast");
@@ -31,9 +49,11 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   // anywhere; an edge gap widens where a hit near an edge lies.
   const double gap = loaded.report.largest_gap();
   const std::string doubt = loaded.report.invalid_trim_reason();
+  if (!a.csv.empty()) check_output(a.csv, "--csv");
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
   RayEngine engine(model, a.engine, global);
   const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
+  if (!a.csv.empty()) write_csv(a.csv, hits);
   long long hit_count = 0;
   for (const auto& h : hits) hit_count += h.face >= 0 ? 1 : 0;
   // Residual of the exact step (raycast_cpu.h): the hit point is on the face within it.
@@ -48,7 +68,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     // for a hit t (along the unit direction), the face, (u, v), the point and t_bicubic (the hit on
     // the bicubic patches before the exact step, Fig. 13 accuracy).
     nlohmann::json results = nlohmann::json::array();
-    for (size_t k = 0; k < hits.size(); ++k) {
+    for (size_t k = 0; k < (a.csv.empty() ? hits.size() : 0); ++k) {
       const auto& h = hits[k];
       const auto& r = rays[k];
       nlohmann::json one = {{"ray", k},
@@ -68,7 +88,10 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
                         {"hits", hit_count},
                         {"seconds", engine.cast_seconds()},
                         {"hit_residual", bound}};
-    j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
+    if (a.csv.empty())
+      j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
+    else
+      j["results_file"] = a.csv;
     j.update(engine.figures());
     j["preset"] = a.preset.json();
     if (!doubt.empty()) j["uncertified"] = doubt;
@@ -90,7 +113,7 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
                f["gpu"]["bvh_build_gpu_seconds"].get<double>());
   fmt::print("tests     {:.1f} boxes and {:.1f} patches per ray\n", f["tests_per_ray"]["box"].get<double>(),
              f["tests_per_ray"]["patch"].get<double>());
-  const size_t shown = std::min<size_t>(hits.size(), 20);
+  const size_t shown = a.csv.empty() ? std::min<size_t>(hits.size(), 20) : 0;
   fmt::print("{:>8} {:>14} {:>6} {:>12} {:>12}\n", "ray", "t", "face", "u", "v");
   for (size_t i = 0; i < shown; ++i) {
     const auto& h = hits[i];
@@ -99,7 +122,10 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     else
       fmt::print("{:>8} {:>14.9g} {:>6} {:>12.6g} {:>12.6g}\n", i, h.t, h.face, h.uv.x, h.uv.y);
   }
-  if (shown < hits.size()) fmt::print("... {} more (--json lists all)\n", hits.size() - shown);
+  if (!a.csv.empty())
+    fmt::print("hits      written to {}\n", a.csv);
+  else if (shown < hits.size())
+    fmt::print("... {} more (--json or --csv lists all)\n", hits.size() - shown);
   certify();
 }
 
@@ -117,6 +143,10 @@ void add_raycast(CLI::App& app, const GlobalOptions& global) {
       ->required();
   add_ray_engine_options(cmd, args->engine, args->preset);
   cmd->add_flag("--json", args->json, "JSON: rays, seconds, t, face, uv (input order), and the figures");
+  cmd->add_option("--csv", args->csv,
+                  "Write one row per ray (ray, hit, t, face, u, v, x, y, z) as CSV; the JSON then names the file "
+                  "(results_file) instead of listing the results")
+      ->check(extension_is(".csv"));
   cmd->callback([&global, args] {
     args->preset.apply();
     run(global, *args);
