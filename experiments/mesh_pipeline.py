@@ -4,14 +4,15 @@ absolute deflection as our tolerance, then CGAL's AABB tree for points and Embre
 every core: experiments/peer_mesh_pipeline.cpp), in the same run on the same points and rays.
 
 Per model, tolerance T (relative to the model size) and query count: the whole process of each side
-(median of --repeat runs, nurbsgl with a cold cache) and the queries alone (nurbsgl: the answering
+(median of --repeat runs, nurbsgl with a cold cache; each side writes one file of answers: ours with
+--csv, the peer with --out) and the queries alone (nurbsgl: the answering
 of the points or the cast; the peer: the tree or scene queries), the ratio (mesh time / ours), and
 the mesh answers' error against ours: the largest |d_mesh - d| over the deflection, and the share
 of points whose mesh distance lies farther from ours than deflection + our bound (ours is certified
 within its bound; the mesh pipeline's is not).
 
   PYTHONPATH= python3 experiments/mesh_pipeline.py --cli build/cli/nurbsgl \\
-      --peer build-peer/experiments/peer_mesh_pipeline --out DIR [--points 20000] [--rays 100000]
+      --peer build-peer/experiments/peer_mesh_pipeline --out DIR [--points 20000 ...] [--rays 100000 ...]
       [--tol 1e-4 1e-5] [--repeat 3] [--models NAME ...]
 Writes DIR/mesh_pipeline.csv and prints the table. Benchmarks, not tests.
 """
@@ -66,13 +67,36 @@ def write_rays(path, lo, hi, n, seed):
             f.write(f"{x:.9f} {y:.9f} {top:.9f} {rnd.uniform(-.1, .1):.6f} {rnd.uniform(-.1, .1):.6f} -1\n")
 
 
+def timed(args, ours_cmd, peer_cmd, env):
+    """Median whole-process and query seconds of each side over args.repeat runs (ours with a cold
+    cache per run), and the last runs' JSON."""
+    ours, ours_q, theirs, theirs_q = [], [], [], []
+    for rep in range(args.repeat):
+        e = dict(env, XDG_CACHE_HOME=str(pathlib.Path(args.out) / f"cache_{time.monotonic_ns()}"))
+        r, t = run(ours_cmd, e)
+        j = json.loads(r.stdout)
+        ours.append(t), ours_q.append(j["seconds"])
+        r, t = run(peer_cmd)
+        pj = json.loads(r.stdout)
+        theirs.append(t), theirs_q.append(pj["query_seconds"])
+    m = statistics.median
+    return {"mesh_whole_s": m(theirs), "ours_whole_s": m(ours), "mesh_queries_s": m(theirs_q),
+            "ours_queries_s": m(ours_q), "ratio_whole": m(theirs) / m(ours),
+            "ratio_queries": m(theirs_q) / m(ours_q)}, j, pj
+
+
+def read_column(path, column):
+    with open(path) as f:
+        return [float(r[column]) if r[column] != "" else None for r in csv.DictReader(f)]
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--cli", required=True)
     p.add_argument("--peer", required=True)
     p.add_argument("--out", required=True)
-    p.add_argument("--points", type=int, default=20000)
-    p.add_argument("--rays", type=int, default=100000)
+    p.add_argument("--points", type=int, nargs="+", default=[20000])
+    p.add_argument("--rays", type=int, nargs="+", default=[100000])
     p.add_argument("--tol", type=float, nargs="+", default=[1e-4, 1e-5])
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--models", nargs="+", default=list(MODELS))
@@ -86,60 +110,46 @@ def main():
             print(f"{name}: {model} absent, skipped")
             continue
         lo, hi, size = info(args.cli, model)
-        pts, rays = out / f"{name}_points.txt", out / f"{name}_rays.txt"
-        write_points(pts, lo, hi, args.points, 1)
-        write_rays(rays, lo, hi, args.rays, 2)
-        for tol in args.tol:
-            deflection = tol * size
-            ours, ours_q, theirs, theirs_q = [], [], [], []
-            for rep in range(args.repeat):
-                env = dict(os.environ, XDG_CACHE_HOME=str(out / f"cache_{name}_{tol}_{rep}"))
-                r, t = run([args.cli, "distance", model, "--points", str(pts), "--tol", str(tol), "--json"], env)
-                j = json.loads(r.stdout)
-                ours.append(t), ours_q.append(j["seconds"])
-                d = [x["distance"] if x["found"] else None for x in j["results"]]
-                b = [x["bound"] if x["found"] else None for x in j["results"]]
-                meets = sum(1 for x in j["results"] if x.get("meets_tolerance"))
-                r, t = run([args.peer, model, "--deflection", str(deflection), "--points", str(pts), "--out",
-                            str(out / "mesh_d.txt")])
-                pj = json.loads(r.stdout)
-                theirs.append(t), theirs_q.append(pj["query_seconds"])
-            dm = [float(x) for x in open(out / "mesh_d.txt")]
-            err = [abs(a - c) for a, c in zip(dm, d) if c is not None]
-            beyond = sum(1 for a, c, k in zip(dm, d, b) if c is not None and abs(a - c) > deflection + k)
-            rows.append({"model": name, "query": "points", "count": args.points, "tol": tol,
-                         "mesh_triangles": pj["triangles"], "mesh_whole_s": statistics.median(theirs),
-                         "ours_whole_s": statistics.median(ours), "mesh_queries_s": statistics.median(theirs_q),
-                         "ours_queries_s": statistics.median(ours_q),
-                         "ratio_whole": statistics.median(theirs) / statistics.median(ours),
-                         "ratio_queries": statistics.median(theirs_q) / statistics.median(ours_q),
-                         "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
-                         "mesh_share_beyond": beyond / max(len(err), 1),
-                         "ours_meet_tolerance": meets / args.points})
-        # Rays: the cast has no tolerance of the answer's kind; at the first tolerance's deflection.
+        for count in args.points:
+            pts = out / f"{name}_points_{count}.txt"
+            write_points(pts, lo, hi, count, 1)
+            for tol in args.tol:
+                deflection = tol * size
+                ours_csv, mesh_txt = out / "ours_d.csv", out / "mesh_d.txt"
+                figures, j, pj = timed(
+                    args, [args.cli, "distance", model, "--points", str(pts), "--tol", str(tol), "--json", "--csv",
+                           str(ours_csv)],
+                    [args.peer, model, "--deflection", str(deflection), "--points", str(pts), "--out", str(mesh_txt)],
+                    os.environ)
+                d, b = read_column(ours_csv, "distance"), read_column(ours_csv, "bound")
+                with open(ours_csv) as f:
+                    meets = sum(1 for r in csv.DictReader(f) if r["meets_tolerance"] == "true")
+                dm = [float(x) for x in open(mesh_txt)]
+                err = [abs(a - c) for a, c in zip(dm, d) if c is not None]
+                beyond = sum(1 for a, c, k in zip(dm, d, b) if c is not None and abs(a - c) > deflection + k)
+                rows.append({"model": name, "query": "points", "count": count, "tol": tol,
+                             "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("path", ""),
+                             "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
+                             "mesh_share_beyond": beyond / max(len(err), 1), "ours_meet_tolerance": meets / count})
+        # Rays: the hits are exact on both sides' terms; the mesh at the first tolerance's deflection.
         deflection = args.tol[0] * size
-        ours, ours_q, theirs, theirs_q = [], [], [], []
-        for rep in range(args.repeat):
-            r, t = run([args.cli, "raycast", model, "--rays", str(rays), "--json"])
-            j = json.loads(r.stdout)
-            ours.append(t), ours_q.append(j["seconds"])
-            r, t = run([args.peer, model, "--deflection", str(deflection), "--rays", str(rays), "--out",
-                        str(out / "mesh_t.txt")])
-            pj = json.loads(r.stdout)
-            theirs.append(t), theirs_q.append(pj["query_seconds"])
-        tm = [float(x) for x in open(out / "mesh_t.txt")]
-        tn = [x["t"] if x.get("hit") else -1.0 for x in j["results"]]
-        both = [(a, c) for a, c in zip(tm, tn) if a >= 0 and c >= 0]
-        err = [abs(a - c) for a, c in both]
-        disagree = sum(1 for a, c in zip(tm, tn) if (a >= 0) != (c >= 0))
-        rows.append({"model": name, "query": "rays", "count": args.rays, "tol": args.tol[0],
-                     "mesh_triangles": pj["triangles"], "mesh_whole_s": statistics.median(theirs),
-                     "ours_whole_s": statistics.median(ours), "mesh_queries_s": statistics.median(theirs_q),
-                     "ours_queries_s": statistics.median(ours_q),
-                     "ratio_whole": statistics.median(theirs) / statistics.median(ours),
-                     "ratio_queries": statistics.median(theirs_q) / statistics.median(ours_q),
-                     "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
-                     "mesh_share_beyond": disagree / args.rays, "ours_meet_tolerance": ""})
+        for count in args.rays:
+            rays = out / f"{name}_rays_{count}.txt"
+            write_rays(rays, lo, hi, count, 2)
+            ours_csv, mesh_txt = out / "ours_t.csv", out / "mesh_t.txt"
+            figures, j, pj = timed(
+                args, [args.cli, "raycast", model, "--rays", str(rays), "--json", "--csv", str(ours_csv)],
+                [args.peer, model, "--deflection", str(deflection), "--rays", str(rays), "--out", str(mesh_txt)],
+                os.environ)
+            tm = [float(x) for x in open(mesh_txt)]
+            tn = [x if x is not None else -1.0 for x in read_column(ours_csv, "t")]
+            both = [(a, c) for a, c in zip(tm, tn) if a >= 0 and c >= 0]
+            err = [abs(a - c) for a, c in both]
+            disagree = sum(1 for a, c in zip(tm, tn) if (a >= 0) != (c >= 0))
+            rows.append({"model": name, "query": "rays", "count": count, "tol": args.tol[0],
+                         "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("method", ""),
+                         "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
+                         "mesh_share_beyond": disagree / count, "ours_meet_tolerance": ""})
     with open(out / "mesh_pipeline.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]) if rows else ["model"])
         w.writeheader()

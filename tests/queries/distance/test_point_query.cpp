@@ -21,17 +21,20 @@ std::vector<glm::dvec3> points_around() {
 
 }  // namespace
 
-TEST_CASE("point query: both paths answer within their bounds, and the answers meet the tolerance") {
+TEST_CASE("point query: the three paths answer within their bounds, and the answers meet the tolerance") {
   gpgpu::Gpu& gpu = test::gpu();
   const nurbs::LoadedModel sphere = models::loaded_sphere(10.0);
-  for (const bool per_point : {false, true}) {
-    CAPTURE(per_point);
+  for (const int path : {0, 1, 2}) {  // the mesh (the default), the pyramid, one point at a time
+    const bool per_point = path == 2;
+    CAPTURE(path);
     queries::PointQueryOptions o;
     o.tolerance = 1e-4;
     o.per_point = per_point;
+    o.path = path == 1 ? queries::PointPath::Batched : queries::PointPath::Auto;
     o.cache = false;
     queries::PointQuery q(gpu, sphere, o);
-    CHECK(q.batched() == !per_point);
+    CHECK(q.meshed() == (path == 0));
+    CHECK(q.batched() == (path == 1));
     const auto points = points_around();
     const queries::PointQueryResult r = q.query(points);
     REQUIRE(r.answers.size() == points.size());
