@@ -3,6 +3,8 @@
 // moved onto the exact NURBS face in double.
 #include <fmt/format.h>
 
+#include <iterator>
+
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -29,15 +31,17 @@ struct RaycastArgs {
 /// One row per ray (the fields of the JSON's results), written to a temporary file and renamed.
 void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits) {
   nurbs::io::write_file(path, [&](std::ostream& out) {
-    out << "ray,hit,t,face,u,v,x,y,z\n";
+    fmt::memory_buffer buf;
+    fmt::format_to(std::back_inserter(buf), "ray,hit,t,face,u,v,x,y,z\n");
     for (size_t k = 0; k < hits.size(); ++k) {
       const nurbs::ray::Hit& h = hits[k];
       if (h.face >= 0)
-        out << fmt::format("{},true,{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", k, h.t, h.face, h.uv.x,
-                           h.uv.y, h.point.x, h.point.y, h.point.z);
+        fmt::format_to(std::back_inserter(buf), "{},true,{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", k, h.t,
+                       h.face, h.uv.x, h.uv.y, h.point.x, h.point.y, h.point.z);
       else
-        out << fmt::format("{},false,,-1,,,,,\n", k);
+        fmt::format_to(std::back_inserter(buf), "{},false,,-1,,,,,\n", k);
     }
+    out.write(buf.data(), std::streamsize(buf.size()));
   });
 }
 

@@ -11,33 +11,41 @@
 
 namespace nurbs::ray {
 
-Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options) {
-  Scene scene;
-  scene.options = options;
-  scene.faces = std::move(faces);
+double scene_size(const std::vector<TrimmedSurface>& faces) {
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  for (const auto& f : scene.faces) {
+  for (const auto& f : faces) {
     const Box b = control_box(f.surface);
     lo = glm::min(lo, b.min);
     hi = glm::max(hi, b.max);
   }
-  scene.size = scene.faces.empty() ? 0.0 : glm::length(hi - lo);
+  return faces.empty() ? 0.0 : glm::length(hi - lo);
+}
+
+Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options) {
+  Scene scene;
+  scene.options = options;
+  scene.faces = std::move(faces);
+  scene.size = scene_size(scene.faces);
   BicubicOptions bo;
   bo.tolerance = options.tolerance * scene.size;
   bo.max_turn_degrees = options.max_turn_degrees;
-  std::vector<BicubicPatch> all;
-  for (size_t f = 0; f < scene.faces.size(); ++f) {
+  // Faces in parallel (each its own slot), then joined in face order: the same scene on any thread count.
+  const size_t n = scene.faces.size();
+  scene.trims.resize(n);
+  if (options.trim == SceneOptions::Trim::Cubics) scene.cubics.resize(n);
+  scene.face_stats.resize(n);
+  std::vector<std::vector<BicubicPatch>> patches(n);
+  parallel_for(n, 0, [&](size_t f, int) {
     const TrimmedSurface& face = scene.faces[f];
     const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
     const double diag = std::hypot(du.max - du.min, dv.max - dv.min);
-    scene.trims.push_back(face.loops.empty() ? TrimPolygons{} : flatten_trim(face, options.trim_flatten * diag));
-    if (options.trim == SceneOptions::Trim::Cubics)
-      scene.cubics.push_back(face.loops.empty() ? TrimCubics{} : trim_cubics(face, options.trim_flatten * diag));
-    BicubicStats st;
-    auto p = bicubic_patches(face, static_cast<int>(f), bo, &st);
-    scene.face_stats.push_back(st);
-    all.insert(all.end(), p.begin(), p.end());
-  }
+    if (!face.loops.empty()) scene.trims[f] = flatten_trim(face, options.trim_flatten * diag);
+    if (options.trim == SceneOptions::Trim::Cubics && !face.loops.empty())
+      scene.cubics[f] = trim_cubics(face, options.trim_flatten * diag);
+    patches[f] = bicubic_patches(face, static_cast<int>(f), bo, &scene.face_stats[f]);
+  });
+  std::vector<BicubicPatch> all;
+  for (auto& p : patches) all.insert(all.end(), p.begin(), p.end());
   auto material = std::make_shared<SceneMaterial>();
   material->trims = scene.trims;
   material->banded.reserve(material->trims.size());

@@ -58,6 +58,9 @@ struct Scene {
   SceneOptions options;
 };
 
+/// Scene::size of `faces`: the diagonal of the box of their control points.
+[[nodiscard]] double scene_size(const std::vector<TrimmedSurface>& faces);
+
 /// Builds the patches of every face (tolerance x size, size from the faces' control boxes) and the
 /// BVH over their boxes (each inflated by twice the tolerance so the exact surface is inside).
 [[nodiscard]] Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options = {});

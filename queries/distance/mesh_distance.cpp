@@ -112,6 +112,21 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
   scene_->scene = rtcNewScene(scene_->device);
   if (!rays) {
     add_triangles(scene_->scene, m.positions, 0.0);
+    // Per triangle, which of its edges lie on its face's mesh boundary (bit k: the edge opposite
+    // corner k), for on_trim_edge.
+    boundary_.assign(m.triangles.size(), 0);
+    std::vector<uint64_t> keys;
+    for (const auto& [a, b] : boundary_edges(m)) keys.push_back(uint64_t(uint32_t(a)) << 32 | uint32_t(b));
+    std::sort(keys.begin(), keys.end());
+    const auto on_boundary = [&](int a, int b) {
+      return std::binary_search(keys.begin(), keys.end(),
+                                uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)));
+    };
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      const glm::ivec3 t = m.triangles[i];
+      boundary_[i] = uint8_t((on_boundary(t.y, t.z) ? 1 : 0) | (on_boundary(t.z, t.x) ? 2 : 0) |
+                             (on_boundary(t.x, t.y) ? 4 : 0));
+    }
   } else {  // the two shells, inside and outside
     add_triangles(scene_->scene, m.positions, -kShellOffset * eps);
     add_triangles(scene_->scene, m.positions, kShellOffset * eps);
@@ -219,6 +234,10 @@ PointDistance MeshDistance::answer(const glm::dvec3& p, int triangle, double dis
   r.point_bound = std::sqrt(4.0 * eps_ * distance + eps_ * eps_);
   r.upper = distance + eps_;
   r.meets_tolerance = true;
+  // On its face's boundary: a weight 0 on a boundary edge's opposite corner (the trim edge, or the
+  // edge of the face's domain; the side test takes no normal there).
+  if (!boundary_.empty())
+    for (int k = 0; k < 3; ++k) r.on_trim_edge = r.on_trim_edge || ((boundary_[size_t(triangle)] >> k & 1) && w[k] <= 0.0);
   return r;
 }
 

@@ -10,7 +10,8 @@
 /// eps: tessellate.h), so the distance d from a point to the mesh brackets its distance d* to the
 /// faces: |d - d*| <= eps. An answer is d with bound eps, its closest point on the mesh, the face of
 /// that triangle and the (u, v) of the point by the triangle's barycentric weights; point_bound is
-/// Krishnamurthy et al.'s sqrt(4 K d + K^2) with K = eps, as for the grids' triangles.
+/// Krishnamurthy et al.'s sqrt(4 K d + K^2) with K = eps, as for the grids' triangles; on_trim_edge
+/// where the point lies on its face's mesh boundary.
 ///
 /// Rays: the faces lie within eps of the mesh, so within the slab between two shells, the mesh
 /// moved 1.5 eps to either side along the vertex normals (inside a face; beside its edges, within
@@ -25,6 +26,7 @@
 /// point (2^-18 (R + |p - centre|), R the mesh's radius, 64 times the rounding of the coordinates),
 /// so no triangle nearer than the best in double is pruned: the answer is the mesh's closest
 /// triangle in double, with no float term in its bound.
+#include <cstdint>
 #include <functional>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -99,6 +101,7 @@ class MeshDistance {
   glm::dvec3 centre_{0.0};
   double radius_ = 0.0;
   std::unique_ptr<Scene> scene_;
+  std::vector<uint8_t> boundary_;  ///< points: per triangle, its edges on the face's mesh boundary
 };
 
 }  // namespace queries

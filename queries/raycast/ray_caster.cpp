@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <chrono>
+#include <future>
 #include <stdexcept>
 #include <thread>
 
@@ -47,18 +48,29 @@ RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOp
   nurbs::ray::SceneOptions o;
   o.tolerance = options.tolerance;
   if (gpu) o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
-  scene_ = nurbs::ray::build_scene(std::move(faces), o);
+  // The mesh method's mesh is made beside the scene (both take every core; each has serial parts).
+  std::future<std::unique_ptr<MeshDistance>> mesh;
+  if (!gpu && options.method == RayMethod::Mesh)
+    mesh = std::async(std::launch::async, [&faces, &options] {
+      return std::make_unique<MeshDistance>(faces, options.mesh_tolerance * nurbs::ray::scene_size(faces),
+                                            options.threads, nurbs::tess::TessellateOptions{}.max_cells, true);
+    });
+  try {
+    scene_ = nurbs::ray::build_scene(faces, o);
+  } catch (...) {
+    if (mesh.valid()) mesh.wait();
+    throw;
+  }
+  if (mesh.valid()) {
+    mesh_ = mesh.get();
+    figures_.mesh_triangles = mesh_->triangles();
+  }
   if (gpu) {
     gpu_caster_ = std::make_unique<GpuRaycaster>(*gpu, scene_, options.bvh_build);
     gpu_caster_->set_threads(options.threads);  // its hits finished in double on the CPU
     figures_.bvh_gpu_seconds = gpu_caster_->build_stats().seconds;
     figures_.bvh_gpu_passes = gpu_caster_->build_stats().passes;
   } else {
-    if (options.method == RayMethod::Mesh) {
-      mesh_ = std::make_unique<MeshDistance>(scene_.faces, options.mesh_tolerance * scene_.size, options.threads,
-                                             nurbs::tess::TessellateOptions{}.max_cells, true);
-      figures_.mesh_triangles = mesh_->triangles();
-    }
     figures_.bytes_bvh = options.method != RayMethod::Dacrt ? scene_.bvh.nodes.size() * sizeof(nurbs::ray::BvhNode) : 0;
     figures_.bytes_patches = scene_.patches.size() * sizeof(nurbs::ray::BicubicPatch);
     for (const auto& t : scene_.trims)
