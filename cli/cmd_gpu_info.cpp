@@ -22,6 +22,7 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
                        {"renderer", i.renderer},
                        {"vendor", i.vendor},
                        {"max_texture_size", i.max_texture_size},
+                       {"memory_bytes", i.memory_bytes},
                        {"max_texture_units", i.max_texture_units},
                        {"float_targets_ok", i.float_targets_ok},
                        {"timer_queries", i.timer_queries},
@@ -38,6 +39,8 @@ void add_gpu_info(CLI::App& app, const GlobalOptions& global) {
     fmt::print("renderer           {}\n", i.renderer);
     fmt::print("vendor             {}\n", i.vendor);
     fmt::print("max texture size   {}\n", i.max_texture_size);
+    fmt::print("memory             {}\n", i.memory_bytes > 0 ? fmt::format("{:.1f} GB", double(i.memory_bytes) / 1e9)
+                                                             : std::string("not stated by the GL"));
     fmt::print("texture units      {}\n", i.max_texture_units);
     fmt::print("float targets      {}\n", i.float_targets_ok ? "OK (R32F, RG32F, RGBA32F unclamped)" : "NOT OK");
     fmt::print("timer queries      {}\n", i.timer_queries ? "yes" : "no");

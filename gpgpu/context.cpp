@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <algorithm>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 
 #include "gpgpu/gl_api.h"
 #include "gpgpu/gl_debug.h"
@@ -85,6 +87,21 @@ void probe_gl(ContextInfo& info) {
   info.timer_queries = bits > 0;
   info.float_targets_ok = probe_float_targets();
   gl::check_error("probing the context");
+  // The GPU's memory, where an extension says it (kB).
+  GLint extensions = 0;
+  gl::GetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+  for (GLint k = 0; k < extensions; ++k) {
+    const auto* name = reinterpret_cast<const char*>(gl::GetStringi(GL_EXTENSIONS, GLuint(k)));
+    if (name == nullptr) continue;
+    GLint kb[4] = {0, 0, 0, 0};
+    if (std::string_view(name) == "GL_NVX_gpu_memory_info")
+      gl::GetIntegerv(0x9048, kb);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+    else if (std::string_view(name) == "GL_ATI_meminfo")
+      gl::GetIntegerv(0x87FC, kb);  // TEXTURE_FREE_MEMORY_ATI: free, largest block, ...
+    else
+      continue;
+    if (gl::GetError() == GL_NO_ERROR && kb[0] > 0) info.memory_bytes = std::max(info.memory_bytes, 1024LL * kb[0]);
+  }
 }
 }  // namespace
 

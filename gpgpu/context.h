@@ -50,6 +50,9 @@ struct ContextInfo {
   std::string vendor;
   int max_texture_size = 0;
   int max_texture_units = 0;      ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment stage)
+  /// The GPU's dedicated memory where the GL says it (GL_NVX_gpu_memory_info's total, or
+  /// GL_ATI_meminfo's free texture memory), bytes; 0 where it does not (Mesa's software renderers).
+  long long memory_bytes = 0;
   bool float_targets_ok = false;  ///< R32F/RG32F/RGBA32F attach, clear and read back unclamped
   bool timer_queries = false;     ///< GL_TIME_ELAPSED reports a non-zero counter width
   bool debug_output = false;      ///< KHR_debug messages go to stderr and check_error (gl_debug.h)

@@ -17,6 +17,7 @@ namespace gpgpu::gl {
 // X(return type, name without the "gl" prefix, parameter list)
 #define NURBSGL_GL_FUNCTIONS(X)                                                                       \
   X(const GLubyte*, GetString, (GLenum))                                                             \
+  X(const GLubyte*, GetStringi, (GLenum, GLuint))                                                    \
   X(void, GetIntegerv, (GLenum, GLint*))                                                             \
   X(GLenum, GetError, ())                                                                            \
   X(void, Enable, (GLenum))                                                                          \

@@ -99,6 +99,7 @@ PYBIND11_MODULE(_nurbsgl, m) {
         d["renderer"] = info.renderer;
         d["gl_version"] = info.gl_version;
         d["max_texture_size"] = info.max_texture_size;
+        d["memory_bytes"] = info.memory_bytes;
         d["software_renderer"] = gpgpu::software_renderer(info.renderer);
         d["hardware_unused"] = info.hardware_unused;
         return d;

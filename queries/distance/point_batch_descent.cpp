@@ -146,7 +146,7 @@ std::vector<std::vector<BatchCell>> PointBatch::descend_gpu(std::span<const glm:
   // Neighbouring fragments run in lockstep (SIMD lanes, warps), each as long as its slowest point:
   // points sorted along a Morton curve and laid out in 4 x 4 tiles keep the lanes' paths alike.
   const std::vector<uint32_t> order = morton_order(points, g_.m.centre, 2.0 * g_.radius);
-  const int max_size = std::min(gpu_.info().max_texture_size, kAtlasSide);
+  const int max_size = atlas_side(gpu_.info());
   int width = 4;
   while (width < max_size && int64_t(width) * width < int64_t(points.size())) width *= 2;
   const int64_t tiles_per_row = width / 4, tiles = (int64_t(points.size()) + 15) / 16;

@@ -181,7 +181,7 @@ void PointQuery::prepare_batched(gpgpu::Gpu& gpu, const std::filesystem::path& p
   // Faithful grids within 1 GB (and the memory free), else coarse ones; answers whose bound is
   // over T refined in double (point_batch.h), so no tolerance is beyond the float pass. Refused
   // before the work: a preparation larger than the memory this machine has free.
-  const int side = std::min(gpu.info().max_texture_size, kAtlasSide);
+  const int side = atlas_side(gpu.info());
   const long long free = nurbs::available_memory();
   PreparedModel geometry =
       prepare_batch_geometry(faces_, tolerance, options_.max_samples, side, options_.boxes,

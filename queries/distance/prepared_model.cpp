@@ -177,4 +177,14 @@ PreparedPair prepare_pair(gpgpu::Gpu& gpu, std::vector<nurbs::TrimmedSurface> a,
   return p;
 }
 
+int atlas_side(const gpgpu::ContextInfo& info) {
+  int side = kAtlasSide;
+  if (info.memory_bytes > 0) {
+    constexpr long long kBytesPerTexel = 64;
+    side = 1024;
+    while (2LL * side <= info.max_texture_size && 4LL * side * side * kBytesPerTexel <= info.memory_bytes / 8) side *= 2;
+  }
+  return std::min(side, info.max_texture_size);
+}
+
 }  // namespace queries

@@ -34,8 +34,15 @@ class GridLimitError : public std::runtime_error {
 /// The most grid samples of one face unless a caller says otherwise: a face that needs more for its
 /// tolerance is refused (GridLimitError), not evaluated.
 inline constexpr long long kDefaultMaxSamples = 1LL << 22;
-/// The side of the atlases faces are packed into, texels (or the GPU's texture size if smaller).
+/// The side of the atlases faces are packed into, texels, where the GL does not say its memory
+/// (atlas_side).
 inline constexpr int kAtlasSide = 4096;
+/// The side of the atlases on this GPU: the largest power of two within GL_MAX_TEXTURE_SIZE whose
+/// atlas (about 64 bytes a texel: samples, normals, masks and indices, the pyramid's boxes) takes
+/// at most an eighth of the GPU's memory (ContextInfo::memory_bytes), at least 1024; kAtlasSide,
+/// within the texture size, where the memory is not known (a software renderer: host memory, which
+/// the preparation's own estimate checks).
+[[nodiscard]] int atlas_side(const gpgpu::ContextInfo& info);
 
 /// How a query reaches its tolerance T.
 ///  - Faithful (the paper): every face on a grid with K_e <= T everywhere; the GPU search ends at
