@@ -14,6 +14,7 @@
 
 #include "nurbs/parallel.h"
 #include "nurbs/stopwatch.h"
+#include "queries/distance/point_batch_descent.h"
 
 namespace queries {
 
@@ -54,9 +55,7 @@ bool closest_triangle(RTCPointQueryFunctionArguments* args) {
 struct MeshDistance::Scene {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  RTCScene tubes = nullptr;  ///< boundary_tubes
   ~Scene() {
-    if (tubes) rtcReleaseScene(tubes);
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
   }
@@ -87,7 +86,7 @@ std::vector<std::pair<int, int>> boundary_edges(const nurbs::TriangleMesh& m) {
 
 MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, double eps, int threads,
                            long long max_cells, bool rays)
-    : eps_(eps), threads_(threads), scene_(std::make_unique<Scene>()) {
+    : eps_(eps), threads_(threads), rays_(rays), scene_(std::make_unique<Scene>()) {
   nurbs::tess::TessellateOptions o;
   o.eps = eps;
   o.mode = nurbs::tess::TessMode::Guaranteed;
@@ -127,14 +126,10 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
       boundary_[i] = uint8_t((on_boundary(t.y, t.z) ? 1 : 0) | (on_boundary(t.z, t.x) ? 2 : 0) |
                              (on_boundary(t.x, t.y) ? 4 : 0));
     }
-  } else {  // the two shells, inside and outside
+  } else {  // the two shells, inside and outside (geometries 0 and 1), then the tubes and balls
     add_triangles(scene_->scene, m.positions, -kShellOffset * eps);
     add_triangles(scene_->scene, m.positions, kShellOffset * eps);
-  }
-  rtcCommitScene(scene_->scene);
-  if (rays) {
     const std::vector<std::pair<int, int>> edges = boundary_edges(m);
-    scene_->tubes = rtcNewScene(scene_->device);
     if (!edges.empty()) {
       RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
@@ -155,7 +150,7 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
         idx[k] = unsigned(2 * k);
       }
       rtcCommitGeometry(g);
-      rtcAttachGeometry(scene_->tubes, g);
+      rtcAttachGeometry(scene_->scene, g);
       rtcReleaseGeometry(g);
     }
     // Points whose normal the surface leaves undefined (poles, where a row of the grid collapses)
@@ -179,11 +174,11 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
         v[4 * k] = f.x, v[4 * k + 1] = f.y, v[4 * k + 2] = f.z, v[4 * k + 3] = float(kTubeRadius * eps);
       }
       rtcCommitGeometry(g);
-      rtcAttachGeometry(scene_->tubes, g);
+      rtcAttachGeometry(scene_->scene, g);
       rtcReleaseGeometry(g);
     }
-    rtcCommitScene(scene_->tubes);
   }
+  rtcCommitScene(scene_->scene);
   if (const RTCError e = rtcGetDeviceError(scene_->device); e != RTC_ERROR_NONE)
     throw std::runtime_error(fmt::format("Embree: the scene of {} triangles failed (error {})", m.triangles.size(),
                                          int(e)));
@@ -244,28 +239,37 @@ PointDistance MeshDistance::answer(const glm::dvec3& p, int triangle, double dis
 std::vector<PointDistance> MeshDistance::query(std::span<const glm::dvec3> points,
                                                const std::function<void(size_t, size_t)>& progress) const {
   std::vector<PointDistance> out(points.size());
-  constexpr size_t kChunk = 256;
+  // Along a Morton curve, in runs of kRun points: each point's search starts from the previous
+  // one's answer moved by their distance apart (an upper bound of its own), so Embree prunes from
+  // the first node instead of after its first leaves.
+  constexpr size_t kRun = 256;
+  const std::vector<uint32_t> order = morton_order(points, centre_, std::max(radius_, 1e-300));
+  const size_t runs = (points.size() + kRun - 1) / kRun;
   std::atomic<size_t> done{0};
-  nurbs::parallel_for(
-      points.size(), threads_,
-      [&](size_t k, int thread) {
-        ClosestSearch s;
-        s.mesh = &tess_.mesh;
-        s.p = points[k];
-        const glm::dvec3 q = points[k] - centre_;
-        s.slack = std::ldexp(radius_ + glm::length(q), -18);
-        RTCPointQuery pq;
-        pq.x = float(q.x), pq.y = float(q.y), pq.z = float(q.z);
-        pq.time = 0.0f;
-        pq.radius = std::numeric_limits<float>::infinity();
-        RTCPointQueryContext context;
-        rtcInitPointQueryContext(&context);
-        rtcPointQuery(scene_->scene, &pq, &context, closest_triangle, &s);
-        out[k] = answer(s.p, s.triangle, s.best, s.point, s.weights, s.tested);
-        if (progress && thread == 0 && (k % kChunk) == kChunk - 1) progress(done.load(), points.size());
-        done.fetch_add(1, std::memory_order_relaxed);
-      },
-      kChunk);
+  nurbs::parallel_for(runs, threads_, [&](size_t run, int thread) {
+    double previous = kInf;
+    glm::dvec3 previous_point(0.0);
+    for (size_t i = run * kRun; i < std::min(points.size(), (run + 1) * kRun); ++i) {
+      const size_t k = order[i];
+      ClosestSearch s;
+      s.mesh = &tess_.mesh;
+      s.p = points[k];
+      const glm::dvec3 q = points[k] - centre_;
+      s.slack = std::ldexp(radius_ + glm::length(q), -18);
+      const double start = previous + glm::length(points[k] - previous_point);
+      RTCPointQuery pq;
+      pq.x = float(q.x), pq.y = float(q.y), pq.z = float(q.z);
+      pq.time = 0.0f;
+      pq.radius = start < kInf ? float(start * (1.0 + 1e-6) + s.slack) : std::numeric_limits<float>::infinity();
+      RTCPointQueryContext context;
+      rtcInitPointQueryContext(&context);
+      rtcPointQuery(scene_->scene, &pq, &context, closest_triangle, &s);
+      out[k] = answer(s.p, s.triangle, s.best, s.point, s.weights, s.tested);
+      previous = s.triangle >= 0 ? s.best : kInf, previous_point = points[k];
+    }
+    const size_t total = done.fetch_add(std::min(kRun, points.size() - run * kRun)) + kRun;
+    if (progress && thread == 0) progress(std::min(total, points.size()), points.size());
+  });
   if (progress) progress(points.size(), points.size());
   return out;
 }
@@ -286,6 +290,11 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   rtcIntersect1(scene_->scene, &context, &rh);
   MeshRayHit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  if (rays_ && rh.hit.geomID >= 2) {  // a tube or a ball
+    h.boundary = true;
+    h.t = double(rh.ray.tfar);
+    return h;
+  }
   const nurbs::TriangleMesh& m = tess_.mesh;
   h.triangle = int(rh.hit.primID);
   h.t = double(rh.ray.tfar);
@@ -294,22 +303,6 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   const double u = rh.hit.u, v = rh.hit.v;
   h.uv = (1.0 - u - v) * m.uv[size_t(t.x)] + u * m.uv[size_t(t.y)] + v * m.uv[size_t(t.z)];
   return h;
-}
-
-bool MeshDistance::near_boundary(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
-                                 double t_max) const {
-  if (!scene_->tubes) throw std::logic_error("MeshDistance::near_boundary: built for points");
-  const glm::vec3 o(origin - centre_), d(direction);
-  RTCRay ray;
-  ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
-  ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z;
-  ray.tnear = float(std::max(t_min, 0.0));
-  ray.tfar = t_max < 3e38 ? float(t_max) : std::numeric_limits<float>::infinity();
-  ray.time = 0.0f, ray.mask = 0xFFFFFFFFu, ray.id = 0, ray.flags = 0;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(scene_->tubes, &context, &ray);
-  return ray.tfar < 0.0f;  // (-inf when occluded)
 }
 
 double MeshDistance::t_rounding(const glm::dvec3& origin) const {

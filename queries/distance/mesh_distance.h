@@ -43,7 +43,9 @@ namespace queries {
 
 /// The first mesh triangle a ray meets (MeshDistance::first_hit).
 struct MeshRayHit {
-  int triangle = -1;  ///< -1: none
+  int triangle = -1;  ///< -1: none (or a boundary)
+  /// Built for rays: the ray meets a tube or ball around a face's mesh boundary first, at t.
+  bool boundary = false;
   double t = -1.0;    ///< along the unit direction (Embree's, in float)
   int face = -1;
   glm::dvec2 uv{0.0};
@@ -55,7 +57,7 @@ class MeshDistance {
   /// (0: every hardware thread) and builds the BVH. Throws nurbs::tess::WorkLimitError when the
   /// mesh would exceed `max_cells` (tessellate.h). Faces that could not be meshed within eps are
   /// listed by failures(): answers are then not certified (query() leaves them as it finds them;
-  /// the caller decides). `rays`: for first_hit and near_boundary instead of query: the BVH then
+  /// the caller decides). `rays`: for first_hit instead of query: the BVH then
   /// holds two shells, the mesh's vertices moved 1.5 eps along their normals to either side, and
   /// tubes of radius 2 eps around every face's mesh boundary.
   MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, double eps, int threads = 0,
@@ -69,14 +71,11 @@ class MeshDistance {
   [[nodiscard]] std::vector<PointDistance> query(std::span<const glm::dvec3> points,
                                                  const std::function<void(size_t, size_t)>& progress = {}) const;
   /// The first triangle the ray (origin, unit direction) meets at t in (t_min, t_max): of the mesh
-  /// (built for points) or of its shells (built for rays).
+  /// (built for points) or of its shells (built for rays), or, built for rays, the first tube or
+  /// ball around a face's mesh boundary when the ray meets one first: where a face's true edge may
+  /// lie up to eps outside its mesh, so that the ray may meet the face and miss its shells.
   [[nodiscard]] MeshRayHit first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
                                      double t_max) const;
-  /// Whether the ray passes within about 2 eps of a face's mesh boundary at t in (t_min, t_max):
-  /// where a face's true edge may lie up to eps outside its mesh, so that the ray may meet the face
-  /// and miss its triangles (needs boundary_tubes).
-  [[nodiscard]] bool near_boundary(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
-                                   double t_max) const;
   /// The float rounding of a t from first_hit, at a ray whose origin lies at `origin`: a step
   /// past a hit by more than this leaves its triangle behind.
   [[nodiscard]] double t_rounding(const glm::dvec3& origin) const;
@@ -96,6 +95,7 @@ class MeshDistance {
                        const glm::dvec3& weights, long long tested) const;
   double eps_ = 0.0;
   int threads_ = 0;
+  bool rays_ = false;
   nurbs::tess::TessellateResult tess_;
   double tess_seconds_ = 0.0, build_seconds_ = 0.0;
   glm::dvec3 centre_{0.0};

@@ -143,15 +143,15 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         nurbs::ray::Hit best;  // the nearest exact hit so far
         for (int tries = 0; tries < 8; ++tries) {
           const MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, from, 3.4e38);
-          // Near a face's edge before the crossing, the face may reach the ray where its mesh does
-          // not (the mesh's boundary lies within eps inside the face's): the BVH decides.
-          const double until = m.triangle < 0 ? 3.4e38 : best.face >= 0 ? std::min(m.t, best.t) : m.t;
-          if (mesh_->near_boundary(ray.origin, ray.direction, from, until)) break;
+          // Near a face's edge before the next crossing (and before the best hit), the face may
+          // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
+          // face's): the BVH decides.
+          if (m.boundary && !(best.face >= 0 && m.t >= best.t)) break;
           // Every hit lies inside the slab, after a crossing: a crossing beyond the best hit ends
           // the search, and no crossing at all leaves no hit. But a ray that left a crossing behind
           // (its own face, a trimmed part) and finds none after it may have slipped along an edge
           // of the triangles in float: the BVH decides.
-          if (best.face >= 0 && (m.triangle < 0 || m.t >= best.t)) {
+          if (best.face >= 0 && (m.boundary || m.triangle < 0 || m.t >= best.t)) {
             hits[k] = best;
             return;
           }
