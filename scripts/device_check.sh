@@ -74,6 +74,10 @@ if [[ -d $models ]]; then
     query "thickness_comp8_$engine" "$ng" thickness "$comp8" --engine "$engine"
     query "clearance_comp8_$engine" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-4 --engine "$engine"
   done
+  # The default paths beside them: points from the certified mesh, rays by the paper's BVH on the CPU.
+  query "distance_vent_mesh" "$ng" distance "$vent" --points "$build/points_vent.txt" --tol 1e-3 --path mesh
+  query "distance_motor_mesh" "$ng" distance "$motor" --points "$build/points_motor.txt" --tol 1e-4 --path mesh
+  query "raycast_vent_bvh_cpu" "$ng" raycast "$vent" --rays "$build/rays_vent.txt" --engine cpu --method bvh
   query "thickness_comp8_ball_gpu" "$ng" thickness "$comp8" --ball --ball-engine gpu
   query "clearance_comp8_paper" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-4 --paper
   query "clash_assembly_gpu" "$ng" clash "$asm" --tol 1e-4 --engine gpu
@@ -104,6 +108,8 @@ name = os.path.basename(f)[:-5]
 engine = j.get("engine")
 if isinstance(engine, dict):
     engine = engine.get("used")
+if j.get("path") == "mesh" or (j.get("method") in ("mesh", "bvh", "dacrt") and engine == "cpu"):
+    engine = j.get("path") if j.get("path") == "mesh" else f"cpu {j.get('method')}"
 secs = j.get("seconds")
 fig = ""
 if "over_tolerance" in j:
