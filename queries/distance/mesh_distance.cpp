@@ -44,8 +44,12 @@ bool closest_triangle(RTCPointQueryFunctionArguments* args) {
                                            s.mesh->positions[size_t(t.z)], w);
   ++s.tested;
   const double d = glm::length(q - s.p);
-  if (!(d < s.best)) return false;
+  // The nearest, the lowest index among equals: the same answer whatever the tree and the order
+  // of the walk (a triangle as near as the best is never pruned).
+  if (!(d < s.best) && !(d == s.best && int(args->primID) < s.triangle)) return false;
+  const bool nearer = d < s.best;
   s.best = d, s.triangle = int(args->primID), s.point = q, s.weights = w;
+  if (!nearer) return false;
   args->query->radius = float(d * (1.0 + 1e-6) + s.slack);
   return true;
 }

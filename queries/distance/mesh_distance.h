@@ -67,7 +67,9 @@ class MeshDistance {
   MeshDistance& operator=(const MeshDistance&) = delete;
 
   /// The closest mesh point of every point (input order), on every hardware thread; found false
-  /// only for a mesh without triangles. `progress` (optional): points done, points in all.
+  /// only for a mesh without triangles. Of equally near triangles the lowest index, so the answers
+  /// do not depend on the threads or on the other points. `progress` (optional): points done,
+  /// points in all.
   [[nodiscard]] std::vector<PointDistance> query(std::span<const glm::dvec3> points,
                                                  const std::function<void(size_t, size_t)>& progress = {}) const;
   /// The first triangle the ray (origin, unit direction) meets at t in (t_min, t_max): of the mesh

@@ -104,4 +104,17 @@ TEST_CASE("mesh distance: an exact sphere, the distance | |p| - r | inside and o
     worst = std::max(worst, std::abs(got[k].distance - truth) / got[k].bound);
   }
   MESSAGE(mesh.triangles() << " triangles at eps " << eps << ": |distance - truth| <= " << worst << " bound");
+  // The same answers whatever the other points and their order: the centre, where every triangle
+  // lies within eps of the nearest, among them; of equals the lowest index, as every triangle tested.
+  std::vector<glm::dvec3> reversed(points.rbegin(), points.rend());
+  reversed.resize(points.size() / 2);
+  const std::vector<queries::PointDistance> again = mesh.query(reversed);
+  for (size_t k = 0; k < again.size(); ++k) {
+    const queries::PointDistance& a = again[k];
+    const queries::PointDistance& b = got[points.size() - 1 - k];
+    CHECK(a.distance == b.distance);
+    CHECK(a.point == b.point);
+    CHECK(a.uv == b.uv);
+  }
+  CHECK(got.back().point == mesh.brute_force(points.back()).point);
 }
