@@ -28,7 +28,8 @@ struct RaycastArgs {
   std::string csv;  ///< --csv: one row per ray, instead of the JSON's results
 };
 
-/// One row per ray (the fields of the JSON's results), written to a temporary file and renamed.
+/// One row per ray (the fields of the JSON's results; numbers in their shortest exact form), written to a
+/// temporary file and renamed.
 void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits) {
   nurbs::io::write_file(path, [&](std::ostream& out) {
     fmt::memory_buffer buf;
@@ -36,7 +37,7 @@ void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits
     for (size_t k = 0; k < hits.size(); ++k) {
       const nurbs::ray::Hit& h = hits[k];
       if (h.face >= 0)
-        fmt::format_to(std::back_inserter(buf), "{},true,{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", k, h.t,
+        fmt::format_to(std::back_inserter(buf), "{},true,{},{},{},{},{},{},{}\n", k, h.t,
                        h.face, h.uv.x, h.uv.y, h.point.x, h.point.y, h.point.z);
       else
         fmt::format_to(std::back_inserter(buf), "{},false,,-1,,,,,\n", k);
