@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <optional>
 
 #include "nurbs/io/read_error.h"
 #include "nurbs/model_ops.h"
@@ -40,6 +41,15 @@ bool line_numbers(std::string_view line, std::vector<double>& out, std::vector<s
   }
 }
 
+/// The point of a line of three finite numbers within `limit`; nullopt for anything else.
+std::optional<glm::dvec3> point_of(std::string_view line, double limit, std::vector<double>& v,
+                                   std::vector<std::string_view>& words) {
+  if (!line_numbers(line, v, words) || v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) ||
+      !std::isfinite(v[2]) || !within_coordinate_limit(glm::dvec3(v[0], v[1], v[2]), limit))
+    return std::nullopt;
+  return glm::dvec3(v[0], v[1], v[2]);
+}
+
 /// Calls line(number, text) for every line of `text` (1-based, without its newline).
 template <class F>
 void for_lines(std::string_view text, F&& line) {
@@ -56,12 +66,10 @@ void for_lines(std::string_view text, F&& line) {
 glm::dvec3 parse_point(const std::string& text, const std::string& name, double limit) {
   std::vector<double> v;
   std::vector<std::string_view> words;
-  if (!line_numbers(text, v, words) || v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) ||
-      !std::isfinite(v[2]))
-    throw ReadError(name, "", fmt::format("'{}' is not a point X,Y,Z of three finite numbers", text));
-  const glm::dvec3 p(v[0], v[1], v[2]);
-  if (!within_coordinate_limit(p, limit)) throw ReadError(name, "", fmt::format("'{}' {}", text, beyond(limit)));
-  return p;
+  if (const auto p = point_of(text, limit, v, words)) return *p;
+  if (v.size() == 3 && words.size() == 3 && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))
+    throw ReadError(name, "", fmt::format("'{}' {}", text, beyond(limit)));
+  throw ReadError(name, "", fmt::format("'{}' is not a point X,Y,Z of three finite numbers", text));
 }
 
 std::vector<glm::dvec3> parse_points(std::string_view text, const std::string& name, double limit) {
@@ -71,9 +79,8 @@ std::vector<glm::dvec3> parse_points(std::string_view text, const std::string& n
   for_lines(text, [&](int n, std::string_view line) {
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) return;
     if (line.back() == '\r') line.remove_suffix(1);
-    if (line_numbers(line, v, words) && v.size() == 3 && std::isfinite(v[0]) && std::isfinite(v[1]) &&
-        std::isfinite(v[2]) && within_coordinate_limit(glm::dvec3(v[0], v[1], v[2]), limit))
-      out.emplace_back(v[0], v[1], v[2]);
+    if (const auto p = point_of(line, limit, v, words))
+      out.push_back(*p);
     else  // the message of parse_point
       out.push_back(parse_point(std::string(line), fmt::format("{}: line {}", name, n), limit));
   });

@@ -67,20 +67,22 @@ struct MeshDistance::Scene {
 
 namespace {
 
-/// The edges of `m` that one triangle alone uses (per face: each face's vertices are its own), as
-/// vertex pairs.
-std::vector<std::pair<int, int>> boundary_edges(const nurbs::TriangleMesh& m) {
+/// The key of the edge between vertices a and b, either way round.
+uint64_t edge_key(int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); }
+
+/// The keys of the edges of `m` that one triangle alone uses (per face: each face's vertices are
+/// its own), sorted.
+std::vector<uint64_t> boundary_edges(const nurbs::TriangleMesh& m) {
   std::vector<uint64_t> keys;
   keys.reserve(3 * m.triangles.size());
   for (const glm::ivec3& t : m.triangles)
-    for (const auto& [a, b] : {std::pair{t.x, t.y}, {t.y, t.z}, {t.z, t.x}})
-      keys.push_back(uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)));
+    for (const auto& [a, b] : {std::pair{t.x, t.y}, {t.y, t.z}, {t.z, t.x}}) keys.push_back(edge_key(a, b));
   std::sort(keys.begin(), keys.end());
-  std::vector<std::pair<int, int>> out;
+  std::vector<uint64_t> out;
   for (size_t i = 0; i < keys.size();) {
     size_t j = i;
     while (j < keys.size() && keys[j] == keys[i]) ++j;
-    if (j - i == 1) out.emplace_back(int(keys[i] >> 32), int(keys[i] & 0xffffffffu));
+    if (j - i == 1) out.push_back(keys[i]);
     i = j;
   }
   return out;
@@ -118,13 +120,8 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
     // Per triangle, which of its edges lie on its face's mesh boundary (bit k: the edge opposite
     // corner k), for on_trim_edge.
     boundary_.assign(m.triangles.size(), 0);
-    std::vector<uint64_t> keys;
-    for (const auto& [a, b] : boundary_edges(m)) keys.push_back(uint64_t(uint32_t(a)) << 32 | uint32_t(b));
-    std::sort(keys.begin(), keys.end());
-    const auto on_boundary = [&](int a, int b) {
-      return std::binary_search(keys.begin(), keys.end(),
-                                uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)));
-    };
+    const std::vector<uint64_t> keys = boundary_edges(m);
+    const auto on_boundary = [&](int a, int b) { return std::binary_search(keys.begin(), keys.end(), edge_key(a, b)); };
     for (size_t i = 0; i < m.triangles.size(); ++i) {
       const glm::ivec3 t = m.triangles[i];
       boundary_[i] = uint8_t((on_boundary(t.y, t.z) ? 1 : 0) | (on_boundary(t.z, t.x) ? 2 : 0) |
@@ -133,7 +130,8 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
   } else {  // the two shells, inside and outside (geometries 0 and 1), then the tubes and balls
     add_triangles(scene_->scene, m.positions, -kShellOffset * eps);
     add_triangles(scene_->scene, m.positions, kShellOffset * eps);
-    const std::vector<std::pair<int, int>> edges = boundary_edges(m);
+    std::vector<std::pair<int, int>> edges;
+    for (const uint64_t key : boundary_edges(m)) edges.emplace_back(int(key >> 32), int(key & 0xffffffffu));
     if (!edges.empty()) {
       RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
@@ -216,12 +214,11 @@ void MeshDistance::add_triangles(RTCScene scene, const std::vector<glm::dvec3>& 
   rtcReleaseGeometry(g);
 }
 
-PointDistance MeshDistance::answer(const glm::dvec3& p, int triangle, double distance, const glm::dvec3& point,
-                                   const glm::dvec3& w, long long tested) const {
+PointDistance MeshDistance::answer(int triangle, double distance, const glm::dvec3& point, const glm::dvec3& w,
+                                   long long tested) const {
   PointDistance r;
   r.candidates = tested;
   if (triangle < 0) return r;
-  (void)p;
   const nurbs::TriangleMesh& m = tess_.mesh;
   const glm::ivec3 t = m.triangles[size_t(triangle)];
   r.found = true;
@@ -259,7 +256,7 @@ std::vector<PointDistance> MeshDistance::query(std::span<const glm::dvec3> point
       s.mesh = &tess_.mesh;
       s.p = points[k];
       const glm::dvec3 q = points[k] - centre_;
-      s.slack = std::ldexp(radius_ + glm::length(q), -18);
+      s.slack = float_slack(points[k]);
       const double start = previous + glm::length(points[k] - previous_point);
       RTCPointQuery pq;
       pq.x = float(q.x), pq.y = float(q.y), pq.z = float(q.z);
@@ -268,7 +265,7 @@ std::vector<PointDistance> MeshDistance::query(std::span<const glm::dvec3> point
       RTCPointQueryContext context;
       rtcInitPointQueryContext(&context);
       rtcPointQuery(scene_->scene, &pq, &context, closest_triangle, &s);
-      out[k] = answer(s.p, s.triangle, s.best, s.point, s.weights, s.tested);
+      out[k] = answer(s.triangle, s.best, s.point, s.weights, s.tested);
       previous = s.triangle >= 0 ? s.best : kInf, previous_point = points[k];
     }
     const size_t total = done.fetch_add(std::min(kRun, points.size() - run * kRun)) + kRun;
@@ -309,8 +306,8 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   return h;
 }
 
-double MeshDistance::t_rounding(const glm::dvec3& origin) const {
-  return std::ldexp(radius_ + glm::length(origin - centre_), -18);
+double MeshDistance::float_slack(const glm::dvec3& p) const {
+  return std::ldexp(radius_ + glm::length(p - centre_), -18);
 }
 
 PointDistance MeshDistance::brute_force(const glm::dvec3& p) const {
@@ -326,7 +323,7 @@ PointDistance MeshDistance::brute_force(const glm::dvec3& p) const {
     const double d = glm::length(q - p);
     if (d < best) best = d, triangle = int(i), point = q, weights = w;
   }
-  return answer(p, triangle, best, point, weights, (long long)m.triangles.size());
+  return answer(triangle, best, point, weights, (long long)m.triangles.size());
 }
 
 }  // namespace queries

@@ -78,9 +78,10 @@ class MeshDistance {
   /// lie up to eps outside its mesh, so that the ray may meet the face and miss its shells.
   [[nodiscard]] MeshRayHit first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
                                      double t_max) const;
-  /// The float rounding of a t from first_hit, at a ray whose origin lies at `origin`: a step
-  /// past a hit by more than this leaves its triangle behind.
-  [[nodiscard]] double t_rounding(const glm::dvec3& origin) const;
+  /// The float rounding allowance at a point p (a query point, a ray's origin): 2^-18 (R +
+  /// |p - centre|), the radius a point query is grown by; a step past a ray's hit by more than it
+  /// leaves the hit's triangle behind.
+  [[nodiscard]] double float_slack(const glm::dvec3& p) const;
   /// The same for one point, by testing every triangle (the reference the tests hold the BVH to).
   [[nodiscard]] PointDistance brute_force(const glm::dvec3& p) const;
 
@@ -93,8 +94,8 @@ class MeshDistance {
  private:
   struct Scene;
   void add_triangles(::RTCSceneTy* scene, const std::vector<glm::dvec3>& positions, double offset);
-  PointDistance answer(const glm::dvec3& p, int triangle, double distance, const glm::dvec3& point,
-                       const glm::dvec3& weights, long long tested) const;
+  PointDistance answer(int triangle, double distance, const glm::dvec3& point, const glm::dvec3& weights,
+                       long long tested) const;
   double eps_ = 0.0;
   int threads_ = 0;
   bool rays_ = false;

@@ -138,7 +138,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
       [&](size_t k, int) {
         const nurbs::ray::Ray& ray = chunk[k];
         const nurbs::ray::RayPlanes planes = nurbs::ray::ray_planes(ray);
-        const double step = 4.0 * mesh_->t_rounding(ray.origin);
+        const double step = 4.0 * mesh_->float_slack(ray.origin);
         double from = t_min;
         nurbs::ray::Hit best;  // the nearest exact hit so far
         for (int tries = 0; tries < 8; ++tries) {
