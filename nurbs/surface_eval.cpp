@@ -83,6 +83,14 @@ SurfaceDerivatives surface_derivatives(const Surface& s, double u, double v) {
   return {skl[0][0], skl[1][0], skl[0][1], skl[2][0], skl[1][1], skl[0][2]};
 }
 
+SurfaceTangents surface_tangents(const Surface& s, double u, double v) {
+  glm::dvec4 a[3][3];
+  glm::dvec3 skl[3][3];
+  homogeneous_derivatives(s, u, v, 1, a);
+  rational_derivatives(a, 1, skl);
+  return {skl[0][0], skl[1][0], skl[0][1]};
+}
+
 glm::dvec3 surface_normal(const Surface& s, double u, double v) {
   return surface_normal(s, surface_derivatives(s, u, v), u, v);
 }

@@ -23,11 +23,21 @@ struct SurfaceDerivatives {
   glm::dvec3 suu{0.0}, suv{0.0}, svv{0.0};
 };
 
+/// S and its first partial derivatives wrt (u, v).
+struct SurfaceTangents {
+  glm::dvec3 s{0.0};
+  glm::dvec3 su{0.0}, sv{0.0};
+};
+
 /// Point S(u, v) (A4.3).
 [[nodiscard]] glm::dvec3 surface_point(const Surface& s, double u, double v);
 
 /// S, Su, Sv, Suu, Suv, Svv at (u, v) (A3.6 homogeneous derivatives + A4.4 quotient rule).
 [[nodiscard]] SurfaceDerivatives surface_derivatives(const Surface& s, double u, double v);
+
+/// S, Su, Sv at (u, v): the same values as surface_derivatives, without the second order (a
+/// Newton step's evaluation).
+[[nodiscard]] SurfaceTangents surface_tangents(const Surface& s, double u, double v);
 
 /// Unit normal normalize(Su x Sv). At a degenerate point (Su or Sv vanishing, e.g. the pole of a
 /// sphere whose whole control row collapses) it takes the limit from inside the domain: +-Suv x Sv

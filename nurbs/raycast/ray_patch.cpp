@@ -129,21 +129,28 @@ ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlan
   const glm::dvec2 lo(du.min, dv.min), hi(du.max, dv.max);
   ExactHit out;
   uv = glm::clamp(uv, lo, hi);
-  SurfaceDerivatives d = surface_derivatives(surface, uv.x, uv.y);
+  SurfaceTangents d = surface_tangents(surface, uv.x, uv.y);
   glm::dvec2 r(glm::dot(planes.n1, d.s) + planes.d1, glm::dot(planes.n2, d.s) + planes.d2);
-  for (int it = 0; it < iterations && glm::length(r) > 1e-6 * tolerance; ++it) {
+  double norm = glm::length(r);
+  for (int it = 0; it < iterations && norm > 1e-6 * tolerance; ++it) {
     glm::dvec2 dx;
     if (!solve2(glm::dot(planes.n1, d.su), glm::dot(planes.n1, d.sv), glm::dot(planes.n2, d.su),
                 glm::dot(planes.n2, d.sv), r, dx))
       break;
-    uv = glm::clamp(uv - dx, lo, hi);
-    d = surface_derivatives(surface, uv.x, uv.y);
-    r = {glm::dot(planes.n1, d.s) + planes.d1, glm::dot(planes.n2, d.s) + planes.d2};
+    const glm::dvec2 next = glm::clamp(uv - dx, lo, hi);
+    const SurfaceTangents e = surface_tangents(surface, next.x, next.y);
+    const glm::dvec2 re(glm::dot(planes.n1, e.s) + planes.d1, glm::dot(planes.n2, e.s) + planes.d2);
+    const double next_norm = glm::length(re);
+    // Within the tolerance, a step that no longer halves |R| has reached the rounding floor: the
+    // better point stays. (Farther out, Newton may still be on its way.)
+    const bool floor = norm <= tolerance && !(next_norm <= 0.5 * norm);
+    if (!floor || next_norm < norm) uv = next, d = e, r = re, norm = next_norm;
+    if (floor) break;
   }
   out.uv = uv;
   out.point = d.s;
   out.t = glm::dot(d.s - ray.origin, ray.direction);
-  out.ok = glm::length(r) <= tolerance;
+  out.ok = norm <= tolerance;
   return out;
 }
 

@@ -76,7 +76,8 @@ struct ExactHit {
 
 /// Beyond the paper: the same two-plane Newton (Eqs. 2-4) on the exact (rational, any degree)
 /// surface, from the face parameters of a bicubic hit, up to `iterations` steps clamped to the
-/// domain, stopping when |R| <= 1e-15 size. ok when |R| <= tolerance at the end.
+/// domain, stopping when |R| <= 1e-16 size or, with |R| within the tolerance, when a step no
+/// longer halves it (the rounding floor; the better of the two points is kept). ok when |R| <= tolerance at the end.
 [[nodiscard]] ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
                                          int iterations, double tolerance);
 

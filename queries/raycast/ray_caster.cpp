@@ -142,7 +142,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         double from = t_min;
         nurbs::ray::Hit best;  // the nearest exact hit so far
         for (int tries = 0; tries < 8; ++tries) {
-          const MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, from, 3.4e38);
+          // With a hit in hand only the crossings before it matter (the float rounding aside).
+          const MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, from, best.face >= 0 ? best.t + step : 3.4e38);
           // Near a face's edge before the next crossing (and before the best hit), the face may
           // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
           // face's): the BVH decides.

@@ -115,6 +115,27 @@ TEST_CASE("surface derivatives agree with central finite differences") {
   CHECK(checked > 300);
 }
 
+TEST_CASE("surface tangents are surface derivatives' first order, bit for bit") {
+  // surface_tangents serves Newton steps; it must not round differently from the full evaluation,
+  // at knots, at the domain's ends and inside spans, for every degree and rational or not.
+  int differ = 0, checked = 0;
+  for (int seed = 0; seed < 40; ++seed) {
+    const int p = 1 + seed % 5, q = 1 + (seed / 5) % 5;
+    const auto s = models::random_surface(static_cast<std::uint64_t>(seed + 100), p, q, seed % 2 == 0);
+    const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    for (int k = 0; k <= 12; ++k)
+      for (int l = 0; l <= 12; ++l) {
+        const double u = du.min + du.width() * k / 12.0, v = dv.min + dv.width() * (l + 0.3 * (k % 2)) / 12.3;
+        const auto d = nurbs::surface_derivatives(s, u, v);
+        const auto t = nurbs::surface_tangents(s, u, v);
+        differ += !(d.s == t.s && d.su == t.su && d.sv == t.sv);
+        ++checked;
+      }
+  }
+  CHECK(checked == 40 * 169);
+  CHECK(differ == 0);
+}
+
 TEST_CASE("curve derivatives agree with finite differences (2D rational, degree 3)") {
   nurbs::Curve2 c;
   c.degree = 3;

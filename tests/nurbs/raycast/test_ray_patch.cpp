@@ -4,7 +4,9 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "models/random_surfaces.h"
 #include "nurbs/raycast/ray_patch.h"
+#include "nurbs/surface_eval.h"
 
 using namespace nurbs::ray;
 
@@ -76,4 +78,59 @@ TEST_CASE("ray/patch: the 1e4 parametric scale changes nothing in double; obliqu
   const int n = intersect_patch(p, along, RayPatchOptions{}, 0.0, hits);
   CHECK(n >= 2);
   for (int k = 1; k < n; ++k) CHECK(hits[k - 1].t < hits[k].t);
+}
+
+TEST_CASE("exact step: converges wherever plain Newton does, to the same hit, with no larger residual") {
+  // refine_on_surface stops at the rounding floor; the reference here iterates 40 times with no
+  // stop. Starts a few percent of the domain off the ray's point, so that some first steps do not
+  // yet halve the residual.
+  int converged = 0, lost = 0, moved = 0, worse = 0;
+  for (int seed = 0; seed < 30; ++seed) {
+    const auto s = models::random_surface(static_cast<std::uint64_t>(seed + 7), 1 + seed % 4, 1 + (seed / 4) % 4,
+                                          seed % 3 == 0);
+    const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    const double size = 10.0, tol = 1e-10 * size;
+    for (int k = 0; k < 20; ++k) {
+      const glm::dvec2 at(du.min + du.width() * (0.2 + 0.6 * ((k * 7 + seed) % 20) / 20.0),
+                          dv.min + dv.width() * (0.2 + 0.6 * ((k * 11 + seed) % 20) / 20.0));
+      const glm::dvec3 n = nurbs::surface_normal(s, at.x, at.y);
+      if (glm::length(n) == 0.0) continue;
+      const glm::dvec3 tilt(0.3 * std::sin(k + seed), 0.3 * std::cos(3.0 * k), 0.2);
+      Ray ray;
+      ray.direction = glm::normalize(-n + tilt);
+      ray.origin = nurbs::surface_point(s, at.x, at.y) - 2.0 * ray.direction;
+      const RayPlanes planes = ray_planes(ray);
+      const glm::dvec2 start = at + glm::dvec2(0.04 * du.width() * std::cos(k), 0.04 * dv.width() * std::sin(k));
+      // The reference: plain Newton, clamped to the domain, 40 steps.
+      glm::dvec2 uv = start;
+      double residual = 0.0;
+      for (int it = 0; it <= 40; ++it) {
+        const auto d = nurbs::surface_derivatives(s, uv.x, uv.y);
+        const glm::dvec2 r(glm::dot(planes.n1, d.s) + planes.d1, glm::dot(planes.n2, d.s) + planes.d2);
+        residual = glm::length(r);
+        const double a = glm::dot(planes.n1, d.su), b = glm::dot(planes.n1, d.sv), c = glm::dot(planes.n2, d.su),
+                     e = glm::dot(planes.n2, d.sv), det = a * e - b * c;
+        if (it == 40 || det == 0.0) break;
+        uv = glm::clamp(uv - glm::dvec2(e * r.x - b * r.y, a * r.y - c * r.x) / det, glm::dvec2(du.min, dv.min),
+                        glm::dvec2(du.max, dv.max));
+      }
+      if (!(residual <= tol)) continue;
+      ++converged;
+      const ExactHit h = refine_on_surface(s, ray, planes, start, 40, tol);
+      const glm::dvec3 p = nurbs::surface_point(s, uv.x, uv.y);
+      if (!h.ok) {
+        ++lost;
+        continue;
+      }
+      moved += glm::length(h.point - p) > 1e-9 * size;
+      const glm::dvec3 q = nurbs::surface_point(s, h.uv.x, h.uv.y);
+      const glm::dvec2 rh(glm::dot(planes.n1, q) + planes.d1, glm::dot(planes.n2, q) + planes.d2);
+      worse += glm::length(rh) > 4.0 * std::max(residual, 1e-15 * size);
+    }
+  }
+  CAPTURE(converged);
+  CHECK(converged > 300);
+  CHECK(lost == 0);
+  CHECK(moved == 0);
+  CHECK(worse == 0);
 }
