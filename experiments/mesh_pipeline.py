@@ -1,18 +1,28 @@
 #!/usr/bin/env python3
 """nurbsgl against the mesh pipeline practitioners run for bulk queries (OCCT's BRepMesh at the same
-absolute deflection as our tolerance, then CGAL's AABB tree for points and Embree for rays, both on
-every core: experiments/peer_mesh_pipeline.cpp), in the same run on the same points and rays.
+absolute deflection as our tolerance, then CGAL's AABB tree for points, Embree for rays and
+thickness, FCL for clearance: experiments/peer_mesh_pipeline.cpp), in the same run on the same
+queries, with OpenCASCADE's exact clearance (experiments/peer_occt_distance.cpp) beside them.
 
 Per model, tolerance T (relative to the model size) and query count: the whole process of each side
 (median of --repeat runs, nurbsgl with a cold cache; each side writes one file of answers: ours with
---csv, the peer with --out) and the queries alone (nurbsgl: the answering
-of the points or the cast; the peer: the tree or scene queries), the ratio (mesh time / ours), and
-the mesh answers' error against ours: the largest |d_mesh - d| over the deflection, and the share
-of points whose mesh distance lies farther from ours than deflection + our bound (ours is certified
-within its bound; the mesh pipeline's is not).
+--csv, the peer with --out) and the queries alone (nurbsgl: the answering of the points, the cast,
+the clearance's preparation and query; the peer: the tree or scene queries, FCL's distance), the
+ratio (mesh time / ours), and the mesh answers' error against ours:
+  - points: the largest |d_mesh - d| over the deflection, and the share of points whose mesh
+    distance lies farther from ours than deflection + our bound (ours is certified within its
+    bound; the mesh pipeline's is not);
+  - rays: the largest |t_mesh - t| over the deflection, and the share of rays one side hits and the
+    other misses;
+  - thickness (as many samples on each side, ours on the faces, the peer's on its mesh, each ray
+    inward): both sides' thinnest and median wall, and the share of the peer's samples thinner than
+    half our thinnest (walls the mesh makes up at its own creases);
+  - clearance (the model against a copy moved along x by its box width plus its size): |d_mesh -
+    d| over the deflection, and OpenCASCADE's BRepExtrema_DistShapeShape, its time and its distance.
 
   PYTHONPATH= python3 experiments/mesh_pipeline.py --cli build/cli/nurbsgl \\
-      --peer build-peer/experiments/peer_mesh_pipeline --out DIR [--points 20000 ...] [--rays 100000 ...]
+      --peer build-peer/experiments/peer_mesh_pipeline [--occt build-peer/experiments/peer_occt_distance] \\
+      --out DIR [--points 20000 ...] [--rays 100000 ...] [--thickness 100000 ...]
       [--tol 1e-4 1e-5] [--repeat 3] [--models NAME ...]
 Writes DIR/mesh_pipeline.csv and prints the table. Benchmarks, not tests.
 """
@@ -67,15 +77,15 @@ def write_rays(path, lo, hi, n, seed):
             f.write(f"{x:.9f} {y:.9f} {top:.9f} {rnd.uniform(-.1, .1):.6f} {rnd.uniform(-.1, .1):.6f} -1\n")
 
 
-def timed(args, ours_cmd, peer_cmd, env):
+def timed(args, ours_cmd, peer_cmd, env, ours_seconds=lambda j: j["seconds"]):
     """Median whole-process and query seconds of each side over args.repeat runs (ours with a cold
-    cache per run), and the last runs' JSON."""
+    cache per run; our query seconds read from its JSON by ours_seconds), and the last runs' JSON."""
     ours, ours_q, theirs, theirs_q = [], [], [], []
     for rep in range(args.repeat):
         e = dict(env, XDG_CACHE_HOME=str(pathlib.Path(args.out) / f"cache_{time.monotonic_ns()}"))
         r, t = run(ours_cmd, e)
         j = json.loads(r.stdout)
-        ours.append(t), ours_q.append(j["seconds"])
+        ours.append(t), ours_q.append(ours_seconds(j))
         r, t = run(peer_cmd)
         pj = json.loads(r.stdout)
         theirs.append(t), theirs_q.append(pj["query_seconds"])
@@ -97,6 +107,9 @@ def main():
     p.add_argument("--out", required=True)
     p.add_argument("--points", type=int, nargs="+", default=[20000])
     p.add_argument("--rays", type=int, nargs="+", default=[100000])
+    p.add_argument("--thickness", type=int, nargs="*", default=[100000], help="samples (none: no thickness rows)")
+    p.add_argument("--no-clearance", action="store_true")
+    p.add_argument("--occt", help="peer_occt_distance: OpenCASCADE's exact clearance beside the mesh's")
     p.add_argument("--tol", type=float, nargs="+", default=[1e-4, 1e-5])
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--models", nargs="+", default=list(MODELS))
@@ -150,17 +163,64 @@ def main():
                          "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("method", ""),
                          "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
                          "mesh_share_beyond": disagree / count, "ours_meet_tolerance": ""})
+        for count in args.thickness:
+            ours_csv, mesh_txt = out / "ours_w.csv", out / "mesh_w.txt"
+            # The peer casts as many rays as our sampling made (--samples is "about").
+            j0 = json.loads(run([args.cli, "thickness", model, "--samples", str(count), "--json"])[0].stdout)
+            figures, j, pj = timed(
+                args, [args.cli, "thickness", model, "--samples", str(count), "--json", "--csv", str(ours_csv)],
+                [args.peer, model, "--deflection", str(deflection), "--thickness", str(j0["rays"]), "--out",
+                 str(mesh_txt)], os.environ, ours_seconds=lambda j: j["seconds_cast"])
+            wm = sorted(float(x) for x in open(mesh_txt) if float(x) >= 0)
+            ours_min = j["thickness"]["min"]
+            rows.append({"model": name, "query": "thickness", "count": j["rays"], "tol": args.tol[0],
+                         "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("method", ""),
+                         "mesh_max_error_over_deflection": "",
+                         "mesh_share_beyond": sum(1 for x in wm if x < 0.5 * ours_min) / max(len(wm), 1),
+                         "ours_meet_tolerance": "", "ours_min": ours_min, "mesh_min": wm[0] if wm else "",
+                         "ours_median": j["thickness"]["median"], "mesh_median": wm[len(wm) // 2] if wm else ""})
+        if args.no_clearance:
+            continue
+        move = f"{hi[0] - lo[0] + size:.9g},0,0"
+        for tol in args.tol:
+            deflection = tol * size
+            figures, j, pj = timed(
+                args, [args.cli, "clearance", model, model, "--move-b", move, "--tol", str(tol), "--json"],
+                [args.peer, model, "--deflection", str(deflection), "--clearance", move], os.environ,
+                ours_seconds=lambda j: j["prepare_seconds"] + j["seconds"])
+            row = {"model": name, "query": "clearance", "count": 1, "tol": tol, "mesh_triangles": pj["triangles"],
+                   **figures, "ours_path": j["engine"]["used"],
+                   "mesh_max_error_over_deflection": abs(pj["distance"] - j["distance"]) / deflection,
+                   "mesh_share_beyond": float(abs(pj["distance"] - j["distance"]) > deflection + j["bound"]),
+                   "ours_meet_tolerance": float(j["meets_tolerance"]), "ours_distance": j["distance"],
+                   "ours_bound": j["bound"], "mesh_distance": pj["distance"]}
+            if args.occt and tol == args.tol[0]:
+                r, wall = run([args.occt, "shapes", model, model, "--move-b", move, "--repeat", "1"])
+                oj = json.loads(r.stdout)
+                row.update({"occt_whole_s": wall, "occt_query_s": oj["first_seconds"], "occt_distance": oj["distance"]})
+            rows.append(row)
+    fields = []
+    for r in rows:
+        fields += [k for k in r if k not in fields]
     with open(out / "mesh_pipeline.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]) if rows else ["model"])
+        w = csv.DictWriter(f, fieldnames=fields or ["model"])
         w.writeheader()
         w.writerows(rows)
-    print(f"{'model':11} {'query':6} {'count':>7} {'tol':>6} {'tris':>7} {'mesh s':>8} {'ours s':>8} "
+    print(f"{'model':11} {'query':9} {'count':>7} {'tol':>6} {'tris':>7} {'mesh s':>8} {'ours s':>8} "
           f"{'mesh q s':>9} {'ours q s':>9} {'whole x':>8} {'query x':>8} {'max err/defl':>12} {'beyond':>7}")
     for r in rows:
-        print(f"{r['model']:11} {r['query']:6} {r['count']:>7} {r['tol']:>6g} {r['mesh_triangles']:>7} "
-              f"{r['mesh_whole_s']:8.2f} {r['ours_whole_s']:8.2f} {r['mesh_queries_s']:9.3f} {r['ours_queries_s']:9.3f} "
-              f"{r['ratio_whole']:8.2f} {r['ratio_queries']:8.2f} {r['mesh_max_error_over_deflection']:12.1f} "
+        err = r["mesh_max_error_over_deflection"]
+        print(f"{r['model']:11} {r['query']:9} {r['count']:>7} {r['tol']:>6g} {r['mesh_triangles']:>7} "
+              f"{r['mesh_whole_s']:8.2f} {r['ours_whole_s']:8.2f} {r['mesh_queries_s']:9.4f} {r['ours_queries_s']:9.4f} "
+              f"{r['ratio_whole']:8.2f} {r['ratio_queries']:8.2f} {err if err == '' else f'{err:.1f}':>12} "
               f"{100 * r['mesh_share_beyond']:6.1f}%")
+        if r["query"] == "thickness":
+            print(f"{'':11} thinnest: ours {r['ours_min']:.6g}, mesh {r['mesh_min']:.6g}; median: ours "
+                  f"{r['ours_median']:.6g}, mesh {r['mesh_median']:.6g}")
+        if "occt_distance" in r:
+            print(f"{'':11} OpenCASCADE: {r['occt_distance']:.12g} in {r['occt_query_s']:.4f} s "
+                  f"({r['occt_whole_s']:.2f} s whole); ours {r['ours_distance']:.12g} +- {r['ours_bound']:.3g}, "
+                  f"mesh {r['mesh_distance']:.12g}")
     return 0
 
 

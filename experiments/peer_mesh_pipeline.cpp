@@ -4,11 +4,18 @@
 //  - points: CGAL's AABB_tree over the triangles (accelerated distance queries), the closest point
 //    of every point, on every hardware thread (cloud-to-mesh distance, as CloudCompare computes it);
 //  - rays: an Embree 3 scene of the triangles, the nearest hit of every ray (rtcIntersect1), on
-//    every hardware thread.
+//    every hardware thread;
+//  - thickness: N samples over the mesh's area (seeded, area-weighted), from each a ray along the
+//    inward triangle normal (faces oriented as OCCT orients them) cast by Embree from 1e-7 of the
+//    size off the surface (as AnalysisSitus' ray thickness): the hit's t, -1 for none;
+//  - clearance: the mesh against a copy of itself moved by (DX, DY, DZ), FCL's BVH-to-BVH distance
+//    (OBBRSS, fcl::distance), as robotics and assembly tools compute mesh clearance.
 // No nurbsgl code touches the geometry: the peer stays independent.
-//  peer_mesh_pipeline MODEL --deflection D (--points FILE | --rays FILE) [--out FILE] [--threads N]
+//  peer_mesh_pipeline MODEL --deflection D (--points FILE | --rays FILE | --thickness N |
+//      --clearance DX,DY,DZ) [--out FILE] [--threads N]
 // Prints JSON {triangles, read_seconds, mesh_seconds, build_seconds, query_seconds, queries,
-// deflection}; --out writes one line per query: the distance (points) or t (rays; -1: miss).
+// deflection} (clearance adds distance); --out writes one line per query: the distance (points),
+// t (rays, thickness; -1: none).
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
 #include <Message.hxx>
@@ -19,6 +26,7 @@
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
+#include <fcl/fcl.h>
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
@@ -31,6 +39,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -50,7 +59,8 @@ struct Mesh {
   std::vector<unsigned> corners;  ///< three per triangle
 };
 
-/// Every face's triangulation in world coordinates, one mesh.
+/// Every face's triangulation in world coordinates, one mesh; triangles counter-clockwise seen
+/// from the face's outside.
 Mesh collect(const TopoDS_Shape& shape) {
   Mesh m;
   for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
@@ -67,6 +77,7 @@ Mesh collect(const TopoDS_Shape& shape) {
     for (int i = 1; i <= t->NbTriangles(); ++i) {
       int a = 0, b = 0, c = 0;
       t->Triangle(i).Get(a, b, c);
+      if (face.Orientation() == TopAbs_REVERSED) std::swap(b, c);  // outward normals on a solid
       m.corners.insert(m.corners.end(), {first + unsigned(a - 1), first + unsigned(b - 1), first + unsigned(c - 1)});
     }
   }
@@ -100,21 +111,117 @@ void parallel(size_t n, unsigned threads, F f) {
   for (std::thread& th : pool) th.join();
 }
 
+/// The same from one line of text ("DX,DY,DZ").
+std::vector<double> read_rows_text(std::string line, size_t count) {
+  std::replace(line.begin(), line.end(), ',', ' ');
+  std::istringstream s(line);
+  std::vector<double> out;
+  double v = 0.0;
+  while (s >> v) out.push_back(v);
+  if (out.size() != count) throw std::runtime_error("'" + line + "': not " + std::to_string(count) + " numbers");
+  return out;
+}
+
+double diagonal(const Mesh& m) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (size_t i = 0; i < m.xyz.size(); ++i) lo[i % 3] = std::min(lo[i % 3], m.xyz[i]), hi[i % 3] = std::max(hi[i % 3], m.xyz[i]);
+  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+/// `n` rays (ox oy oz dx dy dz): origins uniform over the mesh's area (seed 3), directions the
+/// inward unit normals of their triangles.
+std::vector<double> inward_rays(const Mesh& m, long n) {
+  const size_t triangles = m.corners.size() / 3;
+  auto corner = [&](size_t k, int c) {
+    const unsigned i = m.corners[3 * k + size_t(c)];
+    return std::array<double, 3>{m.xyz[3 * i], m.xyz[3 * i + 1], m.xyz[3 * i + 2]};
+  };
+  std::vector<double> area(triangles), normal(3 * triangles);
+  for (size_t k = 0; k < triangles; ++k) {
+    const auto a = corner(k, 0), b = corner(k, 1), c = corner(k, 2);
+    const double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, f[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double x[3] = {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]};
+    const double len = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    area[k] = 0.5 * len;
+    for (int i = 0; i < 3; ++i) normal[3 * k + size_t(i)] = len > 0.0 ? -x[i] / len : 0.0;
+  }
+  std::discrete_distribution<size_t> pick(area.begin(), area.end());
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> rays;
+  rays.reserve(6 * size_t(n));
+  for (long i = 0; i < n; ++i) {
+    const size_t k = pick(rng);
+    double s = unit(rng), t = unit(rng);
+    if (s + t > 1.0) s = 1.0 - s, t = 1.0 - t;
+    const auto a = corner(k, 0), b = corner(k, 1), c = corner(k, 2);
+    for (int d = 0; d < 3; ++d) rays.push_back(a[size_t(d)] + s * (b[size_t(d)] - a[size_t(d)]) + t * (c[size_t(d)] - a[size_t(d)]));
+    for (int d = 0; d < 3; ++d) rays.push_back(normal[3 * k + size_t(d)]);
+  }
+  return rays;
+}
+
+/// The nearest hit t (> tnear; -1 for none) of every ray (ox oy oz dx dy dz) on an Embree scene of
+/// the mesh, on `threads` threads.
+std::vector<double> cast(const Mesh& mesh, const std::vector<double>& r, double tnear, unsigned threads,
+                         double& build_seconds, double& query_seconds) {
+  const size_t triangles = mesh.corners.size() / 3;
+  auto t0 = peer::Clock::now();
+  RTCDevice device = rtcNewDevice(nullptr);
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), mesh.xyz.size() / 3));
+  for (size_t i = 0; i < mesh.xyz.size(); ++i) v[i] = float(mesh.xyz[i]);
+  auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(unsigned), triangles));
+  std::copy(mesh.corners.begin(), mesh.corners.end(), ix);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  build_seconds = peer::seconds_since(t0);
+  std::vector<double> answers(r.size() / 6);
+  t0 = peer::Clock::now();
+  parallel(answers.size(), threads, [&](size_t i) {
+    const double* q = &r[6 * i];
+    const double len = std::sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5]);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit h{};
+    h.ray.org_x = float(q[0]), h.ray.org_y = float(q[1]), h.ray.org_z = float(q[2]);
+    h.ray.dir_x = float(q[3] / len), h.ray.dir_y = float(q[4] / len), h.ray.dir_z = float(q[5] / len);
+    h.ray.tnear = float(tnear), h.ray.tfar = std::numeric_limits<float>::infinity();
+    h.ray.mask = ~0u;
+    h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &h);
+    answers[i] = h.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1.0 : double(h.ray.tfar);
+  });
+  query_seconds = peer::seconds_since(t0);
+  rtcReleaseScene(scene);
+  rtcReleaseDevice(device);
+  return answers;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Mesh pipeline peer: OCCT BRepMesh, then CGAL AABB_tree (points) or Embree (rays)"};
-  std::string model, points, rays, out;
+  std::string model, points, rays, out, clearance;
+  long samples = 0;
   double deflection = 0.0;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   app.add_option("MODEL", model)->required();
   app.add_option("--deflection", deflection, "BRepMesh linear deflection, model units")->required();
   app.add_option("--points", points, "x y z per line");
   app.add_option("--rays", rays, "ox oy oz dx dy dz per line");
+  app.add_option("--thickness", samples, "samples over the mesh's area, a ray inward from each");
+  app.add_option("--clearance", clearance, "DX,DY,DZ: the distance to a copy moved by this");
   app.add_option("--out", out, "one distance (or t, -1 for a miss) per line");
   app.add_option("--threads", threads);
   CLI11_PARSE(app, argc, argv);
-  if (points.empty() == rays.empty()) return std::fprintf(stderr, "give one of --points and --rays\n"), 2;
+  if (int(!points.empty()) + int(!rays.empty()) + int(samples > 0) + int(!clearance.empty()) != 1)
+    return std::fprintf(stderr, "give one of --points, --rays, --thickness and --clearance\n"), 2;
   Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the readers' chatter
   try {
     nlohmann::json j;
@@ -145,50 +252,45 @@ int main(int argc, char** argv) {
         answers[i] = std::sqrt(tree.squared_distance(q));
       });
       query_seconds = peer::seconds_since(t0);
+    } else if (!rays.empty()) {
+      answers = cast(mesh, read_rows(rays, 6), 0.0, threads, build_seconds, query_seconds);
+    } else if (samples > 0) {
+      t0 = peer::Clock::now();
+      const std::vector<double> r = inward_rays(mesh, samples);
+      const double sample_seconds = peer::seconds_since(t0);
+      answers = cast(mesh, r, 1e-7 * diagonal(mesh), threads, build_seconds, query_seconds);
+      build_seconds += sample_seconds;
     } else {
-      const std::vector<double> r = read_rows(rays, 6);
       t0 = peer::Clock::now();
-      RTCDevice device = rtcNewDevice(nullptr);
-      RTCScene scene = rtcNewScene(device);
-      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), mesh.xyz.size() / 3));
-      for (size_t i = 0; i < mesh.xyz.size(); ++i) v[i] = float(mesh.xyz[i]);
-      auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                3 * sizeof(unsigned), triangles));
-      std::copy(mesh.corners.begin(), mesh.corners.end(), ix);
-      rtcCommitGeometry(geom);
-      rtcAttachGeometry(scene, geom);
-      rtcReleaseGeometry(geom);
-      rtcCommitScene(scene);
+      const std::vector<double> m = read_rows_text(clearance, 3);
+      auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+      std::vector<fcl::Vector3d> vertices;
+      for (size_t i = 0; i < mesh.xyz.size(); i += 3) vertices.emplace_back(mesh.xyz[i], mesh.xyz[i + 1], mesh.xyz[i + 2]);
+      std::vector<fcl::Triangle> tris;
+      for (size_t k = 0; k < triangles; ++k)
+        tris.emplace_back(mesh.corners[3 * k], mesh.corners[3 * k + 1], mesh.corners[3 * k + 2]);
+      model->beginModel();
+      model->addSubModel(vertices, tris);
+      model->endModel();
+      fcl::Transform3d moved = fcl::Transform3d::Identity();
+      moved.translation() = fcl::Vector3d(m[0], m[1], m[2]);
+      const fcl::CollisionObjectd a(model, fcl::Transform3d::Identity()), b(model, moved);
       build_seconds = peer::seconds_since(t0);
-      answers.resize(r.size() / 6);
       t0 = peer::Clock::now();
-      parallel(answers.size(), threads, [&](size_t i) {
-        const double* q = &r[6 * i];
-        const double len = std::sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5]);
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRayHit h{};
-        h.ray.org_x = float(q[0]), h.ray.org_y = float(q[1]), h.ray.org_z = float(q[2]);
-        h.ray.dir_x = float(q[3] / len), h.ray.dir_y = float(q[4] / len), h.ray.dir_z = float(q[5] / len);
-        h.ray.tnear = 0.0f, h.ray.tfar = std::numeric_limits<float>::infinity();
-        h.ray.mask = ~0u;
-        h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &context, &h);
-        answers[i] = h.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1.0 : double(h.ray.tfar);
-      });
+      fcl::DistanceRequestd request;
+      fcl::DistanceResultd result;
+      fcl::distance(&a, &b, request, result);
       query_seconds = peer::seconds_since(t0);
-      rtcReleaseScene(scene);
-      rtcReleaseDevice(device);
+      answers = {result.min_distance};
+      j["distance"] = result.min_distance;
     }
     if (!out.empty()) {
       std::ofstream o(out);
       for (const double a : answers) o << fmt::format("{:.17g}\n", a);
     }
-    j = {{"triangles", triangles},     {"read_seconds", read_seconds},   {"mesh_seconds", mesh_seconds},
+    j.update({{"triangles", triangles},     {"read_seconds", read_seconds},   {"mesh_seconds", mesh_seconds},
          {"build_seconds", build_seconds}, {"query_seconds", query_seconds}, {"queries", answers.size()},
-         {"deflection", deflection},   {"threads", threads}};
+         {"deflection", deflection},   {"threads", threads}});
     std::printf("%s\n", j.dump(2).c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "peer_mesh_pipeline: %s\n", e.what());

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 peer=(libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev libtbb-dev
-      libcgal-dev libembree-dev)  # the mesh pipeline peer (experiments/peer_mesh_pipeline.cpp)
+      libcgal-dev libembree-dev libfcl-dev)  # the mesh pipeline peer (experiments/peer_mesh_pipeline.cpp)
 missing=()
 for p in "${peer[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
