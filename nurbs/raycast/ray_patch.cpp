@@ -123,13 +123,17 @@ int intersect_patch(const BicubicPatch& patch, const Ray& ray, const RayPatchOpt
   return n;
 }
 
-ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
-                           int iterations, double tolerance) {
+namespace {
+
+/// refine_on_surface with `eval(u, v)` giving S, Su, Sv.
+template <class Eval>
+ExactHit refine_with(const Eval& eval, const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
+                     int iterations, double tolerance) {
   const Interval du = surface_domain_u(surface), dv = surface_domain_v(surface);
   const glm::dvec2 lo(du.min, dv.min), hi(du.max, dv.max);
   ExactHit out;
   uv = glm::clamp(uv, lo, hi);
-  SurfaceTangents d = surface_tangents(surface, uv.x, uv.y);
+  SurfaceTangents d = eval(uv.x, uv.y);
   glm::dvec2 r(glm::dot(planes.n1, d.s) + planes.d1, glm::dot(planes.n2, d.s) + planes.d2);
   double norm = glm::length(r);
   for (int it = 0; it < iterations && norm > 1e-6 * tolerance; ++it) {
@@ -138,7 +142,7 @@ ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlan
                 glm::dot(planes.n2, d.sv), r, dx))
       break;
     const glm::dvec2 next = glm::clamp(uv - dx, lo, hi);
-    const SurfaceTangents e = surface_tangents(surface, next.x, next.y);
+    const SurfaceTangents e = eval(next.x, next.y);
     const glm::dvec2 re(glm::dot(planes.n1, e.s) + planes.d1, glm::dot(planes.n2, e.s) + planes.d2);
     const double next_norm = glm::length(re);
     // Within the tolerance, a step that no longer halves |R| has reached the rounding floor: the
@@ -152,6 +156,21 @@ ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlan
   out.t = glm::dot(d.s - ray.origin, ray.direction);
   out.ok = norm <= tolerance;
   return out;
+}
+
+}  // namespace
+
+ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
+                           int iterations, double tolerance) {
+  return refine_with([&](double u, double v) { return surface_tangents(surface, u, v); }, surface, ray, planes, uv,
+                     iterations, tolerance);
+}
+
+ExactHit refine_on_surface(const BezierForm& form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
+                           glm::dvec2 uv, int iterations, double tolerance) {
+  if (form.empty()) return refine_on_surface(surface, ray, planes, uv, iterations, tolerance);
+  return refine_with([&](double u, double v) { return form.tangents(u, v); }, surface, ray, planes, uv, iterations,
+                     tolerance);
 }
 
 }  // namespace nurbs::ray

@@ -7,6 +7,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "nurbs/bezier_eval.h"
 #include "nurbs/raycast/bicubic_patches.h"
 #include "nurbs/surface.h"
 
@@ -80,5 +81,9 @@ struct ExactHit {
 /// longer halves it (the rounding floor; the better of the two points is kept). ok when |R| <= tolerance at the end.
 [[nodiscard]] ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
                                          int iterations, double tolerance);
+/// The same with the surface's Bézier form (bezier_eval.h: S, Su, Sv in fewer steps, equal up to
+/// rounding); an empty form falls back to the surface.
+[[nodiscard]] ExactHit refine_on_surface(const BezierForm& form, const Surface& surface, const Ray& ray,
+                                         const RayPlanes& planes, glm::dvec2 uv, int iterations, double tolerance);
 
 }  // namespace nurbs::ray

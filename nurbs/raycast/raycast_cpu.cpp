@@ -35,6 +35,7 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   if (options.trim == SceneOptions::Trim::Cubics) scene.cubics.resize(n);
   scene.face_stats.resize(n);
   std::vector<std::vector<BicubicPatch>> patches(n);
+  auto forms = std::make_shared<std::vector<BezierForm>>(n);
   parallel_for(n, 0, [&](size_t f, int) {
     const TrimmedSurface& face = scene.faces[f];
     const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
@@ -43,7 +44,9 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
     if (options.trim == SceneOptions::Trim::Cubics && !face.loops.empty())
       scene.cubics[f] = trim_cubics(face, options.trim_flatten * diag);
     patches[f] = bicubic_patches(face, static_cast<int>(f), bo, &scene.face_stats[f]);
+    (*forms)[f] = BezierForm(face.surface);
   });
+  scene.forms = std::move(forms);
   std::vector<BicubicPatch> all;
   for (auto& p : patches) all.insert(all.end(), p.begin(), p.end());
   auto material = std::make_shared<SceneMaterial>();
@@ -73,8 +76,7 @@ void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, i
       const glm::dvec2 uv(patch.range_u.min + hits[h].st.x * (patch.range_u.max - patch.range_u.min),
                           patch.range_v.min + hits[h].st.y * (patch.range_v.max - patch.range_v.min));
       const TrimmedSurface& face = scene.faces[patch.face];
-      const ExactHit e = refine_on_surface(face.surface, ray, planes, uv, scene.options.exact_iterations,
-                                           scene.options.exact_residual * scene.size);
+      const ExactHit e = scene.refine(patch.face, ray, planes, uv);
       if (!e.ok || !(e.t > t_min) || (best.face >= 0 && e.t >= best.t)) continue;
       if (!face.loops.empty()) {
         const bool material = scene.options.trim == SceneOptions::Trim::Cubics

@@ -50,6 +50,18 @@ struct Scene {
   [[nodiscard]] bool is_material(int f, glm::dvec2 uv) const {
     return faces[size_t(f)].loops.empty() || material->banded[size_t(f)].is_material(uv);
   }
+  /// Per face, its surface in Bézier form for the exact steps (empty where it would be too large),
+  /// shared by the scene's copies.
+  std::shared_ptr<const std::vector<BezierForm>> forms;
+  /// The exact step on face f (refine_on_surface with its Bézier form, the scene's iterations and
+  /// residual).
+  [[nodiscard]] ExactHit refine(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv) const {
+    const TrimmedSurface& face = faces[size_t(f)];
+    return forms ? refine_on_surface((*forms)[size_t(f)], face.surface, ray, planes, uv, options.exact_iterations,
+                                     options.exact_residual * size)
+                 : refine_on_surface(face.surface, ray, planes, uv, options.exact_iterations,
+                                     options.exact_residual * size);
+  }
   std::vector<TrimCubics> cubics;     ///< per face, filled when options.trim == Cubics
   std::vector<BicubicPatch> patches;  ///< in BVH leaf order (patches[k] is leaf k)
   std::vector<BicubicStats> face_stats;

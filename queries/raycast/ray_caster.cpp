@@ -132,7 +132,6 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
   std::vector<nurbs::ray::Hit> hits(chunk.size());
   std::vector<char> again(chunk.size(), 0);
   const double eps = mesh_->eps(), window = 64.0 * eps;
-  const nurbs::ray::SceneOptions& so = scene_.options;
   nurbs::parallel_for(
       chunk.size(), threads,
       [&](size_t k, int) {
@@ -158,9 +157,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           }
           if (m.triangle < 0 && tries == 0) return;
           if (m.triangle < 0) break;
-          const nurbs::TrimmedSurface& face = scene_.faces[size_t(m.face)];
-          const nurbs::ray::ExactHit e = nurbs::ray::refine_on_surface(face.surface, ray, planes, m.uv,
-                                                                       so.exact_iterations, so.exact_residual * scene_.size);
+          const nurbs::ray::ExactHit e = scene_.refine(m.face, ray, planes, m.uv);
           // No exact hit near the crossing (a step that does not converge, or lands far away): the
           // face may still meet the ray inside the slab (grazing it): the BVH decides.
           if (!e.ok || std::abs(e.t - m.t) > window) break;

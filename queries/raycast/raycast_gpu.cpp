@@ -233,10 +233,7 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
   const nurbs::ray::BicubicPatch& p = scene_.patches[size_t(raw.patch)];
   const glm::dvec2 uv(p.range_u.min + double(raw.s) * (p.range_u.max - p.range_u.min),
                       p.range_v.min + double(raw.t_param) * (p.range_v.max - p.range_v.min));
-  const nurbs::TrimmedSurface& face = scene_.faces[size_t(p.face)];
-  const nurbs::ray::ExactHit e =
-      nurbs::ray::refine_on_surface(face.surface, ray, nurbs::ray::ray_planes(ray), uv, scene_.options.exact_iterations,
-                                    scene_.options.exact_residual * scene_.size);
+  const nurbs::ray::ExactHit e = scene_.refine(p.face, ray, nurbs::ray::ray_planes(ray), uv);
   if (!e.ok || !(e.t > t_min)) return again();
   if (!scene_.is_material(p.face, e.uv)) return again();
   return {e.t, p.face, e.uv, e.point, double(raw.t)};

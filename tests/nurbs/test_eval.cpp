@@ -7,6 +7,7 @@
 
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
+#include "nurbs/bezier_eval.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/validate.h"
@@ -134,6 +135,35 @@ TEST_CASE("surface tangents are surface derivatives' first order, bit for bit") 
   }
   CHECK(checked == 40 * 169);
   CHECK(differ == 0);
+}
+
+TEST_CASE("Bezier form: the surface's S, Su, Sv up to rounding, at knots, ends and inside spans") {
+  double worst = 0.0;
+  int checked = 0;
+  for (int seed = 0; seed < 50; ++seed) {
+    const int p = 1 + seed % 5, q = 1 + (seed / 5) % 5;
+    const auto s = models::random_surface(static_cast<std::uint64_t>(seed + 300), p, q, seed % 2 == 0);
+    const nurbs::BezierForm form(s);
+    REQUIRE_FALSE(form.empty());
+    const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    std::vector<double> us{du.min - 0.1, du.max + 0.1}, vs{dv.min, dv.max};
+    for (double k : s.knots_u) us.push_back(k);  // knots: the span on the right, as find_span
+    for (double k : s.knots_v) vs.push_back(k);
+    for (int k = 0; k <= 16; ++k) us.push_back(du.min + du.width() * k / 16.3), vs.push_back(dv.min + dv.width() * k / 15.7);
+    for (double u : us)
+      for (double v : vs) {
+        const auto a = nurbs::surface_tangents(s, u, v);
+        const auto b = form.tangents(u, v);
+        const double scale = 1.0 + glm::length(a.s) + glm::length(a.su) + glm::length(a.sv);
+        worst = std::max({worst, rel_err(a.s, b.s, scale), rel_err(a.su, b.su, scale), rel_err(a.sv, b.sv, scale)});
+        ++checked;
+      }
+  }
+  CAPTURE(worst);
+  CHECK(checked > 10000);
+  CHECK(worst < 1e-12);
+  // Degrees past the form's limit are left to the surface.
+  CHECK(nurbs::BezierForm(models::random_surface(1, nurbs::BezierForm::kMaxDegree + 1, 2, false)).empty());
 }
 
 TEST_CASE("curve derivatives agree with finite differences (2D rational, degree 3)") {

@@ -80,7 +80,7 @@ TEST_CASE("ray/patch: the 1e4 parametric scale changes nothing in double; obliqu
   for (int k = 1; k < n; ++k) CHECK(hits[k - 1].t < hits[k].t);
 }
 
-TEST_CASE("exact step: converges wherever plain Newton does, to the same hit, with no larger residual") {
+TEST_CASE("exact step: converges wherever plain Newton does, to the same hit, with no larger residual (surface and Bezier form)") {
   // refine_on_surface stops at the rounding floor; the reference here iterates 40 times with no
   // stop. Starts a few percent of the domain off the ray's point, so that some first steps do not
   // yet halve the residual.
@@ -89,6 +89,7 @@ TEST_CASE("exact step: converges wherever plain Newton does, to the same hit, wi
     const auto s = models::random_surface(static_cast<std::uint64_t>(seed + 7), 1 + seed % 4, 1 + (seed / 4) % 4,
                                           seed % 3 == 0);
     const auto du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    const nurbs::BezierForm form(s);
     const double size = 10.0, tol = 1e-10 * size;
     for (int k = 0; k < 20; ++k) {
       const glm::dvec2 at(du.min + du.width() * (0.2 + 0.6 * ((k * 7 + seed) % 20) / 20.0),
@@ -116,16 +117,19 @@ TEST_CASE("exact step: converges wherever plain Newton does, to the same hit, wi
       }
       if (!(residual <= tol)) continue;
       ++converged;
-      const ExactHit h = refine_on_surface(s, ray, planes, start, 40, tol);
       const glm::dvec3 p = nurbs::surface_point(s, uv.x, uv.y);
-      if (!h.ok) {
-        ++lost;
-        continue;
+      // On the surface, and on its Bézier form.
+      for (const ExactHit& h : {refine_on_surface(s, ray, planes, start, 40, tol),
+                                refine_on_surface(form, s, ray, planes, start, 40, tol)}) {
+        if (!h.ok) {
+          ++lost;
+          continue;
+        }
+        moved += glm::length(h.point - p) > 1e-9 * size;
+        const glm::dvec3 q = nurbs::surface_point(s, h.uv.x, h.uv.y);
+        const glm::dvec2 rh(glm::dot(planes.n1, q) + planes.d1, glm::dot(planes.n2, q) + planes.d2);
+        worse += glm::length(rh) > 4.0 * std::max(residual, 1e-15 * size);
       }
-      moved += glm::length(h.point - p) > 1e-9 * size;
-      const glm::dvec3 q = nurbs::surface_point(s, h.uv.x, h.uv.y);
-      const glm::dvec2 rh(glm::dot(planes.n1, q) + planes.d1, glm::dot(planes.n2, q) + planes.d2);
-      worse += glm::length(rh) > 4.0 * std::max(residual, 1e-15 * size);
     }
   }
   CAPTURE(converged);
