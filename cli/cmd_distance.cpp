@@ -72,25 +72,28 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
 /// One row per point (the fields of result_json; numbers in their shortest exact form), written to a
 /// temporary file and renamed.
 void write_csv(const std::string& path, const queries::PointQueryResult& r, std::span<const glm::dvec3> points) {
-  nurbs::io::write_file(path, [&](std::ostream& out) {
-    out << "point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,face,u,v"
-        << (r.signed_distance.empty() ? "" : ",signed_distance") << ",uncertified\n";
-    std::string line;
-    for (size_t k = 0; k < points.size(); ++k) {
-      const queries::PointDistance& d = r.answers[k];
-      line = fmt::format("{},{},{},{},{},{}", k, points[k].x, points[k].y, points[k].z,
-                         d.found ? "true" : "false", r.meets(k) ? "true" : "false");
-      if (d.found)
-        line += fmt::format(",{},{},{},{},{},{},{},{},{}", d.distance, d.bound,
-                            d.point_bound, d.point.x, d.point.y, d.point.z, d.face, d.uv.x, d.uv.y);
-      else
-        line += ",,,,,,,-1,,";
-      if (!r.signed_distance.empty()) line += fmt::format(",{}", r.signed_distance[k]);
-      line += ",\"";
-      for (char c : r.reasons[k]) line += c == '"' ? std::string("\"\"") : std::string(1, c);
-      line += "\"\n";
-      out << line;
+  const std::string header =
+      std::string("point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,face,u,v") +
+      (r.signed_distance.empty() ? "" : ",signed_distance") + ",uncertified\n";
+  write_rows(path, header, points.size(), [&](fmt::memory_buffer& buf, size_t k) {
+    const auto out = std::back_inserter(buf);
+    const queries::PointDistance& d = r.answers[k];
+    fmt::format_to(out, "{},{},{},{},{},{}", k, points[k].x, points[k].y, points[k].z, d.found ? "true" : "false",
+                   r.meets(k) ? "true" : "false");
+    if (d.found)
+      fmt::format_to(out, ",{},{},{},{},{},{},{},{},{}", d.distance, d.bound, d.point_bound, d.point.x, d.point.y,
+                     d.point.z, d.face, d.uv.x, d.uv.y);
+    else
+      fmt::format_to(out, ",,,,,,,-1,,");
+    if (!r.signed_distance.empty()) fmt::format_to(out, ",{}", r.signed_distance[k]);
+    buf.push_back(',');
+    buf.push_back('"');
+    for (char c : r.reasons[k]) {
+      if (c == '"') buf.push_back('"');
+      buf.push_back(c);
     }
+    buf.push_back('"');
+    buf.push_back('\n');
   });
 }
 

@@ -31,18 +31,13 @@ struct RaycastArgs {
 /// One row per ray (the fields of the JSON's results; numbers in their shortest exact form), written to a
 /// temporary file and renamed.
 void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits) {
-  nurbs::io::write_file(path, [&](std::ostream& out) {
-    fmt::memory_buffer buf;
-    fmt::format_to(std::back_inserter(buf), "ray,hit,t,face,u,v,x,y,z\n");
-    for (size_t k = 0; k < hits.size(); ++k) {
-      const nurbs::ray::Hit& h = hits[k];
-      if (h.face >= 0)
-        fmt::format_to(std::back_inserter(buf), "{},true,{},{},{},{},{},{},{}\n", k, h.t,
-                       h.face, h.uv.x, h.uv.y, h.point.x, h.point.y, h.point.z);
-      else
-        fmt::format_to(std::back_inserter(buf), "{},false,,-1,,,,,\n", k);
-    }
-    out.write(buf.data(), std::streamsize(buf.size()));
+  write_rows(path, "ray,hit,t,face,u,v,x,y,z\n", hits.size(), [&](fmt::memory_buffer& buf, size_t k) {
+    const nurbs::ray::Hit& h = hits[k];
+    if (h.face >= 0)
+      fmt::format_to(std::back_inserter(buf), "{},true,{},{},{},{},{},{},{}\n", k, h.t, h.face, h.uv.x, h.uv.y,
+                     h.point.x, h.point.y, h.point.z);
+    else
+      fmt::format_to(std::back_inserter(buf), "{},false,,-1,,,,,\n", k);
   });
 }
 

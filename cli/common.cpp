@@ -1,5 +1,7 @@
 #include "cli/common.h"
 
+#include "nurbs/parallel.h"
+
 #include "cli/commands.h"
 
 #include <fmt/format.h>
@@ -113,6 +115,18 @@ void check_output(const std::string& path, const std::string& option) {
   } catch (const nurbs::io::WriteError& e) {
     throw BadInput(option + ": " + e.what());
   }
+}
+
+void write_rows(const std::string& path, std::string_view header, size_t rows,
+                const std::function<void(fmt::memory_buffer&, size_t)>& row) {
+  std::vector<fmt::memory_buffer> parts(nurbs::share_count(rows, 4096));
+  nurbs::for_shares(rows, parts.size(), [&](size_t share, size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) row(parts[share], k);
+  });
+  nurbs::io::write_file(path, [&](std::ostream& out) {
+    out.write(header.data(), std::streamsize(header.size()));
+    for (const fmt::memory_buffer& b : parts) out.write(b.data(), std::streamsize(b.size()));
+  });
 }
 
 namespace {

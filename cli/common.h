@@ -2,11 +2,13 @@
 /// \file common.h
 /// What every `nurbsgl` subcommand shares: global options, exit codes, GPU start-up.
 #include <chrono>
+#include <fmt/format.h>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -99,6 +101,12 @@ struct CommandProgress {
 /// Before a command's work: BadInput (exit 2) naming `option` unless `path` can be written
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.
 void check_output(const std::string& path, const std::string& option);
+
+/// Writes `header` then `rows` lines to `path` (nurbs::io::write_file: a temporary file renamed),
+/// line k formatted by row(buffer, k): the rows formatted in contiguous shares on every hardware
+/// thread, written in order (the same file as one thread makes).
+void write_rows(const std::string& path, std::string_view header, size_t rows,
+                const std::function<void(fmt::memory_buffer&, size_t)>& row);
 
 /// Prints a command's one JSON object on stdout, and notes that it did: an error raised after it
 /// is reported as text only (stdout keeps one object).
