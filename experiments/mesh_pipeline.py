@@ -24,7 +24,9 @@ ratio (mesh time / ours), and the mesh answers' error against ours:
       --peer build-peer/experiments/peer_mesh_pipeline [--occt build-peer/experiments/peer_occt_distance] \\
       --out DIR [--points 20000 ...] [--rays 100000 ...] [--thickness 100000 ...]
       [--tol 1e-4 1e-5] [--repeat 3] [--models NAME ...]
-Writes DIR/mesh_pipeline.csv and prints the table. Benchmarks, not tests.
+Writes DIR/mesh_pipeline.csv, prints the table, and (unless --no-docs) puts the table in
+docs/benchmarks.md and the README's headline rows for points and rays against the mesh pipeline (the
+model with the most faces, the most queries, the finest tolerance). Benchmarks, not tests.
 """
 import argparse
 import csv
@@ -36,6 +38,8 @@ import statistics
 import subprocess
 import sys
 import time
+
+import report
 
 SHARED = pathlib.Path(__file__).resolve().parents[2] / "shared" / "models"
 MODELS = {
@@ -100,6 +104,33 @@ def read_column(path, column):
         return [float(r[column]) if r[column] != "" else None for r in csv.DictReader(f)]
 
 
+def publish(args, rows, faces):
+    """docs/benchmarks.md's section of this run, and the README's headline rows for points and rays."""
+    command = "experiments/mesh_pipeline.py " + " ".join(sys.argv[1:])
+    gl = json.loads(subprocess.run([args.cli, "gpu-info", "--json"], capture_output=True, text=True).stdout or "{}")
+    shown = [{k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()} for r in rows]
+    report.write_benchmarks("Against the mesh pipeline", command, gl,
+                            [(f"`mesh_pipeline.csv`: {', '.join(map(str, args.points))} points, "
+                              f"{', '.join(map(str, args.rays))} rays, "
+                              f"{', '.join(map(str, args.thickness)) or 'no'} thickness samples",
+                              report.markdown_table(shown))],
+                            "" if args.occt else "OpenCASCADE's clearance")
+    for query, what, peer_tool in (("points", "distance from points", "BRepMesh + CGAL AABB tree"),
+                                   ("rays", "ray casting", "BRepMesh + Embree")):
+        mine = [r for r in rows if r["query"] == query]
+        if not mine:
+            continue
+        finest = min(r["tol"] for r in mine) if query == "points" else mine[0]["tol"]
+        r = max((r for r in mine if r["tol"] == finest), key=lambda r: (faces[r["model"]], r["count"]))
+        report.write_headline(
+            f"{what} (against the mesh pipeline)", f"{r['model']} ({faces[r['model']]})",
+            f"{r['count']:,} {query} within {r['tol']:g} of the size (certified): {r['ours_whole_s']:.2f} s whole, "
+            f"{r['ours_queries_s']:.3f} s queries",
+            f"{r['mesh_whole_s']:.2f} s whole, {r['mesh_queries_s']:.3f} s queries ({peer_tool}, deflection "
+            f"{r['tol']:g} of the size, uncertified)",
+            f"{r['ratio_whole']:.2f}x whole, {r['ratio_queries']:.2f}x per query", command)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--cli", required=True)
@@ -110,19 +141,21 @@ def main():
     p.add_argument("--thickness", type=int, nargs="*", default=[100000], help="samples (none: no thickness rows)")
     p.add_argument("--no-clearance", action="store_true")
     p.add_argument("--occt", help="peer_occt_distance: OpenCASCADE's exact clearance beside the mesh's")
+    p.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md and the README alone")
     p.add_argument("--tol", type=float, nargs="+", default=[1e-4, 1e-5])
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--models", nargs="+", default=list(MODELS))
     args = p.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    rows = []
+    rows, faces = [], {}
     for name in args.models:
         model = str(SHARED / MODELS[name])
         if not os.path.exists(model):
             print(f"{name}: {model} absent, skipped")
             continue
         lo, hi, size = info(args.cli, model)
+        faces[name] = json.loads(run([args.cli, "info", model, "--json"])[0].stdout)["faces"]
         for count in args.points:
             pts = out / f"{name}_points_{count}.txt"
             write_points(pts, lo, hi, count, 1)
@@ -221,6 +254,8 @@ def main():
             print(f"{'':11} OpenCASCADE: {r['occt_distance']:.12g} in {r['occt_query_s']:.4f} s "
                   f"({r['occt_whole_s']:.2f} s whole); ours {r['ours_distance']:.12g} +- {r['ours_bound']:.3g}, "
                   f"mesh {r['mesh_distance']:.12g}")
+    if rows and not args.no_docs:
+        publish(args, rows, faces)
     return 0
 
 

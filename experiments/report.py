@@ -150,14 +150,14 @@ def write_reproduction(title, rows, command, root=ROOT):
 
 HEADLINE_BEGIN = "<!-- headline figures: written by the experiment scripts (experiments/report.py) -->"
 HEADLINE_END = "<!-- end of headline figures -->"
-HEADLINE_COLUMNS = ["query", "model (faces)", "nurbsgl", "OpenCASCADE, same run", "ratio",
+HEADLINE_COLUMNS = ["query", "model (faces)", "nurbsgl", "peer, same run", "ratio",
                     "command"]
 
 
 def write_headline(query, model, ours, peer, ratio, command, root=ROOT):
     """Sets the row `query` of the README's table of headline figures (between HEADLINE_BEGIN and
-    HEADLINE_END): one current figure per query against OpenCASCADE, from the same run, with the
-    command that measured it; the other rows stay."""
+    HEADLINE_END): one current figure per query against its peer (OpenCASCADE, the mesh pipeline),
+    from the same run, with the command that measured it; the other rows stay."""
     path = os.path.join(root, "README.md")
     text = open(path).read()
     if HEADLINE_BEGIN not in text or HEADLINE_END not in text:
