@@ -125,14 +125,20 @@ int intersect_patch(const BicubicPatch& patch, const Ray& ray, const RayPatchOpt
 
 namespace {
 
+/// x in [d.min, d.max]: across a seam on the other side, else clamped.
+double into(double x, const Interval& d, bool seam) {
+  if (seam && (x < d.min || x > d.max) && d.width() > 0.0) x = d.min + (x - d.min) - std::floor((x - d.min) / d.width()) * d.width();
+  return std::clamp(x, d.min, d.max);
+}
+
 /// refine_on_surface with `eval(u, v)` giving S, Su, Sv.
 template <class Eval>
 ExactHit refine_with(const Eval& eval, const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
-                     int iterations, double tolerance) {
+                     int iterations, double tolerance, Seams seams) {
   const Interval du = surface_domain_u(surface), dv = surface_domain_v(surface);
-  const glm::dvec2 lo(du.min, dv.min), hi(du.max, dv.max);
+  const auto inside = [&](glm::dvec2 p) { return glm::dvec2(into(p.x, du, seams.u), into(p.y, dv, seams.v)); };
   ExactHit out;
-  uv = glm::clamp(uv, lo, hi);
+  uv = inside(uv);
   SurfaceTangents d = eval(uv.x, uv.y);
   glm::dvec2 r(glm::dot(planes.n1, d.s) + planes.d1, glm::dot(planes.n2, d.s) + planes.d2);
   double norm = glm::length(r);
@@ -141,7 +147,7 @@ ExactHit refine_with(const Eval& eval, const Surface& surface, const Ray& ray, c
     if (!solve2(glm::dot(planes.n1, d.su), glm::dot(planes.n1, d.sv), glm::dot(planes.n2, d.su),
                 glm::dot(planes.n2, d.sv), r, dx))
       break;
-    const glm::dvec2 next = glm::clamp(uv - dx, lo, hi);
+    const glm::dvec2 next = inside(uv - dx);
     const SurfaceTangents e = eval(next.x, next.y);
     const glm::dvec2 re(glm::dot(planes.n1, e.s) + planes.d1, glm::dot(planes.n2, e.s) + planes.d2);
     const double next_norm = glm::length(re);
@@ -161,16 +167,58 @@ ExactHit refine_with(const Eval& eval, const Surface& surface, const Ray& ray, c
 }  // namespace
 
 ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
-                           int iterations, double tolerance) {
+                           int iterations, double tolerance, Seams seams) {
   return refine_with([&](double u, double v) { return surface_tangents(surface, u, v); }, surface, ray, planes, uv,
-                     iterations, tolerance);
+                     iterations, tolerance, seams);
 }
 
 ExactHit refine_on_surface(const BezierForm& form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
-                           glm::dvec2 uv, int iterations, double tolerance) {
-  if (form.empty()) return refine_on_surface(surface, ray, planes, uv, iterations, tolerance);
+                           glm::dvec2 uv, int iterations, double tolerance, Seams seams) {
+  if (form.empty()) return refine_on_surface(surface, ray, planes, uv, iterations, tolerance, seams);
   return refine_with([&](double u, double v) { return form.tangents(u, v); }, surface, ray, planes, uv, iterations,
-                     tolerance);
+                     tolerance, seams);
+}
+
+Seams surface_seams(const Surface& s, double tolerance) {
+  const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+  Seams out{true, true};
+  for (int k = 0; k <= 8; ++k) {
+    const double u = du.min + du.width() * k / 8.0, v = dv.min + dv.width() * k / 8.0;
+    out.u = out.u && glm::length(surface_point(s, du.min, v) - surface_point(s, du.max, v)) <= tolerance;
+    out.v = out.v && glm::length(surface_point(s, u, dv.min) - surface_point(s, u, dv.max)) <= tolerance;
+  }
+  return out;
+}
+
+ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
+                      const ExactHit& found, int iterations, double tolerance, Seams seams) {
+  const SurfaceDerivatives d = surface_derivatives(surface, found.uv.x, found.uv.y);
+  const glm::dvec3 cross = glm::cross(d.su, d.sv);
+  const double len = glm::length(cross);
+  if (!(len > 0.0)) return {};
+  const glm::dvec3 n = cross / len;
+  const double c = glm::dot(ray.direction, n);
+  const glm::dvec3 tangent = ray.direction - c * n;
+  // (u, v) per unit of t of the ray's motion along the surface: [Su Sv] w = tangent, least squares.
+  const double e = glm::dot(d.su, d.su), f = glm::dot(d.su, d.sv), g = glm::dot(d.sv, d.sv);
+  const double det = e * g - f * f;
+  if (!(std::abs(det) > 0.0)) return {};
+  const double bu = glm::dot(d.su, tangent), bv = glm::dot(d.sv, tangent);
+  const glm::dvec2 w((g * bu - f * bv) / det, (e * bv - f * bu) / det);
+  // Over the tangent plane the ray rises c s and the surface (1/2) q s^2 (q: the second form on w):
+  // they meet again at s = 2 c / q, before the hit when s < 0.
+  const double q = glm::dot(d.suu, n) * w.x * w.x + 2.0 * glm::dot(d.suv, n) * w.x * w.y + glm::dot(d.svv, n) * w.y * w.y;
+  if (!(q != 0.0)) return {};
+  const double s = 2.0 * c / q;
+  if (!(s < 0.0)) return {};
+  ExactHit best;
+  for (const double k : {1.0, 0.5, 1.5}) {
+    const glm::dvec2 start = found.uv + k * s * w;
+    const ExactHit h = form ? refine_on_surface(*form, surface, ray, planes, start, iterations, tolerance, seams)
+                            : refine_on_surface(surface, ray, planes, start, iterations, tolerance, seams);
+    if (h.ok && h.t < found.t - 1e-9 * std::abs(s) && (!best.ok || h.t < best.t)) best = h;
+  }
+  return best;
 }
 
 }  // namespace nurbs::ray

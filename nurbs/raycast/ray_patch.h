@@ -67,6 +67,15 @@ int initial_guesses(const BicubicPatch& patch, const Ray& ray, glm::dvec2* out, 
 int intersect_patch(const BicubicPatch& patch, const Ray& ray, const RayPatchOptions& options, double t_min,
                     std::array<PatchHit, 4>& out);
 
+/// Whether a surface closes on itself along u (S(u_min, v) = S(u_max, v)) and along v: a Newton
+/// step past such an edge of the domain continues on the other side instead of stopping there.
+struct Seams {
+  bool u = false, v = false;
+};
+/// The seams of `s`: its two opposite edges of the domain within `tolerance` of each other at nine
+/// points along them.
+[[nodiscard]] Seams surface_seams(const Surface& s, double tolerance);
+
 /// Result of the final Newton step on the exact face.
 struct ExactHit {
   bool ok = false;     ///< residual below tolerance with (u, v) inside the surface domain
@@ -80,10 +89,21 @@ struct ExactHit {
 /// domain, stopping when |R| <= 1e-16 size or, with |R| within the tolerance, when a step no
 /// longer halves it (the rounding floor; the better of the two points is kept). ok when |R| <= tolerance at the end.
 [[nodiscard]] ExactHit refine_on_surface(const Surface& surface, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv,
-                                         int iterations, double tolerance);
+                                         int iterations, double tolerance, Seams seams = {});
 /// The same with the surface's Bézier form (bezier_eval.h: S, Su, Sv in fewer steps, equal up to
 /// rounding); an empty form falls back to the surface.
 [[nodiscard]] ExactHit refine_on_surface(const BezierForm& form, const Surface& surface, const Ray& ray,
-                                         const RayPlanes& planes, glm::dvec2 uv, int iterations, double tolerance);
+                                         const RayPlanes& planes, glm::dvec2 uv, int iterations, double tolerance,
+                                         Seams seams = {});
+
+/// Beyond the paper: Newton finds one root, and a ray that grazes a face meets it twice close
+/// together, where a step from near either may land on the second. At an exact hit `found`: the
+/// ray's height over the tangent plane (c s, c = d . N) against the surface's (q s^2 / 2, q its
+/// second form along the ray's motion on it) predicts the pair's other root at s = 2 c / q; when
+/// that lies before the hit, Newton from there (and from half and 1.5 times as far): the earliest
+/// exact root it finds before `found`, ok false when none.
+[[nodiscard]] ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray& ray,
+                                    const RayPlanes& planes, const ExactHit& found, int iterations, double tolerance,
+                                    Seams seams = {});
 
 }  // namespace nurbs::ray

@@ -36,6 +36,7 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   scene.face_stats.resize(n);
   std::vector<std::vector<BicubicPatch>> patches(n);
   auto forms = std::make_shared<std::vector<BezierForm>>(n);
+  scene.seams.resize(n);
   parallel_for(n, 0, [&](size_t f, int) {
     const TrimmedSurface& face = scene.faces[f];
     const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
@@ -45,6 +46,7 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
       scene.cubics[f] = trim_cubics(face, options.trim_flatten * diag);
     patches[f] = bicubic_patches(face, static_cast<int>(f), bo, &scene.face_stats[f]);
     (*forms)[f] = BezierForm(face.surface);
+    scene.seams[f] = surface_seams(face.surface, options.exact_residual * scene.size);
   });
   scene.forms = std::move(forms);
   std::vector<BicubicPatch> all;
@@ -76,14 +78,13 @@ void test_patches(const Scene& scene, const Ray& ray, double t_min, int first, i
       const glm::dvec2 uv(patch.range_u.min + hits[h].st.x * (patch.range_u.max - patch.range_u.min),
                           patch.range_v.min + hits[h].st.y * (patch.range_v.max - patch.range_v.min));
       const TrimmedSurface& face = scene.faces[patch.face];
-      const ExactHit e = scene.refine(patch.face, ray, planes, uv);
-      if (!e.ok || !(e.t > t_min) || (best.face >= 0 && e.t >= best.t)) continue;
-      if (!face.loops.empty()) {
-        const bool material = scene.options.trim == SceneOptions::Trim::Cubics
-                                  ? inside_trim(scene.cubics[patch.face], e.uv)
-                                  : scene.is_material(patch.face, e.uv);
-        if (!material) continue;
-      }
+      const auto material = [&](glm::dvec2 uv) {
+        return face.loops.empty() || (scene.options.trim == SceneOptions::Trim::Cubics
+                                          ? inside_trim(scene.cubics[patch.face], uv)
+                                          : scene.is_material(patch.face, uv));
+      };
+      const ExactHit e = scene.refine_first(patch.face, ray, planes, uv, t_min, material);
+      if (!e.ok || (best.face >= 0 && e.t >= best.t)) continue;
       best = {e.t, patch.face, e.uv, e.point, hits[h].t};
     }
   }

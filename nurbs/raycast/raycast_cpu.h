@@ -28,6 +28,9 @@ struct SceneOptions {
   /// quadratic steps reach round-off, so 1e-10 rejects only hits that do not exist on the exact face.
   double exact_residual = 1e-10;
   int exact_iterations = 6;
+  /// Beyond the paper: each exact hit also looks for the first of a grazing pair before it
+  /// (Scene::refine_first, earlier_root); false: the exact step alone, as the GPU pass's twin has it.
+  bool grazing_pairs = true;
   /// Point-in-trim test of a hit: flattened loops + winding number, or §3.4 on cubic Bézier trims
   /// (those approximated within trim_flatten x domain diagonal as well).
   enum class Trim { Polygons, Cubics } trim = Trim::Polygons;
@@ -53,14 +56,35 @@ struct Scene {
   /// Per face, its surface in Bézier form for the exact steps (empty where it would be too large),
   /// shared by the scene's copies.
   std::shared_ptr<const std::vector<BezierForm>> forms;
+  std::vector<Seams> seams;  ///< per face (build_scene): Newton steps continue across them
   /// The exact step on face f (refine_on_surface with its Bézier form, the scene's iterations and
   /// residual).
   [[nodiscard]] ExactHit refine(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv) const {
     const TrimmedSurface& face = faces[size_t(f)];
+    const Seams s = f < int(seams.size()) ? seams[size_t(f)] : Seams{};
     return forms ? refine_on_surface((*forms)[size_t(f)], face.surface, ray, planes, uv, options.exact_iterations,
-                                     options.exact_residual * size)
+                                     options.exact_residual * size, s)
                  : refine_on_surface(face.surface, ray, planes, uv, options.exact_iterations,
-                                     options.exact_residual * size);
+                                     options.exact_residual * size, s);
+  }
+  /// refine, then earlier_root while it finds one (a grazing pair): the earliest exact hit after
+  /// t_min whose (u, v) `material` accepts; ok false when none.
+  template <class Material>
+  [[nodiscard]] ExactHit refine_first(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv, double t_min,
+                                      const Material& material) const {
+    const ExactHit e = refine(f, ray, planes, uv);
+    if (!e.ok) return e;
+    ExactHit first = e.t > t_min && material(e.uv) ? e : ExactHit{};
+    ExactHit at = e;
+    const BezierForm* form = forms ? &(*forms)[size_t(f)] : nullptr;
+    for (int k = 0; k < (options.grazing_pairs ? 3 : 0); ++k) {
+      const ExactHit a = earlier_root(form, faces[size_t(f)].surface, ray, planes, at, options.exact_iterations,
+                                      options.exact_residual * size, f < int(seams.size()) ? seams[size_t(f)] : Seams{});
+      if (!a.ok || !(a.t > t_min)) break;
+      if (material(a.uv)) first = a;
+      at = a;
+    }
+    return first;
   }
   std::vector<TrimCubics> cubics;     ///< per face, filled when options.trim == Cubics
   std::vector<BicubicPatch> patches;  ///< in BVH leaf order (patches[k] is leaf k)

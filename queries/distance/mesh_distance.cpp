@@ -115,6 +115,9 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
   scene_->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!scene_->device) throw std::runtime_error(fmt::format("Embree: no device ({})", int(rtcGetDeviceError(nullptr))));
   scene_->scene = rtcNewScene(scene_->device);
+  // Rays: Embree's fast traversal culls thin boxes in float and loses crossings of the shells at
+  // shallow angles (a ray grazing a sphere missed the shell it entered); the robust mode keeps them.
+  if (rays) rtcSetSceneFlags(scene_->scene, RTC_SCENE_FLAG_ROBUST);
   if (!rays) {
     add_triangles(scene_->scene, m.positions, 0.0);
     // Per triangle, which of its edges lie on its face's mesh boundary (bit k: the edge opposite
@@ -303,6 +306,18 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   const glm::ivec3 t = m.triangles[size_t(h.triangle)];
   const double u = rh.hit.u, v = rh.hit.v;
   h.uv = (1.0 - u - v) * m.uv[size_t(t.x)] + u * m.uv[size_t(t.y)] + v * m.uv[size_t(t.z)];
+  if (rays_) {
+    // The shell triangle's side, in double: triangles run counter-clockwise seen from outside, and
+    // the outer shell (geometry 1) is the mesh moved outwards, so the ray enters the slab through
+    // it against its normal, and through the inner one along its normal.
+    h.shell = int(rh.hit.geomID);
+    const double offset = (h.shell == 1 ? 1.0 : -1.0) * kShellOffset * eps_;
+    const auto corner = [&](int i) {
+      return m.positions[size_t(i)] + (size_t(i) < m.normals.size() ? offset * m.normals[size_t(i)] : glm::dvec3(0.0));
+    };
+    const glm::dvec3 a = corner(t.x), n = glm::cross(corner(t.y) - a, corner(t.z) - a);
+    h.entering = (glm::dot(direction, n) < 0.0) == (h.shell == 1);
+  }
   return h;
 }
 

@@ -49,6 +49,10 @@ struct MeshRayHit {
   double t = -1.0;    ///< along the unit direction (Embree's, in float)
   int face = -1;
   glm::dvec2 uv{0.0};
+  /// Built for rays, a shell triangle: the shell (0 inside the faces, 1 outside), and whether the
+  /// ray enters the slab there (crosses the shell towards the mesh) or leaves it.
+  int shell = -1;
+  bool entering = false;
 };
 
 class MeshDistance {

@@ -127,6 +127,21 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   return out;
 }
 
+nurbs::ray::Hit RayCaster::first_of_pair(const MeshRayHit& in, const MeshRayHit& out, const nurbs::ray::Ray& ray,
+                                         const nurbs::ray::RayPlanes& planes, double t_min, double slack) const {
+  // Newton from the crossings and from points between their (u, v): each start near a root of the
+  // pair finds it.
+  constexpr int kStarts = 8;
+  nurbs::ray::Hit h;
+  for (int i = 0; i <= kStarts; ++i) {
+    const glm::dvec2 uv = in.uv + (double(i) / kStarts) * (out.uv - in.uv);
+    const nurbs::ray::ExactHit e = scene_.refine(in.face, ray, planes, uv);
+    if (!e.ok || e.t < in.t - slack || e.t > out.t + slack || !(e.t > t_min) || (h.face >= 0 && e.t >= h.t)) continue;
+    if (scene_.is_material(in.face, e.uv)) h = {e.t, in.face, e.uv, e.point, in.t};
+  }
+  return h;
+}
+
 std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min,
                                                   int threads) {
   std::vector<nurbs::ray::Hit> hits(chunk.size());
@@ -138,11 +153,9 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         const nurbs::ray::Ray& ray = chunk[k];
         const nurbs::ray::RayPlanes planes = nurbs::ray::ray_planes(ray);
         const double step = 4.0 * mesh_->float_slack(ray.origin);
-        double from = t_min;
         nurbs::ray::Hit best;  // the nearest exact hit so far
+        MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, t_min, 3.4e38);
         for (int tries = 0; tries < 8; ++tries) {
-          // With a hit in hand only the crossings before it matter (the float rounding aside).
-          const MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, from, best.face >= 0 ? best.t + step : 3.4e38);
           // Near a face's edge before the next crossing (and before the best hit), the face may
           // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
           // face's): the BVH decides.
@@ -157,13 +170,30 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           }
           if (m.triangle < 0 && tries == 0) return;
           if (m.triangle < 0) break;
-          const nurbs::ray::ExactHit e = scene_.refine(m.face, ray, planes, m.uv);
+          const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, m.t + step, 3.4e38);
+          // Through one face's slab, from m to n: the ray meets the face there an odd number of
+          // times when it leaves on the other side, else an even number (none, or a grazing pair,
+          // whose second Newton from m may find).
+          const bool through = m.entering && n.triangle >= 0 && !n.boundary && n.face == m.face && !n.entering;
+          if (through && n.shell == m.shell) {
+            const nurbs::ray::Hit h = first_of_pair(m, n, ray, planes, t_min, step);
+            if (h.face >= 0 && (best.face < 0 || h.t < best.t)) best = h;
+            m = mesh_->first_hit(ray.origin, ray.direction, n.t + step, 3.4e38);
+            continue;
+          }
+          nurbs::ray::ExactHit e = scene_.refine(m.face, ray, planes, m.uv);
+          if (through && !(e.ok && e.t >= m.t - step && e.t <= n.t + step)) {
+            // A hit lies on the way through, and Newton from m left it: the first one there.
+            const nurbs::ray::Hit h = first_of_pair(m, n, ray, planes, t_min, step);
+            if (h.face < 0) break;
+            e = {true, h.uv, h.point, h.t};
+          }
           // No exact hit near the crossing (a step that does not converge, or lands far away): the
           // face may still meet the ray inside the slab (grazing it): the BVH decides.
           if (!e.ok || std::abs(e.t - m.t) > window) break;
           if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material(m.face, e.uv))
             best = {e.t, m.face, e.uv, e.point, m.t};
-          from = m.t + step;  // the next crossing (the face behind t_min, or trimmed away here)
+          m = n;  // the next crossing (the face behind t_min, or trimmed away here)
         }
         again[k] = 1;
       },

@@ -21,9 +21,12 @@ namespace queries {
 /// tessellation within the bicubic tolerance, the slab around it that holds the faces
 /// (queries/distance/mesh_distance.h, Embree's BVH); each ray's crossings of the slab's shells in
 /// order, from each the same Newton step on the exact face and the same trim test, until the next
-/// crossing lies beyond the nearest exact hit: that hit is the answer. A ray that passes near a
-/// face's mesh boundary first, whose step at a crossing fails or lands far from it, or that needs
-/// more than 8 crossings, is cast by the BVH method.
+/// crossing lies beyond the nearest exact hit: that hit is the answer. A ray through one face's
+/// slab meets the face an odd number of times when it leaves on the other side, an even number
+/// (none, or a grazing pair) when it leaves on the side it entered: the first hit on the way
+/// through is then sought from starts along it. A ray that passes near a face's mesh boundary
+/// first, whose step at a crossing fails or lands far from it, or that needs more than 8 crossings,
+/// is cast by the BVH method.
 enum class RayMethod { Bvh, Dacrt, Mesh };
 
 struct RayCasterOptions {
@@ -83,6 +86,10 @@ class RayCaster {
   std::unique_ptr<MeshDistance> mesh_;  ///< RayMethod::Mesh
   /// RayMethod::Mesh: the rays of `chunk` cast through the mesh, the BVH for the rest.
   std::vector<nurbs::ray::Hit> cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min, int threads);
+  /// RayMethod::Mesh: the ray enters a face's slab at `in` and leaves it on the same side at `out`:
+  /// the first material hit on that face between them (none: face -1).
+  nurbs::ray::Hit first_of_pair(const MeshRayHit& in, const MeshRayHit& out, const nurbs::ray::Ray& ray,
+                                const nurbs::ray::RayPlanes& planes, double t_min, double slack) const;
   RayCasterFigures figures_;
 };
 

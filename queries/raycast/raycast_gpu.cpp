@@ -233,9 +233,11 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
   const nurbs::ray::BicubicPatch& p = scene_.patches[size_t(raw.patch)];
   const glm::dvec2 uv(p.range_u.min + double(raw.s) * (p.range_u.max - p.range_u.min),
                       p.range_v.min + double(raw.t_param) * (p.range_v.max - p.range_v.min));
-  const nurbs::ray::ExactHit e = scene_.refine(p.face, ray, nurbs::ray::ray_planes(ray), uv);
-  if (!e.ok || !(e.t > t_min)) return again();
-  if (!scene_.is_material(p.face, e.uv)) return again();
+  // The first of a grazing pair too (Scene::refine_first): an earlier root on this face is nearer
+  // than anything the pass put before it.
+  const nurbs::ray::ExactHit e = scene_.refine_first(p.face, ray, nurbs::ray::ray_planes(ray), uv, t_min,
+                                                     [&](glm::dvec2 q) { return scene_.is_material(p.face, q); });
+  if (!e.ok) return again();
   return {e.t, p.face, e.uv, e.point, double(raw.t)};
 }
 

@@ -33,6 +33,7 @@ namespace {
 nurbs::ray::SceneOptions cubics_options() {
   nurbs::ray::SceneOptions o;
   o.trim = nurbs::ray::SceneOptions::Trim::Cubics;
+  o.grazing_pairs = false;  // the pass's twin: the paper's finishing alone
   o.max_turn_degrees = 0.0;
   return o;
 }
@@ -420,6 +421,7 @@ TEST_CASE("raycast gpu: default patches (split by normal turn); walks cut short 
   for (std::uint64_t seed = 1; seed <= 8; ++seed) faces.push_back(models::random_trimmed_surface(seed));
   nurbs::ray::SceneOptions options;
   options.trim = nurbs::ray::SceneOptions::Trim::Cubics;
+  options.grazing_pairs = false;
   const Scene scene = nurbs::ray::build_scene(faces, options);
   const auto rays = random_rays(5, 1000);
   std::vector<Hit> twin;
