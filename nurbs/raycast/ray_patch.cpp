@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <glm/geometric.hpp>
 
 #include "nurbs/surface_eval.h"
@@ -190,6 +191,15 @@ Seams surface_seams(const Surface& s, double tolerance) {
   return out;
 }
 
+glm::dvec2 uv_rate(const glm::dvec3& su, const glm::dvec3& sv, const glm::dvec3& direction) {
+  // [Su Sv] w = direction's part along the surface, in least squares (the normal part drops out).
+  const double e = glm::dot(su, su), f = glm::dot(su, sv), g = glm::dot(sv, sv);
+  const double det = e * g - f * f;
+  if (!(std::abs(det) > 0.0)) return glm::dvec2(std::numeric_limits<double>::quiet_NaN());
+  const double bu = glm::dot(su, direction), bv = glm::dot(sv, direction);
+  return {(g * bu - f * bv) / det, (e * bv - f * bu) / det};
+}
+
 ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
                       const ExactHit& found, int iterations, double tolerance, Seams seams) {
   const SurfaceDerivatives d = surface_derivatives(surface, found.uv.x, found.uv.y);
@@ -198,13 +208,8 @@ ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray&
   if (!(len > 0.0)) return {};
   const glm::dvec3 n = cross / len;
   const double c = glm::dot(ray.direction, n);
-  const glm::dvec3 tangent = ray.direction - c * n;
-  // (u, v) per unit of t of the ray's motion along the surface: [Su Sv] w = tangent, least squares.
-  const double e = glm::dot(d.su, d.su), f = glm::dot(d.su, d.sv), g = glm::dot(d.sv, d.sv);
-  const double det = e * g - f * f;
-  if (!(std::abs(det) > 0.0)) return {};
-  const double bu = glm::dot(d.su, tangent), bv = glm::dot(d.sv, tangent);
-  const glm::dvec2 w((g * bu - f * bv) / det, (e * bv - f * bu) / det);
+  const glm::dvec2 w = uv_rate(d.su, d.sv, ray.direction);
+  if (!(w == w)) return {};
   // Over the tangent plane the ray rises c s and the surface (1/2) q s^2 (q: the second form on w):
   // they meet again at s = 2 c / q, before the hit when s < 0.
   const double q = glm::dot(d.suu, n) * w.x * w.x + 2.0 * glm::dot(d.suv, n) * w.x * w.y + glm::dot(d.svv, n) * w.y * w.y;

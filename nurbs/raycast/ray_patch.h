@@ -96,6 +96,10 @@ struct ExactHit {
                                          const RayPlanes& planes, glm::dvec2 uv, int iterations, double tolerance,
                                          Seams seams = {});
 
+/// The (u, v) per unit of t of a ray's motion along a surface whose tangents at a point are su,
+/// sv: [Su Sv] w = direction in least squares. NaN where the tangents are parallel.
+[[nodiscard]] glm::dvec2 uv_rate(const glm::dvec3& su, const glm::dvec3& sv, const glm::dvec3& direction);
+
 /// Beyond the paper: Newton finds one root, and a ray that grazes a face meets it twice close
 /// together, where a step from near either may land on the second. At an exact hit `found`: the
 /// ray's height over the tangent plane (c s, c = d . N) against the surface's (q s^2 / 2, q its

@@ -5,6 +5,7 @@
 /// BVH (§3.2) -> per candidate patch the two-plane Newton (§3.3), then the final Newton step on the
 /// exact NURBS face and the point-in-trim test: the winding number on the face's flattened trim
 /// loops (trim_classify.h, the oracle) or the paper's §3.4 test on cubic trims (trim_test.h).
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -57,34 +58,44 @@ struct Scene {
   /// shared by the scene's copies.
   std::shared_ptr<const std::vector<BezierForm>> forms;
   std::vector<Seams> seams;  ///< per face (build_scene): Newton steps continue across them
-  /// The exact step on face f (refine_on_surface with its Bézier form, the scene's iterations and
-  /// residual).
-  [[nodiscard]] ExactHit refine(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv) const {
+  /// The exact step on face f (refine_on_surface with its Bézier form, the scene's iterations unless
+  /// `iterations` is given, and its residual).
+  [[nodiscard]] ExactHit refine(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv, int iterations = 0) const {
     const TrimmedSurface& face = faces[size_t(f)];
     const Seams s = f < int(seams.size()) ? seams[size_t(f)] : Seams{};
-    return forms ? refine_on_surface((*forms)[size_t(f)], face.surface, ray, planes, uv, options.exact_iterations,
+    const int steps = iterations > 0 ? iterations : options.exact_iterations;
+    return forms ? refine_on_surface((*forms)[size_t(f)], face.surface, ray, planes, uv, steps,
                                      options.exact_residual * size, s)
-                 : refine_on_surface(face.surface, ray, planes, uv, options.exact_iterations,
-                                     options.exact_residual * size, s);
+                 : refine_on_surface(face.surface, ray, planes, uv, steps, options.exact_residual * size, s);
   }
-  /// refine, then earlier_root while it finds one (a grazing pair): the earliest exact hit after
-  /// t_min whose (u, v) `material` accepts; ok false when none.
+  /// From an exact hit `found` on face f, earlier_root while it finds one (a grazing pair; none
+  /// without options.grazing_pairs): the earliest root before `found` and after t_min whose (u, v)
+  /// `material` accepts; ok false when none.
   template <class Material>
-  [[nodiscard]] ExactHit refine_first(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv, double t_min,
-                                      const Material& material) const {
-    const ExactHit e = refine(f, ray, planes, uv);
-    if (!e.ok) return e;
-    ExactHit first = e.t > t_min && material(e.uv) ? e : ExactHit{};
-    ExactHit at = e;
+  [[nodiscard]] ExactHit look_back(int f, const Ray& ray, const RayPlanes& planes, const ExactHit& found, double t_min,
+                                   const Material& material) const {
+    ExactHit first, at = found;
     const BezierForm* form = forms ? &(*forms)[size_t(f)] : nullptr;
     for (int k = 0; k < (options.grazing_pairs ? 3 : 0); ++k) {
-      const ExactHit a = earlier_root(form, faces[size_t(f)].surface, ray, planes, at, options.exact_iterations,
-                                      options.exact_residual * size, f < int(seams.size()) ? seams[size_t(f)] : Seams{});
+      // Near a grazing pair Newton converges slowly (the ray almost tangent): more steps.
+      const ExactHit a = earlier_root(form, faces[size_t(f)].surface, ray, planes, at,
+                                      std::max(40, options.exact_iterations), options.exact_residual * size,
+                                      f < int(seams.size()) ? seams[size_t(f)] : Seams{});
       if (!a.ok || !(a.t > t_min)) break;
       if (material(a.uv)) first = a;
       at = a;
     }
     return first;
+  }
+  /// refine (`iterations` as there), then look_back: the earliest exact hit after t_min whose
+  /// (u, v) `material` accepts; ok false when none.
+  template <class Material>
+  [[nodiscard]] ExactHit refine_first(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv, double t_min,
+                                      const Material& material, int iterations = 0) const {
+    const ExactHit e = refine(f, ray, planes, uv, iterations);
+    if (!e.ok) return e;
+    const ExactHit back = look_back(f, ray, planes, e, t_min, material);
+    return back.ok ? back : e.t > t_min && material(e.uv) ? e : ExactHit{};
   }
   std::vector<TrimCubics> cubics;     ///< per face, filled when options.trim == Cubics
   std::vector<BicubicPatch> patches;  ///< in BVH leaf order (patches[k] is leaf k)

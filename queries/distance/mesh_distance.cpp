@@ -136,6 +136,8 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
     std::vector<std::pair<int, int>> edges;
     for (const uint64_t key : boundary_edges(m)) edges.emplace_back(int(key >> 32), int(key & 0xffffffffu));
     if (!edges.empty()) {
+      tube_geometry_ = 2;
+      for (const auto& [a, b] : edges) boundary_vertices_.emplace_back(a, b);
       RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                             4 * sizeof(float), 2 * edges.size()));
@@ -163,9 +165,11 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
     // may pass between the triangles that meet there. A ball of the tubes' radius around each.
     std::vector<glm::dvec3> balls;
     for (size_t i = 0; i < m.positions.size(); ++i)
-      if (i >= m.normals.size() || !(glm::length(m.normals[i]) > 0.5)) balls.push_back(m.positions[i]);
+      if (i >= m.normals.size() || !(glm::length(m.normals[i]) > 0.5))
+        balls.push_back(m.positions[i]), ball_vertices_.push_back(int(i));
     for (const auto& [a, b] : edges)
-      if (m.positions[size_t(a)] == m.positions[size_t(b)]) balls.push_back(m.positions[size_t(a)]);
+      if (m.positions[size_t(a)] == m.positions[size_t(b)])
+        balls.push_back(m.positions[size_t(a)]), ball_vertices_.push_back(a);
     if (!balls.empty()) {
       RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
@@ -297,6 +301,10 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   if (rays_ && rh.hit.geomID >= 2) {  // a tube or a ball
     h.boundary = true;
     h.t = double(rh.ray.tfar);
+    const bool tube = int(rh.hit.geomID) == tube_geometry_;
+    const size_t k = rh.hit.primID;
+    h.edge = tube ? boundary_vertices_[k] : glm::ivec2(ball_vertices_[k]);
+    h.face = tess_.mesh.vertex_face.empty() ? -1 : tess_.mesh.vertex_face[size_t(h.edge.x)];
     return h;
   }
   const nurbs::TriangleMesh& m = tess_.mesh;

@@ -28,6 +28,7 @@
 /// triangle in double, with no float term in its bound.
 #include <cstdint>
 #include <functional>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
 #include <span>
@@ -53,6 +54,9 @@ struct MeshRayHit {
   /// ray enters the slab there (crosses the shell towards the mesh) or leaves it.
   int shell = -1;
   bool entering = false;
+  /// A tube: its mesh boundary edge (vertex indices of tessellation().mesh; a ball: its vertex
+  /// twice), with `face` that edge's face.
+  glm::ivec2 edge{-1, -1};
 };
 
 class MeshDistance {
@@ -109,6 +113,9 @@ class MeshDistance {
   double radius_ = 0.0;
   std::unique_ptr<Scene> scene_;
   std::vector<uint8_t> boundary_;  ///< points: per triangle, its edges on the face's mesh boundary
+  int tube_geometry_ = -1;                     ///< rays: Embree's geometry of the tubes
+  std::vector<glm::ivec2> boundary_vertices_;  ///< rays: per tube, its edge
+  std::vector<int> ball_vertices_;             ///< rays: per ball, its vertex
 };
 
 }  // namespace queries

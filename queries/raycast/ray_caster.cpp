@@ -6,10 +6,13 @@
 #include <future>
 #include <stdexcept>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "nurbs/parallel.h"
 #include "nurbs/raycast/thickness.h"
 #include "nurbs/stopwatch.h"
+#include "nurbs/surface_eval.h"
 #include "queries/raycast/raycast_gpu.h"
 
 namespace queries {
@@ -127,17 +130,65 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   return out;
 }
 
-nurbs::ray::Hit RayCaster::first_of_pair(const MeshRayHit& in, const MeshRayHit& out, const nurbs::ray::Ray& ray,
-                                         const nurbs::ray::RayPlanes& planes, double t_min, double slack) const {
-  // Newton from the crossings and from points between their (u, v): each start near a root of the
-  // pair finds it.
-  constexpr int kStarts = 8;
-  nurbs::ray::Hit h;
+nurbs::ray::Hit RayCaster::first_on_way(const MeshRayHit& in, double t_end, const glm::dvec2* out_uv,
+                                        const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes, double t_min,
+                                        double slack) const {
+  // Newton from points along the way: from the crossings' (u, v) and between them, and from the
+  // (u, v) the ray's motion along the face reaches from `in` (its rate there); each start near a
+  // root finds it. Near a grazing pair Newton converges slowly (the ray almost tangent): more steps
+  // than a crossing's.
+  constexpr int kStarts = 16, kSteps = 40;
+  const nurbs::TrimmedSurface& face = scene_.faces[size_t(in.face)];
+  const nurbs::SurfaceTangents d = nurbs::surface_tangents(face.surface, in.uv.x, in.uv.y);
+  const glm::dvec2 rate = nurbs::ray::uv_rate(d.su, d.sv, ray.direction);
+  std::vector<glm::dvec2> starts;
   for (int i = 0; i <= kStarts; ++i) {
-    const glm::dvec2 uv = in.uv + (double(i) / kStarts) * (out.uv - in.uv);
-    const nurbs::ray::ExactHit e = scene_.refine(in.face, ray, planes, uv);
-    if (!e.ok || e.t < in.t - slack || e.t > out.t + slack || !(e.t > t_min) || (h.face >= 0 && e.t >= h.t)) continue;
-    if (scene_.is_material(in.face, e.uv)) h = {e.t, in.face, e.uv, e.point, in.t};
+    const double f = double(i) / kStarts;
+    if (out_uv) starts.push_back(in.uv + f * (*out_uv - in.uv));
+    if (rate == rate) starts.push_back(in.uv + (f * (t_end - in.t)) * rate);
+  }
+  nurbs::ray::Hit h;
+  for (const glm::dvec2 uv : starts) {
+    const nurbs::ray::ExactHit e = scene_.refine_first(in.face, ray, planes, uv, t_min, material(in.face), kSteps);
+    if (!e.ok || e.t < in.t - slack || e.t > t_end + slack || (h.face >= 0 && e.t >= h.t)) continue;
+    h = {e.t, in.face, e.uv, e.point, in.t};
+  }
+  return h;
+}
+
+std::function<bool(glm::dvec2)> RayCaster::material(int face) const {
+  return [this, face](glm::dvec2 uv) { return scene_.is_material(face, uv); };
+}
+
+nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray,
+                                           const nurbs::ray::RayPlanes& planes, double t_min, double step) const {
+  // A ray grazing a face along its edge meets the face where its bicubic patches may not show it,
+  // and may enter the face's slab there, past its rim: Newton on each face whose edge the ray
+  // passes, from the edge's ends and middle, and from starts along the way from there to the next
+  // crossing of a shell.
+  const nurbs::TriangleMesh& mesh = mesh_->tessellation().mesh;
+  constexpr int kSteps = 40;
+  nurbs::ray::Hit h;
+  std::vector<MeshRayHit> entries;  // per face, its first edge on the way (uv: the edge's middle)
+  for (int k = 0; k < 8 && b.boundary; ++k) {
+    if (b.face >= 0 && b.edge.x >= 0 && size_t(std::max(b.edge.x, b.edge.y)) < mesh.uv.size()) {
+      const glm::dvec2 a = mesh.uv[size_t(b.edge.x)], c = mesh.uv[size_t(b.edge.y)];
+      for (const glm::dvec2 start : {a, c, 0.5 * (a + c)}) {
+        const nurbs::ray::ExactHit e = scene_.refine_first(b.face, ray, planes, start, t_min, material(b.face), kSteps);
+        if (e.ok && (h.face < 0 || e.t < h.t)) h = {e.t, b.face, e.uv, e.point, b.t};
+      }
+      if (std::none_of(entries.begin(), entries.end(), [&](const MeshRayHit& x) { return x.face == b.face; })) {
+        MeshRayHit in = b;
+        in.uv = 0.5 * (a + c);
+        entries.push_back(in);
+      }
+    }
+    b = mesh_->first_hit(ray.origin, ray.direction, b.t + step, 3.4e38);
+  }
+  const double t_end = b.triangle >= 0 ? b.t : entries.empty() ? 0.0 : entries.back().t + 64.0 * mesh_->eps();
+  for (const MeshRayHit& in : entries) {
+    const nurbs::ray::Hit w = first_on_way(in, t_end, nullptr, ray, planes, t_min, step);
+    if (w.face >= 0 && (h.face < 0 || w.t < h.t)) h = w;
   }
   return h;
 }
@@ -145,6 +196,7 @@ nurbs::ray::Hit RayCaster::first_of_pair(const MeshRayHit& in, const MeshRayHit&
 std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min,
                                                   int threads) {
   std::vector<nurbs::ray::Hit> hits(chunk.size());
+  std::vector<nurbs::ray::Hit> near_edge(chunk.size());  // hits beside the faces' edges that rays cast again may miss
   std::vector<char> again(chunk.size(), 0);
   const double eps = mesh_->eps(), window = 64.0 * eps;
   nurbs::parallel_for(
@@ -155,10 +207,13 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         const double step = 4.0 * mesh_->float_slack(ray.origin);
         nurbs::ray::Hit best;  // the nearest exact hit so far
         MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, t_min, 3.4e38);
+        MeshRayHit edge;  // the first tube or ball on the way
+        std::pair<MeshRayHit, double> way;  // the last slab entered, and the next crossing after it
         for (int tries = 0; tries < 8; ++tries) {
           // Near a face's edge before the next crossing (and before the best hit), the face may
           // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
           // face's): the BVH decides.
+          if (m.boundary && !edge.boundary) edge = m;
           if (m.boundary && !(best.face >= 0 && m.t >= best.t)) break;
           // Every hit lies inside the slab, after a crossing: a crossing beyond the best hit ends
           // the search, and no crossing at all leaves no hit. But a ray that left a crossing behind
@@ -171,20 +226,22 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           if (m.triangle < 0 && tries == 0) return;
           if (m.triangle < 0) break;
           const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, m.t + step, 3.4e38);
+          if (n.boundary && !edge.boundary) edge = n;
           // Through one face's slab, from m to n: the ray meets the face there an odd number of
           // times when it leaves on the other side, else an even number (none, or a grazing pair,
           // whose second Newton from m may find).
           const bool through = m.entering && n.triangle >= 0 && !n.boundary && n.face == m.face && !n.entering;
           if (through && n.shell == m.shell) {
-            const nurbs::ray::Hit h = first_of_pair(m, n, ray, planes, t_min, step);
+            const nurbs::ray::Hit h = first_on_way(m, n.t, &n.uv, ray, planes, t_min, step);
             if (h.face >= 0 && (best.face < 0 || h.t < best.t)) best = h;
             m = mesh_->first_hit(ray.origin, ray.direction, n.t + step, 3.4e38);
             continue;
           }
+          if (m.entering) way = {m, n.triangle >= 0 || n.boundary ? n.t : m.t + window};
           nurbs::ray::ExactHit e = scene_.refine(m.face, ray, planes, m.uv);
           if (through && !(e.ok && e.t >= m.t - step && e.t <= n.t + step)) {
             // A hit lies on the way through, and Newton from m left it: the first one there.
-            const nurbs::ray::Hit h = first_of_pair(m, n, ray, planes, t_min, step);
+            const nurbs::ray::Hit h = first_on_way(m, n.t, &n.uv, ray, planes, t_min, step);
             if (h.face < 0) break;
             e = {true, h.uv, h.point, h.t};
           }
@@ -194,6 +251,13 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material(m.face, e.uv))
             best = {e.t, m.face, e.uv, e.point, m.t};
           m = n;  // the next crossing (the face behind t_min, or trimmed away here)
+        }
+        // The BVH casts the ray again, and may miss a grazing hit its patches do not show: the hits
+        // Newton finds beside the edges it passes and on the way through the last slab it entered.
+        if (edge.boundary) near_edge[k] = near_boundaries(edge, ray, planes, t_min, step);
+        if (way.first.triangle >= 0) {
+          const nurbs::ray::Hit h = first_on_way(way.first, way.second, nullptr, ray, planes, t_min, step);
+          if (h.face >= 0 && (near_edge[k].face < 0 || h.t < near_edge[k].t)) near_edge[k] = h;
         }
         again[k] = 1;
       },
@@ -206,7 +270,10 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
     nurbs::ray::TraversalStats stats;
     const std::vector<nurbs::ray::Hit> h =
         nurbs::ray::cast_rays_parallel(scene_, rest, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);
-    for (size_t i = 0; i < rest.size(); ++i) hits[where[i]] = h[i];
+    for (size_t i = 0; i < rest.size(); ++i) {
+      const nurbs::ray::Hit& e = near_edge[where[i]];
+      hits[where[i]] = e.face >= 0 && (h[i].face < 0 || e.t < h[i].t) ? e : h[i];
+    }
     figures_.box_tests += stats.box_tests;
     figures_.patch_tests += stats.patch_tests;
     figures_.fallbacks += (long long)rest.size();

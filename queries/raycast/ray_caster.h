@@ -86,10 +86,18 @@ class RayCaster {
   std::unique_ptr<MeshDistance> mesh_;  ///< RayMethod::Mesh
   /// RayMethod::Mesh: the rays of `chunk` cast through the mesh, the BVH for the rest.
   std::vector<nurbs::ray::Hit> cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min, int threads);
-  /// RayMethod::Mesh: the ray enters a face's slab at `in` and leaves it on the same side at `out`:
-  /// the first material hit on that face between them (none: face -1).
-  nurbs::ray::Hit first_of_pair(const MeshRayHit& in, const MeshRayHit& out, const nurbs::ray::Ray& ray,
-                                const nurbs::ray::RayPlanes& planes, double t_min, double slack) const;
+  /// RayMethod::Mesh: the first material hit on the face of `in` (where the ray enters its slab)
+  /// with t up to t_end (the next crossing), by Newton from starts along the way (between the
+  /// crossings' (u, v) when `out_uv`, the exit's, is given); none: face -1.
+  nurbs::ray::Hit first_on_way(const MeshRayHit& in, double t_end, const glm::dvec2* out_uv, const nurbs::ray::Ray& ray,
+                               const nurbs::ray::RayPlanes& planes, double t_min, double slack) const;
+  /// RayMethod::Mesh: from the ray's first tube or ball `b` on, the faces whose mesh edges it passes
+  /// (up to 8 of them): the nearest material hit Newton finds on them from each edge's ends and
+  /// middle (face -1: none), beside the BVH's answer for the ray.
+  nurbs::ray::Hit near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes,
+                                  double t_min, double step) const;
+  /// The scene's material test of one face.
+  [[nodiscard]] std::function<bool(glm::dvec2)> material(int face) const;
   RayCasterFigures figures_;
 };
 

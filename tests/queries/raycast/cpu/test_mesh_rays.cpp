@@ -4,12 +4,14 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <array>
 #include <utility>
 #include <glm/geometric.hpp>
 
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
 #include "nurbs/model_ops.h"
+#include "nurbs/surface_eval.h"
 #include "queries/raycast/ray_caster.h"
 
 namespace {
@@ -140,4 +142,42 @@ TEST_CASE("rays grazing a sphere: the first of the two hits, by the mesh method 
   CHECK(bvh_wrong == 0);
   MESSAGE(rays.size() << " grazing rays: the mesh method sent " << mesh.figures().fallbacks << " to the BVH; the BVH hit "
                       << bvh_hits);
+}
+
+TEST_CASE("rays through points of trimmed faces at shallow angles: none missed, none beyond the point") {
+  // A ray through a material point p of a face meets the faces at p: the nearest hit lies at p or
+  // before it. Tilted 0.01 to 0.1 from the face's tangent plane, such rays graze it: a pair of
+  // hits close together, the way out of the slab unseen near an edge.
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) faces.push_back(models::random_trimmed_surface(seed));
+  queries::RayCaster mesh(faces, queries::RayCasterOptions{});
+  const auto& scene = mesh.scene();
+  models::Random rng(17);
+  std::vector<nurbs::ray::Ray> rays;
+  const double reach = 0.3 * scene.size;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const auto du = nurbs::surface_domain_u(faces[f].surface), dv = nurbs::surface_domain_v(faces[f].surface);
+    for (int i = 0; i < 400; ++i) {
+      const glm::dvec2 uv(rng.uniform(du.min, du.max), rng.uniform(dv.min, dv.max));
+      if (!scene.is_material(int(f), uv)) continue;
+      const auto d = nurbs::surface_derivatives(faces[f].surface, uv.x, uv.y);
+      const glm::dvec3 n = glm::cross(d.su, d.sv);
+      if (glm::length(n) == 0.0) continue;
+      const double a = rng.uniform(0.0, 2.0 * M_PI), tilt = std::array{0.01, 0.03, 0.1}[size_t(i % 3)];
+      glm::dvec3 dir = glm::normalize(std::cos(a) * glm::normalize(d.su) + std::sin(a) * glm::normalize(d.sv));
+      dir = glm::normalize(dir + (i % 2 ? tilt : -tilt) * glm::normalize(n));
+      rays.push_back({d.s - reach * dir, dir});
+    }
+  }
+  const auto m = mesh.cast(rays, 0.0);
+  int missed = 0, beyond = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    missed += m[k].face < 0;
+    beyond += m[k].face >= 0 && m[k].t > reach + 1e-7 * scene.size;
+  }
+  CAPTURE(rays.size());
+  CHECK(rays.size() > 1000);
+  CHECK(missed == 0);
+  CHECK(beyond == 0);
+  MESSAGE(rays.size() << " rays through face points: " << mesh.figures().fallbacks << " to the BVH");
 }
