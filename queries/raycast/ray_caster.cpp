@@ -137,7 +137,7 @@ nurbs::ray::Hit RayCaster::first_on_way(const MeshRayHit& in, double t_end, cons
   // (u, v) the ray's motion along the face reaches from `in` (its rate there); each start near a
   // root finds it. Near a grazing pair Newton converges slowly (the ray almost tangent): more steps
   // than a crossing's.
-  constexpr int kStarts = 16, kSteps = 40;
+  constexpr int kStarts = 16, kSteps = 20;
   const nurbs::TrimmedSurface& face = scene_.faces[size_t(in.face)];
   const nurbs::SurfaceTangents d = nurbs::surface_tangents(face.surface, in.uv.x, in.uv.y);
   const glm::dvec2 rate = nurbs::ray::uv_rate(d.su, d.sv, ray.direction);
@@ -147,13 +147,23 @@ nurbs::ray::Hit RayCaster::first_on_way(const MeshRayHit& in, double t_end, cons
     if (out_uv) starts.push_back(in.uv + f * (*out_uv - in.uv));
     if (rate == rate) starts.push_back(in.uv + (f * (t_end - in.t)) * rate);
   }
-  nurbs::ray::Hit h;
+  nurbs::ray::ExactHit first;
   for (const glm::dvec2 uv : starts) {
-    const nurbs::ray::ExactHit e = scene_.refine_first(in.face, ray, planes, uv, t_min, material(in.face), kSteps);
-    if (!e.ok || e.t < in.t - slack || e.t > t_end + slack || (h.face >= 0 && e.t >= h.t)) continue;
-    h = {e.t, in.face, e.uv, e.point, in.t};
+    const nurbs::ray::ExactHit e = scene_.refine(in.face, ray, planes, uv, kSteps);
+    if (!e.ok || !(e.t > t_min) || e.t < in.t - slack || e.t > t_end + slack || (first.ok && e.t >= first.t) ||
+        !scene_.is_material(in.face, e.uv))
+      continue;
+    first = e;
   }
-  return h;
+  return earliest(in.face, first, ray, planes, t_min, in.t);
+}
+
+nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
+                                    const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
+  if (!found.ok) return {};
+  const nurbs::ray::ExactHit back = scene_.look_back(face, ray, planes, found, t_min, material(face));
+  const nurbs::ray::ExactHit& e = back.ok ? back : found;
+  return {e.t, face, e.uv, e.point, t_crossing};
 }
 
 std::function<bool(glm::dvec2)> RayCaster::material(int face) const {
@@ -167,16 +177,19 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
   // passes, from the edge's ends and middle, and from starts along the way from there to the next
   // crossing of a shell.
   const nurbs::TriangleMesh& mesh = mesh_->tessellation().mesh;
-  constexpr int kSteps = 40;
+  constexpr int kSteps = 20;
   nurbs::ray::Hit h;
   std::vector<MeshRayHit> entries;  // per face, its first edge on the way (uv: the edge's middle)
   for (int k = 0; k < 8 && b.boundary; ++k) {
     if (b.face >= 0 && b.edge.x >= 0 && size_t(std::max(b.edge.x, b.edge.y)) < mesh.uv.size()) {
       const glm::dvec2 a = mesh.uv[size_t(b.edge.x)], c = mesh.uv[size_t(b.edge.y)];
+      nurbs::ray::ExactHit first;
       for (const glm::dvec2 start : {a, c, 0.5 * (a + c)}) {
-        const nurbs::ray::ExactHit e = scene_.refine_first(b.face, ray, planes, start, t_min, material(b.face), kSteps);
-        if (e.ok && (h.face < 0 || e.t < h.t)) h = {e.t, b.face, e.uv, e.point, b.t};
+        const nurbs::ray::ExactHit e = scene_.refine(b.face, ray, planes, start, kSteps);
+        if (e.ok && e.t > t_min && (!first.ok || e.t < first.t) && scene_.is_material(b.face, e.uv)) first = e;
       }
+      const nurbs::ray::Hit e = earliest(b.face, first, ray, planes, t_min, b.t);
+      if (e.face >= 0 && (h.face < 0 || e.t < h.t)) h = e;
       if (std::none_of(entries.begin(), entries.end(), [&](const MeshRayHit& x) { return x.face == b.face; })) {
         MeshRayHit in = b;
         in.uv = 0.5 * (a + c);

@@ -96,6 +96,10 @@ class RayCaster {
   /// middle (face -1: none), beside the BVH's answer for the ray.
   nurbs::ray::Hit near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes,
                                   double t_min, double step) const;
+  /// `found` (an exact material hit on `face`, or none: ok false) or the first of a grazing pair
+  /// before it (Scene::look_back), as a hit; face -1 for none.
+  nurbs::ray::Hit earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
+                           const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const;
   /// The scene's material test of one face.
   [[nodiscard]] std::function<bool(glm::dvec2)> material(int face) const;
   RayCasterFigures figures_;
