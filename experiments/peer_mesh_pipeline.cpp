@@ -84,19 +84,27 @@ Mesh collect(const TopoDS_Shape& shape) {
   return m;
 }
 
-/// Rows of `per_row` numbers from a text file (spaces or commas).
+/// The numbers of one line (spaces or commas).
+std::vector<double> numbers(std::string line) {
+  std::replace(line.begin(), line.end(), ',', ' ');
+  std::istringstream s(line);
+  std::vector<double> out;
+  double v = 0.0;
+  while (s >> v) out.push_back(v);
+  return out;
+}
+
+/// Rows of `per_row` numbers from a text file.
 std::vector<double> read_rows(const std::string& path, size_t per_row) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot be read");
   std::vector<double> out;
   std::string line;
   while (std::getline(in, line)) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream s(line);
-    double v = 0.0;
-    size_t n = 0;
-    while (s >> v) out.push_back(v), ++n;
-    if (n != 0 && n != per_row) throw std::runtime_error(path + ": a line of " + std::to_string(n) + " numbers");
+    const std::vector<double> row = numbers(line);
+    if (!row.empty() && row.size() != per_row)
+      throw std::runtime_error(path + ": a line of " + std::to_string(row.size()) + " numbers");
+    out.insert(out.end(), row.begin(), row.end());
   }
   return out;
 }
@@ -109,17 +117,6 @@ void parallel(size_t n, unsigned threads, F f) {
       for (size_t i = t; i < n; i += threads) f(i);
     });
   for (std::thread& th : pool) th.join();
-}
-
-/// The same from one line of text ("DX,DY,DZ").
-std::vector<double> read_rows_text(std::string line, size_t count) {
-  std::replace(line.begin(), line.end(), ',', ' ');
-  std::istringstream s(line);
-  std::vector<double> out;
-  double v = 0.0;
-  while (s >> v) out.push_back(v);
-  if (out.size() != count) throw std::runtime_error("'" + line + "': not " + std::to_string(count) + " numbers");
-  return out;
 }
 
 double diagonal(const Mesh& m) {
@@ -262,7 +259,8 @@ int main(int argc, char** argv) {
       build_seconds += sample_seconds;
     } else {
       t0 = peer::Clock::now();
-      const std::vector<double> m = read_rows_text(clearance, 3);
+      const std::vector<double> m = numbers(clearance);
+      if (m.size() != 3) throw std::runtime_error("--clearance '" + clearance + "': not three numbers");
       auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
       std::vector<fcl::Vector3d> vertices;
       for (size_t i = 0; i < mesh.xyz.size(); i += 3) vertices.emplace_back(mesh.xyz[i], mesh.xyz[i + 1], mesh.xyz[i + 2]);

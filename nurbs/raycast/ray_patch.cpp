@@ -128,7 +128,7 @@ namespace {
 
 /// x in [d.min, d.max]: across a seam on the other side, else clamped.
 double into(double x, const Interval& d, bool seam) {
-  if (seam && (x < d.min || x > d.max) && d.width() > 0.0) x = d.min + (x - d.min) - std::floor((x - d.min) / d.width()) * d.width();
+  if (seam && (x < d.min || x > d.max) && d.width() > 0.0) x -= std::floor((x - d.min) / d.width()) * d.width();
   return std::clamp(x, d.min, d.max);
 }
 
@@ -200,7 +200,7 @@ glm::dvec2 uv_rate(const glm::dvec3& su, const glm::dvec3& sv, const glm::dvec3&
   return {(g * bu - f * bv) / det, (e * bv - f * bu) / det};
 }
 
-ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
+ExactHit earlier_root(const BezierForm& form, const Surface& surface, const Ray& ray, const RayPlanes& planes,
                       const ExactHit& found, int iterations, double tolerance, Seams seams) {
   const SurfaceDerivatives d = surface_derivatives(surface, found.uv.x, found.uv.y);
   const glm::dvec3 cross = glm::cross(d.su, d.sv);
@@ -219,8 +219,7 @@ ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray&
   ExactHit best;
   for (const double k : {1.0, 0.5, 1.5}) {
     const glm::dvec2 start = found.uv + k * s * w;
-    const ExactHit h = form ? refine_on_surface(*form, surface, ray, planes, start, iterations, tolerance, seams)
-                            : refine_on_surface(surface, ray, planes, start, iterations, tolerance, seams);
+    const ExactHit h = refine_on_surface(form, surface, ray, planes, start, iterations, tolerance, seams);
     if (h.ok && h.t < found.t - 1e-9 * std::abs(s) && (!best.ok || h.t < best.t)) best = h;
   }
   return best;

@@ -106,7 +106,7 @@ struct ExactHit {
 /// second form along the ray's motion on it) predicts the pair's other root at s = 2 c / q; when
 /// that lies before the hit, Newton from there (and from half and 1.5 times as far): the earliest
 /// exact root it finds before `found`, ok false when none.
-[[nodiscard]] ExactHit earlier_root(const BezierForm* form, const Surface& surface, const Ray& ray,
+[[nodiscard]] ExactHit earlier_root(const BezierForm& form, const Surface& surface, const Ray& ray,
                                     const RayPlanes& planes, const ExactHit& found, int iterations, double tolerance,
                                     Seams seams = {});
 

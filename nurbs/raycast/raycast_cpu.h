@@ -58,15 +58,22 @@ struct Scene {
   /// shared by the scene's copies.
   std::shared_ptr<const std::vector<BezierForm>> forms;
   std::vector<Seams> seams;  ///< per face (build_scene): Newton steps continue across them
+  [[nodiscard]] Seams seams_of(int f) const { return f < int(seams.size()) ? seams[size_t(f)] : Seams{}; }
+  /// Face f's Bézier form; an empty one (the exact steps then evaluate the surface) without forms.
+  [[nodiscard]] const BezierForm& form_of(int f) const {
+    static const BezierForm none;
+    return forms ? (*forms)[size_t(f)] : none;
+  }
+  /// is_material of face f, as a predicate of (u, v) (look_back, refine_first).
+  [[nodiscard]] auto material_test(int f) const {
+    return [this, f](glm::dvec2 uv) { return is_material(f, uv); };
+  }
   /// The exact step on face f (refine_on_surface with its Bézier form, the scene's iterations unless
   /// `iterations` is given, and its residual).
   [[nodiscard]] ExactHit refine(int f, const Ray& ray, const RayPlanes& planes, glm::dvec2 uv, int iterations = 0) const {
-    const TrimmedSurface& face = faces[size_t(f)];
-    const Seams s = f < int(seams.size()) ? seams[size_t(f)] : Seams{};
     const int steps = iterations > 0 ? iterations : options.exact_iterations;
-    return forms ? refine_on_surface((*forms)[size_t(f)], face.surface, ray, planes, uv, steps,
-                                     options.exact_residual * size, s)
-                 : refine_on_surface(face.surface, ray, planes, uv, steps, options.exact_residual * size, s);
+    return refine_on_surface(form_of(f), faces[size_t(f)].surface, ray, planes, uv, steps,
+                             options.exact_residual * size, seams_of(f));
   }
   /// From an exact hit `found` on face f, earlier_root while it finds one (a grazing pair; none
   /// without options.grazing_pairs): the earliest root before `found` and after t_min whose (u, v)
@@ -75,12 +82,11 @@ struct Scene {
   [[nodiscard]] ExactHit look_back(int f, const Ray& ray, const RayPlanes& planes, const ExactHit& found, double t_min,
                                    const Material& material) const {
     ExactHit first, at = found;
-    const BezierForm* form = forms ? &(*forms)[size_t(f)] : nullptr;
     for (int k = 0; k < (options.grazing_pairs ? 3 : 0); ++k) {
       // Near a grazing pair Newton converges slowly (the ray almost tangent): more steps.
-      const ExactHit a = earlier_root(form, faces[size_t(f)].surface, ray, planes, at,
+      const ExactHit a = earlier_root(form_of(f), faces[size_t(f)].surface, ray, planes, at,
                                       std::max(40, options.exact_iterations), options.exact_residual * size,
-                                      f < int(seams.size()) ? seams[size_t(f)] : Seams{});
+                                      seams_of(f));
       if (!a.ok || !(a.t > t_min)) break;
       if (material(a.uv)) first = a;
       at = a;

@@ -18,6 +18,11 @@
 namespace queries {
 namespace {
 
+/// best becomes h where h is a hit nearer than it (or best none).
+void keep_nearer(nurbs::ray::Hit& best, const nurbs::ray::Hit& h) {
+  if (h.face >= 0 && (best.face < 0 || h.t < best.t)) best = h;
+}
+
 /// DACRT keeps no structure: each thread takes a contiguous part of the rays.
 std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, const std::vector<nurbs::ray::Ray>& rays,
                                             double t_min, int threads, const nurbs::ray::DacrtOptions& options,
@@ -161,13 +166,9 @@ nurbs::ray::Hit RayCaster::first_on_way(const MeshRayHit& in, double t_end, cons
 nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
                                     const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
   if (!found.ok) return {};
-  const nurbs::ray::ExactHit back = scene_.look_back(face, ray, planes, found, t_min, material(face));
+  const nurbs::ray::ExactHit back = scene_.look_back(face, ray, planes, found, t_min, scene_.material_test(face));
   const nurbs::ray::ExactHit& e = back.ok ? back : found;
   return {e.t, face, e.uv, e.point, t_crossing};
-}
-
-std::function<bool(glm::dvec2)> RayCaster::material(int face) const {
-  return [this, face](glm::dvec2 uv) { return scene_.is_material(face, uv); };
 }
 
 nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray,
@@ -188,8 +189,7 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
         const nurbs::ray::ExactHit e = scene_.refine(b.face, ray, planes, start, kSteps);
         if (e.ok && e.t > t_min && (!first.ok || e.t < first.t) && scene_.is_material(b.face, e.uv)) first = e;
       }
-      const nurbs::ray::Hit e = earliest(b.face, first, ray, planes, t_min, b.t);
-      if (e.face >= 0 && (h.face < 0 || e.t < h.t)) h = e;
+      keep_nearer(h, earliest(b.face, first, ray, planes, t_min, b.t));
       if (std::none_of(entries.begin(), entries.end(), [&](const MeshRayHit& x) { return x.face == b.face; })) {
         MeshRayHit in = b;
         in.uv = 0.5 * (a + c);
@@ -200,8 +200,7 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
   }
   const double t_end = b.triangle >= 0 ? b.t : entries.empty() ? 0.0 : entries.back().t + 64.0 * mesh_->eps();
   for (const MeshRayHit& in : entries) {
-    const nurbs::ray::Hit w = first_on_way(in, t_end, nullptr, ray, planes, t_min, step);
-    if (w.face >= 0 && (h.face < 0 || w.t < h.t)) h = w;
+    keep_nearer(h, first_on_way(in, t_end, nullptr, ray, planes, t_min, step));
   }
   return h;
 }
@@ -245,8 +244,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           // whose second Newton from m may find).
           const bool through = m.entering && n.triangle >= 0 && !n.boundary && n.face == m.face && !n.entering;
           if (through && n.shell == m.shell) {
-            const nurbs::ray::Hit h = first_on_way(m, n.t, &n.uv, ray, planes, t_min, step);
-            if (h.face >= 0 && (best.face < 0 || h.t < best.t)) best = h;
+            keep_nearer(best, first_on_way(m, n.t, &n.uv, ray, planes, t_min, step));
             m = mesh_->first_hit(ray.origin, ray.direction, n.t + step, 3.4e38);
             continue;
           }
@@ -268,10 +266,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         // The BVH casts the ray again, and may miss a grazing hit its patches do not show: the hits
         // Newton finds beside the edges it passes and on the way through the last slab it entered.
         if (edge.boundary) near_edge[k] = near_boundaries(edge, ray, planes, t_min, step);
-        if (way.first.triangle >= 0) {
-          const nurbs::ray::Hit h = first_on_way(way.first, way.second, nullptr, ray, planes, t_min, step);
-          if (h.face >= 0 && (near_edge[k].face < 0 || h.t < near_edge[k].t)) near_edge[k] = h;
-        }
+        if (way.first.triangle >= 0)
+          keep_nearer(near_edge[k], first_on_way(way.first, way.second, nullptr, ray, planes, t_min, step));
         again[k] = 1;
       },
       256);
@@ -284,8 +280,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
     const std::vector<nurbs::ray::Hit> h =
         nurbs::ray::cast_rays_parallel(scene_, rest, t_min, nurbs::ray::Traversal::Stackless, threads, &stats);
     for (size_t i = 0; i < rest.size(); ++i) {
-      const nurbs::ray::Hit& e = near_edge[where[i]];
-      hits[where[i]] = e.face >= 0 && (h[i].face < 0 || e.t < h[i].t) ? e : h[i];
+      hits[where[i]] = h[i];
+      keep_nearer(hits[where[i]], near_edge[where[i]]);
     }
     figures_.box_tests += stats.box_tests;
     figures_.patch_tests += stats.patch_tests;

@@ -100,8 +100,6 @@ class RayCaster {
   /// before it (Scene::look_back), as a hit; face -1 for none.
   nurbs::ray::Hit earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
                            const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const;
-  /// The scene's material test of one face.
-  [[nodiscard]] std::function<bool(glm::dvec2)> material(int face) const;
   RayCasterFigures figures_;
 };
 

@@ -235,8 +235,8 @@ Hit GpuRaycaster::finish(const Ray& ray, const RawRayHit& raw, double t_min, lon
                       p.range_v.min + double(raw.t_param) * (p.range_v.max - p.range_v.min));
   // The first of a grazing pair too (Scene::refine_first): an earlier root on this face is nearer
   // than anything the pass put before it.
-  const nurbs::ray::ExactHit e = scene_.refine_first(p.face, ray, nurbs::ray::ray_planes(ray), uv, t_min,
-                                                     [&](glm::dvec2 q) { return scene_.is_material(p.face, q); });
+  const nurbs::ray::ExactHit e =
+      scene_.refine_first(p.face, ray, nurbs::ray::ray_planes(ray), uv, t_min, scene_.material_test(p.face));
   if (!e.ok) return again();
   return {e.t, p.face, e.uv, e.point, double(raw.t)};
 }
