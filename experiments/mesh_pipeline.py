@@ -21,7 +21,7 @@ ratio (mesh time / ours), and the mesh answers' error against ours:
     d| over the deflection, and OpenCASCADE's BRepExtrema_DistShapeShape, its time and its distance.
 
   PYTHONPATH= python3 experiments/mesh_pipeline.py --cli build/cli/nurbsgl \\
-      --peer build-peer/experiments/peer_mesh_pipeline [--occt build-peer/experiments/peer_occt_distance] \\
+      --peer build-bench/experiments/peer_mesh_pipeline [--occt build-bench/experiments/peer_occt_distance] \\
       --out DIR [--points 20000 ...] [--rays 100000 ...] [--thickness 100000 ...]
       [--tol 1e-4 1e-5] [--repeat 3] [--models NAME ...]
 Writes DIR/mesh_pipeline.csv, prints the table, and (unless --no-docs) puts the table in
@@ -106,7 +106,12 @@ def read_column(path, column):
 
 def publish(args, rows, faces):
     """docs/benchmarks.md's section of this run, and the README's headline rows for points and rays."""
-    command = "experiments/mesh_pipeline.py " + " ".join(sys.argv[1:])
+    # The command as a reader runs it: the peers where bench.sh builds them, DIR for the output.
+    generic = {"--peer": "build-bench/experiments/peer_mesh_pipeline",
+               "--occt": "build-bench/experiments/peer_occt_distance", "--out": "DIR"}
+    words = sys.argv[1:]
+    words = [generic.get(words[i - 1], w) if i > 0 else w for i, w in enumerate(words)]
+    command = "experiments/mesh_pipeline.py " + " ".join(words)
     gl = json.loads(subprocess.run([args.cli, "gpu-info", "--json"], capture_output=True, text=True).stdout or "{}")
     shown = [{k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()} for r in rows]
     report.write_benchmarks("Against the mesh pipeline", command, gl,

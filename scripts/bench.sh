@@ -22,8 +22,9 @@ build-bench/experiments/bench_peer_occt --gl egl
 echo
 # Trim classification vs OpenCASCADE's BRepClass_FaceClassifier on every shared IGES model.
 build-bench/experiments/peer_occt_classify --csv build-bench/peer_occt_classify.csv
-# Points and rays against the mesh pipeline (BRepMesh, CGAL's AABB tree, Embree) on the shared models.
+# Points, rays, thickness and clearance against the mesh pipeline (BRepMesh, CGAL, Embree, FCL), OpenCASCADE beside.
 if [[ -x build-bench/experiments/peer_mesh_pipeline ]]; then
   /usr/bin/python3 experiments/mesh_pipeline.py --cli build-bench/cli/nurbsgl \
-    --peer build-bench/experiments/peer_mesh_pipeline --out build-bench/experiments/mesh_pipeline
+    --peer build-bench/experiments/peer_mesh_pipeline --occt build-bench/experiments/peer_occt_distance \
+    --out build-bench/experiments/mesh_pipeline
 fi
