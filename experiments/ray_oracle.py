@@ -7,7 +7,9 @@ samples on the faces; from each, a ray along the chord to the next sample of the
 by 0.003, 0.01, 0.03 or 0.1 (radians, random direction) so that it crosses the face there at a
 shallow angle (grazing rays, where Newton's steps and float BVHs lose hits), starting 0.3 model
 sizes before p. `nurbsgl raycast --method M --csv` answers them; the table counts the rays missed
-and the rays answered beyond p (by more than 1e-7 of the size), per method and tilt.
+and the rays answered beyond p (by more than 1e-7 of the size), per method and tilt, and of those
+the ones whose p lies on its face's trim edge (`nurbsgl distance`'s on_trim_edge: the sampler puts
+points on the edges, where a ray may pass between two faces that do not quite meet).
 
   PYTHONPATH= python3 experiments/ray_oracle.py --cli build/cli/nurbsgl --out DIR [--samples 20000]
       [--methods mesh bvh] [--models FILE ...]
@@ -88,23 +90,37 @@ def main():
         for method in args.methods:
             answers = out / f"{name}.{method}.csv"
             cli(args, "raycast", model, "--rays", str(rays), "--method", method, "--csv", str(answers))
+            rays_in = [[float(x) for x in line.split()] for line in open(rays)]
+            wrong = []  # (ray index, its point p)
+            for k, r in enumerate(csv.DictReader(open(answers))):
+                if r["hit"] != "true" or float(r["t"]) > reach + 1e-7 * size:
+                    o = rays_in[k]
+                    wrong.append((k, [o[i] + reach * o[i + 3] for i in range(3)]))
+            at_edge = set()
+            if wrong:
+                points = out / f"{name}.{method}.wrong.txt"
+                points.write_text("".join(" ".join(repr(x) for x in p) + "\n" for _, p in wrong))
+                results = json.loads(cli(args, "distance", model, "--points", str(points), "--json"))["results"]
+                at_edge = {k for (k, _), r in zip(wrong, results) if r["on_trim_edge"]}
             for tilt in TILTS:
-                missed = beyond = count = 0
-                for r, t in zip(csv.DictReader(open(answers)), tilts):
+                missed = beyond = count = edge = 0
+                for k, (r, t) in enumerate(zip(csv.DictReader(open(answers)), tilts)):
                     if t != tilt:
                         continue
                     count += 1
                     missed += r["hit"] != "true"
                     beyond += r["hit"] == "true" and float(r["t"]) > reach + 1e-7 * size
+                    edge += k in at_edge
                 rows.append({"model": name, "method": method, "tilt": tilt, "rays": count, "missed": missed,
-                             "beyond": beyond})
+                             "beyond": beyond, "at_trim_edge": edge})
     with open(out / "ray_oracle.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["model", "method", "tilt", "rays", "missed", "beyond"])
+        w = csv.DictWriter(f, fieldnames=["model", "method", "tilt", "rays", "missed", "beyond", "at_trim_edge"])
         w.writeheader()
         w.writerows(rows)
-    print(f"{'model':28} {'method':6} {'tilt':>6} {'rays':>6} {'missed':>7} {'beyond':>7}")
+    print(f"{'model':28} {'method':6} {'tilt':>6} {'rays':>6} {'missed':>7} {'beyond':>7} {'at edge':>8}")
     for r in rows:
-        print(f"{r['model']:28} {r['method']:6} {r['tilt']:>6} {r['rays']:>6} {r['missed']:>7} {r['beyond']:>7}")
+        print(f"{r['model']:28} {r['method']:6} {r['tilt']:>6} {r['rays']:>6} {r['missed']:>7} {r['beyond']:>7}"
+              f" {r['at_trim_edge']:>8}")
     return 0
 
 

@@ -54,6 +54,57 @@ bool closest_triangle(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+/// One point's search for the slabs and tubes that may hold it (slabs_at).
+struct SlabSearch {
+  const nurbs::TriangleMesh* mesh = nullptr;
+  const std::vector<glm::ivec2>* tubes = nullptr;
+  const std::vector<int>* balls = nullptr;
+  int tube_geometry = -1;
+  glm::dvec3 p{0.0};
+  double shell_reach = 0.0, tube_reach = 0.0;  ///< with the float allowance
+  SlabsAt* out = nullptr;
+};
+
+bool slab_holding(RTCPointQueryFunctionArguments* args) {
+  SlabSearch& s = *static_cast<SlabSearch*>(args->userPtr);
+  const nurbs::TriangleMesh& m = *s.mesh;
+  MeshRayHit h;
+  if (args->geomID <= 1) {
+    const glm::ivec3 t = m.triangles[args->primID];
+    glm::dvec3 w;
+    const glm::dvec3 q = closest_on_triangle(s.p, m.positions[size_t(t.x)], m.positions[size_t(t.y)],
+                                             m.positions[size_t(t.z)], w);
+    h.t = glm::length(q - s.p);
+    if (!(h.t <= s.shell_reach)) return false;
+    h.triangle = int(args->primID);
+    h.face = m.triangle_face[args->primID];
+    h.uv = w.x * m.uv[size_t(t.x)] + w.y * m.uv[size_t(t.y)] + w.z * m.uv[size_t(t.z)];
+  } else {
+    const bool tube = int(args->geomID) == s.tube_geometry;
+    const glm::ivec2 e = tube ? (*s.tubes)[args->primID] : glm::ivec2((*s.balls)[args->primID]);
+    const glm::dvec3 a = m.positions[size_t(e.x)], b = m.positions[size_t(e.y)];
+    const double ab = glm::dot(b - a, b - a);
+    const double f = ab > 0.0 ? std::clamp(glm::dot(s.p - a, b - a) / ab, 0.0, 1.0) : 0.0;
+    h.t = glm::length(a + f * (b - a) - s.p);
+    if (!(h.t <= s.tube_reach)) return false;
+    h.boundary = true;
+    h.edge = e;
+    h.face = m.vertex_face.empty() ? -1 : m.vertex_face[size_t(e.x)];
+    h.uv = (1.0 - f) * m.uv[size_t(e.x)] + f * m.uv[size_t(e.y)];
+  }
+  SlabsAt& out = *s.out;
+  for (int i = 0; i < out.count; ++i)
+    if (out.faces[size_t(i)].face == h.face) {
+      if (h.t < out.faces[size_t(i)].t) out.faces[size_t(i)] = h;
+      return false;
+    }
+  if (out.count < int(out.faces.size()))
+    out.faces[size_t(out.count++)] = h;
+  else
+    out.more = true;
+  return false;
+}
+
 }  // namespace
 
 struct MeshDistance::Scene {
@@ -279,6 +330,30 @@ std::vector<PointDistance> MeshDistance::query(std::span<const glm::dvec3> point
     if (progress && thread == 0) progress(std::min(total, points.size()), points.size());
   });
   if (progress) progress(points.size(), points.size());
+  return out;
+}
+
+SlabsAt MeshDistance::slabs_at(const glm::dvec3& p) const {
+  SlabsAt out;
+  if (!rays_) return out;
+  SlabSearch s;
+  s.mesh = &tess_.mesh;
+  s.tubes = &boundary_vertices_;
+  s.balls = &ball_vertices_;
+  s.tube_geometry = tube_geometry_;
+  s.p = p;
+  const double slack = float_slack(p);
+  s.shell_reach = kShellOffset * eps_ + slack;
+  s.tube_reach = kTubeRadius * eps_ + slack;
+  s.out = &out;
+  const glm::dvec3 q = p - centre_;
+  RTCPointQuery pq;
+  pq.x = float(q.x), pq.y = float(q.y), pq.z = float(q.z);
+  pq.time = 0.0f;
+  pq.radius = float(std::max(s.shell_reach, s.tube_reach) + slack);
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene_->scene, &pq, &context, slab_holding, &s);
   return out;
 }
 

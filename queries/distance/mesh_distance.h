@@ -26,6 +26,7 @@
 /// point (2^-18 (R + |p - centre|), R the mesh's radius, 64 times the rounding of the coordinates),
 /// so no triangle nearer than the best in double is pruned: the answer is the mesh's closest
 /// triangle in double, with no float term in its bound.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <glm/vec2.hpp>
@@ -59,6 +60,15 @@ struct MeshRayHit {
   glm::ivec2 edge{-1, -1};
 };
 
+/// The faces whose slab or tube may hold a point (MeshDistance::slabs_at).
+struct SlabsAt {
+  int count = 0;
+  /// Per face: `face`, `uv` on its mesh nearest the point, `t` that distance; `triangle` the
+  /// nearest shell's mesh triangle, or -1 (with `boundary`) where a tube or ball is nearest.
+  std::array<MeshRayHit, 8> faces;
+  bool more = false;  ///< more faces than room for them
+};
+
 class MeshDistance {
  public:
   /// Tessellates `faces` within `eps` (absolute; guaranteed mode, Subdivision::Grid) on `threads`
@@ -86,6 +96,11 @@ class MeshDistance {
   /// lie up to eps outside its mesh, so that the ray may meet the face and miss its shells.
   [[nodiscard]] MeshRayHit first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
                                      double t_max) const;
+  /// Built for rays: the faces whose slab (between the shells) or tube may hold p: those with a
+  /// mesh triangle within 1.5 eps of p, or a mesh boundary edge or ball within 2 eps, by Embree's
+  /// point query with the float rounding allowance added. A ray that starts there may meet such a
+  /// face before it crosses any shell or tube.
+  [[nodiscard]] SlabsAt slabs_at(const glm::dvec3& p) const;
   /// The float rounding allowance at a point p (a query point, a ray's origin): 2^-18 (R +
   /// |p - centre|), the radius a point query is grown by; a step past a ray's hit by more than it
   /// leaves the hit's triangle behind.

@@ -1,6 +1,7 @@
 #include "queries/raycast/ray_caster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <chrono>
 #include <future>
@@ -135,32 +136,31 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   return out;
 }
 
-nurbs::ray::Hit RayCaster::first_on_way(const MeshRayHit& in, double t_end, const glm::dvec2* out_uv,
-                                        const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes, double t_min,
-                                        double slack) const {
+nurbs::ray::Hit RayCaster::first_on_way(const OnWay& way, const nurbs::ray::Ray& ray,
+                                        const nurbs::ray::RayPlanes& planes, double t_min, double slack) const {
   // Newton from points along the way: from the crossings' (u, v) and between them, and from the
-  // (u, v) the ray's motion along the face reaches from `in` (its rate there); each start near a
-  // root finds it. Near a grazing pair Newton converges slowly (the ray almost tangent): more steps
-  // than a crossing's.
+  // (u, v) the ray's motion along the face reaches from the anchor (its rate there); each start
+  // near a root finds it. Near a grazing pair Newton converges slowly (the ray almost tangent):
+  // more steps than a crossing's.
   constexpr int kStarts = 16, kSteps = 20;
-  const nurbs::TrimmedSurface& face = scene_.faces[size_t(in.face)];
-  const nurbs::SurfaceTangents d = nurbs::surface_tangents(face.surface, in.uv.x, in.uv.y);
+  const nurbs::TrimmedSurface& face = scene_.faces[size_t(way.face)];
+  const nurbs::SurfaceTangents d = nurbs::surface_tangents(face.surface, way.uv.x, way.uv.y);
   const glm::dvec2 rate = nurbs::ray::uv_rate(d.su, d.sv, ray.direction);
   std::vector<glm::dvec2> starts;
   for (int i = 0; i <= kStarts; ++i) {
-    const double f = double(i) / kStarts;
-    if (out_uv) starts.push_back(in.uv + f * (*out_uv - in.uv));
-    if (rate == rate) starts.push_back(in.uv + (f * (t_end - in.t)) * rate);
+    const double f = double(i) / kStarts, t = way.begin + f * (way.end - way.begin);
+    if (way.to_uv) starts.push_back(way.uv + f * (*way.to_uv - way.uv));
+    if (rate == rate) starts.push_back(way.uv + (t - way.at) * rate);
   }
   nurbs::ray::ExactHit first;
   for (const glm::dvec2 uv : starts) {
-    const nurbs::ray::ExactHit e = scene_.refine(in.face, ray, planes, uv, kSteps);
-    if (!e.ok || !(e.t > t_min) || e.t < in.t - slack || e.t > t_end + slack || (first.ok && e.t >= first.t) ||
-        !scene_.is_material(in.face, e.uv))
+    const nurbs::ray::ExactHit e = scene_.refine(way.face, ray, planes, uv, kSteps);
+    if (!e.ok || !(e.t > t_min) || e.t < way.begin - slack || e.t > way.end + slack || (first.ok && e.t >= first.t) ||
+        !scene_.is_material(way.face, e.uv))
       continue;
     first = e;
   }
-  return earliest(in.face, first, ray, planes, t_min, in.t);
+  return earliest(way.face, first, ray, planes, t_min, way.begin);
 }
 
 nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
@@ -172,17 +172,28 @@ nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found,
 }
 
 nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray,
-                                           const nurbs::ray::RayPlanes& planes, double t_min, double step) const {
+                                           const nurbs::ray::RayPlanes& planes, double t_min, double step,
+                                           const std::vector<OnWay>& from_start) const {
   // A ray grazing a face along its edge meets the face where its bicubic patches may not show it,
-  // and may enter the face's slab there, past its rim: Newton on each face whose edge the ray
-  // passes, from the edge's ends and middle, and from starts along the way from there to the next
-  // crossing of a shell.
+  // and may enter the face's slab there, past its rim, or run inside a narrow face's slab from one
+  // of its tubes to another. From the first tube on, every crossing up to the nearest hit found
+  // (at most 32): Newton on each face whose edge the ray passes, from the edge's ends and middle;
+  // on the way through each slab the ray enters; and on the way from a face's first tube to the
+  // crossing after its last one, or to where the ray leaves a slab it entered by a neighbour's tube.
+  // `from_start`: the slabs that hold the ray's start, each searched from there to the face's
+  // first crossing (or the nearest hit found).
   const nurbs::TriangleMesh& mesh = mesh_->tessellation().mesh;
-  constexpr int kSteps = 20;
+  constexpr int kSteps = 20, kCrossings = 32;
+  const double window = 64.0 * mesh_->eps();
   nurbs::ray::Hit h;
-  std::vector<MeshRayHit> entries;  // per face, its first edge on the way (uv: the edge's middle)
-  for (int k = 0; k < 8 && b.boundary; ++k) {
-    if (b.face >= 0 && b.edge.x >= 0 && size_t(std::max(b.edge.x, b.edge.y)) < mesh.uv.size()) {
+  std::vector<OnWay> tubes = from_start;  // per face, from its first tube to the crossing after its last
+  std::vector<char> ended(from_start.size(), 0);  // of from_start: its face's crossing met
+  std::vector<int> entered;  // faces whose slab the ray entered through a shell on the walk
+  double previous = b.t;
+  for (int k = 0; k < kCrossings && (b.boundary || b.triangle >= 0) && !(h.face >= 0 && b.t > h.t); ++k) {
+    const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, b.t + step, 3.4e38);
+    const double next = n.boundary || n.triangle >= 0 ? n.t : b.t + window;
+    if (b.boundary && b.face >= 0 && b.edge.x >= 0 && size_t(std::max(b.edge.x, b.edge.y)) < mesh.uv.size()) {
       const glm::dvec2 a = mesh.uv[size_t(b.edge.x)], c = mesh.uv[size_t(b.edge.y)];
       nurbs::ray::ExactHit first;
       for (const glm::dvec2 start : {a, c, 0.5 * (a + c)}) {
@@ -190,17 +201,35 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
         if (e.ok && e.t > t_min && (!first.ok || e.t < first.t) && scene_.is_material(b.face, e.uv)) first = e;
       }
       keep_nearer(h, earliest(b.face, first, ray, planes, t_min, b.t));
-      if (std::none_of(entries.begin(), entries.end(), [&](const MeshRayHit& x) { return x.face == b.face; })) {
-        MeshRayHit in = b;
-        in.uv = 0.5 * (a + c);
-        entries.push_back(in);
+      const auto open = std::find_if(tubes.begin(), tubes.end(), [&](const OnWay& w) { return w.face == b.face; });
+      if (open == tubes.end()) {
+        tubes.push_back({b.face, b.t, next, 0.5 * (a + c), b.t, nullptr});
+        ended.push_back(1);
+      } else {
+        open->end = next;
+        ended[size_t(open - tubes.begin())] = 1;
+      }
+    } else if (b.triangle >= 0) {
+      for (size_t i = 0; i < from_start.size(); ++i)
+        if (!ended[i] && tubes[i].face == b.face) tubes[i].end = b.t, ended[i] = 1;
+      if (b.entering) {
+        entered.push_back(b.face);
+        const bool through = n.triangle >= 0 && !n.boundary && n.face == b.face && !n.entering;
+        keep_nearer(h,
+                    first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray, planes, t_min, step));
+      } else if (std::find(entered.begin(), entered.end(), b.face) == entered.end()) {
+        // Leaving a slab the ray never entered through a shell: it came in by a tube.
+        const auto open = std::find_if(tubes.begin(), tubes.end(), [&](const OnWay& w) { return w.face == b.face; });
+        const double from = open != tubes.end() ? open->begin : previous;
+        keep_nearer(h, first_on_way({b.face, from, b.t, b.uv, b.t, nullptr}, ray, planes, t_min, step));
       }
     }
-    b = mesh_->first_hit(ray.origin, ray.direction, b.t + step, 3.4e38);
+    previous = b.t;
+    b = n;
   }
-  const double t_end = b.triangle >= 0 ? b.t : entries.empty() ? 0.0 : entries.back().t + 64.0 * mesh_->eps();
-  for (const MeshRayHit& in : entries) {
-    keep_nearer(h, first_on_way(in, t_end, nullptr, ray, planes, t_min, step));
+  for (size_t i = 0; i < tubes.size(); ++i) {
+    if (!ended[i]) tubes[i].end = h.face >= 0 ? h.t : previous + window;
+    keep_nearer(h, first_on_way(tubes[i], ray, planes, t_min, step));
   }
   return h;
 }
@@ -221,7 +250,30 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         MeshRayHit m = mesh_->first_hit(ray.origin, ray.direction, t_min, 3.4e38);
         MeshRayHit edge;  // the first tube or ball on the way
         std::pair<MeshRayHit, double> way;  // the last slab entered, and the next crossing after it
-        for (int tries = 0; tries < 8; ++tries) {
+        // A ray that starts inside slabs or tubes may meet their faces before it crosses any shell:
+        // each such face is searched from the start to its first crossing (or the nearest hit).
+        const SlabsAt start = mesh_->slabs_at(ray.origin + t_min * ray.direction);
+        std::array<char, 8> open{};
+        for (int i = 0; i < start.count; ++i) open[size_t(i)] = 1;
+        const auto close = [&](int i, double end) {
+          open[size_t(i)] = 0;
+          const MeshRayHit& s = start.faces[size_t(i)];
+          if (end - t_min > 8.0 * eps) {
+            keep_nearer(best, first_on_way({s.face, t_min, end, s.uv, t_min, nullptr}, ray, planes, t_min, step));
+            return;
+          }
+          const nurbs::ray::ExactHit e = scene_.refine(s.face, ray, planes, s.uv);
+          if (e.ok && e.t > t_min && e.t <= end + step && scene_.is_material(s.face, e.uv))
+            keep_nearer(best, earliest(s.face, e, ray, planes, t_min, t_min));
+        };
+        const auto close_all = [&](double end) {
+          for (int i = 0; i < start.count; ++i)
+            if (open[size_t(i)]) close(i, end);
+        };
+        for (int tries = 0; tries < 8 && !start.more; ++tries) {
+          if (m.triangle >= 0)
+            for (int i = 0; i < start.count; ++i)
+              if (open[size_t(i)] && start.faces[size_t(i)].face == m.face) close(i, m.t);
           // Near a face's edge before the next crossing (and before the best hit), the face may
           // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
           // face's): the BVH decides.
@@ -232,10 +284,15 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           // (its own face, a trimmed part) and finds none after it may have slipped along an edge
           // of the triangles in float: the BVH decides.
           if (best.face >= 0 && (m.boundary || m.triangle < 0 || m.t >= best.t)) {
+            close_all(best.t);
             hits[k] = best;
             return;
           }
-          if (m.triangle < 0 && tries == 0) return;
+          if (m.triangle < 0 && tries == 0) {
+            close_all(t_min + window);
+            hits[k] = best;
+            return;
+          }
           if (m.triangle < 0) break;
           const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, m.t + step, 3.4e38);
           if (n.boundary && !edge.boundary) edge = n;
@@ -244,30 +301,56 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           // whose second Newton from m may find).
           const bool through = m.entering && n.triangle >= 0 && !n.boundary && n.face == m.face && !n.entering;
           if (through && n.shell == m.shell) {
-            keep_nearer(best, first_on_way(m, n.t, &n.uv, ray, planes, t_min, step));
+            keep_nearer(best, first_on_way({m.face, m.t, n.t, m.uv, m.t, &n.uv}, ray, planes, t_min, step));
             m = mesh_->first_hit(ray.origin, ray.direction, n.t + step, 3.4e38);
             continue;
           }
           if (m.entering) way = {m, n.triangle >= 0 || n.boundary ? n.t : m.t + window};
           nurbs::ray::ExactHit e = scene_.refine(m.face, ray, planes, m.uv);
-          if (through && !(e.ok && e.t >= m.t - step && e.t <= n.t + step)) {
-            // A hit lies on the way through, and Newton from m left it: the first one there.
-            const nurbs::ray::Hit h = first_on_way(m, n.t, &n.uv, ray, planes, t_min, step);
+          const double next = n.triangle >= 0 || n.boundary ? n.t : m.t + window;
+          const bool inside = e.ok && e.t >= m.t - step && e.t <= next + step;
+          const bool near = e.ok && std::abs(e.t - m.t) <= window;
+          bool searched = false;
+          if ((through && !inside) || (m.entering && !near && next - m.t > window)) {
+            // A hit lies on the way through, and Newton from m left it; or the ray runs a long way
+            // inside the slab (grazing it) to the next crossing: the first hit there.
+            const nurbs::ray::Hit h =
+                first_on_way({m.face, m.t, next, m.uv, m.t, through ? &n.uv : nullptr}, ray, planes, t_min, step);
             if (h.face < 0) break;
             e = {true, h.uv, h.point, h.t};
+            searched = true;
+          } else if (!m.entering && !near &&
+                     std::any_of(start.faces.begin(), start.faces.begin() + start.count,
+                                 [&](const MeshRayHit& f) { return f.face == m.face; })) {
+            // Leaving the slab the ray started in, searched up to here.
+            m = n;
+            continue;
           }
           // No exact hit near the crossing (a step that does not converge, or lands far away): the
           // face may still meet the ray inside the slab (grazing it): the BVH decides.
-          if (!e.ok || std::abs(e.t - m.t) > window) break;
+          if (!e.ok || (std::abs(e.t - m.t) > window && !searched)) break;
           if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material(m.face, e.uv))
             best = {e.t, m.face, e.uv, e.point, m.t};
           m = n;  // the next crossing (the face behind t_min, or trimmed away here)
         }
         // The BVH casts the ray again, and may miss a grazing hit its patches do not show: the hits
         // Newton finds beside the edges it passes and on the way through the last slab it entered.
-        if (edge.boundary) near_edge[k] = near_boundaries(edge, ray, planes, t_min, step);
+        std::vector<OnWay> from_start;
+        for (int i = 0; i < start.count; ++i)
+          if (open[size_t(i)]) from_start.push_back({start.faces[size_t(i)].face, t_min, 0.0, start.faces[size_t(i)].uv, t_min, nullptr});
+        if (edge.boundary) {
+          near_edge[k] = near_boundaries(edge, ray, planes, t_min, step, from_start);
+        } else {
+          for (OnWay& w : from_start) {
+            w.end = (m.triangle >= 0 ? m.t : t_min) + window;
+            keep_nearer(near_edge[k], first_on_way(w, ray, planes, t_min, step));
+          }
+        }
+        keep_nearer(near_edge[k], best);
         if (way.first.triangle >= 0)
-          keep_nearer(near_edge[k], first_on_way(way.first, way.second, nullptr, ray, planes, t_min, step));
+          keep_nearer(near_edge[k],
+                      first_on_way({way.first.face, way.first.t, way.second, way.first.uv, way.first.t, nullptr}, ray,
+                                   planes, t_min, step));
         again[k] = 1;
       },
       256);

@@ -24,9 +24,12 @@ namespace queries {
 /// crossing lies beyond the nearest exact hit: that hit is the answer. A ray through one face's
 /// slab meets the face an odd number of times when it leaves on the other side, an even number
 /// (none, or a grazing pair) when it leaves on the side it entered: the first hit on the way
-/// through is then sought from starts along it. A ray that passes near a face's mesh boundary
-/// first, whose step at a crossing fails or lands far from it, or that needs more than 8 crossings,
-/// is cast by the BVH method.
+/// through is then sought from starts along it, and so is a long way inside a slab (a grazing
+/// ray). A ray that starts inside slabs or tubes (MeshDistance::slabs_at) may meet their faces
+/// before any crossing: each is searched from the start to its face's first crossing. A ray that
+/// passes near a face's mesh boundary first, whose step at a crossing fails or lands far from it,
+/// or that needs more than 8 crossings, is cast by the BVH method, beside the hits Newton finds
+/// along its next crossings (near_boundaries).
 enum class RayMethod { Bvh, Dacrt, Mesh };
 
 struct RayCasterOptions {
@@ -86,16 +89,25 @@ class RayCaster {
   std::unique_ptr<MeshDistance> mesh_;  ///< RayMethod::Mesh
   /// RayMethod::Mesh: the rays of `chunk` cast through the mesh, the BVH for the rest.
   std::vector<nurbs::ray::Hit> cast_mesh(const std::vector<nurbs::ray::Ray>& chunk, double t_min, int threads);
-  /// RayMethod::Mesh: the first material hit on the face of `in` (where the ray enters its slab)
-  /// with t up to t_end (the next crossing), by Newton from starts along the way (between the
-  /// crossings' (u, v) when `out_uv`, the exit's, is given); none: face -1.
-  nurbs::ray::Hit first_on_way(const MeshRayHit& in, double t_end, const glm::dvec2* out_uv, const nurbs::ray::Ray& ray,
-                               const nurbs::ray::RayPlanes& planes, double t_min, double slack) const;
-  /// RayMethod::Mesh: from the ray's first tube or ball `b` on, the faces whose mesh edges it passes
-  /// (up to 8 of them): the nearest material hit Newton finds on them from each edge's ends and
-  /// middle (face -1: none), beside the BVH's answer for the ray.
+  /// RayMethod::Mesh: a stretch of a ray inside one face's slab, from t = begin to end; `uv` is
+  /// where the ray meets the slab at t = at, `to_uv` (optional) where it meets it at `end`.
+  struct OnWay {
+    int face;
+    double begin, end;
+    glm::dvec2 uv;
+    double at;
+    const glm::dvec2* to_uv;
+  };
+  /// RayMethod::Mesh: the first material hit on the way's face within it, by Newton from starts
+  /// along it (between uv and to_uv, and along the ray's (u, v) rate from uv); none: face -1.
+  nurbs::ray::Hit first_on_way(const OnWay& way, const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes,
+                               double t_min, double slack) const;
+  /// RayMethod::Mesh: from the ray's first tube or ball `b` on, the crossings up to the nearest hit
+  /// found (at most 32): the nearest material hit Newton finds near the mesh edges the ray passes,
+  /// in the slabs it enters, in those it reaches by a tube, and in `from_start` (slabs that hold the
+  /// ray's start, each to its face's first crossing) (face -1: none), beside the BVH's answer.
   nurbs::ray::Hit near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes,
-                                  double t_min, double step) const;
+                                  double t_min, double step, const std::vector<OnWay>& from_start) const;
   /// `found` (an exact material hit on `face`, or none: ok false) or the first of a grazing pair
   /// before it (Scene::look_back), as a hit; face -1 for none.
   nurbs::ray::Hit earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,

@@ -181,3 +181,44 @@ TEST_CASE("rays through points of trimmed faces at shallow angles: none missed, 
   CHECK(beyond == 0);
   MESSAGE(rays.size() << " rays through face points: " << mesh.figures().fallbacks << " to the BVH");
 }
+
+TEST_CASE("rays that start inside a face's slab and run along it: the hit where they leave the cylinder") {
+  // A ray from a point delta inside the cylinder of radius 10 (within the slab around its mesh,
+  // 1e-4 of the size on either side), along the axis and turned by a small angle around it, stays
+  // within the slab for a long way, crosses no shell before it meets the face, and leaves the
+  // cylinder where its distance from the axis reaches 10. From a point outside, turned away, it
+  // meets nothing.
+  nurbs::TrimmedSurface face;
+  face.surface = models::rational_cylinder(10.0, 40.0);
+  const std::vector<nurbs::TrimmedSurface> faces{face};
+  models::Random rng(23);
+  std::vector<nurbs::ray::Ray> rays;
+  std::vector<double> first;  // -1: none
+  for (int k = 0; k < 2000; ++k) {
+    const double phi = rng.uniform(0.0, 2.0 * M_PI), z0 = rng.uniform(1.0, 10.0);
+    const double delta = (k % 4 == 3 ? -1.0 : 1.0) * rng.uniform(1e-4, 4e-3), a = rng.uniform(0.01, 0.05);
+    const glm::dvec3 radial(std::cos(phi), std::sin(phi), 0.0), around(-std::sin(phi), std::cos(phi), 0.0);
+    const glm::dvec3 w = glm::dvec3(0.0, 0.0, 1.0) + a * around;
+    const double s = glm::length(w) * std::sqrt(std::max(0.0, 100.0 - (10.0 - delta) * (10.0 - delta))) / a;
+    if (delta > 0.0 && z0 + s / glm::length(w) > 38.0) continue;
+    rays.push_back({(10.0 - delta) * radial + glm::dvec3(0.0, 0.0, z0), glm::normalize(w)});
+    first.push_back(delta > 0.0 ? s : -1.0);
+  }
+  queries::RayCaster mesh(faces, queries::RayCasterOptions{});
+  const auto m = mesh.cast(rays, 0.0);
+  int missed = 0, wrong = 0, invented = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    if (first[k] < 0.0) {
+      invented += m[k].face >= 0;
+      continue;
+    }
+    missed += m[k].face < 0;
+    wrong += m[k].face >= 0 && std::abs(m[k].t - first[k]) > 1e-6;
+  }
+  CAPTURE(rays.size());
+  CHECK(rays.size() > 1500);
+  CHECK(missed == 0);
+  CHECK(wrong == 0);
+  CHECK(invented == 0);
+  MESSAGE(rays.size() << " rays from inside the slab: " << mesh.figures().fallbacks << " to the BVH");
+}
