@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <limits>
 #include <stdexcept>
 
@@ -159,7 +160,7 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
     throw std::length_error(fmt::format("MeshDistance: {} triangles", m.triangles.size()));
   glm::dvec3 lo(kInf), hi(-kInf);
   for (const glm::dvec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  if (!m.positions.empty()) centre_ = 0.5 * (lo + hi);
+  if (!m.positions.empty()) centre_ = 0.5 * (lo + hi), lo_ = lo, hi_ = hi;
   for (const glm::dvec3& p : m.positions) radius_ = std::max(radius_, glm::length(p - centre_));
 
   const std::string config = threads > 0 ? fmt::format("threads={}", threads) : std::string();
@@ -345,12 +346,14 @@ SlabsAt MeshDistance::slabs_at(const glm::dvec3& p) const {
   const double slack = float_slack(p);
   s.shell_reach = kShellOffset * eps_ + slack;
   s.tube_reach = kTubeRadius * eps_ + slack;
+  const double reach = std::max(s.shell_reach, s.tube_reach) + slack;
+  if (glm::any(glm::lessThan(p, lo_ - reach)) || glm::any(glm::greaterThan(p, hi_ + reach))) return out;
   s.out = &out;
   const glm::dvec3 q = p - centre_;
   RTCPointQuery pq;
   pq.x = float(q.x), pq.y = float(q.y), pq.z = float(q.z);
   pq.time = 0.0f;
-  pq.radius = float(std::max(s.shell_reach, s.tube_reach) + slack);
+  pq.radius = float(reach);
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene_->scene, &pq, &context, slab_holding, &s);

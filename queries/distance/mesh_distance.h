@@ -126,6 +126,7 @@ class MeshDistance {
   double tess_seconds_ = 0.0, build_seconds_ = 0.0;
   glm::dvec3 centre_{0.0};
   double radius_ = 0.0;
+  glm::dvec3 lo_{0.0}, hi_{0.0};  ///< the mesh's bounding box
   std::unique_ptr<Scene> scene_;
   std::vector<uint8_t> boundary_;  ///< points: per triangle, its edges on the face's mesh boundary
   int tube_geometry_ = -1;                     ///< rays: Embree's geometry of the tubes

@@ -214,9 +214,15 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
         if (!ended[i] && tubes[i].face == b.face) tubes[i].end = b.t, ended[i] = 1;
       if (b.entering) {
         entered.push_back(b.face);
+        // Through the slab to its other side: Newton from the entry, where it stays on the way.
         const bool through = n.triangle >= 0 && !n.boundary && n.face == b.face && !n.entering;
-        keep_nearer(h,
-                    first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray, planes, t_min, step));
+        const nurbs::ray::ExactHit e =
+            through && n.shell != b.shell ? scene_.refine(b.face, ray, planes, b.uv) : nurbs::ray::ExactHit{};
+        if (e.ok && e.t >= b.t - step && e.t <= next + step && e.t > t_min && scene_.is_material(b.face, e.uv))
+          keep_nearer(h, earliest(b.face, e, ray, planes, t_min, b.t));
+        else
+          keep_nearer(
+              h, first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray, planes, t_min, step));
       } else if (std::find(entered.begin(), entered.end(), b.face) == entered.end()) {
         // Leaving a slab the ray never entered through a shell: it came in by a tube.
         const auto open = std::find_if(tubes.begin(), tubes.end(), [&](const OnWay& w) { return w.face == b.face; });
