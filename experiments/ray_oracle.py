@@ -8,8 +8,9 @@ by 0.003, 0.01, 0.03 or 0.1 (radians, random direction) so that it crosses the f
 shallow angle (grazing rays, where Newton's steps and float BVHs lose hits), starting 0.3 model
 sizes before p. `nurbsgl raycast --method M --csv` answers them; the table counts the rays missed
 and the rays answered beyond p (by more than 1e-7 of the size), per method and tilt, and of those
-the ones whose p lies on its face's trim edge (`nurbsgl distance`'s on_trim_edge: the sampler puts
-points on the edges, where a ray may pass between two faces that do not quite meet).
+the ones whose p lies on its face's trim edge (`nurbsgl distance --per-point`'s on_trim_edge, by
+the exact trims): the sampler puts points on the edges, where a ray may pass between two faces that
+do not quite meet.
 
   PYTHONPATH= python3 experiments/ray_oracle.py --cli build/cli/nurbsgl --out DIR [--samples 20000]
       [--methods mesh bvh] [--models FILE ...]
@@ -100,7 +101,8 @@ def main():
             if wrong:
                 points = out / f"{name}.{method}.wrong.txt"
                 points.write_text("".join(" ".join(repr(x) for x in p) + "\n" for _, p in wrong))
-                results = json.loads(cli(args, "distance", model, "--points", str(points), "--json"))["results"]
+                results = json.loads(cli(args, "distance", model, "--points", str(points), "--per-point",
+                                              "--json"))["results"]
                 at_edge = {k for (k, _), r in zip(wrong, results) if r["on_trim_edge"]}
             for tilt in TILTS:
                 missed = beyond = count = edge = 0
