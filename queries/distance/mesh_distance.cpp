@@ -69,8 +69,18 @@ struct SlabSearch {
 bool slab_holding(RTCPointQueryFunctionArguments* args) {
   SlabSearch& s = *static_cast<SlabSearch*>(args->userPtr);
   const nurbs::TriangleMesh& m = *s.mesh;
+  SlabsAt& out = *s.out;
+  // A face found once is found: its first triangle or edge within reach gives the (u, v).
+  const bool shell = args->geomID <= 1;
+  const glm::ivec2 e = shell                                         ? glm::ivec2(-1)
+                       : int(args->geomID) == s.tube_geometry ? (*s.tubes)[args->primID]
+                                                               : glm::ivec2((*s.balls)[args->primID]);
+  const int face = shell ? m.triangle_face[args->primID] : m.vertex_face.empty() ? -1 : m.vertex_face[size_t(e.x)];
+  for (int i = 0; i < out.count; ++i)
+    if (out.faces[size_t(i)].face == face) return false;
   MeshRayHit h;
-  if (args->geomID <= 1) {
+  h.face = face;
+  if (shell) {
     const glm::ivec3 t = m.triangles[args->primID];
     glm::dvec3 w;
     const glm::dvec3 q = closest_on_triangle(s.p, m.positions[size_t(t.x)], m.positions[size_t(t.y)],
@@ -78,11 +88,8 @@ bool slab_holding(RTCPointQueryFunctionArguments* args) {
     h.t = glm::length(q - s.p);
     if (!(h.t <= s.shell_reach)) return false;
     h.triangle = int(args->primID);
-    h.face = m.triangle_face[args->primID];
     h.uv = w.x * m.uv[size_t(t.x)] + w.y * m.uv[size_t(t.y)] + w.z * m.uv[size_t(t.z)];
   } else {
-    const bool tube = int(args->geomID) == s.tube_geometry;
-    const glm::ivec2 e = tube ? (*s.tubes)[args->primID] : glm::ivec2((*s.balls)[args->primID]);
     const glm::dvec3 a = m.positions[size_t(e.x)], b = m.positions[size_t(e.y)];
     const double ab = glm::dot(b - a, b - a);
     const double f = ab > 0.0 ? std::clamp(glm::dot(s.p - a, b - a) / ab, 0.0, 1.0) : 0.0;
@@ -90,15 +97,8 @@ bool slab_holding(RTCPointQueryFunctionArguments* args) {
     if (!(h.t <= s.tube_reach)) return false;
     h.boundary = true;
     h.edge = e;
-    h.face = m.vertex_face.empty() ? -1 : m.vertex_face[size_t(e.x)];
     h.uv = (1.0 - f) * m.uv[size_t(e.x)] + f * m.uv[size_t(e.y)];
   }
-  SlabsAt& out = *s.out;
-  for (int i = 0; i < out.count; ++i)
-    if (out.faces[size_t(i)].face == h.face) {
-      if (h.t < out.faces[size_t(i)].t) out.faces[size_t(i)] = h;
-      return false;
-    }
   if (out.count < int(out.faces.size()))
     out.faces[size_t(out.count++)] = h;
   else

@@ -63,8 +63,9 @@ struct MeshRayHit {
 /// The faces whose slab or tube may hold a point (MeshDistance::slabs_at).
 struct SlabsAt {
   int count = 0;
-  /// Per face: `face`, `uv` on its mesh nearest the point, `t` that distance; `triangle` the
-  /// nearest shell's mesh triangle, or -1 (with `boundary`) where a tube or ball is nearest.
+  /// Per face: `face`, `uv` the point on its mesh of the first triangle, edge or ball found within
+  /// reach nearest the point, `t` that distance; `triangle` that triangle, or -1 (with `boundary`)
+  /// for an edge or ball.
   std::array<MeshRayHit, 8> faces;
   bool more = false;  ///< more faces than room for them
 };

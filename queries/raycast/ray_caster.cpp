@@ -261,25 +261,28 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         const SlabsAt start = mesh_->slabs_at(ray.origin + t_min * ray.direction);
         std::array<char, 8> open{};
         for (int i = 0; i < start.count; ++i) open[size_t(i)] = 1;
-        const auto close = [&](int i, double end) {
+        // `crossing`: end is the face's own crossing, where the step below (Newton from it) finds
+        // a hit that close.
+        const auto close = [&](int i, double end, bool crossing) {
           open[size_t(i)] = 0;
           const MeshRayHit& s = start.faces[size_t(i)];
           if (end - t_min > 8.0 * eps) {
             keep_nearer(best, first_on_way({s.face, t_min, end, s.uv, t_min, nullptr}, ray, planes, t_min, step));
             return;
           }
+          if (crossing && end - t_min <= window) return;
           const nurbs::ray::ExactHit e = scene_.refine(s.face, ray, planes, s.uv);
           if (e.ok && e.t > t_min && e.t <= end + step && scene_.is_material(s.face, e.uv))
             keep_nearer(best, earliest(s.face, e, ray, planes, t_min, t_min));
         };
         const auto close_all = [&](double end) {
           for (int i = 0; i < start.count; ++i)
-            if (open[size_t(i)]) close(i, end);
+            if (open[size_t(i)]) close(i, end, false);
         };
         for (int tries = 0; tries < 8 && !start.more; ++tries) {
           if (m.triangle >= 0)
             for (int i = 0; i < start.count; ++i)
-              if (open[size_t(i)] && start.faces[size_t(i)].face == m.face) close(i, m.t);
+              if (open[size_t(i)] && start.faces[size_t(i)].face == m.face) close(i, m.t, true);
           // Near a face's edge before the next crossing (and before the best hit), the face may
           // reach the ray where its mesh does not (the mesh's boundary lies within eps inside the
           // face's): the BVH decides.
