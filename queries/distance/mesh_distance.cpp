@@ -25,6 +25,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Rays: the shells lie this many eps along the vertex normals to either side of the mesh, the
 /// tubes have this many eps as radius (the faces lie within eps of the mesh).
 constexpr double kShellOffset = 1.5, kTubeRadius = 2.0;
+/// Rays: the longest piece of a tube, in tube radii.
+constexpr double kTubePiece = 32.0;
 
 /// One point's search: the point in double, the best triangle so far.
 struct ClosestSearch {
@@ -189,24 +191,37 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
     for (const uint64_t key : boundary_edges(m)) edges.emplace_back(int(key >> 32), int(key & 0xffffffffu));
     if (!edges.empty()) {
       tube_geometry_ = 2;
-      for (const auto& [a, b] : edges) boundary_vertices_.emplace_back(a, b);
+      // Embree's round curves lose crossings of a tube far longer than its radius (a ray along a
+      // 315-long edge with radius 0.08 passed 1.25 radii from it unseen): each edge's tube is made
+      // of pieces at most kTubePiece radii long.
+      const double r = kTubeRadius * eps;
+      std::vector<int> pieces;
+      for (const auto& [a, b] : edges) {
+        const double length = glm::length(m.positions[size_t(b)] - m.positions[size_t(a)]);
+        pieces.push_back(std::max(1, int(std::min(1e6, std::ceil(length / (kTubePiece * r))))));
+        for (int i = 0; i < pieces.back(); ++i) boundary_vertices_.emplace_back(a, b);
+      }
+      const size_t segments = boundary_vertices_.size();
       RTCGeometry g = rtcNewGeometry(scene_->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                            4 * sizeof(float), 2 * edges.size()));
+                                                            4 * sizeof(float), 2 * segments));
       auto* idx = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), edges.size()));
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments));
       if (!v || !idx) {
         rtcReleaseGeometry(g);
         throw std::runtime_error(fmt::format("Embree: no memory for {} boundary edges", edges.size()));
       }
-      const float r = float(kTubeRadius * eps);
-      for (size_t k = 0; k < edges.size(); ++k) {
-        for (int e = 0; e < 2; ++e) {
-          const glm::vec3 f(m.positions[size_t(e ? edges[k].second : edges[k].first)] - centre_);
-          float* out = v + 4 * (2 * k + size_t(e));
-          out[0] = f.x, out[1] = f.y, out[2] = f.z, out[3] = r;
+      size_t k = 0;
+      for (size_t j = 0; j < edges.size(); ++j) {
+        const glm::dvec3 a = m.positions[size_t(edges[j].first)], b = m.positions[size_t(edges[j].second)];
+        for (int i = 0; i < pieces[j]; ++i, ++k) {
+          for (int e = 0; e < 2; ++e) {
+            const glm::vec3 f(a + (double(i + e) / pieces[j]) * (b - a) - centre_);
+            float* out = v + 4 * (2 * k + size_t(e));
+            out[0] = f.x, out[1] = f.y, out[2] = f.z, out[3] = float(r);
+          }
+          idx[k] = unsigned(2 * k);
         }
-        idx[k] = unsigned(2 * k);
       }
       rtcCommitGeometry(g);
       rtcAttachGeometry(scene_->scene, g);
@@ -358,6 +373,22 @@ SlabsAt MeshDistance::slabs_at(const glm::dvec3& p) const {
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene_->scene, &pq, &context, slab_holding, &s);
   return out;
+}
+
+double MeshDistance::box_exit(const glm::dvec3& origin, const glm::dvec3& direction) const {
+  const double reach = (kTubeRadius + 1.0) * eps_ + 2.0 * float_slack(origin);
+  double near = 0.0, far = kInf;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = lo_[i] - reach, hi = hi_[i] + reach;
+    if (direction[i] == 0.0) {
+      if (origin[i] < lo || origin[i] > hi) return 0.0;
+      continue;
+    }
+    double a = (lo - origin[i]) / direction[i], b = (hi - origin[i]) / direction[i];
+    if (a > b) std::swap(a, b);
+    near = std::max(near, a), far = std::min(far, b);
+  }
+  return near <= far ? far : 0.0;
 }
 
 MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& direction, double t_min,

@@ -102,6 +102,9 @@ class MeshDistance {
   /// point query with the float rounding allowance added. A ray that starts there may meet such a
   /// face before it crosses any shell or tube.
   [[nodiscard]] SlabsAt slabs_at(const glm::dvec3& p) const;
+  /// Where a ray (origin, unit direction) leaves the mesh's box grown by the tubes' radius and the
+  /// float allowance, beyond which it meets no slab, no tube and no face (0 if it never meets it).
+  [[nodiscard]] double box_exit(const glm::dvec3& origin, const glm::dvec3& direction) const;
   /// The float rounding allowance at a point p (a query point, a ray's origin): 2^-18 (R +
   /// |p - centre|), the radius a point query is grown by; a step past a ray's hit by more than it
   /// leaves the hit's triangle behind.

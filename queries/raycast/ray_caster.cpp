@@ -233,8 +233,13 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
     previous = b.t;
     b = n;
   }
+  // A slab the ray started in and whose face it met no more: to the nearest hit, the next crossing
+  // not walked, or where the ray leaves the mesh's box.
+  const double last = h.face >= 0                       ? h.t
+                      : b.boundary || b.triangle >= 0 ? b.t
+                                                      : mesh_->box_exit(ray.origin, ray.direction);
   for (size_t i = 0; i < tubes.size(); ++i) {
-    if (!ended[i]) tubes[i].end = h.face >= 0 ? h.t : previous + window;
+    if (!ended[i]) tubes[i].end = last;
     keep_nearer(h, first_on_way(tubes[i], ray, planes, t_min, step));
   }
   return h;
@@ -297,11 +302,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
             hits[k] = best;
             return;
           }
-          if (m.triangle < 0 && tries == 0) {
-            close_all(t_min + window);
-            hits[k] = best;
-            return;
-          }
+          // No crossing at all: no hit, unless the ray starts inside a slab (the BVH decides).
+          if (m.triangle < 0 && tries == 0 && std::find(open.begin(), open.end(), 1) == open.end()) return;
           if (m.triangle < 0) break;
           const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, m.t + step, 3.4e38);
           if (n.boundary && !edge.boundary) edge = n;
@@ -351,7 +353,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           near_edge[k] = near_boundaries(edge, ray, planes, t_min, step, from_start);
         } else {
           for (OnWay& w : from_start) {
-            w.end = (m.triangle >= 0 ? m.t : t_min) + window;
+            w.end = m.triangle >= 0 ? m.t + window : mesh_->box_exit(ray.origin, ray.direction);
             keep_nearer(near_edge[k], first_on_way(w, ray, planes, t_min, step));
           }
         }

@@ -118,3 +118,29 @@ TEST_CASE("mesh distance: an exact sphere, the distance | |p| - r | inside and o
   }
   CHECK(got.back().point == mesh.brute_force(points.back()).point);
 }
+
+TEST_CASE("mesh distance, built for rays: a ray through the tube of a long boundary edge meets it") {
+  // A 300 x 10 rectangle meshed in a few long triangles: rays along its 300-long edge at shallow
+  // angles, each passing a point within 1.5 eps of the edge outside the face, start beyond the
+  // rectangle's end: each meets the edge's tube (radius 2 eps), or a shell, before that point.
+  nurbs::TrimmedSurface face;
+  face.surface = models::bilinear_patch({glm::dvec3(0, 0, 0), glm::dvec3(300, 0, 0), glm::dvec3(0, 10, 0),
+                                         glm::dvec3(300, 10, 0)});
+  const std::vector<nurbs::TrimmedSurface> faces{face};
+  const double eps = 1e-4 * 300.0;
+  const queries::MeshDistance mesh(faces, eps, 0, nurbs::tess::TessellateOptions{}.max_cells, true);
+  models::Random rng(31);
+  int rays = 0, missed = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const double phi = rng.uniform(-0.5 * M_PI, 0.5 * M_PI), rho = rng.uniform(0.0, 1.5 * eps);
+    const glm::dvec3 q(rng.uniform(20.0, 280.0), -rho * std::cos(phi), rho * std::sin(phi));
+    const double tilt = std::pow(10.0, rng.uniform(-4.0, -2.0)), turn = rng.uniform(0.0, 2.0 * M_PI);
+    const glm::dvec3 d = glm::normalize(glm::dvec3(1.0, tilt * std::cos(turn), tilt * std::sin(turn)));
+    const double s = (q.x + 50.0) / d.x;
+    const queries::MeshRayHit h = mesh.first_hit(q - s * d, d, 0.0, 3.4e38);
+    ++rays;
+    missed += !(h.boundary || h.triangle >= 0) || h.t > s + 1e-6;
+  }
+  CAPTURE(rays);
+  CHECK(missed == 0);
+}
