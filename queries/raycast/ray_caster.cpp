@@ -296,7 +296,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           // Every hit lies inside the slab, after a crossing: a crossing beyond the best hit ends
           // the search, and no crossing at all leaves no hit. But a ray that left a crossing behind
           // (its own face, a trimmed part) and finds none after it may have slipped along an edge
-          // of the triangles in float: the BVH decides.
+          // of the triangles in float, or the slab may be thinner than eps where the vertex normals
+          // of a long triangle part: the BVH decides.
           if (best.face >= 0 && (m.boundary || m.triangle < 0 || m.t >= best.t)) {
             close_all(best.t);
             hits[k] = best;
