@@ -189,7 +189,7 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
   std::vector<OnWay> tubes = from_start;  // per face, from its first tube to the crossing after its last
   std::vector<char> ended(from_start.size(), 0);  // of from_start: its face's crossing met
   std::vector<int> entered;  // faces whose slab the ray entered through a shell on the walk
-  double previous = b.t;
+  const double walk_start = b.t;  // the ray enters the tubes here: a slab inside them, unseen, from here on
   for (int k = 0; k < kCrossings && (b.boundary || b.triangle >= 0) && !(h.face >= 0 && b.t > h.t); ++k) {
     const MeshRayHit n = mesh_->first_hit(ray.origin, ray.direction, b.t + step, 3.4e38);
     const double next = n.boundary || n.triangle >= 0 ? n.t : b.t + window;
@@ -224,13 +224,13 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
           keep_nearer(
               h, first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray, planes, t_min, step));
       } else if (std::find(entered.begin(), entered.end(), b.face) == entered.end()) {
-        // Leaving a slab the ray never entered through a shell: it came in by a tube.
+        // Leaving a slab the ray never entered through a shell: it came in by a tube (its own, or
+        // a neighbour's that holds the slab's rim).
         const auto open = std::find_if(tubes.begin(), tubes.end(), [&](const OnWay& w) { return w.face == b.face; });
-        const double from = open != tubes.end() ? open->begin : previous;
+        const double from = open != tubes.end() ? open->begin : walk_start;
         keep_nearer(h, first_on_way({b.face, from, b.t, b.uv, b.t, nullptr}, ray, planes, t_min, step));
       }
     }
-    previous = b.t;
     b = n;
   }
   // A slab the ray started in and whose face it met no more: to the nearest hit, the next crossing
