@@ -5,14 +5,17 @@
 
 #include <cmath>
 #include <array>
+#include <string>
 #include <utility>
 #include <glm/geometric.hpp>
 
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
+#include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "queries/raycast/ray_caster.h"
+#include "tests/shared_models.h"
 
 namespace {
 
@@ -221,4 +224,43 @@ TEST_CASE("rays that start inside a face's slab and run along it: the hit where 
   CHECK(wrong == 0);
   CHECK(invented == 0);
   MESSAGE(rays.size() << " rays from inside the slab: " << mesh.figures().fallbacks << " to the BVH");
+}
+
+TEST_CASE("mesh rays on the shared models: rays whose nearer hit lies in a slab reached unseen" *
+          test::needs_shared_models()) {
+  // Each ray with a hit at or before `first` (an exact hit on a material point): through tubes into
+  // a neighbour's slab (the Ventilator's fan, where OpenCASCADE's IntCurvesFace_ShapeIntersector
+  // gives the same t), past more than 8 tubes of a narrow face (the bearing), from a start inside a
+  // cylinder's slab along its ruling (component8).
+  struct Case {
+    const char* file;
+    glm::dvec3 origin, direction;
+    double first;
+  };
+  const Case cases[] = {
+      {"step/pythonocc_Ventilator.stp", {21.583129263, 19.721419649, 26.297019962}, {-0.0095, -0.037266, -1}, 21.4128708493},
+      {"step/pythonocc_Ventilator.stp", {20.144911199, -26.787568243, 26.297019962}, {0.042884, -0.024473, -1}, 23.6164750886},
+      {"step/pythonocc_Ventilator.stp", {23.988944952, 17.370790865, 26.297019962}, {-0.053989, 0.065341, -1}, 21.8552038745},
+      {"iges/occt_bearing.iges", {-0.044656453694653236, 0.025762554381868048, 0.017324330362211936},
+       {0.5371526350300139, -0.8373608118968144, -0.10145894430665241}, 0.0484270867459477},
+      {"iges/occt_bearing.iges", {0.048454987349617756, 0.021360551663970728, 0.031457673442180756},
+       {-0.9957867807862668, -0.09148041661337937, -0.00632618270097349}, 0.0484270867459477},
+      {"step/gmsh_component8.step", {-2.9310752534680793, 158.74897457146284, -9.190646752232146},
+       {-0.0006376612787243956, 0.9999997776802725, 0.00019500640833502433}, 18.580485577864536},
+  };
+  for (const Case& c : cases) {
+    const std::filesystem::path file = test::shared_models_dir() / c.file;
+    if (!std::filesystem::exists(file)) {
+      MESSAGE(file.string() << " absent: skipped");
+      continue;
+    }
+    const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(nurbs::io::read_model(file));
+    queries::RayCaster mesh(faces, queries::RayCasterOptions{});
+    const auto h = mesh.cast({{c.origin, glm::normalize(c.direction)}}, 0.0);
+    const std::string name = c.file;
+    CAPTURE(name);
+    CAPTURE(c.first);
+    CHECK(h[0].face >= 0);
+    CHECK(h[0].t <= c.first + 1e-7 * mesh.scene().size);
+  }
 }
