@@ -266,23 +266,32 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         const SlabsAt start = mesh_->slabs_at(ray.origin + t_min * ray.direction);
         std::array<char, 8> open{};
         for (int i = 0; i < start.count; ++i) open[size_t(i)] = 1;
-        // `crossing`: end is the face's own crossing, where the step below (Newton from it) finds
-        // a hit that close.
+        std::array<char, 8> deferred{};  // a short way left to the step at the face's own crossing
+        const auto step_from_start = [&](int i, double end) {
+          deferred[size_t(i)] = 0;
+          const MeshRayHit& s = start.faces[size_t(i)];
+          const nurbs::ray::ExactHit e = scene_.refine(s.face, ray, planes, s.uv);
+          if (e.ok && e.t > t_min && e.t <= end + step && scene_.is_material(s.face, e.uv))
+            keep_nearer(best, earliest(s.face, e, ray, planes, t_min, t_min));
+        };
+        // `crossing`: end is the face's own crossing, where the step from it finds a hit that close
+        // (else step_from_start does, below).
         const auto close = [&](int i, double end, bool crossing) {
           open[size_t(i)] = 0;
           const MeshRayHit& s = start.faces[size_t(i)];
           if (end - t_min > 8.0 * eps) {
             keep_nearer(best, first_on_way({s.face, t_min, end, s.uv, t_min, nullptr}, ray, planes, t_min, step));
-            return;
+          } else if (crossing) {
+            deferred[size_t(i)] = 1;
+          } else {
+            step_from_start(i, end);
           }
-          if (crossing && end - t_min <= window) return;
-          const nurbs::ray::ExactHit e = scene_.refine(s.face, ray, planes, s.uv);
-          if (e.ok && e.t > t_min && e.t <= end + step && scene_.is_material(s.face, e.uv))
-            keep_nearer(best, earliest(s.face, e, ray, planes, t_min, t_min));
         };
         const auto close_all = [&](double end) {
-          for (int i = 0; i < start.count; ++i)
+          for (int i = 0; i < start.count; ++i) {
             if (open[size_t(i)]) close(i, end, false);
+            if (deferred[size_t(i)]) step_from_start(i, end);
+          }
         };
         for (int tries = 0; tries < 8 && !start.more; ++tries) {
           if (m.triangle >= 0)
@@ -334,7 +343,10 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           } else if (!m.entering && !near &&
                      std::any_of(start.faces.begin(), start.faces.begin() + start.count,
                                  [&](const MeshRayHit& f) { return f.face == m.face; })) {
-            // Leaving the slab the ray started in, searched up to here.
+            // Leaving the slab the ray started in, searched up to here (or, a short way, by the step
+            // from the start).
+            for (int i = 0; i < start.count; ++i)
+              if (deferred[size_t(i)] && start.faces[size_t(i)].face == m.face) step_from_start(i, m.t);
             m = n;
             continue;
           }
@@ -347,6 +359,8 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         }
         // The BVH casts the ray again, and may miss a grazing hit its patches do not show: the hits
         // Newton finds beside the edges it passes and on the way through the last slab it entered.
+        for (int i = 0; i < start.count; ++i)
+          if (deferred[size_t(i)]) step_from_start(i, t_min + window);
         std::vector<OnWay> from_start;
         for (int i = 0; i < start.count; ++i)
           if (open[size_t(i)]) from_start.push_back({start.faces[size_t(i)].face, t_min, 0.0, start.faces[size_t(i)].uv, t_min, nullptr});
