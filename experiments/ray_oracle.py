@@ -92,8 +92,10 @@ def main():
             answers = out / f"{name}.{method}.csv"
             cli(args, "raycast", model, "--rays", str(rays), "--method", method, "--csv", str(answers))
             rays_in = [[float(x) for x in line.split()] for line in open(rays)]
+            with open(answers) as f:
+                answered = list(csv.DictReader(f))
             wrong = []  # (ray index, its point p)
-            for k, r in enumerate(csv.DictReader(open(answers))):
+            for k, r in enumerate(answered):
                 if r["hit"] != "true" or float(r["t"]) > reach + 1e-7 * size:
                     o = rays_in[k]
                     wrong.append((k, [o[i] + reach * o[i + 3] for i in range(3)]))
@@ -106,7 +108,7 @@ def main():
                 at_edge = {k for (k, _), r in zip(wrong, results) if r["on_trim_edge"]}
             for tilt in TILTS:
                 missed = beyond = count = edge = 0
-                for k, (r, t) in enumerate(zip(csv.DictReader(open(answers)), tilts)):
+                for k, (r, t) in enumerate(zip(answered, tilts)):
                     if t != tilt:
                         continue
                     count += 1

@@ -12,6 +12,8 @@
 #include <glm/vector_relational.hpp>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "nurbs/parallel.h"
 #include "nurbs/stopwatch.h"
@@ -57,6 +59,15 @@ bool closest_triangle(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+/// Rays: the mesh boundary edge of a tube piece (geometry `tube_geometry`), or a ball's vertex
+/// twice (the geometry after it), and that edge's face (-1 without vertex faces).
+std::pair<glm::ivec2, int> boundary_of(unsigned geometry, unsigned primitive, int tube_geometry,
+                                       const std::vector<glm::ivec2>& tubes, const std::vector<int>& balls,
+                                       const nurbs::TriangleMesh& m) {
+  const glm::ivec2 e = int(geometry) == tube_geometry ? tubes[primitive] : glm::ivec2(balls[primitive]);
+  return {e, m.vertex_face.empty() ? -1 : m.vertex_face[size_t(e.x)]};
+}
+
 /// One point's search for the slabs and tubes that may hold it (slabs_at).
 struct SlabSearch {
   const nurbs::TriangleMesh* mesh = nullptr;
@@ -74,10 +85,8 @@ bool slab_holding(RTCPointQueryFunctionArguments* args) {
   SlabsAt& out = *s.out;
   // A face found once is found: its first triangle or edge within reach gives the (u, v).
   const bool shell = args->geomID <= 1;
-  const glm::ivec2 e = shell                                         ? glm::ivec2(-1)
-                       : int(args->geomID) == s.tube_geometry ? (*s.tubes)[args->primID]
-                                                               : glm::ivec2((*s.balls)[args->primID]);
-  const int face = shell ? m.triangle_face[args->primID] : m.vertex_face.empty() ? -1 : m.vertex_face[size_t(e.x)];
+  const auto [e, face] = shell ? std::pair{glm::ivec2(-1), m.triangle_face[args->primID]}
+                               : boundary_of(args->geomID, args->primID, s.tube_geometry, *s.tubes, *s.balls, m);
   for (int i = 0; i < out.count; ++i)
     if (out.faces[size_t(i)].face == face) return false;
   MeshRayHit h;
@@ -410,10 +419,8 @@ MeshRayHit MeshDistance::first_hit(const glm::dvec3& origin, const glm::dvec3& d
   if (rays_ && rh.hit.geomID >= 2) {  // a tube or a ball
     h.boundary = true;
     h.t = double(rh.ray.tfar);
-    const bool tube = int(rh.hit.geomID) == tube_geometry_;
-    const size_t k = rh.hit.primID;
-    h.edge = tube ? boundary_vertices_[k] : glm::ivec2(ball_vertices_[k]);
-    h.face = tess_.mesh.vertex_face.empty() ? -1 : tess_.mesh.vertex_face[size_t(h.edge.x)];
+    std::tie(h.edge, h.face) =
+        boundary_of(rh.hit.geomID, rh.hit.primID, tube_geometry_, boundary_vertices_, ball_vertices_, tess_.mesh);
     return h;
   }
   const nurbs::TriangleMesh& m = tess_.mesh;

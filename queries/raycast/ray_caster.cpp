@@ -163,6 +163,13 @@ nurbs::ray::Hit RayCaster::first_on_way(const OnWay& way, const nurbs::ray::Ray&
   return earliest(way.face, first, ray, planes, t_min, way.begin);
 }
 
+nurbs::ray::Hit RayCaster::step_within(int face, glm::dvec2 uv, double lo, double hi, const nurbs::ray::Ray& ray,
+                                       const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
+  const nurbs::ray::ExactHit e = scene_.refine(face, ray, planes, uv);
+  if (!(e.ok && e.t > t_min && e.t >= lo && e.t <= hi && scene_.is_material(face, e.uv))) return {};
+  return earliest(face, e, ray, planes, t_min, t_crossing);
+}
+
 nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
                                     const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
   if (!found.ok) return {};
@@ -216,13 +223,12 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
         entered.push_back(b.face);
         // Through the slab to its other side: Newton from the entry, where it stays on the way.
         const bool through = n.triangle >= 0 && !n.boundary && n.face == b.face && !n.entering;
-        const nurbs::ray::ExactHit e =
-            through && n.shell != b.shell ? scene_.refine(b.face, ray, planes, b.uv) : nurbs::ray::ExactHit{};
-        if (e.ok && e.t >= b.t - step && e.t <= next + step && e.t > t_min && scene_.is_material(b.face, e.uv))
-          keep_nearer(h, earliest(b.face, e, ray, planes, t_min, b.t));
-        else
-          keep_nearer(
-              h, first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray, planes, t_min, step));
+        const nurbs::ray::Hit e = through && n.shell != b.shell
+                                      ? step_within(b.face, b.uv, b.t - step, next + step, ray, planes, t_min, b.t)
+                                      : nurbs::ray::Hit{};
+        keep_nearer(h, e.face >= 0 ? e
+                                   : first_on_way({b.face, b.t, next, b.uv, b.t, through ? &n.uv : nullptr}, ray,
+                                                  planes, t_min, step));
       } else if (std::find(entered.begin(), entered.end(), b.face) == entered.end()) {
         // Leaving a slab the ray never entered through a shell: it came in by a tube (its own, or
         // a neighbour's that holds the slab's rim).
@@ -270,9 +276,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
         const auto step_from_start = [&](int i, double end) {
           deferred[size_t(i)] = 0;
           const MeshRayHit& s = start.faces[size_t(i)];
-          const nurbs::ray::ExactHit e = scene_.refine(s.face, ray, planes, s.uv);
-          if (e.ok && e.t > t_min && e.t <= end + step && scene_.is_material(s.face, e.uv))
-            keep_nearer(best, earliest(s.face, e, ray, planes, t_min, t_min));
+          keep_nearer(best, step_within(s.face, s.uv, t_min, end + step, ray, planes, t_min, t_min));
         };
         // `crossing`: end is the face's own crossing, where the step from it finds a hit that close
         // (else step_from_start does, below).

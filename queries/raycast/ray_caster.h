@@ -108,6 +108,10 @@ class RayCaster {
   /// ray's start, each to its face's first crossing) (face -1: none), beside the BVH's answer.
   nurbs::ray::Hit near_boundaries(MeshRayHit b, const nurbs::ray::Ray& ray, const nurbs::ray::RayPlanes& planes,
                                   double t_min, double step, const std::vector<OnWay>& from_start) const;
+  /// RayMethod::Mesh: the exact step on `face` from `uv` (the scene's iterations), when it lands on
+  /// a material point with t in [lo, hi] and after t_min, as earliest gives it; face -1 otherwise.
+  nurbs::ray::Hit step_within(int face, glm::dvec2 uv, double lo, double hi, const nurbs::ray::Ray& ray,
+                              const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const;
   /// `found` (an exact material hit on `face`, or none: ok false) or the first of a grazing pair
   /// before it (Scene::look_back), as a hit; face -1 for none.
   nurbs::ray::Hit earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
