@@ -15,8 +15,11 @@ std::vector<double> breaks(const std::vector<double>& knots, int degree, int cou
   return out;
 }
 
-/// Bernstein values b[0..n] of degree n at s and their derivatives d[0..n] wrt s.
+/// Bernstein values b[0..n] of degree n at s and their derivatives d[0..n] wrt s; N > 0 fixes n
+/// at compile time (the loops unrolled, the same operations).
+template <int N = 0>
 void bernstein(int n, double s, double* b, double* d) {
+  if constexpr (N > 0) n = N;
   const double r = 1.0 - s;
   b[0] = 1.0;
   for (int k = 1; k < n; ++k) {  // degree n - 1 first
@@ -81,19 +84,24 @@ BezierForm::BezierForm(const Surface& s, size_t max_points) {
         }
 }
 
-SurfaceTangents BezierForm::tangents(double u, double v) const {
-  double wu = 1.0, wv = 1.0;
-  const int a = locate(bu_, u, wu), b = locate(bv_, v, wv);
-  double Bu[kMaxDegree + 1], Du[kMaxDegree + 1], Bv[kMaxDegree + 1], Dv[kMaxDegree + 1];
-  bernstein(p_, u, Bu, Du);
-  bernstein(q_, v, Bv, Dv);
-  const size_t stride = size_t(p_ + 1);
-  const glm::dvec4* net = net_.data() + (size_t(b) * (bu_.size() - 1) + size_t(a)) * stride * size_t(q_ + 1);
+namespace {
+
+/// S, Su, Sv of one patch's net at local (u, v), Au and Av over the patch's widths; P and Q > 0 fix
+/// the degrees p and q at compile time (the same operations in the same order).
+template <int P = 0, int Q = 0>
+SurfaceTangents contract(const glm::dvec4* net, int p, int q, double u, double v, double wu, double wv) {
+  if constexpr (P > 0) p = P;
+  if constexpr (Q > 0) q = Q;
+  double Bu[BezierForm::kMaxDegree + 1], Du[BezierForm::kMaxDegree + 1];
+  double Bv[BezierForm::kMaxDegree + 1], Dv[BezierForm::kMaxDegree + 1];
+  bernstein<P>(p, u, Bu, Du);
+  bernstein<Q>(q, v, Bv, Dv);
+  const size_t stride = size_t(p + 1);
   glm::dvec4 A(0.0), Au(0.0), Av(0.0);
-  for (int j = 0; j <= q_; ++j) {
+  for (int j = 0; j <= q; ++j) {
     glm::dvec4 row(0.0), row_u(0.0);
     const glm::dvec4* r = net + size_t(j) * stride;
-    for (int i = 0; i <= p_; ++i) row += Bu[i] * r[i], row_u += Du[i] * r[i];
+    for (int i = 0; i <= p; ++i) row += Bu[i] * r[i], row_u += Du[i] * r[i];
     A += Bv[j] * row, Au += Bv[j] * row_u, Av += Dv[j] * row;
   }
   Au /= wu, Av /= wv;
@@ -102,6 +110,27 @@ SurfaceTangents BezierForm::tangents(double u, double v) const {
   t.su = (glm::dvec3(Au) - Au.w * t.s) / A.w;
   t.sv = (glm::dvec3(Av) - Av.w * t.s) / A.w;
   return t;
+}
+
+}  // namespace
+
+SurfaceTangents BezierForm::tangents(double u, double v) const {
+  double wu = 1.0, wv = 1.0;
+  const int a = locate(bu_, u, wu), b = locate(bv_, v, wv);
+  const glm::dvec4* net = net_.data() + (size_t(b) * (bu_.size() - 1) + size_t(a)) * size_t(p_ + 1) * size_t(q_ + 1);
+  // The degrees of most faces (planes, cylinders, cones, bicubics), unrolled.
+  switch (p_ * 16 + q_) {
+    case 1 * 16 + 1: return contract<1, 1>(net, p_, q_, u, v, wu, wv);
+    case 1 * 16 + 2: return contract<1, 2>(net, p_, q_, u, v, wu, wv);
+    case 2 * 16 + 1: return contract<2, 1>(net, p_, q_, u, v, wu, wv);
+    case 2 * 16 + 2: return contract<2, 2>(net, p_, q_, u, v, wu, wv);
+    case 1 * 16 + 3: return contract<1, 3>(net, p_, q_, u, v, wu, wv);
+    case 3 * 16 + 1: return contract<3, 1>(net, p_, q_, u, v, wu, wv);
+    case 2 * 16 + 3: return contract<2, 3>(net, p_, q_, u, v, wu, wv);
+    case 3 * 16 + 2: return contract<3, 2>(net, p_, q_, u, v, wu, wv);
+    case 3 * 16 + 3: return contract<3, 3>(net, p_, q_, u, v, wu, wv);
+    default: return contract(net, p_, q_, u, v, wu, wv);
+  }
 }
 
 }  // namespace nurbs

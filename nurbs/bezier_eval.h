@@ -4,8 +4,9 @@
 /// casting: the surface refined to Bézier patches once (bezier_extraction.h), then per call the
 /// patch of (u, v) by a binary search of the span breaks, the Bernstein values and derivatives of
 /// degrees p and q (no divisions), and the tensor contraction of its homogeneous control points
-/// with the rational quotient rule (The NURBS Book A4.4, first order). The same S, Su, Sv as
-/// surface_tangents (surface_eval.h) up to rounding.
+/// with the rational quotient rule (The NURBS Book A4.4, first order), its loops unrolled for
+/// degrees 1 to 3 in each direction. The same S, Su, Sv as surface_tangents (surface_eval.h) up to
+/// rounding.
 #include <glm/vec4.hpp>
 #include <vector>
 
