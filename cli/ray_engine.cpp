@@ -30,10 +30,10 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
   auto* method =
       cmd->add_option("--method", args.method,
                       "bvh: Morton BVH with stackless traversal (Lemasson et al. §3.2); dacrt: divide-and-conquer "
-                      "ray tracing without a kept structure (§3.2); mesh: each ray's first triangle of a guaranteed "
-                      "tessellation within --tolerance from Embree's BVH, then the same Newton step on the exact "
-                      "face and trim test (beyond the paper; the BVH for the rays it cannot finish); auto: mesh on "
-                      "the cpu, bvh on the gpu")
+                      "ray tracing without a kept structure (§3.2); mesh: each ray's crossings of the slab around a "
+                      "guaranteed tessellation within --mesh-tolerance from Embree's BVH, then the same Newton step "
+                      "on the exact face and trim test (beyond the paper; the BVH for the rays it cannot finish); "
+                      "auto: mesh on the cpu, bvh on the gpu")
           ->check(CLI::IsMember({"auto", "mesh", "bvh", "dacrt"}))
           ->capture_default_str();
   auto* device =
@@ -61,6 +61,12 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
                   "exact face)")
       ->check(finite_range(1e-9, 1e-2))
+      ->capture_default_str();
+  cmd->add_option("--mesh-tolerance", args.mesh_tolerance,
+                  "mesh: the guaranteed tessellation's eps, relative to the model size. The hits are the exact "
+                  "faces' whatever it is; a finer mesh takes longer to build and sends fewer rays that pass near "
+                  "the faces' edges to the BVH: for batches of millions of rays")
+      ->check(finite_range(1e-6, 1e-2))
       ->capture_default_str();
   // --paper: the BVH method on the GPU (3.2: the faster and more accurate of the paper's two GPU
   // methods; DACRT has no GPU pass here), its tree built there from Morton keys (3.2).
@@ -93,6 +99,7 @@ queries::RayCasterOptions caster_options(const RayEngineArgs& args) {
                                                                                         : queries::RayMethod::Mesh;
   o.threads = args.threads;
   o.tolerance = args.tolerance;
+  o.mesh_tolerance = args.mesh_tolerance;
   o.dacrt.patch_leaf = args.dacrt_patches;
   o.dacrt.ray_leaf = args.dacrt_rays;
   o.bvh_build = args.bvh_build == "gpu" ? queries::BvhBuild::Gpu : queries::BvhBuild::Cpu;
@@ -134,6 +141,7 @@ nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEng
   if (args.method == "dacrt") dacrt = {{"patch_leaf", args.dacrt_patches}, {"ray_leaf", args.dacrt_rays}};
   return {{"method", method_used(args)},
           {"mesh_triangles", f.mesh_triangles},
+          {"mesh_tolerance", method_used(args) == "mesh" ? nlohmann::json(args.mesh_tolerance) : nlohmann::json()},
           {"fallbacks", f.fallbacks},
           {"dacrt", dacrt},
           {"engine", args.device},

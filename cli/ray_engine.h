@@ -31,6 +31,8 @@ struct RayEngineArgs {
   std::string bvh_build = "cpu";          ///< --engine gpu: the BVH built on the cpu (build_scene) or the gpu
   int threads = 0;                        ///< 0 = every hardware thread
   double tolerance = 1e-5;                ///< bicubic tolerance relative to the model size
+  /// mesh: the guaranteed tessellation's eps relative to the model size (RayCasterOptions)
+  double mesh_tolerance = queries::RayCasterOptions{}.mesh_tolerance;
   int dacrt_patches = 8, dacrt_rays = 8;  ///< DACRT's brute-force thresholds
 };
 /// The options of RayEngineArgs on `cmd`, and --paper governing --method, --device and --bvh-build.

@@ -119,7 +119,9 @@ py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight,
 }
 
 py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
-                 const std::string& engine, double tol) {
+                 const std::string& engine, double tol, double mesh_tol) {
+  if (!(mesh_tol >= 1e-6 && mesh_tol <= 1e-2))
+    throw py::value_error(fmt::format("mesh_tol {}: outside [1e-6, 1e-2]", mesh_tol));
   const double limit = coordinate_limit(m.loaded->model);
   const std::vector<glm::dvec3> o = points_from(origins, "origins", limit);
   const std::vector<glm::dvec3> dir = points_from(directions, "directions", 1e300);
@@ -134,13 +136,16 @@ py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& d
   const queries::EngineChoice e = engine_of(engine);
   queries::RayCasterOptions options;
   options.tolerance = tol;
+  options.mesh_tolerance = mesh_tol;
   std::vector<nurbs::ray::Hit> hits;
+  long long mesh_triangles = 0;
   {
     py::gil_scoped_release release;
     GlThread::instance().run([&] {
       queries::RayCaster caster(nurbs::world_faces(m.loaded->model), options,
                                 e == queries::EngineChoice::Gpu ? &GlThread::instance().gpu() : nullptr);
       hits = caster.cast(rays, t_min);
+      mesh_triangles = caster.figures().mesh_triangles;
     });
   }
   std::vector<char> hit(hits.size());
@@ -156,6 +161,7 @@ py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& d
   py::dict d;
   d["hit"] = bools(hit), d["t"] = array1(t), d["point"] = array3(point), d["uv"] = array2(uv);
   d["face"] = array1(face);
+  d["mesh_triangles"] = mesh_triangles;
   d["failure"] = m.loaded->report.invalid_trim_reason();
   return d;
 }

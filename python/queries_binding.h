@@ -25,9 +25,10 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
 py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight, bool guaranteed, bool check,
                     bool accept_partial);
 
-/// Nearest hits of rays (unit directions made so): hit, t, point, face, uv per ray.
+/// Nearest hits of rays (unit directions made so): hit, t, point, face, uv per ray; mesh_triangles
+/// (RayCasterFigures).
 py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
-                 const std::string& engine, double tol);
+                 const std::string& engine, double tol, double mesh_tol);
 
 /// The thickness map: per ray its origin, direction, face and thickness (-1: no hit); min, median,
 /// mean, max; the rolling ball's per ray when asked; failure.

@@ -117,6 +117,12 @@ def test_raycast_hits_the_sphere(sphere):
     assert r.hit.all()
     assert np.abs(r.t - 2 * R).max() < 1e-6 * R
     assert np.abs(np.linalg.norm(r.point, axis=1) - R).max() < 1e-6 * R
+    # A coarser slab mesh finds the same exact hits.
+    coarse = sphere.raycast(origins, d, mesh_tol=1e-3)
+    assert 0 < coarse.mesh_triangles < r.mesh_triangles
+    assert np.array_equal(coarse.hit, r.hit) and np.abs(coarse.t - r.t).max() < 1e-9 * R
+    with pytest.raises(ValueError, match="mesh_tol"):
+        sphere.raycast(origins, d, mesh_tol=0.5)
 
 
 def test_thickness_of_a_sphere_is_its_diameter(sphere):
