@@ -72,6 +72,32 @@ TEST_CASE("mesh rays: the same nearest hits as every patch tested, on random tri
   }
 }
 
+TEST_CASE("a batch of more rays than a chunk, cast along a Morton curve of their origins: each ray's own hit") {
+  std::vector<nurbs::TrimmedSurface> faces;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) faces.push_back(models::random_trimmed_surface(seed));
+  const std::vector<nurbs::ray::Ray> rays = random_rays(17, 40000, 4.0);  // chunks of 16384 rays
+  for (const queries::RayMethod method : {queries::RayMethod::Mesh, queries::RayMethod::Bvh}) {
+    queries::RayCasterOptions o;
+    o.method = method;
+    queries::RayCaster caster(faces, o);
+    const auto batch = caster.cast(rays, 0.0);
+    REQUIRE(batch.size() == rays.size());
+    int hits = 0, differ = 0;
+    for (size_t first = 0; first < rays.size(); first += 1000) {  // slices cast in input order
+      const std::vector<nurbs::ray::Ray> slice(rays.begin() + long(first), rays.begin() + long(first + 1000));
+      const auto alone = caster.cast(slice, 0.0);
+      for (size_t k = 0; k < slice.size(); ++k) {
+        const nurbs::ray::Hit &a = alone[k], &b = batch[first + k];
+        hits += a.face >= 0;
+        differ += a.face != b.face || (a.face >= 0 && (a.t != b.t || a.uv != b.uv));
+      }
+    }
+    CAPTURE(int(method));
+    CHECK(hits > 10000);
+    CHECK(differ == 0);
+  }
+}
+
 TEST_CASE("mesh rays: a sphere from outside, from its surface and along its equator's plane") {
   const std::vector<nurbs::TrimmedSurface> faces = nurbs::world_faces(models::loaded_sphere(10.0).model);
   std::vector<nurbs::ray::Ray> rays = random_rays(9, 400, 30.0);
