@@ -66,7 +66,7 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
                   "mesh: the guaranteed tessellation's eps, relative to the model size. The hits are the exact "
                   "faces' whatever it is; a finer mesh takes longer to build and sends fewer rays that pass near "
                   "the faces' edges to the BVH: for batches of millions of rays")
-      ->check(finite_range(1e-6, 1e-2))
+      ->check(finite_range(queries::RayCasterOptions::kMinMeshTolerance, queries::RayCasterOptions::kMaxMeshTolerance))
       ->capture_default_str();
   // --paper: the BVH method on the GPU (3.2: the faster and more accurate of the paper's two GPU
   // methods; DACRT has no GPU pass here), its tree built there from Morton keys (3.2).

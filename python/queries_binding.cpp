@@ -120,8 +120,9 @@ py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight,
 
 py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
                  const std::string& engine, double tol, double mesh_tol) {
-  if (!(mesh_tol >= 1e-6 && mesh_tol <= 1e-2))
-    throw py::value_error(fmt::format("mesh_tol {}: outside [1e-6, 1e-2]", mesh_tol));
+  constexpr double lo = queries::RayCasterOptions::kMinMeshTolerance, hi = queries::RayCasterOptions::kMaxMeshTolerance;
+  if (!(mesh_tol >= lo && mesh_tol <= hi))
+    throw py::value_error(fmt::format("mesh_tol {}: outside [{}, {}]", mesh_tol, lo, hi));
   const double limit = coordinate_limit(m.loaded->model);
   const std::vector<glm::dvec3> o = points_from(origins, "origins", limit);
   const std::vector<glm::dvec3> dir = points_from(directions, "directions", 1e300);

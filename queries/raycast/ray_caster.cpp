@@ -130,7 +130,6 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
   // ray's hit does not depend on the order (DACRT sorts its rays itself; the GPU pass lays them out).
   std::vector<uint32_t> order;
   if (!gpu_caster_ && options_.method != RayMethod::Dacrt && rays.size() > chunk_rays) order = morton_cells(rays);
-  size_t done = 0;
   for (size_t first = 0; first < rays.size(); first += chunk_rays) {
     const size_t last = std::min(rays.size(), first + chunk_rays);
     std::vector<nurbs::ray::Ray> chunk;
@@ -157,8 +156,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast(const std::vector<nurbs::ray::Ray>&
       f.patch_tests += stats.patch_tests;
     }
     for (size_t i = first; i < last; ++i) out[order.empty() ? i : order[i]] = hits[i - first];
-    done = last;
-    if (progress) progress(static_cast<long long>(done), static_cast<long long>(rays.size()));
+    if (progress) progress(static_cast<long long>(last), static_cast<long long>(rays.size()));
   }
   f.rays += static_cast<long long>(rays.size());
   f.cast_seconds += nurbs::seconds_since(start);

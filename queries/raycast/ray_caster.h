@@ -38,8 +38,10 @@ struct RayCasterOptions {
   double tolerance = 1e-5;             ///< bicubic tolerance relative to the model size
   /// RayMethod::Mesh: the guaranteed tessellation's eps relative to the model size. The mesh only
   /// finds where each ray meets the slab around it (the hits are the exact faces'): a coarser mesh
-  /// is quicker to make, a finer one sends fewer rays near edges to the BVH.
+  /// is quicker to make, a finer one sends fewer rays near edges to the BVH. The command line and
+  /// Python accept it within [kMinMeshTolerance, kMaxMeshTolerance].
   double mesh_tolerance = 1e-4;
+  static constexpr double kMinMeshTolerance = 1e-6, kMaxMeshTolerance = 1e-2;
   nurbs::ray::DacrtOptions dacrt;      ///< DACRT's two brute-force thresholds (patches, rays)
   BvhBuild bvh_build = BvhBuild::Cpu;  ///< GPU path: the scene's BVH, or one built on the GPU (§3.2)
 };
