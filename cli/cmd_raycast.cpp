@@ -1,9 +1,11 @@
-// `nurbsgl raycast MODEL --rays FILE [--method bvh|dacrt] [--json]`: the nearest hit of every ray on
-// the trimmed faces (Lemasson et al. §3: bicubic patches, BVH or DACRT, Newton ray/patch, trimming),
-// moved onto the exact NURBS face in double.
+// `nurbsgl raycast MODEL --rays FILE [--method mesh|bvh|dacrt] [--json]`: the nearest hit of every ray
+// on the trimmed faces from the library's front door (queries/raycast/raycast_query.h: the certified
+// mesh method, or Lemasson et al. §3's BVH or DACRT, whose nearest hits are not certified: exit 1).
 #include <fmt/format.h>
 
 #include <iterator>
+#include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,7 @@
 #include "nurbs/io/output_file.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
+#include "queries/raycast/raycast_query.h"
 
 namespace cli {
 // Named, not anonymous: the nurbsgl target is a unity build (cli/CMakeLists.txt), where the
@@ -45,22 +48,24 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
   const LoadedModel loaded = load_model(a.model, "raycast");
   const nurbs::Model& model = loaded.model;
   (void)nurbs::checked_model_size(model, a.model);
-  // The reader's doubts (nurbs/model_report.h): a face with an invalid trim may hide or add a hit
-  // anywhere; an edge gap widens where a hit near an edge lies.
-  const double gap = loaded.report.largest_gap();
-  const std::string doubt = loaded.report.invalid_trim_reason();
   if (!a.csv.empty()) check_output(a.csv, "--csv");
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
-  RayEngine engine(model, a.engine, global);
-  const std::vector<nurbs::ray::Hit> hits = engine.cast(rays, 0.0, "raycast");
+  queries::RaycastOptions o;
+  o.caster = caster_options(a.engine);
+  o.gpu = a.engine.device == "gpu";
+  o.accept_partial = global.accept_partial;
+  std::optional<Progress> progress(std::in_place, "raycast", "rays");
+  o.progress = [&](long long done, long long total) { progress->update(done, total); };
+  std::unique_ptr<gpgpu::Gpu> gpu = o.gpu ? start_gpu(global) : nullptr;
+  const queries::Raycast r = queries::raycast(loaded, rays, 0.0, o, gpu.get());
+  progress.reset();
+  const std::vector<nurbs::ray::Hit>& hits = r.hits;
   if (!a.csv.empty()) write_csv(a.csv, hits);
-  long long hit_count = 0;
-  for (const auto& h : hits) hit_count += h.face >= 0 ? 1 : 0;
-  // Residual of the exact step (raycast_cpu.h): the hit point is on the face within it.
-  const double bound = engine.scene().options.exact_residual * engine.scene().size + gap;
+  const nlohmann::json f =
+      ray_figures_json(r.figures, a.engine, gpu.get(), r.scene_faces, r.scene_patches, r.scene_size, r.peak_memory);
   const auto certify = [&] {
-    require_certified(loaded.report, global);
-    if (!doubt.empty()) throw CommandFailed("the hits are not certified: " + doubt);
+    if (gpu) report_profile(*gpu, global);
+    if (const std::string why = r.failure(); !why.empty()) throw CommandFailed(why);
   };
 
   if (a.json) {
@@ -70,10 +75,10 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     nlohmann::json results = nlohmann::json::array();
     for (size_t k = 0; k < (a.csv.empty() ? hits.size() : 0); ++k) {
       const auto& h = hits[k];
-      const auto& r = rays[k];
+      const auto& ray = rays[k];
       nlohmann::json one = {{"ray", k},
-                            {"origin", {r.origin.x, r.origin.y, r.origin.z}},
-                            {"direction", {r.direction.x, r.direction.y, r.direction.z}},
+                            {"origin", {ray.origin.x, ray.origin.y, ray.origin.z}},
+                            {"direction", {ray.direction.x, ray.direction.y, ray.direction.z}},
                             {"hit", h.face >= 0}};
       if (h.face >= 0) {
         one["t"] = h.t, one["t_bicubic"] = h.t_bicubic, one["face"] = h.face;
@@ -85,29 +90,27 @@ void run(const GlobalOptions& global, const RaycastArgs& a) {
     }
     nlohmann::json j = {{"model", a.model},
                         {"rays", rays.size()},
-                        {"hits", hit_count},
-                        {"seconds", engine.cast_seconds()},
-                        {"hit_residual", bound}};
+                        {"hits", r.hit_count},
+                        {"seconds", r.figures.cast_seconds},
+                        {"hit_residual", r.hit_residual}};
     if (a.csv.empty())
       j["results"] = std::move(results);  // moved, not copied: a result holds ~1 kB of JSON
     else
       j["results_file"] = a.csv;
-    j.update(engine.figures());
+    j.update(f);
     j["preset"] = a.preset.json();
-    if (!doubt.empty()) j["uncertified"] = doubt;
+    if (const std::string why = r.doubt(); !why.empty()) j["uncertified"] = why;
     add_model_json(j, loaded.report, global);
     print_json(j);
     certify();
     return;
   }
-  const nlohmann::json f = engine.figures();
   a.preset.print_text();
-  fmt::print("model     {} ({} faces, {} bicubic patches)\n", a.model, engine.scene().faces.size(),
-             engine.scene().patches.size());
-  fmt::print("rays      {}  hits {}  misses {}\n", rays.size(), hit_count, (long long)rays.size() - hit_count);
+  fmt::print("model     {} ({} faces, {} bicubic patches)\n", a.model, r.scene_faces, r.scene_patches);
+  fmt::print("rays      {}  hits {}  misses {}\n", rays.size(), r.hit_count, (long long)rays.size() - r.hit_count);
   fmt::print("time      build {:.3f} s, cast {:.3f} s ({:.0f} rays/s, {} on the {})\n",
-             f["seconds_build"].get<double>(), engine.cast_seconds(), f["rays_per_second"].get<double>(),
-             method_used(a.engine), a.engine.device);
+             f["seconds_build"].get<double>(), r.figures.cast_seconds, f["rays_per_second"].get<double>(),
+             queries::method_name(r.method), a.engine.device);
   if (a.engine.bvh_build == "gpu")
     fmt::print("bvh       built on the gpu: {} passes, {:.3f} s\n", f["gpu"]["bvh_build_gpu_passes"].get<int>(),
                f["gpu"]["bvh_build_gpu_seconds"].get<double>());
@@ -137,7 +140,8 @@ void add_raycast(CLI::App& app, const GlobalOptions& global) {
   CLI::App* cmd = app.add_subcommand(
       "raycast",
       "Nearest hit of each ray on the model's trimmed faces (Lemasson et al.): t along the unit direction, face "
-      "and (u, v); t = -1 and face = -1 for a miss. Hits are on the exact face within hit_residual.");
+      "and (u, v); t = -1 and face = -1 for a miss. Hits are on the exact face within hit_residual; the mesh method "
+      "certifies the nearest hits, the BVH and DACRT do not (exit 1).");
   cmd->add_option("MODEL", args->model, "Model file (.igs/.iges/.bpt)")->required();
   cmd->add_option("--rays", args->rays, "ray file: 'ox oy oz dx dy dz' per line (spaces or commas, '-' for stdin)")
       ->required();

@@ -94,7 +94,7 @@ nlohmann::json map_json(const ThicknessArgs& a, const queries::ThicknessMap& m, 
   j.update(figures);
   j["preset"] = a.preset.json();
   j["hit_residual"] = m.hit_residual;
-  if (!m.invalid_trim.empty()) j["uncertified"] = m.invalid_trim;
+  if (const std::string why = m.doubt(); !why.empty()) j["uncertified"] = why;
   return j;
 }
 

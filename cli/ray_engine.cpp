@@ -60,7 +60,7 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
   cmd->add_option("--tolerance", args.tolerance,
                   "bicubic approximation tolerance, relative to the model size (hits are then moved onto the "
                   "exact face)")
-      ->check(finite_range(1e-9, 1e-2))
+      ->check(finite_range(queries::RayCasterOptions::kMinTolerance, queries::RayCasterOptions::kMaxTolerance))
       ->capture_default_str();
   cmd->add_option("--mesh-tolerance", args.mesh_tolerance,
                   "mesh: the guaranteed tessellation's eps, relative to the model size. The hits are the exact "
@@ -82,16 +82,6 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
                 section("bvh-build"));
 }
 
-RayEngine::RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global)
-    : args_(args), global_(global) {
-  const bool gpu = args.device == "gpu";
-  if (gpu && args.method != "bvh" && args.method != "auto")
-    throw BadInput("--engine gpu: only --method bvh runs on the GPU");
-  if (!gpu && args.bvh_build == "gpu") throw BadInput("--bvh-build gpu needs --engine gpu");
-  if (gpu) gpu_ = start_gpu(global);
-  caster_ = std::make_unique<queries::RayCaster>(nurbs::world_faces(model), caster_options(args), gpu_.get());
-}
-
 queries::RayCasterOptions caster_options(const RayEngineArgs& args) {
   queries::RayCasterOptions o;
   o.method = args.method == "dacrt"                                     ? queries::RayMethod::Dacrt
@@ -107,21 +97,7 @@ queries::RayCasterOptions caster_options(const RayEngineArgs& args) {
 }
 
 std::string method_used(const RayEngineArgs& args) {
-  const queries::RayMethod used = caster_options(args).method;
-  return used == queries::RayMethod::Mesh ? "mesh" : used == queries::RayMethod::Dacrt ? "dacrt" : "bvh";
-}
-
-RayEngine::~RayEngine() {
-  caster_.reset();  // its textures before the context
-  if (gpu_) report_profile(*gpu_, global_);
-}
-
-std::vector<nurbs::ray::Hit> RayEngine::cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what) {
-  Progress progress(what, "rays");
-  std::vector<nurbs::ray::Hit> hits =
-      caster_->cast(rays, t_min, [&](long long done, long long total) { progress.update(done, total); });
-  peak_after_cast_ = nurbs::peak_resident_memory();
-  return hits;
+  return queries::method_name(caster_options(args).method);
 }
 
 nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEngineArgs& args, const gpgpu::Gpu* gpu,
@@ -157,11 +133,6 @@ nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEng
           {"tests_per_ray", {{"box", double(f.box_tests) * per_ray}, {"patch", double(f.patch_tests) * per_ray}}},
           {"memory_bytes",
            {{"bvh", f.bytes_bvh}, {"patches", f.bytes_patches}, {"trims", f.bytes_trims}, {"process_peak", peak_memory}}}};
-}
-
-nlohmann::json RayEngine::figures() const {
-  return ray_figures_json(caster_->figures(), args_, gpu_.get(), scene().faces.size(), scene().patches.size(),
-                          scene().size, peak_after_cast_);
 }
 
 }  // namespace cli

@@ -2,8 +2,7 @@
 /// \file ray_engine.h
 /// What `raycast` and `thickness` share: the ray file reader, the options that choose how rays are
 /// cast (--method bvh|dacrt, --engine (also --device), --bvh-build, --threads; --paper sets the first three as
-/// Lemasson et al.) and the engine that builds the scene of a model and casts
-/// rays through it with progress on stderr.
+/// Lemasson et al.) and the caster's figures as JSON.
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -51,29 +50,5 @@ void add_ray_engine_options(CLI::App* cmd, RayEngineArgs& args, PaperPreset& pre
 [[nodiscard]] nlohmann::json ray_figures_json(const queries::RayCasterFigures& f, const RayEngineArgs& args,
                                               const gpgpu::Gpu* gpu, size_t faces, size_t patches, double size,
                                               long long peak_memory);
-
-/// The CLI's side of queries::RayCaster: the GPU started from the global options when --engine gpu
-/// (exit 3 when none starts), progress on stderr, the figures as JSON.
-class RayEngine {
- public:
-  RayEngine(const nurbs::Model& model, const RayEngineArgs& args, const GlobalOptions& global);
-  ~RayEngine();
-  /// Nearest hits (t > t_min) of every ray; `what` names the work in the progress line.
-  std::vector<nurbs::ray::Hit> cast(const std::vector<nurbs::ray::Ray>& rays, double t_min, const char* what);
-  [[nodiscard]] const nurbs::ray::Scene& scene() const { return caster_->scene(); }
-  void rays_start_on_surfaces() { caster_->rays_start_on_surfaces(); }
-  /// ray_figures_json of the caster.
-  [[nodiscard]] nlohmann::json figures() const;
-  [[nodiscard]] double cast_seconds() const { return caster_->figures().cast_seconds; }
-  /// The GPU context of --engine gpu, else null.
-  [[nodiscard]] gpgpu::Gpu* gpu() const { return gpu_.get(); }
-
- private:
-  RayEngineArgs args_;
-  const GlobalOptions& global_;
-  std::unique_ptr<gpgpu::Gpu> gpu_;
-  std::unique_ptr<queries::RayCaster> caster_;
-  long long peak_after_cast_ = -1;
-};
 
 }  // namespace cli

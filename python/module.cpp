@@ -78,7 +78,7 @@ PYBIND11_MODULE(_nurbsgl, m) {
       .def("tessellate", &tessellate, py::arg("eps"), py::arg("relative"), py::arg("watertight"),
            py::arg("guaranteed"), py::arg("check"), py::arg("accept_partial"))
       .def("raycast", &raycast, py::arg("origins"), py::arg("directions"), py::arg("t_min"), py::arg("engine"),
-           py::arg("tol"), py::arg("mesh_tol"))
+           py::arg("tol"), py::arg("mesh_tol"), py::arg("accept_partial"))
       .def("thickness", &thickness, py::arg("samples"), py::arg("engine"), py::arg("ball"), py::arg("min_wall"),
            py::arg("accept_partial"));
   m.def("load", &load, py::arg("path"), "Reads an IGES, STEP or .bpt file.");

@@ -14,6 +14,7 @@
 #include "queries/distance/clash.h"
 #include "queries/distance/clearance_pair.h"
 #include "queries/raycast/ray_caster.h"
+#include "queries/raycast/raycast_query.h"
 #include "queries/raycast/thickness_map.h"
 
 namespace nurbsgl_python {
@@ -119,10 +120,13 @@ py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight,
 }
 
 py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
-                 const std::string& engine, double tol, double mesh_tol) {
-  constexpr double lo = queries::RayCasterOptions::kMinMeshTolerance, hi = queries::RayCasterOptions::kMaxMeshTolerance;
-  if (!(mesh_tol >= lo && mesh_tol <= hi))
-    throw py::value_error(fmt::format("mesh_tol {}: outside [{}, {}]", mesh_tol, lo, hi));
+                 const std::string& engine, double tol, double mesh_tol, bool accept_partial) {
+  using Limits = queries::RayCasterOptions;
+  if (!(tol >= Limits::kMinTolerance && tol <= Limits::kMaxTolerance))
+    throw py::value_error(fmt::format("tol {}: outside [{}, {}]", tol, Limits::kMinTolerance, Limits::kMaxTolerance));
+  if (!(mesh_tol >= Limits::kMinMeshTolerance && mesh_tol <= Limits::kMaxMeshTolerance))
+    throw py::value_error(
+        fmt::format("mesh_tol {}: outside [{}, {}]", mesh_tol, Limits::kMinMeshTolerance, Limits::kMaxMeshTolerance));
   const double limit = coordinate_limit(m.loaded->model);
   const std::vector<glm::dvec3> o = points_from(origins, "origins", limit);
   const std::vector<glm::dvec3> dir = points_from(directions, "directions", 1e300);
@@ -134,21 +138,20 @@ py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& d
     if (!(len > 0.0)) throw py::value_error(fmt::format("directions: row {} is zero", i));
     rays[i] = {o[i], dir[i] / len};
   }
-  const queries::EngineChoice e = engine_of(engine);
-  queries::RayCasterOptions options;
-  options.tolerance = tol;
-  options.mesh_tolerance = mesh_tol;
-  std::vector<nurbs::ray::Hit> hits;
-  long long mesh_triangles = 0;
+  queries::RaycastOptions options;
+  options.gpu = engine_of(engine) == queries::EngineChoice::Gpu;
+  options.caster.method = options.gpu ? queries::RayMethod::Bvh : queries::RayMethod::Mesh;
+  options.caster.tolerance = tol;
+  options.caster.mesh_tolerance = mesh_tol;
+  options.accept_partial = accept_partial;
+  queries::Raycast r;
   {
     py::gil_scoped_release release;
     GlThread::instance().run([&] {
-      queries::RayCaster caster(nurbs::world_faces(m.loaded->model), options,
-                                e == queries::EngineChoice::Gpu ? &GlThread::instance().gpu() : nullptr);
-      hits = caster.cast(rays, t_min);
-      mesh_triangles = caster.figures().mesh_triangles;
+      r = queries::raycast(*m.loaded, rays, t_min, options, options.gpu ? &GlThread::instance().gpu() : nullptr);
     });
   }
+  const std::vector<nurbs::ray::Hit>& hits = r.hits;
   std::vector<char> hit(hits.size());
   std::vector<double> t(hits.size());
   std::vector<glm::dvec3> point(hits.size());
@@ -162,8 +165,11 @@ py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& d
   py::dict d;
   d["hit"] = bools(hit), d["t"] = array1(t), d["point"] = array3(point), d["uv"] = array2(uv);
   d["face"] = array1(face);
-  d["mesh_triangles"] = mesh_triangles;
-  d["failure"] = m.loaded->report.invalid_trim_reason();
+  d["method"] = queries::method_name(r.method);
+  d["mesh_triangles"] = r.figures.mesh_triangles;
+  d["hit_residual"] = r.hit_residual;
+  d["seconds"] = r.figures.cast_seconds;
+  d["failure"] = r.failure();
   return d;
 }
 
@@ -172,6 +178,7 @@ py::dict thickness(ModelBinding& m, long long samples, const std::string& engine
   queries::ThicknessMapOptions o;
   o.samples = samples, o.ball = ball, o.min_wall = min_wall, o.accept_partial = accept_partial;
   o.gpu = engine_of(engine) == queries::EngineChoice::Gpu;
+  if (o.gpu) o.caster.method = queries::RayMethod::Bvh;  // the only method of the GPU pass
   queries::ThicknessMap map;
   {
     py::gil_scoped_release release;

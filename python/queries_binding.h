@@ -1,7 +1,7 @@
 #pragma once
 /// \file queries_binding.h
 /// The Python module's queries, each on its front door (queries/distance/point_query.h,
-/// clearance_pair.h, nurbs/tessellation/model_mesh.h, queries/raycast/ray_caster.h,
+/// clearance_pair.h, nurbs/tessellation/model_mesh.h, queries/raycast/raycast_query.h,
 /// thickness_map.h): the arguments as nurbsgl/__init__.py passes them, the answers as a dict of
 /// arrays and figures.
 #include <pybind11/pybind11.h>
@@ -25,10 +25,10 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
 py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight, bool guaranteed, bool check,
                     bool accept_partial);
 
-/// Nearest hits of rays (unit directions made so): hit, t, point, face, uv per ray; mesh_triangles
-/// (RayCasterFigures).
+/// Nearest hits of rays (unit directions made so; queries/raycast/raycast_query.h): hit, t, point,
+/// face, uv per ray; method, mesh_triangles, hit_residual, seconds, failure.
 py::dict raycast(ModelBinding& m, const py::handle& origins, const py::handle& directions, double t_min,
-                 const std::string& engine, double tol, double mesh_tol);
+                 const std::string& engine, double tol, double mesh_tol, bool accept_partial);
 
 /// The thickness map: per ray its origin, direction, face and thickness (-1: no hit); min, median,
 /// mean, max; the rolling ball's per ray when asked; failure.

@@ -36,11 +36,16 @@ step() {
   return 0
 }
 
-# The figures of one query: `nurbsgl ... --json` into FILE, then the fields a reader needs.
+# The figures of one query: `nurbsgl ... --json` into FILE, then the fields a reader needs. The BVH
+# method's rays (the GPU pass and its CPU twin) exit 1 by design, their nearest hits not certified
+# (a ray grazing a face within the bicubic tolerance may miss it): that exit, with that reason in
+# the JSON, passes; the report prints the reason.
 query() {
   local name=$1 file=$build/$1.json
   shift
-  step "$name" 120 bash -c '"$@" --json > "'"$file"'"' _ "$@"
+  step "$name" 120 bash -c '"$@" --json > "'"$file"'"; rc=$?
+    [[ $rc -eq 1 ]] && grep -q "\"uncertified\": \"the nearest hits are not certified" "'"$file"'" && rc=0
+    exit $rc' _ "$@"
 }
 
 step "setup and Release build" 420 scripts/setup.sh "$build" -DCMAKE_BUILD_TYPE=Release
@@ -74,7 +79,7 @@ if [[ -d $models ]]; then
     query "thickness_comp8_$engine" "$ng" thickness "$comp8" --engine "$engine"
     query "clearance_comp8_$engine" "$ng" clearance "$comp8" "$comp8" --move-b 70,5,3 --tol 1e-4 --engine "$engine"
   done
-  # The default paths beside them: points from the certified mesh, rays by the paper's BVH on the CPU.
+  # The certified meshes beside them (points; rays, the default), and the GPU pass's CPU twin.
   query "distance_vent_mesh" "$ng" distance "$vent" --points "$build/points_vent.txt" --tol 1e-3 --path mesh
   query "distance_motor_mesh" "$ng" distance "$motor" --points "$build/points_motor.txt" --tol 1e-4 --path mesh
   query "raycast_vent_bvh_cpu" "$ng" raycast "$vent" --rays "$build/rays_vent.txt" --engine cpu --method bvh
@@ -121,6 +126,8 @@ elif "pairs" in j:
 elif "distance" in j:
     fig = f"distance {j.get('distance')}, bound {j.get('bound')}, meets {j.get('meets_tolerance')}"
 print(f"{name:32} engine {engine!s:5} seconds {secs!s:22} {fig}")
+if j.get("uncertified"):
+    print(f"{'':32} not certified: {j['uncertified']}")
 EOF
   done
   echo

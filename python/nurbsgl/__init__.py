@@ -92,13 +92,17 @@ class Model:
         within bound) and, with check=True, the measured deviation."""
         return Result(self._m.tessellate(eps, relative, watertight, guaranteed, check, accept_partial))
 
-    def raycast(self, origins, directions, t_min=0.0, engine="cpu", tol=1e-5, mesh_tol=1e-4):
+    def raycast(self, origins, directions, t_min=0.0, engine="cpu", tol=1e-5, mesh_tol=1e-4,
+                accept_partial=False):
         """Nearest hits (t > t_min) of rays from (N, 3) origins along (N, 3) directions (Lemasson et al.):
-        hit (bool), t (NaN where none), point, face, uv per ray, and mesh_triangles. engine "cpu"
-        (double) or "gpu". mesh_tol: on the CPU, the eps of the mesh whose slab finds the crossings
-        (relative to the model size; the hits are the exact faces' whatever it is): finer for
-        millions of rays."""
-        return Result(self._m.raycast(origins, directions, t_min, engine, tol, mesh_tol))
+        hit (bool), t (NaN where none), point, face, uv per ray; method, mesh_triangles, hit_residual
+        (how far a hit point may lie from the file's faces), seconds, and failure ("" when the hits
+        are certified: the mesh method on the CPU, on a model read whole with valid trims). engine
+        "cpu" (double, the certified mesh method) or "gpu" (the paper's BVH pass: its nearest hits
+        are not certified, as failure says). tol: the bicubic tolerance, mesh_tol: on the CPU, the
+        eps of the mesh whose slab finds the crossings (both relative to the model size; the hits are
+        the exact faces' whatever they are): finer for millions of rays."""
+        return Result(self._m.raycast(origins, directions, t_min, engine, tol, mesh_tol, accept_partial))
 
     def thickness(self, samples=20000, engine="cpu", ball=False, min_wall=0.0, accept_partial=False):
         """Wall thickness from about `samples` samples over the faces, a ray from each along the inward

@@ -114,8 +114,10 @@ def test_raycast_hits_the_sphere(sphere):
     d /= np.linalg.norm(d, axis=1)[:, None]
     origins = -3 * R * d  # outside, looking through the centre
     r = sphere.raycast(origins, d)
+    assert r.method == "mesh" and r.failure == ""
     assert r.hit.all()
     assert np.abs(r.t - 2 * R).max() < 1e-6 * R
+    assert np.abs(r.t - 2 * R).max() <= r.hit_residual
     assert np.abs(np.linalg.norm(r.point, axis=1) - R).max() < 1e-6 * R
     # A coarser slab mesh finds the same exact hits.
     coarse = sphere.raycast(origins, d, mesh_tol=1e-3)
@@ -123,6 +125,22 @@ def test_raycast_hits_the_sphere(sphere):
     assert np.array_equal(coarse.hit, r.hit) and np.abs(coarse.t - r.t).max() < 1e-9 * R
     with pytest.raises(ValueError, match="mesh_tol"):
         sphere.raycast(origins, d, mesh_tol=0.5)
+    with pytest.raises(ValueError, match="tol"):
+        sphere.raycast(origins, d, tol=0.5)
+
+
+def test_raycast_on_the_gpu_says_its_hits_are_not_certified(sphere):
+    # The paper's BVH pass: the same hits here, but a ray grazing a face within the bicubic
+    # tolerance may miss it, so its nearest hits are never certified.
+    d = np.tile([0.0, 0.0, 1.0], (3, 1))
+    origins = np.array([[0.0, 0.0, -3 * R], [0.5 * R, 0.0, -3 * R], [2 * R, 0.0, -3 * R]])
+    r = sphere.raycast(origins, d, engine="gpu")
+    assert r.method == "bvh"
+    assert r.failure.startswith("the nearest hits are not certified: the bvh method")
+    assert list(r.hit) == [True, True, False]
+    assert abs(r.t[0] - 2 * R) <= r.hit_residual
+    t = sphere.thickness(samples=200, engine="gpu")
+    assert t.failure.startswith("the nearest hits are not certified: the bvh method")
 
 
 def test_thickness_of_a_sphere_is_its_diameter(sphere):

@@ -1,5 +1,7 @@
 #include "queries/raycast/ray_caster.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -70,6 +72,19 @@ std::vector<nurbs::ray::Hit> dacrt_parallel(const nurbs::ray::Scene& scene, cons
 }
 
 }  // namespace
+
+const char* method_name(RayMethod method) {
+  return method == RayMethod::Mesh ? "mesh" : method == RayMethod::Dacrt ? "dacrt" : "bvh";
+}
+
+std::string nearest_hits_doubt(RayMethod method) {
+  if (method == RayMethod::Mesh) return {};
+  return fmt::format(
+      "the nearest hits are not certified: the {} method finds a ray's hits from the faces' bicubic approximations "
+      "(Lemasson et al.), and may miss a hit where the ray grazes a face within their tolerance; the mesh method (on the "
+      "CPU) certifies them",
+      method_name(method));
+}
 
 RayCaster::RayCaster(std::vector<nurbs::TrimmedSurface> faces, const RayCasterOptions& options, gpgpu::Gpu* gpu)
     : options_(options) {

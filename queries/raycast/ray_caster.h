@@ -7,6 +7,7 @@
 /// per ray, Fig. 7; memory, Fig. 11).
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gpgpu/gpu.h"
@@ -32,10 +33,23 @@ namespace queries {
 /// along its next crossings (near_boundaries).
 enum class RayMethod { Bvh, Dacrt, Mesh };
 
+/// The method's name as the command line and Python give it: "bvh", "dacrt" or "mesh".
+[[nodiscard]] const char* method_name(RayMethod method);
+
+/// Why the nearest hits of `method` are not certified, for people; empty for the mesh method. The
+/// BVH and DACRT (on the CPU or the GPU) find a ray's candidates on the faces' bicubic
+/// approximations (Lemasson et al. §3.1) and take the nearest exact hit Newton reaches from them: a
+/// ray that grazes a face within the approximation's tolerance may cross the face where it passes
+/// beside the approximation, and that hit is then missed (a hit behind it, or none, is answered).
+/// The mesh method's slab holds the faces themselves (mesh_distance.h).
+[[nodiscard]] std::string nearest_hits_doubt(RayMethod method);
+
 struct RayCasterOptions {
   RayMethod method = RayMethod::Mesh;
   int threads = 0;                     ///< CPU threads, 0 = every hardware thread
   double tolerance = 1e-5;             ///< bicubic tolerance relative to the model size
+  /// The bicubic tolerances the command line and Python accept.
+  static constexpr double kMinTolerance = 1e-9, kMaxTolerance = 1e-2;
   /// RayMethod::Mesh: the guaranteed tessellation's eps relative to the model size. The mesh only
   /// finds where each ray meets the slab around it (the hits are the exact faces'): a coarser mesh
   /// is quicker to make, a finer one sends fewer rays near edges to the BVH. The command line and
@@ -84,6 +98,8 @@ class RayCaster {
 
   [[nodiscard]] const nurbs::ray::Scene& scene() const { return scene_; }
   [[nodiscard]] bool on_gpu() const { return gpu_caster_ != nullptr; }
+  /// The method cast: the options' method, the BVH for the mesh method on the GPU.
+  [[nodiscard]] RayMethod method() const { return gpu_caster_ ? RayMethod::Bvh : options_.method; }
   [[nodiscard]] const RayCasterFigures& figures() const { return figures_; }
 
  private:

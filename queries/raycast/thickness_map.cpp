@@ -39,12 +39,6 @@ std::vector<nurbs::PaperSwitch> ThicknessMapOptions::paper_switches() {
   return {{"method", "§3.2"}, {"engine", "§3.2-3.4"}, {"bvh-build", "§3.2"}};
 }
 
-std::string ThicknessMap::failure() const {
-  if (!model_reason.empty()) return model_reason;
-  if (!invalid_trim.empty()) return "the thickness is not certified: " + invalid_trim;
-  return {};
-}
-
 BallMap ball_map(gpgpu::Gpu& gpu, const nurbs::Model& model, const nurbs::ray::ThicknessRays& rays,
                  const std::vector<nurbs::ray::Hit>& hits, double size, double tolerance, EngineChoice engine,
                  const std::function<void(long long, long long)>& progress) {
@@ -88,8 +82,6 @@ ThicknessMap thickness_map(const nurbs::LoadedModel& loaded, const ThicknessMapO
   const auto start = std::chrono::steady_clock::now();
   ThicknessMap out;
   out.size = loaded.checked_size();
-  out.invalid_trim = loaded.report.invalid_trim_reason();
-  out.model_reason = loaded.report.uncertified_reason(options.accept_partial);
   if (options.gpu && options.caster.method != RayMethod::Bvh)
     throw nurbs::RequestError("--engine gpu: only --method bvh runs on the GPU");
   if (!options.gpu && options.caster.bvh_build == BvhBuild::Gpu)
@@ -98,6 +90,7 @@ ThicknessMap thickness_map(const nurbs::LoadedModel& loaded, const ThicknessMapO
     throw std::logic_error("thickness_map: the GPU caster and the rolling ball need a GL context");
   RayCaster caster(nurbs::world_faces(loaded.model), options.caster, options.gpu ? gpu : nullptr);
   caster.rays_start_on_surfaces();
+  out.doubts = HitDoubts(loaded.report, options.accept_partial, caster.method());
   const nurbs::ray::Scene& scene = caster.scene();
   out.scene_faces = scene.faces.size(), out.scene_patches = scene.patches.size(), out.scene_size = scene.size;
   const auto cast = [&](const std::vector<nurbs::ray::Ray>& rays, double t_min, const std::string& what) {

@@ -6,8 +6,9 @@
 /// by the batched point query of Krishnamurthy et al. (point_batch.h) with its bounds carried into
 /// each ball's. Everything a caller needs decided in one place: the spacing from a sample count
 /// (a spacing finer than the most samples refused before the work), the ray caster and its device,
-/// the per-sample map, the summary, and the reader's doubts (a face with an invalid trim may add
-/// or hide a wall anywhere: nothing is certified; an edge gap widens every thickness by the gap).
+/// the per-sample map, the summary, the reader's doubts (a face with an invalid trim may add or
+/// hide a wall anywhere: nothing is certified; an edge gap widens every thickness by the gap) and
+/// the method's (nearest_hits_doubt: the BVH and DACRT may miss a wall a ray grazes).
 #include <functional>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "nurbs/raycast/thickness.h"
 #include "queries/engine.h"
 #include "queries/raycast/ray_caster.h"
+#include "queries/raycast/raycast_query.h"
 
 namespace queries {
 
@@ -76,11 +78,12 @@ struct ThicknessMap {
   double scene_size = 0.0;  ///< the ray scene's size (nurbs::ray::Scene::size): the bicubic tolerance's scale
   double orientation_seconds = 0.0, cast_seconds = 0.0, seconds = 0.0;
   long long peak_memory = -1;  ///< the process's peak resident bytes once the last ray was cast
-  std::string invalid_trim;    ///< ModelReport::invalid_trim_reason
-  std::string model_reason;    ///< ModelReport::uncertified_reason
+  HitDoubts doubts;
 
+  /// HitDoubts::beyond_model of the thickness (the JSON's `uncertified`).
+  [[nodiscard]] std::string doubt() const { return doubts.beyond_model("the thickness is not certified"); }
   /// Why the map is not certified, for people; empty when it is.
-  [[nodiscard]] std::string failure() const;
+  [[nodiscard]] std::string failure() const { return doubts.failure("the thickness is not certified"); }
 };
 
 /// The thickness map of `model`. `gpu`: the context of the GPU caster and of the ball's point query

@@ -1,7 +1,7 @@
 // The thickness map's front door (queries/raycast/thickness_map.h) on the CPU caster: a sphere's wall is its
 // diameter at every sample, within the hit residual; a spacing finer than the most samples allowed
-// is refused before the work; a model that lost a face, or a face with an invalid trim, leaves the
-// map uncertified, named; the papers' settings.
+// is refused before the work; a model that lost a face, or a face with an invalid trim, and the
+// BVH method leave the map uncertified, named; the papers' settings.
 #include <doctest/doctest.h>
 
 #include "models/exact_shapes.h"
@@ -40,6 +40,16 @@ TEST_CASE("thickness map: a model that lost a face, or a face with an invalid tr
   invalid.model.bodies[0].faces[0].trim_problem = "the loop crosses itself";
   invalid.report = nurbs::model_report(invalid.model);
   CHECK(queries::thickness_map(invalid, o, nullptr).failure().find("the loop crosses itself") != std::string::npos);
+}
+
+TEST_CASE("thickness map: the BVH's map says why its nearest hits are not certified") {
+  queries::ThicknessMapOptions o;
+  o.samples = 500;
+  o.caster.method = queries::RayMethod::Bvh;
+  const queries::ThicknessMap m = queries::thickness_map(models::loaded_sphere(10.0), o, nullptr);
+  CHECK(m.doubts.method == queries::nearest_hits_doubt(queries::RayMethod::Bvh));
+  CHECK(m.failure() == m.doubts.method);
+  CHECK(m.doubt() == m.doubts.method);
 }
 
 TEST_CASE("thickness map: paper() sets the paper's switches, each with its section") {
