@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -38,17 +39,17 @@ using Thickness = nurbs::ray::SampleThickness;
 void write_csv(const std::string& path, const nurbs::ray::ThicknessSamples& s, const Thickness& th,
                const std::vector<nurbs::ray::Hit>& hits, const nurbs::ray::ThicknessRays& rays,
                const queries::BallMap* ball) {
-  nurbs::io::write_file(path, [&](std::ostream& out) {
-  out << "face,u,v,x,y,z,thickness,hit_face" << (ball ? ",ball_thickness,ball_bound" : "") << "\n";
-  for (size_t r = 0; r < rays.rays.size(); ++r) {
+  const std::string header =
+      std::string("face,u,v,x,y,z,thickness,hit_face") + (ball ? ",ball_thickness,ball_bound" : "") + "\n";
+  write_rows(path, header, rays.rays.size(), [&](fmt::memory_buffer& buf, size_t r) {
     const auto [f, k] = rays.source[r];
     const auto& g = s.faces[size_t(f)];
-    out << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", g.face, g.uv[size_t(k)].x,
-                       g.uv[size_t(k)].y, g.point[size_t(k)].x, g.point[size_t(k)].y, g.point[size_t(k)].z,
-                       th[size_t(f)][size_t(k)], hits[r].face);
-    if (ball) out << fmt::format(",{:.17g},{:.3g}", ball->samples[r].thickness, ball->samples[r].bound);
-    out << "\n";
-  }
+    const glm::dvec2 uv = g.uv[size_t(k)];
+    const glm::dvec3 p = g.point[size_t(k)];
+    fmt::format_to(std::back_inserter(buf), "{},{},{},{},{},{},{},{}", g.face, uv.x, uv.y, p.x, p.y, p.z,
+                   th[size_t(f)][size_t(k)], hits[r].face);
+    if (ball) fmt::format_to(std::back_inserter(buf), ",{},{:.3g}", ball->samples[r].thickness, ball->samples[r].bound);
+    buf.push_back('\n');
   });
 }
 
