@@ -120,7 +120,7 @@ fig = ""
 if "over_tolerance" in j:
     fig = f"{j.get('points')} points, not found {j.get('not_found')}, over tolerance {j.get('over_tolerance')}, uncertified {j.get('uncertified')}"
 elif "rays" in j:
-    fig = f"{j.get('rays')} rays, cast {j.get('figures', {}).get('cast_seconds', '')}"
+    fig = f"{j.get('rays')} rays, cast {j.get('seconds_cast', '')} s, hits {j.get('hits')}"
 elif "pairs" in j:
     fig = f"{j.get('pairs')} pairs, computed {j.get('pairs_computed')}, uncertified {j.get('pairs_uncertified')}"
 elif "distance" in j:
