@@ -47,7 +47,7 @@ void write_csv(const std::string& path, const std::vector<nurbs::ray::Hit>& hits
 void run(const GlobalOptions& global, const RaycastArgs& a) {
   const LoadedModel loaded = load_model(a.model, "raycast");
   const nurbs::Model& model = loaded.model;
-  (void)nurbs::checked_model_size(model, a.model);
+  (void)nurbs::checked_model_size(model, a.model);  // before the rays' coordinate limit is taken from its box
   if (!a.csv.empty()) check_output(a.csv, "--csv");
   const std::vector<nurbs::ray::Ray> rays = read_rays(a.rays, nurbs::coordinate_limit(nurbs::model_box(model)));
   queries::RaycastOptions o;

@@ -32,6 +32,7 @@ Raycast raycast(const nurbs::LoadedModel& model, const std::vector<nurbs::ray::R
   if (!options.gpu && options.caster.bvh_build == BvhBuild::Gpu)
     throw nurbs::RequestError("--bvh-build gpu needs --engine gpu");
   if (options.gpu && !gpu) throw std::logic_error("raycast: the GPU caster needs a GL context");
+  (void)model.checked_size();  // a model no tolerance can refer to is refused before the work
   Raycast out;
   RayCaster caster(nurbs::world_faces(model.model), options.caster, options.gpu ? gpu : nullptr);
   out.method = caster.method();

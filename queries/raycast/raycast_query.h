@@ -60,7 +60,8 @@ struct Raycast {
 
 /// The nearest hits (t > t_min) of `rays` (unit directions) on `model`'s faces. `gpu`: the context
 /// of the GPU pass (needed when options.gpu, else may be null). Throws nurbs::RequestError for the
-/// GPU without the BVH method, or a GPU BVH build without the GPU.
+/// GPU without the BVH method, a GPU BVH build without the GPU, or a model whose size no tolerance
+/// can refer to (nurbs::checked_model_size).
 [[nodiscard]] Raycast raycast(const nurbs::LoadedModel& model, const std::vector<nurbs::ray::Ray>& rays, double t_min,
                               const RaycastOptions& options, gpgpu::Gpu* gpu);
 

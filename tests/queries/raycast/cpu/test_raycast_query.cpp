@@ -1,8 +1,8 @@
 // The ray casting front door (queries/raycast/raycast_query.h) on the CPU caster: the mesh method's
 // hits on a sphere, certified within the hit residual; the BVH and DACRT answer with the reason their
 // nearest hits are not certified (rays that graze a face within the bicubic tolerance: one the BVH
-// misses here); a model that lost a face, or a face with an invalid trim, is named; the GPU without
-// the BVH, or a GPU build without the GPU, is refused.
+// misses here); a model that lost a face, or a face with an invalid trim, is named; a model of no
+// size, the GPU without the BVH, or a GPU build without the GPU, is refused.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -87,7 +87,11 @@ TEST_CASE("raycast front door: a model that lost a face, or a face with an inval
   CHECK(r.failure() == r.doubt());
 }
 
-TEST_CASE("raycast front door: the GPU pass runs only the BVH, and a GPU build needs the GPU") {
+TEST_CASE("raycast front door: refused before the work: a model of no size, the GPU without the BVH, a GPU build "
+          "without the GPU") {
+  nurbs::LoadedModel empty;
+  empty.report = nurbs::model_report(empty.model);
+  CHECK_THROWS_AS((void)queries::raycast(empty, parallel_rays({1.0}), 0.0, {}, nullptr), nurbs::RequestError);
   const std::vector<nurbs::ray::Ray> rays = parallel_rays({1.0});
   queries::RaycastOptions o;
   o.caster.bvh_build = queries::BvhBuild::Gpu;
