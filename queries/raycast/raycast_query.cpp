@@ -25,12 +25,18 @@ std::string HitDoubts::failure(std::string_view not_certified) const {
   return model.empty() ? beyond_model(not_certified) : model;
 }
 
+void check_engine_request(const RayCasterOptions& caster, bool gpu) {
+  if (gpu && caster.method != RayMethod::Bvh) throw nurbs::RequestError("--engine gpu: only --method bvh runs on the GPU");
+  if (!gpu && caster.bvh_build == BvhBuild::Gpu) throw nurbs::RequestError("--bvh-build gpu needs --engine gpu");
+}
+
+double hit_residual(const nurbs::ray::Scene& scene, const nurbs::ModelReport& report) {
+  return scene.options.exact_residual * scene.size + report.largest_gap();
+}
+
 Raycast raycast(const nurbs::LoadedModel& model, const std::vector<nurbs::ray::Ray>& rays, double t_min,
                 const RaycastOptions& options, gpgpu::Gpu* gpu) {
-  if (options.gpu && options.caster.method != RayMethod::Bvh)
-    throw nurbs::RequestError("--engine gpu: only --method bvh runs on the GPU");
-  if (!options.gpu && options.caster.bvh_build == BvhBuild::Gpu)
-    throw nurbs::RequestError("--bvh-build gpu needs --engine gpu");
+  check_engine_request(options.caster, options.gpu);
   if (options.gpu && !gpu) throw std::logic_error("raycast: the GPU caster needs a GL context");
   (void)model.checked_size();  // a model no tolerance can refer to is refused before the work
   Raycast out;
@@ -43,7 +49,7 @@ Raycast raycast(const nurbs::LoadedModel& model, const std::vector<nurbs::ray::R
   out.peak_memory = nurbs::peak_resident_memory();
   out.figures = caster.figures();
   for (const nurbs::ray::Hit& h : out.hits) out.hit_count += h.face >= 0 ? 1 : 0;
-  out.hit_residual = scene.options.exact_residual * scene.size + model.report.largest_gap();
+  out.hit_residual = hit_residual(scene, model.report);
   return out;
 }
 

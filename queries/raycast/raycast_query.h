@@ -32,6 +32,15 @@ struct HitDoubts {
   [[nodiscard]] std::string failure(std::string_view not_certified) const;
 };
 
+/// Refuses (nurbs::RequestError) a caster's request the engines cannot run: the GPU pass (`gpu`)
+/// with a method other than the BVH, or the BVH built on the GPU without it. The checks of both
+/// front doors, raycast and thickness_map.
+void check_engine_request(const RayCasterOptions& caster, bool gpu);
+
+/// How far a hit point of `scene`'s caster may lie from the file's faces: the exact step's residual
+/// plus the largest edge gap the reader found.
+[[nodiscard]] double hit_residual(const nurbs::ray::Scene& scene, const nurbs::ModelReport& report);
+
 struct RaycastOptions {
   RayCasterOptions caster;      ///< method, threads, bicubic and mesh tolerances, DACRT thresholds, BVH build
   bool gpu = false;             ///< the fragment-shader pass (the BVH method only), else the CPU
@@ -43,9 +52,7 @@ struct Raycast {
   std::vector<nurbs::ray::Hit> hits;  ///< per ray, in input order
   long long hit_count = 0;
   RayMethod method = RayMethod::Mesh;  ///< the method cast (RayCaster::method)
-  /// How far a hit point may lie from the file's faces: the exact step's residual plus the largest
-  /// edge gap.
-  double hit_residual = 0.0;
+  double hit_residual = 0.0;  ///< hit_residual of the scene and the model
   RayCasterFigures figures;
   size_t scene_faces = 0, scene_patches = 0;
   double scene_size = 0.0;     ///< nurbs::ray::Scene::size: the bicubic tolerance's scale

@@ -82,10 +82,7 @@ ThicknessMap thickness_map(const nurbs::LoadedModel& loaded, const ThicknessMapO
   const auto start = std::chrono::steady_clock::now();
   ThicknessMap out;
   out.size = loaded.checked_size();
-  if (options.gpu && options.caster.method != RayMethod::Bvh)
-    throw nurbs::RequestError("--engine gpu: only --method bvh runs on the GPU");
-  if (!options.gpu && options.caster.bvh_build == BvhBuild::Gpu)
-    throw nurbs::RequestError("--bvh-build gpu needs --engine gpu");
+  check_engine_request(options.caster, options.gpu);
   if ((options.gpu || options.ball) && !gpu)
     throw std::logic_error("thickness_map: the GPU caster and the rolling ball need a GL context");
   RayCaster caster(nurbs::world_faces(loaded.model), options.caster, options.gpu ? gpu : nullptr);
@@ -117,7 +114,7 @@ ThicknessMap thickness_map(const nurbs::LoadedModel& loaded, const ThicknessMapO
   out.hits = cast(out.rays.rays, o.start_offset * scene.size, "thickness");
   out.cast_seconds = caster.figures().cast_seconds - out.orientation_seconds;
   out.figures = caster.figures();
-  out.hit_residual = scene.options.exact_residual * scene.size + loaded.report.largest_gap();
+  out.hit_residual = hit_residual(scene, loaded.report);
 
   out.thickness = empty_map(out.samples);
   std::vector<double> values;
