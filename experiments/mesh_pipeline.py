@@ -17,12 +17,16 @@ ratio (mesh time / ours), and the mesh answers' error against ours:
   - thickness (as many samples on each side, ours on the faces, the peer's on its mesh, each ray
     inward): both sides' thinnest and median wall, and the share of the peer's samples thinner than
     half our thinnest (walls the mesh makes up at its own creases);
+  - with --floor (experiments/bench_ray_floor.cpp), beside each rays row: one Embree traversal of
+    our certified mesh per ray, plain and of the slab scene the mesh method casts into, the least
+    our certified hits cost before any Newton step, against the mesh pipeline's whole query;
   - clearance (the model against a copy moved along x by its box width plus its size): |d_mesh -
     d| over the deflection, and OpenCASCADE's BRepExtrema_DistShapeShape, its time and its distance.
 
   PYTHONPATH= python3 experiments/mesh_pipeline.py --cli build/cli/nurbsgl \\
       --peer build-bench/experiments/peer_mesh_pipeline [--occt build-bench/experiments/peer_occt_distance] \\
-      --out DIR [--points 20000 ...] [--rays 100000 ...] [--thickness 100000 ...]
+      [--floor build-bench/experiments/bench_ray_floor] --out DIR [--points 20000 ...] [--rays 100000 ...]
+      [--thickness 100000 ...]
       [--tol 1e-4 1e-5] [--repeat 3] [--models NAME ...]
 Writes DIR/mesh_pipeline.csv, prints the table, and (unless --no-docs) puts the table in
 docs/benchmarks.md and the README's headline rows for points and rays against the mesh pipeline (the
@@ -108,15 +112,16 @@ def publish(args, rows, faces):
     """docs/benchmarks.md's section of this run, and the README's headline rows for points and rays."""
     # The command as a reader runs it: the peers where bench.sh builds them, DIR for the output.
     generic = {"--peer": "build-bench/experiments/peer_mesh_pipeline",
-               "--occt": "build-bench/experiments/peer_occt_distance", "--out": "DIR"}
+               "--occt": "build-bench/experiments/peer_occt_distance",
+               "--floor": "build-bench/experiments/bench_ray_floor", "--out": "DIR"}
     words = sys.argv[1:]
     words = [generic.get(words[i - 1], w) if i > 0 else w for i, w in enumerate(words)]
     command = "experiments/mesh_pipeline.py " + " ".join(words)
     gl = json.loads(subprocess.run([args.cli, "gpu-info", "--json"], capture_output=True, text=True).stdout or "{}")
     shown = [{k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()} for r in rows]
     report.write_benchmarks("Against the mesh pipeline", command, gl,
-                            [(f"`mesh_pipeline.csv`: {', '.join(map(str, args.points))} points, "
-                              f"{', '.join(map(str, args.rays))} rays, "
+                            [(f"`mesh_pipeline.csv`: {', '.join(map(str, args.points)) or 'no'} points, "
+                              f"{', '.join(map(str, args.rays)) or 'no'} rays, "
                               f"{', '.join(map(str, args.thickness)) or 'no'} thickness samples",
                               report.markdown_table(shown))],
                             "" if args.occt else "OpenCASCADE's clearance")
@@ -142,11 +147,13 @@ def main():
     p.add_argument("--cli", required=True)
     p.add_argument("--peer", required=True)
     p.add_argument("--out", required=True)
-    p.add_argument("--points", type=int, nargs="+", default=[20000])
-    p.add_argument("--rays", type=int, nargs="+", default=[100000])
+    p.add_argument("--points", type=int, nargs="*", default=[20000], help="points (none: no point rows)")
+    p.add_argument("--rays", type=int, nargs="*", default=[100000], help="rays (none: no ray rows)")
     p.add_argument("--thickness", type=int, nargs="*", default=[100000], help="samples (none: no thickness rows)")
     p.add_argument("--no-clearance", action="store_true")
     p.add_argument("--occt", help="peer_occt_distance: OpenCASCADE's exact clearance beside the mesh's")
+    p.add_argument("--floor", help="bench_ray_floor: one Embree traversal of our certified mesh per ray, beside "
+                                   "the rays rows (the least our mesh method spends before its exact hits)")
     p.add_argument("--no-docs", action="store_true", help="leave docs/benchmarks.md and the README alone")
     p.add_argument("--tol", type=float, nargs="+", default=[1e-4, 1e-5])
     p.add_argument("--repeat", type=int, default=3)
@@ -198,10 +205,16 @@ def main():
             both = [(a, c) for a, c in zip(tm, tn) if a >= 0 and c >= 0]
             err = [abs(a - c) for a, c in both]
             disagree = sum(1 for a, c in zip(tm, tn) if (a >= 0) != (c >= 0))
-            rows.append({"model": name, "query": "rays", "count": count, "tol": args.tol[0],
-                         "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("method", ""),
-                         "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
-                         "mesh_share_beyond": disagree / count, "ours_meet_tolerance": ""})
+            row = {"model": name, "query": "rays", "count": count, "tol": args.tol[0],
+                   "mesh_triangles": pj["triangles"], **figures, "ours_path": j.get("method", ""),
+                   "mesh_max_error_over_deflection": max(err) / deflection if err else 0.0,
+                   "mesh_share_beyond": disagree / count, "ours_meet_tolerance": ""}
+            if args.floor:
+                fj = json.loads(run([args.floor, model, "--rays", str(rays), "--repeat", str(args.repeat)])[0].stdout)
+                row.update({"ours_one_traversal_s": fj["plain_seconds"], "ours_slab_traversal_s": fj["slab_seconds"],
+                            "ours_mesh_triangles": fj["triangles"],
+                            "ratio_one_traversal": figures["mesh_queries_s"] / fj["plain_seconds"]})
+            rows.append(row)
         for count in args.thickness:
             ours_csv, mesh_txt = out / "ours_w.csv", out / "mesh_w.txt"
             # The peer casts as many rays as our sampling made (--samples is "about").
@@ -256,6 +269,10 @@ def main():
         if r["query"] == "thickness":
             print(f"{'':11} thinnest: ours {r['ours_min']:.6g}, mesh {r['mesh_min']:.6g}; median: ours "
                   f"{r['ours_median']:.6g}, mesh {r['mesh_median']:.6g}")
+        if "ours_one_traversal_s" in r:
+            print(f"{'':11} one traversal of our mesh ({r['ours_mesh_triangles']} triangles): "
+                  f"{r['ours_one_traversal_s']:.4f} s plain, {r['ours_slab_traversal_s']:.4f} s of the slabs; "
+                  f"mesh query / one plain traversal {r['ratio_one_traversal']:.2f}x")
         if "occt_distance" in r:
             print(f"{'':11} OpenCASCADE: {r['occt_distance']:.12g} in {r['occt_query_s']:.4f} s "
                   f"({r['occt_whole_s']:.2f} s whole); ours {r['ours_distance']:.12g} +- {r['ours_bound']:.3g}, "

@@ -26,5 +26,5 @@ build-bench/experiments/peer_occt_classify --csv build-bench/peer_occt_classify.
 if [[ -x build-bench/experiments/peer_mesh_pipeline ]]; then
   /usr/bin/python3 experiments/mesh_pipeline.py --cli build-bench/cli/nurbsgl \
     --peer build-bench/experiments/peer_mesh_pipeline --occt build-bench/experiments/peer_occt_distance \
-    --out build-bench/experiments/mesh_pipeline
+    --floor build-bench/experiments/bench_ray_floor --out build-bench/experiments/mesh_pipeline
 fi
