@@ -20,6 +20,7 @@
 #include "nurbs/curve_eval.h"
 #include "nurbs/io/iges_reader.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/io/read_model.h"
 #include "nurbs/io/step_file.h"
 #include "nurbs/io/step_reader.h"
 #include "nurbs/model_ops.h"
@@ -1080,4 +1081,21 @@ TEST_CASE("STEP reader: of two FACE_BOUNDs without an outer one, the loop enclos
   CHECK(ring_material == ring);
   CHECK(hole > 0);
   CHECK(hole_material == 0);
+}
+
+TEST_CASE("model format by content: STEP and IGES starts are told apart, anything else is neither") {
+  using nurbs::io::ModelFormat;
+  using nurbs::io::sniff_model_format;
+  CHECK(sniff_model_format("ISO-10303-21;\nHEADER;\n") == ModelFormat::Step);
+  CHECK(sniff_model_format("  \r\n ISO-10303-21;") == ModelFormat::Step);
+  const std::string start(72, ' ');
+  CHECK(sniff_model_format(start + "S      1\n") == ModelFormat::Iges);
+  CHECK(sniff_model_format(start + "S      1\r\n") == ModelFormat::Iges);
+  CHECK(sniff_model_format(start + "G      1\n") == ModelFormat::Iges);  // an empty Start section
+  CHECK(sniff_model_format(start + "D      1\n") == ModelFormat::Unknown);
+  CHECK(sniff_model_format(start + "S       \n") == ModelFormat::Unknown);  // no sequence number
+  CHECK(sniff_model_format(start + "S  1 x  \n") == ModelFormat::Unknown);
+  CHECK(sniff_model_format(start.substr(0, 60) + "S      1\n") == ModelFormat::Unknown);  // column 61, not 73
+  CHECK(sniff_model_format("solid cube\n  facet normal 0 0 1\n") == ModelFormat::Unknown);
+  CHECK(sniff_model_format("") == ModelFormat::Unknown);
 }
