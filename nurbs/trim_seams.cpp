@@ -62,15 +62,101 @@ void turn_round(TrimLoop& loop) {
   for (Curve2& c : loop.curves) c = reversed(c);
 }
 
+// Twice the signed area the loop's curves enclose (16 samples a curve; counter-clockwise > 0).
+double signed_area(const TrimLoop& loop) {
+  double twice = 0.0;
+  glm::dvec2 first(0.0), previous(0.0);
+  bool started = false;
+  for (const Curve2& c : loop.curves) {
+    const Interval cd = curve_domain(c);
+    for (int k = 0; k <= 16; ++k) {
+      const glm::dvec2 q = curve_point(c, cd.min + cd.width() * k / 16.0);
+      if (started) twice += previous.x * q.y - q.x * previous.y;
+      else first = q, started = true;
+      previous = q;
+    }
+  }
+  return started ? twice + previous.x * first.y - first.x * previous.y : 0.0;
+}
+
+// A loop that goes once round the seam but crosses it 3, 5, ... times (a thread's run-out dipping
+// back across the seam): its pieces between jumps that start and end on the same side of the
+// domain, each a region (or a hole) against that side. Returns them (the curves [first, last) of
+// the loop as it is, rotated to start right after a jump), and leaves in `loop` the one piece that
+// runs from one side to the other, started right after its jump; nothing when more than one piece
+// crosses (the loop then stays as it is).
+std::vector<TrimLoop> split_dips(TrimLoop& loop, const std::vector<size_t>& at_jump, const Interval& d, int axis,
+                                 double min_gap) {
+  const size_t n = loop.curves.size(), m = at_jump.size();
+  const auto side = [&](glm::dvec2 q) { return std::abs(q[axis] - d.min) <= min_gap ? 0 : 1; };
+  std::vector<TrimLoop> dips;
+  std::optional<size_t> crossing;
+  for (size_t i = 0; i < m; ++i) {
+    const size_t first = at_jump[i], last = at_jump[(i + 1) % m];  // last: first curve after the piece
+    const size_t count = (last + n - first) % n == 0 ? n : (last + n - first) % n;
+    TrimLoop piece;
+    piece.outer = loop.outer;
+    for (size_t k = 0; k < count; ++k) piece.curves.push_back(loop.curves[(first + k) % n]);
+    if (side(start_point(piece.curves.front())) != side(end_point(piece.curves.back()))) {
+      if (crossing) return {};
+      crossing = i;
+      continue;
+    }
+    dips.push_back(std::move(piece));
+  }
+  if (!crossing) return {};
+  const size_t first = at_jump[*crossing], last = at_jump[(*crossing + 1) % m];
+  std::vector<Curve2> kept;
+  for (size_t k = first; k != last; k = (k + 1) % n) kept.push_back(loop.curves[k]);
+  loop.curves = std::move(kept);
+  return dips;
+}
+
+// Makes the open piece `dip` (from one point of a side of the domain to another on the same side)
+// part of the straight segment of `loop` along that side whose span holds both its ends: the
+// segment is replaced by the segment to the dip's nearer end, the dip (turned round when it runs
+// against the segment), and the segment from its other end on. False when no such segment.
+bool splice_dip(TrimLoop& loop, TrimLoop dip, int axis, double min_gap) {
+  const glm::dvec2 d0 = start_point(dip.curves.front()), d1 = end_point(dip.curves.back());
+  for (size_t k = 0; k < loop.curves.size(); ++k) {
+    const Curve2& c = loop.curves[k];
+    if (c.degree != 1 || c.points.size() != 2) continue;
+    const glm::dvec2 s0 = c.points.front(), s1 = c.points.back();
+    if (std::abs(s0[axis] - d0[axis]) > min_gap || std::abs(s1[axis] - d0[axis]) > min_gap ||
+        std::abs(d1[axis] - d0[axis]) > min_gap)
+      continue;  // not along the dip's side
+    const double lo = std::min(s0[1 - axis], s1[1 - axis]), hi = std::max(s0[1 - axis], s1[1 - axis]);
+    const auto within = [&](glm::dvec2 q) { return q[1 - axis] >= lo - min_gap && q[1 - axis] <= hi + min_gap; };
+    if (!within(d0) || !within(d1)) continue;
+    const auto along = [&](glm::dvec2 q) { return std::abs(q[1 - axis] - s0[1 - axis]); };
+    if (along(d0) > along(d1)) turn_round(dip);
+    const glm::dvec2 e0 = start_point(dip.curves.front()), e1 = end_point(dip.curves.back());
+    std::vector<Curve2> replaced;
+    if (s0 != e0) replaced.push_back(segment_curve(s0, e0));
+    for (Curve2& piece : dip.curves) replaced.push_back(std::move(piece));
+    if (e1 != s1) replaced.push_back(segment_curve(e1, s1));
+    loop.curves.erase(loop.curves.begin() + static_cast<std::ptrdiff_t>(k));
+    loop.curves.insert(loop.curves.begin() + static_cast<std::ptrdiff_t>(k), replaced.begin(), replaced.end());
+    return true;
+  }
+  return false;
+}
+
 int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_gap) {
   if (!closed_along(face.surface, axis, tolerance_3d)) return 0;
   const Interval d = domain(face.surface, axis), across = domain(face.surface, 1 - axis);
   std::vector<size_t> open;      // loops with one seam jump, rotated to start right after it
   std::vector<TrimLoop> halves;  // second halves of loops that cross the seam twice
+  std::vector<std::vector<TrimLoop>> dips(face.loops.size());  // per loop: split_dips
   int closed = 0;
   for (size_t k = 0; k < face.loops.size(); ++k) {
     TrimLoop& loop = face.loops[k];
     const std::vector<size_t> at_jump = jumps(loop, d, axis, min_gap);
+    if (at_jump.size() >= 3 && at_jump.size() % 2 == 1) {
+      dips[k] = split_dips(loop, at_jump, d, axis, min_gap);
+      if (!dips[k].empty()) open.push_back(k);
+      continue;
+    }
     if (at_jump.size() != 1 && at_jump.size() != 2) continue;
     std::rotate(loop.curves.begin(), loop.curves.begin() + static_cast<std::ptrdiff_t>(at_jump[0]), loop.curves.end());
     if (at_jump.size() == 1) {
@@ -84,19 +170,41 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
     loop = closed_piece(loop, 0, split);
     ++closed;
   }
+  // The dips of loop k, each closed along its side of the domain from its end back to its start: a
+  // region of the face where, running that way, the material lies on its left, else a hole. The
+  // loop the dips came from is closed (into a band or a cap, `into`) into a loop whose inside is
+  // the material: running counter-clockwise there, its dips run with the material on their left
+  // too; `turned` when the loop's curves were turned round for it, `clockwise` when the closed loop
+  // runs clockwise (the material then on the right of every piece of it). A hole lies against the
+  // closed loop's segment along the same side: it is made part of that segment (the boundary runs
+  // in round the hole and out again), not a loop of its own that would share the segment.
+  const auto close_dips = [&](size_t k, TrimLoop& into, bool turned, bool clockwise) {
+    for (TrimLoop& dip : dips[k]) {
+      if (turned) turn_round(dip);
+      TrimLoop closed_dip = dip;
+      closed_dip.curves.push_back(segment_curve(end_point(dip.curves.back()), start_point(dip.curves.front())));
+      const bool region = (signed_area(closed_dip) > 0.0) != clockwise;
+      ++closed;
+      if (!region && splice_dip(into, dip, axis, min_gap)) continue;
+      closed_dip.outer = region;
+      halves.push_back(std::move(closed_dip));
+    }
+  };
   std::vector<size_t> merged_away;
   for (size_t i = 0; i + 1 < open.size(); i += 2) {  // pairs: the two boundaries of a band
     TrimLoop &a = face.loops[open[i]], &b = face.loops[open[i + 1]];
     const double a_end = end_point(a.curves.back())[axis];
-    if (std::abs(start_point(b.curves.front())[axis] - a_end) > min_gap) {  // both run the same way
-      turn_round(b);
-    }
+    const bool turned = std::abs(start_point(b.curves.front())[axis] - a_end) > min_gap;  // both run the same way
+    if (turned) turn_round(b);
     const glm::dvec2 a0 = start_point(a.curves.front()), a1 = end_point(a.curves.back());
     const glm::dvec2 b0 = start_point(b.curves.front()), b1 = end_point(b.curves.back());
     a.curves.push_back(segment_curve(a1, b0));  // along the seam side where a ends
     for (Curve2& c : b.curves) a.curves.push_back(std::move(c));
     a.curves.push_back(segment_curve(b1, a0));
     a.outer = a.outer || b.outer;
+    const bool clockwise = signed_area(a) < 0.0;  // the band: its inside is the material
+    close_dips(open[i], a, false, clockwise);
+    close_dips(open[i + 1], a, turned, clockwise);
     merged_away.push_back(open[i + 1]);
     ++closed;
   }
@@ -108,6 +216,7 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
     const double side = (axis == 0) == increasing ? across.max : across.min;
     const glm::dvec2 c1 = at(axis, a1[axis], side), c0 = at(axis, a0[axis], side);
     for (const Curve2& c : {segment_curve(a1, c1), segment_curve(c1, c0), segment_curve(c0, a0)}) a.curves.push_back(c);
+    close_dips(open.back(), a, false, signed_area(a) < 0.0);
     ++closed;
   }
   std::sort(merged_away.rbegin(), merged_away.rend());

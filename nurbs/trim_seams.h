@@ -20,8 +20,12 @@ namespace nurbs {
 /// of its direction: curves running towards u1 have their material towards v1). A loop with two
 /// seam jumps (a patch straddling the seam) is split into its two pieces, one at each side of the
 /// domain, each closed by a segment along its seam side (a hole straddling the seam of a face whose
-/// outer loop runs along the seam then touches it there, which check_trim_loops reports). Returns
-/// the number of loops closed this way.
+/// outer loop runs along the seam then touches it there, which check_trim_loops reports). A loop
+/// that goes once round but crosses the seam 3, 5, ... times (a thread's run-out that dips back
+/// across it) keeps the one piece that runs from side to side, closed as above; each dip, a piece
+/// from one side back to the same side, is closed along that side into a region of the face or a
+/// hole in it, as the material lies on its left or right once the loop is closed. Returns the
+/// number of loops closed this way.
 int close_loops_round_seam(TrimmedSurface& face, double tolerance_3d, double min_gap);
 
 /// Brings the loops of a face on a closed surface into its domain where the file puts its seam

@@ -3,13 +3,16 @@
 // material they bound is the same set of surface points, all of it inside the domain.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 
 #include "models/exact_shapes.h"
 #include "nurbs/curve_ends.h"
+#include "nurbs/homogeneous.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
+#include "nurbs/trim_loops.h"
 #include "nurbs/trim_seams.h"
 
 namespace {
@@ -98,5 +101,54 @@ TEST_CASE("trim wrap: the two circles of a band that start off the seam are cut 
     const double u = b.du.min + period * (k + 0.5) / 36;
     CHECK(nurbs::is_material(trim, glm::dvec2(u, vm)));
     CHECK(!nurbs::is_material(trim, glm::dvec2(u, b.dv.min + 0.1 * b.dv.width())));
+  }
+}
+
+TEST_CASE("trim wrap: a band whose upper loop dips back across the seam (a thread's run-out) keeps its dips") {
+  // The lower circle runs once round at v0. The upper loop rises round the band from h1 to h3, then
+  // crosses the seam at h3, dips back across it down to h2 (a tongue of material on the domain's
+  // left side), runs down to h1 beside the right side (a notch cut out of the band) and crosses
+  // the seam again at h1: three seam jumps. Both ways round either loop, as files give them.
+  const Band b;
+  const double u0 = b.du.min, u1 = b.du.max, P = b.period, v0 = b.v0;
+  const double h1 = b.dv.min + 0.4 * b.dv.width(), h2 = b.dv.min + 0.55 * b.dv.width(),
+               h3 = b.dv.min + 0.7 * b.dv.width();
+  const std::vector<nurbs::Curve2> upper = {
+      nurbs::segment_curve({u0 + 0.1 * P, h1}, {u1 - 0.1 * P, h3}), nurbs::segment_curve({u1 - 0.1 * P, h3}, {u1, h3}),
+      nurbs::segment_curve({u0, h3}, {u0 + 0.05 * P, h3}), nurbs::segment_curve({u0 + 0.05 * P, h3}, {u0, h2}),
+      nurbs::segment_curve({u1, h2}, {u1 - 0.05 * P, h1}), nurbs::segment_curve({u1 - 0.05 * P, h1}, {u1, h1}),
+      nurbs::segment_curve({u0, h1}, {u0 + 0.1 * P, h1})};
+  for (const int way : {0, 1, 2, 3}) {
+    CAPTURE(way);
+    const bool top_turned = way & 1, bottom_turned = way & 2;
+    nurbs::TrimLoop top{upper, false};
+    if (top_turned) {
+      std::reverse(top.curves.begin(), top.curves.end());
+      for (nurbs::Curve2& c : top.curves) c = nurbs::reversed(c);
+    }
+    nurbs::TrimmedSurface face;
+    face.surface = b.cylinder;
+    face.loops = {{{bottom_turned ? nurbs::segment_curve({u1, v0}, {u0, v0}) : nurbs::segment_curve({u0, v0}, {u1, v0})},
+                   true},
+                  top};
+    CHECK(nurbs::close_loops_round_seam(face, 1e-9, 1e-9) == 3);  // the band and two dips
+    // The notch is part of the band's loop, the tongue a loop of its own: no loops sharing a side.
+    CHECK(face.loops.size() == 2);
+    const std::vector<std::string> problems = nurbs::check_trim_loops(face, 1e-9, 1e-7);
+    CHECK_MESSAGE(problems.empty(), problems.front());
+    const nurbs::TrimPolygons trim = nurbs::flatten_trim(face, 1e-7);
+    const auto material = [&](double u, double v) { return nurbs::is_material(trim, glm::dvec2(u, v)); };
+    for (int k = 0; k < 36; ++k) {  // between the circle and h1 all round; nothing below the circle
+      const double u = u0 + P * (k + 0.5) / 36;
+      CHECK(material(u, 0.5 * (v0 + h1)));
+      CHECK(!material(u, 0.5 * (b.dv.min + v0)));
+    }
+    CHECK(material(u0 + 0.5 * P, 0.5 * (h1 + h2)));    // under the rising edge
+    CHECK(!material(u0 + 0.5 * P, h3 - 0.01 * P));     // above it
+    CHECK(material(u1 - 0.02 * P, h3 - 0.1 * (h3 - h2)));  // under the top, beside the right side
+    CHECK(!material(u1 - 0.01 * P, 0.5 * (h1 + h2)));  // the notch
+    CHECK(material(u0 + 0.01 * P, h3 - 0.1 * (h3 - h2)));  // the tongue across the seam
+    CHECK(!material(u0 + 0.01 * P, 0.5 * (h1 + h2)));  // beside it, above h1 on the left side
+    CHECK(!material(u0 + 0.01 * P, h3 + 0.01));        // above the tongue
   }
 }
