@@ -104,9 +104,28 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
   // Loops lying on top of each other make every pair of their edges a candidate: the work stops at
   // kMaxCandidatePairs (a fraction of a second), said in the report, so that no file makes this run for minutes.
   // n copies of one loop cross in n^2 / 2 pairs: at most kMaxCrossingReports messages, the rest summed up.
+  // Where the sweep in x would pass more candidates than that (loops running along the domain's
+  // sides u = u0 and u = u1 in thousands of edges each), it runs in y instead when that passes fewer.
   constexpr long long kMaxCandidatePairs = 30'000'000;
   constexpr size_t kMaxCrossingReports = 1000;
   long long candidates = 0;
+  const auto sweep_pairs = [&](auto lo, auto hi) {  // pairs whose [lo, hi] ranges overlap, counted by sorting
+    std::vector<double> starts;
+    starts.reserve(edges.size());
+    for (const Edge& e : edges) starts.push_back(lo(e));
+    std::sort(starts.begin(), starts.end());
+    long long pairs = 0;
+    for (const Edge& e : edges)
+      pairs += static_cast<long long>(std::upper_bound(starts.begin(), starts.end(), hi(e)) -
+                                      std::lower_bound(starts.begin(), starts.end(), lo(e))) - 1;
+    return pairs;
+  };
+  const auto x_lo = [](const Edge& e) { return e.xmin; };
+  const auto x_hi = [](const Edge& e) { return e.xmax; };
+  const auto y_lo = [](const Edge& e) { return e.ymin; };
+  const auto y_hi = [](const Edge& e) { return e.ymax; };
+  if (sweep_pairs(x_lo, x_hi) > kMaxCandidatePairs && sweep_pairs(y_lo, y_hi) < sweep_pairs(x_lo, x_hi))
+    for (Edge& e : edges) std::swap(e.xmin, e.ymin), std::swap(e.xmax, e.ymax);  // the sweep's axis only
   std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) { return e.xmin < f.xmin; });
   std::set<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
   for (size_t i = 0; i < edges.size(); ++i) {

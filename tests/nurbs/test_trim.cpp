@@ -323,3 +323,25 @@ TEST_CASE("loops listed out of order or with a reversed curve are chained again,
   fine.loops = {right};
   CHECK(nurbs::reorder_trim_curves(fine, 1e-6) == 0);
 }
+
+TEST_CASE("loops along the domain's sides in thousands of edges are checked whole, their crossings found") {
+  // The sides u = 0 and u = 1 in 6000 pieces each (pcurves sampled along a B-spline's boundary):
+  // a sweep in u alone would pass every pair of edges on one side, beyond the check's budget.
+  constexpr int kPieces = 6000;
+  nurbs::TrimmedSurface face;
+  face.surface = unit_plane();
+  face.face_id = 9;
+  nurbs::TrimLoop outer{{trim_line({0, 0}, {1, 0})}, true};
+  for (int i = 0; i < kPieces; ++i)
+    outer.curves.push_back(trim_line({1, double(i) / kPieces}, {1, double(i + 1) / kPieces}));
+  outer.curves.push_back(trim_line({1, 1}, {0, 1}));
+  for (int i = kPieces; i > 0; --i)
+    outer.curves.push_back(trim_line({0, double(i) / kPieces}, {0, double(i - 1) / kPieces}));
+  face.loops.push_back(outer);
+  CHECK(nurbs::check_trim_loops(face, 1e-9, kFlat).empty());
+  // A hole across the side u = 1 is still found where it crosses it.
+  face.loops.push_back(square_loop({0.95, 0.4}, {1.05, 0.6}, false, false));
+  const auto problems = nurbs::check_trim_loops(face, 1e-9, kFlat);
+  REQUIRE(problems.size() == 1);
+  CHECK(contains(problems, "face 9: loops 0 and 1 cross near (u, v) = (1, 0.4)"));
+}
