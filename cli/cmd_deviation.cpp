@@ -108,7 +108,7 @@ void add_deviation(CLI::App& app, const GlobalOptions& global) {
   auto* cmd = app.add_subcommand(
       "deviation", "Measure how far a triangle mesh (.stl/.ply/.obj, from any program) lies from a model's faces");
   auto a = std::make_shared<DeviationArgs>();
-  cmd->add_option("MODEL", a->model, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", a->model, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option("MESH", a->mesh, "Mesh file: .stl (binary or ASCII), .ply (ASCII or binary little endian), .obj")
       ->required();
   cmd->add_option_function<double>(

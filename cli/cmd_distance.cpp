@@ -255,7 +255,7 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   auto* cmd = app.add_subcommand(
       "distance", "Minimum distance from points to a model with certified bounds (Krishnamurthy et al. 3.1-4)");
   auto o = std::make_shared<Options>();
-  cmd->add_option("MODEL", o->path, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", o->path, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option("--point", o->point, "The query point X,Y,Z");
   cmd->add_option("--points", o->points, "A file of points, x y z per line (spaces or commas; - reads stdin)");
   cmd->add_option("--tol", o->query.tolerance, "K_e of the faces' grids, relative to the model size")

@@ -334,7 +334,7 @@ void add_evaluate(CLI::App& app, const GlobalOptions& global) {
                          "Evaluate faces on the GPU on knot-aligned grids whose Filip bound K_e meets the "
                          "tolerance on every cell; trim masks; EXR/OBJ output. Exit 1 if a face cannot meet it");
   auto o = std::make_shared<Options>();
-  cmd->add_option("MODEL", o->path, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", o->path, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option("--face", o->faces, "Face index (repeatable); default: all faces");
   cmd->add_option("--grid", o->grid,
                   "Uniform grid of N x N samples instead of the certified one (reports its K_e; checked against "

@@ -142,7 +142,7 @@ void add_raycast(CLI::App& app, const GlobalOptions& global) {
       "Nearest hit of each ray on the model's trimmed faces (Lemasson et al.): t along the unit direction, face "
       "and (u, v); t = -1 and face = -1 for a miss. Hits are on the exact face within hit_residual; the mesh method "
       "certifies the nearest hits, the BVH and DACRT do not (exit 1).");
-  cmd->add_option("MODEL", args->model, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", args->model, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option("--rays", args->rays, "ray file: 'ox oy oz dx dy dz' per line (spaces or commas, '-' for stdin)")
       ->required();
   add_ray_engine_options(cmd, args->engine, args->preset);

@@ -235,7 +235,7 @@ void add_tessellate(CLI::App& app, const GlobalOptions& global) {
       "tessellate", "Triangulate a model's trimmed faces within a geometric error (Balazs, Guthe, Klein 2004)");
   auto a = std::make_shared<TessArgs>();
   a->mesh.relative = false;  // --eps in model units unless --relative
-  cmd->add_option("MODEL", a->path, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", a->path, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option_function<double>(
          "--eps", [a](double v) { a->mesh.eps = v, a->eps_given = true; },
          "Maximum distance between the faces and the mesh, absolute (model units) unless --relative; default "

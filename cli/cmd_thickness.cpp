@@ -192,7 +192,7 @@ void add_thickness(CLI::App& app, const GlobalOptions& global) {
       "thickness",
       "Wall thickness by ray casting (Lemasson et al.): from samples on every face, the distance to the nearest "
       "hit along the inward normal (faces oriented by ray parity)");
-  cmd->add_option("MODEL", a->model, "Model file (.igs/.iges/.bpt)")->required();
+  cmd->add_option("MODEL", a->model, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option_function<long long>(
          "--samples", [a](long long v) { a->map.samples = v, a->samples_given = true; },
          "About this many samples over the model's area (default 20000)")
