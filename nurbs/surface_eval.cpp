@@ -1,6 +1,7 @@
 #include "nurbs/surface_eval.h"
 
 #include <algorithm>
+#include <limits>
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 #include <vector>
@@ -113,6 +114,39 @@ glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double 
   }
   const double len = glm::length(n);
   return len > 0.0 ? n / len : glm::dvec3(0.0);
+}
+
+glm::dvec2 speed_bounds(const Surface& s) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (s.points.empty() || s.count_u < 1 || s.count_v < 1) return glm::dvec2(inf);
+  glm::dvec3 lo(inf), hi(-inf);
+  for (const glm::dvec3& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
+  const double diameter = glm::length(hi - lo);
+  double w_min = 1.0, w_max = 1.0;
+  if (s.rational()) {
+    w_min = *std::min_element(s.weights.begin(), s.weights.end());
+    w_max = *std::max_element(s.weights.begin(), s.weights.end());
+    if (!(w_min > 0.0)) return glm::dvec2(inf);
+  }
+  // One direction: d = 0 along u (i over count_u), 1 along v.
+  const auto along = [&](int d) {
+    const int p = d == 0 ? s.degree_u : s.degree_v, n = d == 0 ? s.count_u : s.count_v, m = d == 0 ? s.count_v : s.count_u;
+    const std::vector<double>& knots = d == 0 ? s.knots_u : s.knots_v;
+    double bound = 0.0;
+    for (int i = 0; i + 1 < n; ++i) {
+      const double span = knots[size_t(i + p + 1)] - knots[size_t(i + 1)];
+      double step = 0.0;
+      for (int j = 0; j < m; ++j) {
+        const glm::dvec3 a = d == 0 ? s.point(i, j) : s.point(j, i), b = d == 0 ? s.point(i + 1, j) : s.point(j, i + 1);
+        step = std::max(step, s.rational() ? 2.0 * w_max / w_min * diameter : glm::length(b - a));
+      }
+      if (step == 0.0) continue;
+      if (!(span > 0.0)) return inf;
+      bound = std::max(bound, p * step / span);
+    }
+    return bound;
+  };
+  return glm::dvec2(along(0), along(1));
 }
 
 }  // namespace nurbs

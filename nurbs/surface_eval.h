@@ -4,6 +4,7 @@
 /// second partial derivatives, unit normal (The NURBS Book A3.6 on the homogeneous surface, then
 /// A4.4 for the rational quotient rule). Inputs are assumed valid (validate.h); (u, v) outside the
 /// domain are clamped to it.
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "nurbs/knot_vector.h"
@@ -46,5 +47,12 @@ struct SurfaceTangents {
 [[nodiscard]] glm::dvec3 surface_normal(const Surface& s, double u, double v);
 /// The same from derivatives already evaluated at (u, v) (surface_derivatives(s, u, v)).
 [[nodiscard]] glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double u, double v);
+
+/// Upper bounds of |Su| (x) and |Sv| (y) over the whole domain, from the control net: the
+/// derivative is a convex combination of p (P[i+1] - P[i]) / (u[i+p+1] - u[i+1]) (Piegl and Tiller
+/// §3.3), and for a rational surface Su = (A_u - S w_u) / w with A_u - S w_u a combination of
+/// p (w[i+1] (P[i+1] - S) - w[i] (P[i] - S)) / span, bounded by 2 p w_max D / (w_min span), D the
+/// control points' box diagonal. Infinite for an empty net or a zero span between distinct points.
+[[nodiscard]] glm::dvec2 speed_bounds(const Surface& s);
 
 }  // namespace nurbs

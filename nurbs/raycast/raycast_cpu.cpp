@@ -55,6 +55,10 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   material->trims = scene.trims;
   material->banded.reserve(material->trims.size());
   for (const TrimPolygons& t : material->trims) material->banded.emplace_back(t);
+  for (const TrimmedSurface& face : scene.faces) {
+    const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
+    material->edge_reach.push_back(2.0 * options.trim_flatten * std::hypot(du.max - du.min, dv.max - dv.min));
+  }
   scene.material = std::move(material);
   std::vector<glm::dvec3> bmin(all.size()), bmax(all.size());
   const glm::dvec3 pad(2.0 * bo.tolerance);  // the exact surface lies within the tolerance of its patch

@@ -44,6 +44,9 @@ struct SceneOptions {
 struct SceneMaterial {
   std::vector<TrimPolygons> trims;
   std::vector<BandedTrim> banded;
+  /// Per face, twice its flattening tolerance in (u, v): the loops' polygons lie within the
+  /// tolerance of the trim curves, so a point of the true boundary lies within this of an edge.
+  std::vector<double> edge_reach;
 };
 
 struct Scene {
@@ -53,6 +56,19 @@ struct Scene {
   /// Whether (u, v) of face f is material: is_material on its flattened loops (true untrimmed).
   [[nodiscard]] bool is_material(int f, glm::dvec2 uv) const {
     return faces[size_t(f)].loops.empty() || material->banded[size_t(f)].is_material(uv);
+  }
+  /// is_material with the face closed: a point within the flattening's reach of its loops counts
+  /// too (the face's edge is its own, as the edge it shares with its neighbour is). On the polygons
+  /// alone a ray through the edge two faces share may miss both, each loop's polygon a rounding off
+  /// the other's. For the certified nearest hits (the mesh method).
+  [[nodiscard]] bool is_material_closed(int f, glm::dvec2 uv) const {
+    if (is_material(f, uv)) return true;
+    const double r = material->edge_reach[size_t(f)];
+    return material->banded[size_t(f)].meets_box(uv - glm::dvec2(r), uv + glm::dvec2(r));
+  }
+  /// is_material_closed of face f, as a predicate of (u, v).
+  [[nodiscard]] auto material_test_closed(int f) const {
+    return [this, f](glm::dvec2 uv) { return is_material_closed(f, uv); };
   }
   /// Per face, its surface in Bézier form for the exact steps (empty where it would be too large),
   /// shared by the scene's copies.

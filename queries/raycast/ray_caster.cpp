@@ -198,7 +198,7 @@ nurbs::ray::Hit RayCaster::first_on_way(const OnWay& way, const nurbs::ray::Ray&
   for (const glm::dvec2 uv : starts) {
     const nurbs::ray::ExactHit e = scene_.refine(way.face, ray, planes, uv, kSteps);
     if (!e.ok || !(e.t > t_min) || e.t < way.begin - slack || e.t > way.end + slack || (first.ok && e.t >= first.t) ||
-        !scene_.is_material(way.face, e.uv))
+        !scene_.is_material_closed(way.face, e.uv))
       continue;
     first = e;
   }
@@ -208,14 +208,14 @@ nurbs::ray::Hit RayCaster::first_on_way(const OnWay& way, const nurbs::ray::Ray&
 nurbs::ray::Hit RayCaster::step_within(int face, glm::dvec2 uv, double lo, double hi, const nurbs::ray::Ray& ray,
                                        const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
   const nurbs::ray::ExactHit e = scene_.refine(face, ray, planes, uv);
-  if (!(e.ok && e.t > t_min && e.t >= lo && e.t <= hi && scene_.is_material(face, e.uv))) return {};
+  if (!(e.ok && e.t > t_min && e.t >= lo && e.t <= hi && scene_.is_material_closed(face, e.uv))) return {};
   return earliest(face, e, ray, planes, t_min, t_crossing);
 }
 
 nurbs::ray::Hit RayCaster::earliest(int face, const nurbs::ray::ExactHit& found, const nurbs::ray::Ray& ray,
                                     const nurbs::ray::RayPlanes& planes, double t_min, double t_crossing) const {
   if (!found.ok) return {};
-  const nurbs::ray::ExactHit back = scene_.look_back(face, ray, planes, found, t_min, scene_.material_test(face));
+  const nurbs::ray::ExactHit back = scene_.look_back(face, ray, planes, found, t_min, scene_.material_test_closed(face));
   const nurbs::ray::ExactHit& e = back.ok ? back : found;
   return {e.t, face, e.uv, e.point, t_crossing};
 }
@@ -247,7 +247,7 @@ nurbs::ray::Hit RayCaster::near_boundaries(MeshRayHit b, const nurbs::ray::Ray& 
       nurbs::ray::ExactHit first;
       for (const glm::dvec2 start : {a, c, 0.5 * (a + c)}) {
         const nurbs::ray::ExactHit e = scene_.refine(b.face, ray, planes, start, kSteps);
-        if (e.ok && e.t > t_min && (!first.ok || e.t < first.t) && scene_.is_material(b.face, e.uv)) first = e;
+        if (e.ok && e.t > t_min && (!first.ok || e.t < first.t) && scene_.is_material_closed(b.face, e.uv)) first = e;
       }
       keep_nearer(h, earliest(b.face, first, ray, planes, t_min, b.t));
       const auto open = std::find_if(tubes.begin(), tubes.end(), [&](const OnWay& w) { return w.face == b.face; });
@@ -399,7 +399,7 @@ std::vector<nurbs::ray::Hit> RayCaster::cast_mesh(const std::vector<nurbs::ray::
           // No exact hit near the crossing (a step that does not converge, or lands far away): the
           // face may still meet the ray inside the slab (grazing it): the BVH decides.
           if (!e.ok || (std::abs(e.t - m.t) > window && !searched)) break;
-          if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material(m.face, e.uv))
+          if (e.t > t_min && (best.face < 0 || e.t < best.t) && scene_.is_material_closed(m.face, e.uv))
             best = {e.t, m.face, e.uv, e.point, m.t};
           m = n;  // the next crossing (the face behind t_min, or trimmed away here)
         }

@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
+#include "nurbs/surface_eval.h"
 #include "nurbs/system_memory.h"
 
 namespace queries {
@@ -31,7 +33,17 @@ void check_engine_request(const RayCasterOptions& caster, bool gpu) {
 }
 
 double hit_residual(const nurbs::ray::Scene& scene, const nurbs::ModelReport& report) {
-  return scene.options.exact_residual * scene.size + report.largest_gap();
+  // A hit counts on a face within the closed test's reach of its loops' polygons, which lie within
+  // the flattening tolerance (half that reach) of the trim curves: in space, that far in (u, v) at
+  // the surface's largest speed (speed_bounds).
+  double outside = 0.0;
+  for (size_t f = 0; f < scene.faces.size(); ++f) {
+    if (scene.faces[f].loops.empty()) continue;
+    const double reach = scene.material->edge_reach[f];
+    const glm::dvec2 speed = nurbs::speed_bounds(scene.faces[f].surface);
+    outside = std::max(outside, (std::sqrt(2.0) * reach + 0.5 * reach) * (speed.x + speed.y));
+  }
+  return scene.options.exact_residual * scene.size + report.largest_gap() + outside;
 }
 
 Raycast raycast(const nurbs::LoadedModel& model, const std::vector<nurbs::ray::Ray>& rays, double t_min,

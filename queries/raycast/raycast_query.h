@@ -37,8 +37,9 @@ struct HitDoubts {
 /// front doors, raycast and thickness_map.
 void check_engine_request(const RayCasterOptions& caster, bool gpu);
 
-/// How far a hit point of `scene`'s caster may lie from the file's faces: the exact step's residual
-/// plus the largest edge gap the reader found.
+/// How far a hit point of `scene`'s caster may lie from the file's faces: the exact step's residual,
+/// the largest edge gap the reader found, and how far outside its trim a hit on a face's edge may
+/// lie (Scene::is_material_closed: its reach in (u, v) at the surface's speed_bounds).
 [[nodiscard]] double hit_residual(const nurbs::ray::Scene& scene, const nurbs::ModelReport& report);
 
 struct RaycastOptions {

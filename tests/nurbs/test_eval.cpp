@@ -181,3 +181,27 @@ TEST_CASE("curve derivatives agree with finite differences (2D rational, degree 
     CHECK(glm::length(d[2] - (dp[1] - dm[1]) / (2 * h)) < 1e-4 * (1 + glm::length(d[2])));
   }
 }
+
+TEST_CASE("speed bounds hold |Su| and |Sv| everywhere, for plain and rational surfaces") {
+  int tight = 0;  // surfaces whose largest sampled speed comes within a factor 2 of the bound
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    const bool rational = seed % 2 == 0;
+    const nurbs::Surface s = models::random_surface(seed, 1 + int(seed % 4), 1 + int((seed / 4) % 4), rational);
+    const glm::dvec2 bound = nurbs::speed_bounds(s);
+    REQUIRE(std::isfinite(bound.x));
+    REQUIRE(std::isfinite(bound.y));
+    const nurbs::Interval du = nurbs::surface_domain_u(s), dv = nurbs::surface_domain_v(s);
+    glm::dvec2 largest(0.0);
+    for (int i = 0; i <= 24; ++i)
+      for (int j = 0; j <= 24; ++j) {
+        const nurbs::SurfaceTangents t =
+            nurbs::surface_tangents(s, du.min + du.width() * i / 24.0, dv.min + dv.width() * j / 24.0);
+        largest = glm::max(largest, glm::dvec2(glm::length(t.su), glm::length(t.sv)));
+      }
+    CAPTURE(seed);
+    CHECK(largest.x <= bound.x * (1.0 + 1e-12));
+    CHECK(largest.y <= bound.y * (1.0 + 1e-12));
+    tight += !rational && largest.x > 0.5 * bound.x;
+  }
+  CHECK(tight > 0);  // the plain bound is the control polygon's: reached on some nets
+}

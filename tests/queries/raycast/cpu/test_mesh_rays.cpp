@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "models/exact_shapes.h"
+#include "models/paper_surfaces.h"
 #include "models/random_surfaces.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -288,5 +289,38 @@ TEST_CASE("mesh rays on the shared models: rays whose nearer hit lies in a slab 
     CAPTURE(c.first);
     CHECK(h[0].face >= 0);
     CHECK(h[0].t <= c.first + 1e-7 * mesh.scene().size);
+  }
+}
+
+TEST_CASE("mesh rays: a ray through the edge two faces share meets one of them, whatever rounding parts their loops") {
+  // One plane, two faces whose loops meet at u = 1 but for 1e-10 either side (each face's loop a
+  // rounding off the other's, as two faces' trims of one edge are): a ray through that line meets
+  // the model there, on one face or the other.
+  nurbs::TrimmedSurface left, right;
+  left.surface = right.surface = models::bilinear_square(2.0);
+  const auto box = [](double u0, double u1) {
+    const glm::dvec2 a(u0, 0.0), b(u1, 0.0), c(u1, 2.0), d(u0, 2.0);
+    return nurbs::TrimLoop{{models::trim_line(a, b), models::trim_line(b, c), models::trim_line(c, d),
+                            models::trim_line(d, a)},
+                           true};
+  };
+  left.loops = {box(0.0, 1.0 - 1e-10)};
+  right.loops = {box(1.0 + 1e-10, 2.0)};
+  const std::vector<nurbs::TrimmedSurface> faces = {left, right};
+  queries::RayCaster mesh(faces, queries::RayCasterOptions{});
+  std::vector<nurbs::ray::Ray> rays;
+  std::vector<glm::dvec3> through;
+  for (const glm::dvec3& d : {glm::dvec3(0, 0, -1), glm::dvec3(0.3, 0.1, -1), glm::dvec3(-0.05, 0.7, -1),
+                              glm::dvec3(2.0, 0.3, -0.2)}) {
+    const glm::dvec3 p(1.0, 0.6 + 0.1 * double(rays.size()), 0.0), u = glm::normalize(d);
+    rays.push_back({p - 2.0 * u, u});
+    through.push_back(p);
+  }
+  const std::vector<nurbs::ray::Hit> hits = mesh.cast(rays, 0.0);
+  for (size_t k = 0; k < rays.size(); ++k) {
+    CAPTURE(k);
+    CHECK(hits[k].face >= 0);
+    CHECK(hits[k].t == doctest::Approx(2.0).epsilon(1e-9));
+    CHECK(glm::length(hits[k].point - through[k]) < 1e-9);
   }
 }
