@@ -119,30 +119,40 @@ glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double 
 glm::dvec2 speed_bounds(const Surface& s) {
   const double inf = std::numeric_limits<double>::infinity();
   if (s.points.empty() || s.count_u < 1 || s.count_v < 1) return glm::dvec2(inf);
-  glm::dvec3 lo(inf), hi(-inf);
-  for (const glm::dvec3& q : s.points) lo = glm::min(lo, q), hi = glm::max(hi, q);
-  const double diameter = glm::length(hi - lo);
-  double w_min = 1.0, w_max = 1.0;
-  if (s.rational()) {
-    w_min = *std::min_element(s.weights.begin(), s.weights.end());
-    w_max = *std::max_element(s.weights.begin(), s.weights.end());
-    if (!(w_min > 0.0)) return glm::dvec2(inf);
-  }
-  // One direction: d = 0 along u (i over count_u), 1 along v.
+  if (s.rational() && !(*std::min_element(s.weights.begin(), s.weights.end()) > 0.0)) return glm::dvec2(inf);
+  // Per knot span (k, l) of the domain, only the control points (i, j) in [k - p, k] x [l - q, l]
+  // act there: the differences between them, and for a rational surface their box's diagonal
+  // (S lies in their hull) and their weights. Direction d = 0 differentiates along u.
   const auto along = [&](int d) {
-    const int p = d == 0 ? s.degree_u : s.degree_v, n = d == 0 ? s.count_u : s.count_v, m = d == 0 ? s.count_v : s.count_u;
+    const int p = d == 0 ? s.degree_u : s.degree_v, q = d == 0 ? s.degree_v : s.degree_u;
+    const int n = d == 0 ? s.count_u : s.count_v, m = d == 0 ? s.count_v : s.count_u;
     const std::vector<double>& knots = d == 0 ? s.knots_u : s.knots_v;
+    const std::vector<double>& across = d == 0 ? s.knots_v : s.knots_u;
+    const auto point = [&](int i, int j) { return d == 0 ? s.point(i, j) : s.point(j, i); };
+    const auto weight = [&](int i, int j) { return !s.rational() ? 1.0 : d == 0 ? s.weight(i, j) : s.weight(j, i); };
     double bound = 0.0;
-    for (int i = 0; i + 1 < n; ++i) {
-      const double span = knots[size_t(i + p + 1)] - knots[size_t(i + 1)];
-      double step = 0.0;
-      for (int j = 0; j < m; ++j) {
-        const glm::dvec3 a = d == 0 ? s.point(i, j) : s.point(j, i), b = d == 0 ? s.point(i + 1, j) : s.point(j, i + 1);
-        step = std::max(step, s.rational() ? 2.0 * w_max / w_min * diameter : glm::length(b - a));
+    for (int k = p; k < n; ++k) {
+      if (!(knots[size_t(k + 1)] > knots[size_t(k)])) continue;
+      for (int l = q; l < m; ++l) {
+        if (!(across[size_t(l + 1)] > across[size_t(l)])) continue;
+        glm::dvec3 lo(inf), hi(-inf);
+        double w_min = inf, w_max = 0.0;
+        for (int i = k - p; i <= k; ++i)
+          for (int j = l - q; j <= l; ++j) {
+            lo = glm::min(lo, point(i, j)), hi = glm::max(hi, point(i, j));
+            w_min = std::min(w_min, weight(i, j)), w_max = std::max(w_max, weight(i, j));
+          }
+        for (int i = k - p; i < k; ++i) {
+          const double span = knots[size_t(i + p + 1)] - knots[size_t(i + 1)];
+          double step = 0.0;
+          for (int j = l - q; j <= l; ++j)
+            step = std::max(step, s.rational() ? 2.0 * w_max / w_min * glm::length(hi - lo)
+                                               : glm::length(point(i + 1, j) - point(i, j)));
+          if (step == 0.0) continue;
+          if (!(span > 0.0)) return inf;
+          bound = std::max(bound, p * step / span);
+        }
       }
-      if (step == 0.0) continue;
-      if (!(span > 0.0)) return inf;
-      bound = std::max(bound, p * step / span);
     }
     return bound;
   };

@@ -48,11 +48,13 @@ struct SurfaceTangents {
 /// The same from derivatives already evaluated at (u, v) (surface_derivatives(s, u, v)).
 [[nodiscard]] glm::dvec3 surface_normal(const Surface& s, const SurfaceDerivatives& d, double u, double v);
 
-/// Upper bounds of |Su| (x) and |Sv| (y) over the whole domain, from the control net: the
-/// derivative is a convex combination of p (P[i+1] - P[i]) / (u[i+p+1] - u[i+1]) (Piegl and Tiller
-/// §3.3), and for a rational surface Su = (A_u - S w_u) / w with A_u - S w_u a combination of
+/// Upper bounds of |Su| (x) and |Sv| (y) over the whole domain, from the control net, knot span by
+/// knot span (only the (p + 1) x (q + 1) points of a span act there): the derivative is a convex
+/// combination of p (P[i+1] - P[i]) / (u[i+p+1] - u[i+1]) (Piegl and Tiller §3.3), and for a
+/// rational surface Su = (A_u - S w_u) / w with A_u - S w_u a combination of
 /// p (w[i+1] (P[i+1] - S) - w[i] (P[i] - S)) / span, bounded by 2 p w_max D / (w_min span), D the
-/// control points' box diagonal. Infinite for an empty net or a zero span between distinct points.
+/// diagonal of the span's points' box (S lies in their hull) and w their weights. Infinite for an
+/// empty net, a weight not above 0, or a zero span between distinct points.
 [[nodiscard]] glm::dvec2 speed_bounds(const Surface& s);
 
 }  // namespace nurbs
