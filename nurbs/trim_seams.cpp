@@ -12,6 +12,7 @@
 #include "nurbs/homogeneous.h"
 #include "nurbs/restrict.h"
 #include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
 
 namespace nurbs {
 namespace {
@@ -62,21 +63,14 @@ void turn_round(TrimLoop& loop) {
   for (Curve2& c : loop.curves) c = reversed(c);
 }
 
-// Twice the signed area the loop's curves enclose (16 samples a curve; counter-clockwise > 0).
-double signed_area(const TrimLoop& loop) {
-  double twice = 0.0;
-  glm::dvec2 first(0.0), previous(0.0);
-  bool started = false;
+// The signed area the loop's curves enclose (signed_area of 16 samples a curve; counter-clockwise > 0).
+double loop_area(const TrimLoop& loop) {
+  std::vector<glm::dvec2> polygon;
   for (const Curve2& c : loop.curves) {
     const Interval cd = curve_domain(c);
-    for (int k = 0; k <= 16; ++k) {
-      const glm::dvec2 q = curve_point(c, cd.min + cd.width() * k / 16.0);
-      if (started) twice += previous.x * q.y - q.x * previous.y;
-      else first = q, started = true;
-      previous = q;
-    }
+    for (int k = 0; k < 16; ++k) polygon.push_back(curve_point(c, cd.min + cd.width() * k / 16.0));
   }
-  return started ? twice + previous.x * first.y - first.x * previous.y : 0.0;
+  return signed_area(polygon);
 }
 
 // A loop that goes once round the seam but crosses it 3, 5, ... times (a thread's run-out dipping
@@ -90,25 +84,22 @@ std::vector<TrimLoop> split_dips(TrimLoop& loop, const std::vector<size_t>& at_j
   const size_t n = loop.curves.size(), m = at_jump.size();
   const auto side = [&](glm::dvec2 q) { return std::abs(q[axis] - d.min) <= min_gap ? 0 : 1; };
   std::vector<TrimLoop> dips;
-  std::optional<size_t> crossing;
+  std::optional<TrimLoop> crossing;
   for (size_t i = 0; i < m; ++i) {
     const size_t first = at_jump[i], last = at_jump[(i + 1) % m];  // last: first curve after the piece
     const size_t count = (last + n - first) % n == 0 ? n : (last + n - first) % n;
     TrimLoop piece;
     piece.outer = loop.outer;
     for (size_t k = 0; k < count; ++k) piece.curves.push_back(loop.curves[(first + k) % n]);
-    if (side(start_point(piece.curves.front())) != side(end_point(piece.curves.back()))) {
+    if (side(start_point(piece.curves.front())) == side(end_point(piece.curves.back()))) {
+      dips.push_back(std::move(piece));
+    } else {
       if (crossing) return {};
-      crossing = i;
-      continue;
+      crossing = std::move(piece);
     }
-    dips.push_back(std::move(piece));
   }
   if (!crossing) return {};
-  const size_t first = at_jump[*crossing], last = at_jump[(*crossing + 1) % m];
-  std::vector<Curve2> kept;
-  for (size_t k = first; k != last; k = (k + 1) % n) kept.push_back(loop.curves[k]);
-  loop.curves = std::move(kept);
+  loop.curves = std::move(crossing->curves);
   return dips;
 }
 
@@ -183,7 +174,7 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
       if (turned) turn_round(dip);
       TrimLoop closed_dip = dip;
       closed_dip.curves.push_back(segment_curve(end_point(dip.curves.back()), start_point(dip.curves.front())));
-      const bool region = (signed_area(closed_dip) > 0.0) != clockwise;
+      const bool region = (loop_area(closed_dip) > 0.0) != clockwise;
       ++closed;
       if (!region && splice_dip(into, dip, axis, min_gap)) continue;
       closed_dip.outer = region;
@@ -202,7 +193,7 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
     for (Curve2& c : b.curves) a.curves.push_back(std::move(c));
     a.curves.push_back(segment_curve(b1, a0));
     a.outer = a.outer || b.outer;
-    const bool clockwise = signed_area(a) < 0.0;  // the band: its inside is the material
+    const bool clockwise = loop_area(a) < 0.0;  // the band: its inside is the material
     close_dips(open[i], a, false, clockwise);
     close_dips(open[i + 1], a, turned, clockwise);
     merged_away.push_back(open[i + 1]);
@@ -216,7 +207,7 @@ int close_along(TrimmedSurface& face, int axis, double tolerance_3d, double min_
     const double side = (axis == 0) == increasing ? across.max : across.min;
     const glm::dvec2 c1 = at(axis, a1[axis], side), c0 = at(axis, a0[axis], side);
     for (const Curve2& c : {segment_curve(a1, c1), segment_curve(c1, c0), segment_curve(c0, a0)}) a.curves.push_back(c);
-    close_dips(open.back(), a, false, signed_area(a) < 0.0);
+    close_dips(open.back(), a, false, loop_area(a) < 0.0);
     ++closed;
   }
   std::sort(merged_away.rbegin(), merged_away.rend());

@@ -62,12 +62,12 @@ Model read_model(const std::filesystem::path& path, IgesReadLog* log) {
                     "unknown model format '" + ext +
                         "' (nurbsgl reads .igs, .iges, .stp, .step and .bpt, and IGES or STEP content under any name)");
   Model model = format == ModelFormat::Iges ? read_iges(path, {}, log) : read_step(path, log);
+  const auto name = [](ModelFormat f) { return std::string(f == ModelFormat::Iges ? "IGES" : "STEP"); };
   if (named != ModelFormat::Unknown && named != format)
-    model.read_warnings.insert(model.read_warnings.begin(),
-                               std::string("the file holds ") + (format == ModelFormat::Iges ? "IGES" : "STEP") +
-                                   ", not " + (named == ModelFormat::Iges ? "IGES" : "STEP") + " as its name '" +
-                                   path.extension().string() + "' says: read as " +
-                                   (format == ModelFormat::Iges ? "IGES" : "STEP"));
+    model.read_warnings.insert(model.read_warnings.begin(), "the file holds " + name(format) + ", not " +
+                                                                name(named) + " as its name '" +
+                                                                path.extension().string() + "' says: read as " +
+                                                                name(format));
   return model;
 }
 

@@ -37,10 +37,12 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   std::vector<std::vector<BicubicPatch>> patches(n);
   auto forms = std::make_shared<std::vector<BezierForm>>(n);
   scene.seams.resize(n);
+  std::vector<double> edge_reach(n);
   parallel_for(n, 0, [&](size_t f, int) {
     const TrimmedSurface& face = scene.faces[f];
     const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
     const double diag = std::hypot(du.max - du.min, dv.max - dv.min);
+    edge_reach[f] = 2.0 * options.trim_flatten * diag;
     if (!face.loops.empty()) scene.trims[f] = flatten_trim(face, options.trim_flatten * diag);
     if (options.trim == SceneOptions::Trim::Cubics && !face.loops.empty())
       scene.cubics[f] = trim_cubics(face, options.trim_flatten * diag);
@@ -55,10 +57,7 @@ Scene build_scene(std::vector<TrimmedSurface> faces, const SceneOptions& options
   material->trims = scene.trims;
   material->banded.reserve(material->trims.size());
   for (const TrimPolygons& t : material->trims) material->banded.emplace_back(t);
-  for (const TrimmedSurface& face : scene.faces) {
-    const Interval du = surface_domain_u(face.surface), dv = surface_domain_v(face.surface);
-    material->edge_reach.push_back(2.0 * options.trim_flatten * std::hypot(du.max - du.min, dv.max - dv.min));
-  }
+  material->edge_reach = std::move(edge_reach);
   scene.material = std::move(material);
   std::vector<glm::dvec3> bmin(all.size()), bmax(all.size());
   const glm::dvec3 pad(2.0 * bo.tolerance);  // the exact surface lies within the tolerance of its patch
