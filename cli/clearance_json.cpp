@@ -33,6 +33,12 @@ nlohmann::json clearance_answer_json(const queries::ClearanceAnswer& answer, int
     j["intersection"] = {{"point", {c.intersection.x, c.intersection.y, c.intersection.z}},
                          {"residual", c.intersection_residual}};
   if (!answer.reason.empty()) j["uncertified"] = answer.reason;
+  j["limited_by_file"] = answer.limited_by_file();
+  if (answer.widen > 0.0)
+    j["file_widen"] = answer.widen, j["file_gap"] = answer.gap, j["gap_model"] = answer.gap_model,
+    j["gap_face"] = answer.gap_face, j["gap_face_id"] = answer.gap_face_id;
+  if (!answer.meets() && c.found) j["reason"] = answer.reason.empty() && answer.limited_by_file() ? answer.file_precision()
+                                                                                                   : answer.failure(true);
   if (const auto& vs = answer.first_stage)
     j["first_stage"] = {{"method", "voxels"},
                         {"voxels", voxels},

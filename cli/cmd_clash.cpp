@@ -75,6 +75,7 @@ nlohmann::json report_json(const queries::ClashReport& r, const Options& o, cons
                       {"pairs_beyond_computed", r.beyond_computed},
                       {"pairs_intersecting", r.intersecting},
                       {"pairs_uncertified", r.uncertified},
+                      {"pairs_limited_by_file", r.limited_by_file},
                       {"min_clearance", std::isfinite(r.min_clearance) ? nlohmann::json(r.min_clearance) : nullptr},
                       {"relative_tolerance", o.query.tolerance},
                       {"seconds", r.seconds},
@@ -164,7 +165,10 @@ void run(const GlobalOptions& global, const Options& o) {
     print_text(r, o, unit_name(loaded.model));
   if (r.gpu) report_profile(*r.gpu, global);
   require_certified(loaded.report, global);
-  if (const std::string why = r.failure(); !why.empty()) throw CommandFailed(why);
+  if (r.limited_by_file > 0)
+    fmt::print(stderr, "clash: {} of {} computed pairs certified to the file's precision (limited_by_file)\n",
+               r.limited_by_file, r.computed);
+  if (const std::string why = r.failure(global.strict); !why.empty()) throw CommandFailed(why);
 }
 
 }  // namespace cmd_clash_impl

@@ -208,8 +208,8 @@ void run(const GlobalOptions& global, const Options& o) {
   if (!o.json) o.preset.print_text();
   if (!o.motion.empty()) {
     nlohmann::json results = nlohmann::json::array();
-    size_t over = 0, uncertified = 0;
-    std::string last_reason;
+    size_t over = 0, uncertified = 0, limited = 0;
+    std::string last_reason, last_limit;
     Progress progress("clearance", "frames");
     for (size_t k = 0; k < frames.size(); ++k) {
       const queries::ClearanceAnswer answer = pair.query(frames[k]);
@@ -217,7 +217,8 @@ void run(const GlobalOptions& global, const Options& o) {
       if (!c.found) throw CommandFailed(fmt::format("frame {}: no pair of surface points found", k + 1));
       results.push_back(clearance_answer_json(answer, q.voxels));
       if (!answer.reason.empty()) last_reason = answer.reason, ++uncertified;
-      over += answer.reason.empty() && !answer.meets();
+      over += answer.reason.empty() && !answer.meets() && !answer.limited_by_file();
+      if (answer.limited_by_file()) ++limited, last_limit = answer.file_precision();
       progress.update((long long)k + 1, (long long)frames.size());
       if (!o.json)
         fmt::print("frame {}: clearance {:.9g} +- {:.3g} (faces {}, {}){} in {:.1f} ms\n", k + 1, c.distance, c.bound,
@@ -231,8 +232,14 @@ void run(const GlobalOptions& global, const Options& o) {
     if (pair.gpu()) report_profile(*pair.gpu(), global);
     require_certified(la.report, global);
     require_certified(report_b, global);
+    if (limited > 0)
+      fmt::print(stderr, "clearance: {} of {} frames certified to the file's precision (limited_by_file); the last: {}\n",
+                 limited, frames.size(), last_limit);
     if (uncertified > 0)
       throw CommandFailed(fmt::format("{} of {} frames not certified: {}", uncertified, frames.size(), last_reason));
+    if (global.strict && limited > 0)
+      throw CommandFailed(fmt::format("{} of {} frames over the tolerance only by the file's precision (strict)",
+                                      limited, frames.size()));
     if (over > 0)
       throw CommandFailed(fmt::format("{} of {} frames with a bound over the tolerance {:.3g}", over, frames.size(),
                                       pair.tolerance()));
@@ -253,7 +260,8 @@ void run(const GlobalOptions& global, const Options& o) {
     report_profile(*pair.gpu(), global);
   require_certified(la.report, global);
   require_certified(report_b, global);
-  if (const std::string why = answer.failure(); !why.empty()) throw CommandFailed(why);
+  if (answer.limited_by_file()) fmt::print(stderr, "clearance: {}\n", answer.file_precision());
+  if (const std::string why = answer.failure(global.strict); !why.empty()) throw CommandFailed(why);
 }
 
 }  // namespace cmd_clearance_impl

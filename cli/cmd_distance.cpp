@@ -51,7 +51,12 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
                            const std::vector<nurbs::TrimmedSurface>& faces) {
   const queries::PointDistance& d = r.answers[k];
   if (!d.found)
-    return {{"found", false}, {"meets_tolerance", false}, {"query", {query.x, query.y, query.z}}, {"distance", nullptr}};
+    return {{"found", false},
+            {"meets_tolerance", false},
+            {"query", {query.x, query.y, query.z}},
+            {"distance", nullptr},
+            {"limited_by_file", false},
+            {"reason", r.reason(k)}};
   nlohmann::json j = {{"found", true},
                       {"meets_tolerance", queries::meets_tolerance(d, r.tolerance)},
                       {"query", {query.x, query.y, query.z}},
@@ -66,6 +71,10 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
                       {"candidates", d.candidates}};
   if (!r.signed_distance.empty()) j["signed_distance"] = r.signed_distance[k];
   if (!r.reasons[k].empty()) j["uncertified"] = r.reasons[k];
+  const queries::FileLimit& l = r.file_limits[k];
+  j["limited_by_file"] = l.limited;
+  if (l.widen > 0.0) j["file_widen"] = l.widen, j["file_gap"] = l.gap, j["gap_face"] = l.face, j["gap_face_id"] = l.face_id;
+  if (!r.reason(k).empty()) j["reason"] = r.reason(k);
   return j;
 }
 
@@ -74,7 +83,7 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
 void write_csv(const std::string& path, const queries::PointQueryResult& r, std::span<const glm::dvec3> points) {
   const std::string header =
       std::string("point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,face,u,v") +
-      (r.signed_distance.empty() ? "" : ",signed_distance") + ",uncertified\n";
+      (r.signed_distance.empty() ? "" : ",signed_distance") + ",limited_by_file,file_gap,gap_face,reason\n";
   write_rows(path, header, points.size(), [&](fmt::memory_buffer& buf, size_t k) {
     const auto out = std::back_inserter(buf);
     const queries::PointDistance& d = r.answers[k];
@@ -86,9 +95,14 @@ void write_csv(const std::string& path, const queries::PointQueryResult& r, std:
     else
       fmt::format_to(out, ",,,,,,,-1,,");
     if (!r.signed_distance.empty()) fmt::format_to(out, ",{}", r.signed_distance[k]);
+    const queries::FileLimit& l = r.file_limits[k];
+    if (l.widen > 0.0)
+      fmt::format_to(out, ",{},{},{}", l.limited ? "true" : "false", l.gap, l.face);
+    else
+      fmt::format_to(out, ",false,,");
     buf.push_back(',');
     buf.push_back('"');
-    for (char c : r.reasons[k]) {
+    for (char c : r.reason(k)) {
       if (c == '"') buf.push_back('"');
       buf.push_back(c);
     }
@@ -167,8 +181,10 @@ void print_text(const queries::PointQuery& q, const queries::PointQueryResult& r
                q.meshed() ? "triangles tested" : q.batched() ? "cells tested" : "candidate cells");
     if (!r.reasons[k].empty())
       fmt::print("  not certified: {}\n", r.reasons[k]);
-    else if (!queries::meets_tolerance(a, r.tolerance))
-      fmt::print("  its bound {:.3g} is over the tolerance {:.3g}\n", a.bound, r.tolerance);
+    else if (r.file_limits[k].limited)
+      fmt::print("  certified to the file's precision: {}\n", r.over_reasons[k]);
+    else if (!r.over_reasons[k].empty())
+      fmt::print("  {}\n", r.over_reasons[k]);
   }
   std::vector<double> d;
   for (const auto& a : r.answers)
@@ -219,6 +235,8 @@ void run(const GlobalOptions& global, const Options& o) {
            {"over_tolerance", r.over_tolerance}};
     }
     j["uncertified"] = r.uncertified;
+    if (o.point.empty()) j["limited_by_file"] = r.limited_by_file;
+    j["strict"] = global.strict;
     add_model_json(j, loaded.report, global);
     j["prepare_seconds"] = query.prepare_seconds();
     // The switches of --paper as used; null where the batched projection does not use them.
@@ -245,7 +263,9 @@ void run(const GlobalOptions& global, const Options& o) {
     if (o.report()) write_report(r, points, o, unit, nullptr);
   }
   report_profile(*gpu, global);
-  if (const std::string why = r.failure(); !why.empty()) throw CommandFailed(why);
+  // Once, for people: the file's precision where it sets bounds over the tolerance.
+  if (const std::string note = r.file_precision(); !note.empty()) watch.log(note);
+  if (const std::string why = r.failure(global.strict); !why.empty()) throw CommandFailed(why);
 }
 
 }  // namespace cmd_distance_impl

@@ -40,6 +40,9 @@ struct GlobalOptions {
   /// --accept-partial: answers on a model whose reader dropped faces may be certified, on the
   /// faces read (nurbs::ModelReport::uncertified_reason).
   bool accept_partial = false;
+  /// --strict: an answer over the tolerance only by the file's precision (edges that lie off their
+  /// faces: limited_by_file) exits 1 as any other answer over it; without it such answers exit 0.
+  bool strict = false;
 };
 
 /// A model read for a command, with the reader's report (nurbs/model_report.h).

@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   app.add_flag("--accept-partial", global.accept_partial,
                "Certify answers on a model whose reader dropped faces, on the faces read (without it such answers "
                "exit 1; every command names the dropped faces either way)");
+  app.add_flag("--strict", global.strict,
+               "Exit 1 also for answers over the tolerance only by the file's precision (its edges lie off their "
+               "faces: marked limited_by_file, certified to that precision; without it they exit 0)");
   cli::add_gpu_info(app, global);
   cli::add_selftest(app, global);
   cli::add_info(app, global);

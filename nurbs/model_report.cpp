@@ -68,7 +68,7 @@ std::vector<std::string> ModelReport::lines(size_t max_items) const {
   if (!edge_gaps.empty()) {
     out.push_back(
         fmt::format("{} faces kept whose file edges lie off their surface, up to {:.3g}: bounds that may "
-                    "depend on them are widened by the gap",
+                    "depend on them are widened by what the gap can change there",
                     edge_gaps.size(), largest_gap()));
     std::vector<FaceNote> worst = edge_gaps;
     std::sort(worst.begin(), worst.end(), [](const FaceNote& a, const FaceNote& b) { return a.gap > b.gap; });
@@ -98,22 +98,53 @@ ModelReport model_report(const Model& model) {
   return r;
 }
 
+namespace {
+
+/// Samples of a lifted loop curve: dense enough that a chord is about a quarter of the gap (the
+/// runs' slack then takes little of what the rule can save), within [64, 1024].
+constexpr int kMinBoundarySamples = 64, kMaxBoundarySamples = 1024;
+constexpr size_t kRunSamples = 16;
+
+/// The distance from p to the segment [a, b].
+double segment_distance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return glm::length(a + t * ab - p);
+}
+
+}  // namespace
+
 FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
   for (size_t k = 0; k < faces.size(); ++k) {
     const TrimmedSurface& f = faces[k];
     if (f.trim_problem.empty() && !(f.edge_gap > 0.0)) continue;
-    Doubt d{control_box(f.surface), int(k), f.face_id, f.edge_gap, f.trim_problem, {}, 0.0};
+    Doubt d{control_box(f.surface), int(k), f.face_id, f.edge_gap, f.trim_problem, {}};
     if (f.edge_gap > 0.0) {
-      // The loops lifted to space, 64 samples a curve, in runs of 16 with their boxes. A face
-      // without loops has the domain's sides as its boundary.
-      std::vector<std::vector<glm::dvec3>> lines;
+      // The loops lifted to space, in runs of 16 chords with their boxes. A face without loops has
+      // the domain's sides as its boundary.
+      // Each sample of a line carries how far the curve strays from the chord to the next one:
+      // twice its point at the parameter midpoint's distance from that chord.
+      struct Line {
+        std::vector<glm::dvec3> points;
+        std::vector<double> stray;
+      };
+      std::vector<Line> lines;
       const auto lift = [&](const Curve2& c) {
-        std::vector<glm::dvec3> line;
         const Interval cd = curve_domain(c);
-        for (int i = 0; i <= 64; ++i) {
-          const glm::dvec2 uv = curve_point(c, cd.min + cd.width() * i / 64.0);
-          line.push_back(surface_point(f.surface, uv.x, uv.y));
-        }
+        const auto at = [&](double t) {
+          const glm::dvec2 uv = curve_point(c, cd.min + cd.width() * t);
+          return surface_point(f.surface, uv.x, uv.y);
+        };
+        double length = 0.0;
+        for (int i = 1; i <= kMinBoundarySamples; ++i)
+          length += glm::length(at(double(i) / kMinBoundarySamples) - at(double(i - 1) / kMinBoundarySamples));
+        const int n = int(std::clamp(std::ceil(4.0 * length / f.edge_gap), double(kMinBoundarySamples),
+                                     double(kMaxBoundarySamples)));
+        Line line;
+        for (int i = 0; i <= n; ++i) line.points.push_back(at(double(i) / n));
+        for (int i = 0; i < n; ++i)
+          line.stray.push_back(2.0 * segment_distance(at((i + 0.5) / n), line.points[size_t(i)], line.points[size_t(i) + 1]));
         return line;
       };
       for (const TrimLoop& l : f.loops)
@@ -127,17 +158,14 @@ FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
           lines.push_back(lift(side));
         }
       }
-      for (const auto& line : lines)
-        for (size_t i = 0; i + 1 < line.size(); i += 16) {
+      for (const Line& line : lines)
+        for (size_t i = 0; i + 1 < line.points.size(); i += kRunSamples) {
           BoundaryRun run;
-          run.points.assign(line.begin() + std::ptrdiff_t(i),
-                            line.begin() + std::ptrdiff_t(std::min(line.size(), i + 17)));
+          const size_t end = std::min(line.points.size(), i + kRunSamples + 1);
+          run.points.assign(line.points.begin() + std::ptrdiff_t(i), line.points.begin() + std::ptrdiff_t(end));
           run.box = {run.points.front(), run.points.front()};
-          for (size_t j = 0; j < run.points.size(); ++j) {
-            run.box.min = glm::min(run.box.min, run.points[j]), run.box.max = glm::max(run.box.max, run.points[j]);
-            // Between two samples the lifted curve stays within their chord's length of them.
-            if (j > 0) d.slack = std::max(d.slack, glm::length(run.points[j] - run.points[j - 1]));
-          }
+          for (const glm::dvec3& q : run.points) run.box.min = glm::min(run.box.min, q), run.box.max = glm::max(run.box.max, q);
+          for (size_t j = i; j + 1 < end; ++j) run.slack = std::max(run.slack, line.stray[j]);
           d.boundary.push_back(std::move(run));
         }
     }
@@ -148,15 +176,13 @@ FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
 double FaceDoubts::boundary_distance(const Doubt& d, const glm::dvec3& p, double within) {
   double best = std::numeric_limits<double>::infinity();
   for (const BoundaryRun& run : d.boundary) {
-    if (box_distance(run.box, p) > std::min(best, within)) continue;
-    for (size_t j = 0; j + 1 < run.points.size(); ++j) {
-      const glm::dvec3 a = run.points[j], ab = run.points[j + 1] - a;
-      const double len2 = glm::dot(ab, ab);
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-      best = std::min(best, glm::length(a + t * ab - p));
-    }
+    if (box_distance(run.box, p) - run.slack > std::min(best, within)) continue;
+    double near = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j + 1 < run.points.size(); ++j)
+      near = std::min(near, segment_distance(p, run.points[j], run.points[j + 1]));
+    best = std::min(best, std::max(0.0, near - run.slack));
   }
-  return best;
+  return best <= within ? best : std::numeric_limits<double>::infinity();
 }
 
 template <class Within>
@@ -169,15 +195,41 @@ void FaceDoubts::mark_invalid(Verdict& v, Within within) const {
     }
 }
 
-FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b) const {
+FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b,
+                                   const std::optional<Witness>& closest) const {
   if (doubts_.empty()) return {};
-  // A non-finite answer reaches every face.
-  const double reach = std::isfinite(d + b) ? d + b : std::numeric_limits<double>::infinity();
+  const double inf = std::numeric_limits<double>::infinity();
+  // A non-finite answer reaches every face, and every gap widens it in full.
+  const bool finite = std::isfinite(d + b);
+  const double reach = finite ? d + b : inf;
+  const double low = finite ? std::max(0.0, d - b) : 0.0;  // the answer's lower end (distances are >= 0)
+  const bool witnessed = finite && closest && std::isfinite(closest->within) &&
+                         glm::all(glm::lessThan(glm::abs(closest->point), glm::dvec3(inf)));
   Verdict v;
+  const auto raise = [&](double w, const Doubt& x) {
+    if (w > v.widen) v.widen = w, v.gap_face = x.face, v.gap_face_id = x.face_id, v.gap = x.gap;
+  };
   for (const Doubt& x : doubts_) {
-    if (!(x.gap > 0.0) || v.widen >= x.gap) continue;
-    const double within = reach + 2.0 * x.gap + x.slack;
-    if (box_distance(x.box, p) <= within && boundary_distance(x, p, within) <= within) v.widen = x.gap;
+    const double g = x.gap;
+    if (!(g > 0.0) || v.widen >= g) continue;
+    if (!finite) {
+      raise(g, x);
+      continue;
+    }
+    // Below, by (i): the file's face may add material within g of B, nearer than `low` only where
+    // dist(p, B) < low + g.
+    if (low > 0.0 && box_distance(x.box, p) < low + g) {
+      const double to_b = boundary_distance(x, p, low + g);
+      if (to_b < low + g) raise(std::min({g, low, low + g - to_b}), x);
+    }
+    // Above, by (ii) and (iii): the closest point may have been cut away only within g of B.
+    if (v.widen < g) {
+      const bool cut = witnessed ? box_distance(x.box, closest->point) <= g + closest->within &&
+                                       boundary_distance(x, closest->point, g + closest->within) <=
+                                           g + closest->within
+                                 : box_distance(x.box, p) <= reach + g && boundary_distance(x, p, reach + g) <= reach + g;
+      if (cut) raise(g, x);
+    }
   }
   // After the gaps: a widened bound reaches farther, to faces an invalid trim may hold.
   mark_invalid(v, [&](const Box& box, double extra) { return box_distance(box, p) <= reach + extra; });
@@ -190,8 +242,86 @@ FaceDoubts::Verdict FaceDoubts::near(const Box& other, double reach) const {
   const auto within = [&](const Box& box, double extra) { return box_distance(box, other) <= r + extra; };
   Verdict v;
   for (const Doubt& d : doubts_)
-    if (d.gap > 0.0 && within(d.box, d.gap)) v.widen = std::max(v.widen, d.gap);
+    if (d.gap > v.widen && within(d.box, d.gap))
+      v.widen = d.gap, v.gap_face = d.face, v.gap_face_id = d.face_id, v.gap = d.gap;
   mark_invalid(v, within);
+  return v;
+}
+
+double FaceDoubts::boundary_distance(const Doubt& d, const std::vector<Box>& boxes, double within) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Box& box : boxes) {
+    if (box_distance(d.box, box) > std::min(best, within)) continue;
+    for (const BoundaryRun& run : d.boundary) best = std::min(best, std::max(0.0, box_distance(run.box, box) - run.slack));
+  }
+  return best <= within ? best : std::numeric_limits<double>::infinity();
+}
+
+double FaceDoubts::largest_gap() const {
+  double g = 0.0;
+  for (const Doubt& d : doubts_) g = std::max(g, d.gap);
+  return g;
+}
+
+FaceDoubts::Side FaceDoubts::side(const std::vector<Box>& others, double low, double reach, double d, double b,
+                                  const std::optional<Witness>& witness) const {
+  Side s;
+  if (doubts_.empty()) return s;
+  const bool finite = std::isfinite(d + b) && std::isfinite(reach);
+  const auto near_others = [&](const Box& box, double extra) {
+    for (const Box& o : others)
+      if (box_distance(box, o) <= d + b + extra) return true;
+    return false;
+  };
+  const auto set_face = [&](const Doubt& x) {
+    s.verdict.gap_face = x.face, s.verdict.gap_face_id = x.face_id, s.verdict.gap = x.gap;
+  };
+  for (const Doubt& x : doubts_) {
+    if (!(x.gap > 0.0)) continue;
+    if (!finite) {
+      if (x.gap > std::max(s.gap, s.cut)) set_face(x);
+      s.gap = std::max(s.gap, x.gap), s.cut = std::max(s.cut, x.gap), s.boundary = 0.0;
+      continue;
+    }
+    // Below: a boundary that may come within `reach` of the other faces.
+    if (low > 0.0) {
+      const double to = boundary_distance(x, others, reach);
+      if (to < reach) {
+        if (x.gap > std::max(s.gap, s.cut)) set_face(x);
+        s.gap = std::max(s.gap, x.gap), s.boundary = std::min(s.boundary, to);
+      }
+    }
+    // Above: the witness may have been cut away only within the gap of a boundary.
+    if (x.gap > s.cut) {
+      const bool cut = witness ? boundary_distance(x, witness->point, x.gap + witness->within) <= x.gap + witness->within
+                               : near_others(x.box, x.gap);
+      if (cut) {
+        if (x.gap > std::max(s.gap, s.cut)) set_face(x);
+        s.cut = x.gap;
+      }
+    }
+  }
+  const double r = finite ? d + b : std::numeric_limits<double>::infinity();
+  mark_invalid(s.verdict, [&](const Box& box, double extra) {
+    for (const Box& o : others)
+      if (box_distance(box, o) <= r + extra) return true;
+    return false;
+  });
+  return s;
+}
+
+FaceDoubts::Verdict FaceDoubts::clearance(const Side& a, const Side& b, double d, double bound) {
+  // Below: d' >= min(d*, min(D_a, D_b) - G_a - G_b), the boundaries D within reach and their
+  // largest gaps G; above: d' <= d + b + the gaps at either witness (each may be cut away).
+  const double low = std::isfinite(d - bound) ? std::max(0.0, d - bound) : 0.0;
+  const double g = a.gap + b.gap, to = std::min(a.boundary, b.boundary);
+  const double below = g > 0.0 ? std::clamp(low + g - to, 0.0, std::min(low, g)) : 0.0;
+  const double above = a.cut + b.cut;
+  Verdict v;
+  v.widen = std::isfinite(d + bound) ? std::max(below, above) : a.cut + b.cut;
+  // The face named: the side that contributes most.
+  const Side& main = std::max(a.gap, a.cut) >= std::max(b.gap, b.cut) ? a : b;
+  v.gap_face = main.verdict.gap_face, v.gap_face_id = main.verdict.gap_face_id, v.gap = main.verdict.gap;
   return v;
 }
 

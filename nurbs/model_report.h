@@ -11,6 +11,8 @@
 ///   only that closely: every bound that may depend on it is widened by the gap (FaceDoubts).
 #include <filesystem>
 #include <glm/vec3.hpp>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,32 +78,76 @@ struct LoadedModel {
 /// The doubtful faces of a face list, by box, for deciding per answer which of them it may depend
 /// on: a face can hold the closest point to p only if its control-point box (which holds the
 /// surface) lies within the answer's distance plus bound of p.
+///
+/// What an edge gap g of a face means (docs/distance.md, "The file's precision"): the file's face F'
+/// and ours F (the surface inside the trim loops B lifted to space) differ only within g of B, and
+/// there lie within g of each other: (i) F' lies in F and the g-neighbourhood of B; (ii) the points
+/// of F farther than g from B belong to F'; (iii) every point of F has a point of F' within g.
 class FaceDoubts {
  public:
   /// `faces`: the faces a query runs on, in its order (world_faces or a subset).
   explicit FaceDoubts(const std::vector<TrimmedSurface>& faces);
 
+  /// A point of our faces that certifies an answer's upper end: some point y of the faces lies within
+  /// `within` of `point`, and no farther than d + b from p. The true closest point qualifies with
+  /// the answer's point and Theorem 2's sqrt(4 K d + K^2) (PointDistance::point_bound); so does the
+  /// nearest face point of a mesh point at distance d, with the mesh's eps.
+  struct Witness {
+    glm::dvec3 point{0.0};
+    double within = 0.0;
+  };
   struct Verdict {
-    double widen = 0.0;     ///< the largest edge gap of the faces within reach: add it to the bound
+    double widen = 0.0;     ///< what the edge gaps within reach can change: add it to the bound
+    int gap_face = -1;      ///< the gapped face that sets `widen` (index), -1 when none
+    int gap_face_id = -1;   ///< the file's id of that face
+    double gap = 0.0;       ///< its edge gap, model units
     int invalid_face = -1;  ///< a face with an invalid trim within reach (index), -1 when none
     std::string reason;     ///< why the answer is not certified, empty when it may be
   };
-  /// For an answer of distance `d` with bound `b` at point `p`. A face's edge gap matters only where
-  /// its file edges, within the gap of its trim boundary, may lie nearer to p than the answer: so
-  /// the bound is widened only when a gapped face's boundary (its loops lifted to space) lies
-  /// within d + b + 2 gap of p; an invalid trim matters wherever the face's box is within reach.
-  [[nodiscard]] Verdict at(const glm::dvec3& p, double d, double b) const;
-  /// For an answer that may depend on any face within `reach` of `box` (clearance: the other
-  /// model's box, reach = distance + bound).
+  /// For an answer of distance `d` with bound `b` (|d - d*| < b, d* the distance to our faces) at
+  /// point `p`, the widening that makes |d - d'| < b + widen for the distance d' to the file's faces:
+  /// - below, by (i): d' >= min(d*, dist(p, B) - g), so only a gapped boundary nearer than
+  ///   d - b + g widens, by d - b + g - dist(p, B) (at most g, never below 0);
+  /// - above, by (ii) and (iii): d' <= d + b when the witness y lies farther than g from every
+  ///   gapped boundary (y then belongs to F'), and d' <= d* + g always; without a witness, every
+  ///   point of F within d + b of p must lie that far.
+  /// An invalid trim matters wherever the face's box is within reach of the widened answer.
+  [[nodiscard]] Verdict at(const glm::dvec3& p, double d, double b,
+                           const std::optional<Witness>& closest = std::nullopt) const;
+  /// For an answer that may depend on any face within `reach` of `box`: invalid trims only (the
+  /// thickness and ray queries' faces).
   [[nodiscard]] Verdict near(const Box& box, double reach) const;
+
+  /// One side of a clearance d with bound b between these faces and another model's (their boxes
+  /// `others`, in this side's frame): what this side's gaps can change (docs/distance.md).
+  struct Side {
+    double gap = 0.0;  ///< the largest gap of a face whose boundary may come within the lower end's reach
+    /// A lower bound of the distance from those faces' boundaries to `others`; +inf when none.
+    double boundary = std::numeric_limits<double>::infinity();
+    double cut = 0.0;  ///< the largest gap whose boundary lies within it (and the witness's `within`) of the witness
+    Verdict verdict;   ///< the face that sets the larger of gap and cut, and any invalid trim within reach
+  };
+  /// `reach`: how far below the answer's lower end a boundary matters (the lower end plus both
+  /// models' largest gaps); `witness`: a point of these faces within `within` of its point and
+  /// within d + b of the other model's faces (without one, every face within d + b + gap of
+  /// `others` counts as cut).
+  [[nodiscard]] Side side(const std::vector<Box>& others, double low, double reach, double d, double b,
+                          const std::optional<Witness>& witness) const;
+  /// The widening of a clearance d +- b by both sides' gaps: below, the boundaries of either side
+  /// within the two gaps of the lower end; above, the sum of the gaps at the witnesses.
+  [[nodiscard]] static Verdict clearance(const Side& a, const Side& b, double d, double bound);
+  /// The largest gap of any face; 0 when none.
+  [[nodiscard]] double largest_gap() const;
   /// No face is doubtful.
   [[nodiscard]] bool empty() const { return doubts_.empty(); }
 
  private:
-  /// A run of consecutive boundary samples of a gapped face, with its box.
+  /// A run of consecutive boundary samples of a gapped face, with its box and how far the lifted
+  /// loop between its samples strays from their chords (twice the farthest parameter midpoint).
   struct BoundaryRun {
     Box box;
     std::vector<glm::dvec3> points;
+    double slack = 0.0;
   };
   struct Doubt {
     Box box;
@@ -110,9 +156,12 @@ class FaceDoubts {
     double gap;
     std::string problem;
     std::vector<BoundaryRun> boundary;  ///< gapped faces: the loops lifted to space
-    double slack = 0.0;                 ///< how far the sampled boundary may stray from the lifted loops
   };
+  /// A lower bound of the distance from p to the face's lifted loops, exact up to the runs' slack;
+  /// +inf when that is beyond `within`.
   [[nodiscard]] static double boundary_distance(const Doubt& d, const glm::dvec3& p, double within);
+  /// A lower bound of the distance from the face's lifted loops to any of `boxes`; +inf beyond `within`.
+  [[nodiscard]] static double boundary_distance(const Doubt& d, const std::vector<Box>& boxes, double within);
   /// Marks v uncertified by the first face with an invalid trim for which within(box, v.widen) holds.
   template <class Within>
   void mark_invalid(Verdict& v, Within within) const;

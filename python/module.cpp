@@ -74,7 +74,7 @@ PYBIND11_MODULE(_nurbsgl, m) {
   py::class_<ModelBinding, std::shared_ptr<ModelBinding>>(m, "Model")
       .def("info", &model_info, "The model's bodies, faces, size, unit and what the reader changed.")
       .def("distance", &point_distance, py::arg("points"), py::arg("tol"), py::arg("engine"), py::arg("per_point"),
-           py::arg("accept_partial"), py::arg("cache"), py::arg("signed"))
+           py::arg("accept_partial"), py::arg("cache"), py::arg("signed"), py::arg("strict"))
       .def("tessellate", &tessellate, py::arg("eps"), py::arg("relative"), py::arg("watertight"),
            py::arg("guaranteed"), py::arg("check"), py::arg("accept_partial"))
       .def("raycast", &raycast, py::arg("origins"), py::arg("directions"), py::arg("t_min"), py::arg("engine"),

@@ -46,7 +46,7 @@ std::shared_ptr<queries::PointQuery> point_query(ModelBinding& m, const queries:
 }  // namespace
 
 py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, const std::string& engine,
-                        bool per_point, bool accept_partial, bool cache, bool signed_distance) {
+                        bool per_point, bool accept_partial, bool cache, bool signed_distance, bool strict) {
   const std::vector<glm::dvec3> p = points_from(points, "points", coordinate_limit(m.loaded->model));
   queries::PointQueryOptions o;
   o.tolerance = tol, o.per_point = per_point, o.engine = engine_of(engine), o.accept_partial = accept_partial;
@@ -63,7 +63,9 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   std::vector<glm::dvec3> closest(n);
   std::vector<glm::dvec2> uv(n);
   std::vector<int32_t> face(n);
-  std::vector<char> meets(n);
+  std::vector<char> meets(n), limited(n);
+  std::vector<double> file_gap(n);
+  std::vector<int32_t> gap_face(n);
   py::list reasons;
   for (size_t k = 0; k < n; ++k) {
     const queries::PointDistance& a = r.answers[k];
@@ -72,12 +74,16 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
     point_bound[k] = a.found ? a.point_bound : std::nan("");
     closest[k] = a.point, uv[k] = a.uv, face[k] = a.found ? a.face : -1;
     meets[k] = r.meets(k);
-    reasons.append(r.reasons[k]);
+    reasons.append(r.reason(k));
+    const queries::FileLimit& l = r.file_limits[k];
+    limited[k] = l.limited, file_gap[k] = l.widen > 0.0 ? l.gap : 0.0, gap_face[k] = l.widen > 0.0 ? l.face : -1;
   }
   py::dict d;
   d["distance"] = array1(distance), d["bound"] = array1(bound), d["point_bound"] = array1(point_bound);
   d["point"] = array3(closest), d["uv"] = array2(uv), d["face"] = array1(face), d["meets_tolerance"] = bools(meets);
   d["reasons"] = reasons;
+  d["limited_by_file"] = bools(limited), d["file_gap"] = array1(file_gap), d["gap_face"] = array1(gap_face);
+  d["file_precision"] = r.file_precision();
   if (signed_distance) d["signed_distance"] = array1(r.signed_distance);
   d["tolerance"] = r.tolerance;
   d["engine"] = q->meshed() ? "mesh" : queries::engine_name(q->engine());
@@ -85,7 +91,7 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   d["path"] = q->meshed() ? "mesh" : q->batched() ? "batched" : "per-point";
   d["seconds"] = r.seconds;
   d["prepare_seconds"] = q->prepare_seconds();
-  d["failure"] = r.failure();
+  d["failure"] = r.failure(strict);
   return d;
 }
 
@@ -223,6 +229,9 @@ py::dict answer_dict(const queries::ClearanceAnswer& answer) {
   if (c.intersecting) d["intersection"] = py::make_tuple(c.intersection.x, c.intersection.y, c.intersection.z);
   d["meets_tolerance"] = answer.meets();
   d["uncertified"] = answer.reason;
+  d["limited_by_file"] = answer.limited_by_file();
+  d["file_gap"] = answer.widen > 0.0 ? answer.gap : 0.0;
+  d["reason"] = answer.limited_by_file() ? answer.file_precision() : answer.failure(true);
   d["failure"] = answer.failure();
   d["tolerance"] = answer.tolerance;
   d["seconds"] = answer.seconds;
@@ -255,6 +264,7 @@ py::dict clash(ModelBinding& m, double min_clearance, double tol, const std::str
   d["rows"] = rows, d["bodies"] = r.bodies, d["pairs"] = r.rows.size(), d["pairs_computed"] = r.computed;
   d["pairs_beyond"] = r.beyond_boxes, d["pairs_beyond_computed"] = r.beyond_computed;
   d["pairs_intersecting"] = r.intersecting, d["pairs_uncertified"] = r.uncertified;
+  d["pairs_limited_by_file"] = r.limited_by_file;
   d["min_clearance"] = r.min_clearance, d["seconds"] = r.seconds, d["failure"] = r.failure();
   return d;
 }

@@ -18,7 +18,7 @@ namespace py = pybind11;
 /// meets_tolerance and reason per point (with `signed_distance`, also signed_distance, negative
 /// inside); tolerance (model units), engine, batched, seconds, prepare_seconds, failure.
 py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, const std::string& engine,
-                        bool per_point, bool accept_partial, bool cache, bool signed_distance);
+                        bool per_point, bool accept_partial, bool cache, bool signed_distance, bool strict);
 
 /// The model's mesh: vertices (V, 3), triangles (T, 3), triangle_face (T), normals, eps, bound,
 /// failure (empty when certified within bound).

@@ -66,15 +66,19 @@ class Model:
                 f"size {self.size:.6g} {self.unit}{', changed by the reader' if self.changed else ''})")
 
     def distance(self, points, tol=1e-5, engine="auto", per_point=False, accept_partial=False, cache=True,
-                 signed=False):
+                 signed=False, strict=False):
         """Minimum distance from every point of an (N, 3) float64 array (model units, the model's frame)
         to the model (Krishnamurthy et al.), each answer within `tol` x the model size.
 
         Returns a Result with, per point: distance, bound, point_bound, point (N, 3), face, uv (N, 2),
-        meets_tolerance (bool), reasons (why an answer is not certified, "" where it may be); and
-        tolerance (model units), engine, path ("mesh", "batched" or "per-point"), batched, seconds,
-        prepare_seconds, failure (why not every answer meets the tolerance, "" when all do). The model
-        is prepared once per set of options; later calls reuse it.
+        meets_tolerance (bool), reasons (why an answer falls short of the tolerance: not certified, not
+        found, or over it, "" where it meets it), limited_by_file (bool: over the tolerance only because
+        the file's edges lie off their faces near it, certified to the file's precision), file_gap and
+        gap_face (the gapped face that widened the bound, 0 and -1 where none); and tolerance (model
+        units), engine, path ("mesh", "batched" or "per-point"), batched, seconds, prepare_seconds,
+        file_precision (the limited answers by face, for people), failure (why the answers are not all
+        certified, "" when they are; answers limited by the file count only with strict=True). The
+        model is prepared once per set of options; later calls reuse it.
         engine: "auto" (the certified mesh: the faces tessellated within the tolerance, every
         point's closest triangle from Embree's BVH, each bound the mesh's proven distance to the
         faces; the grids' pyramid where the mesh cannot be made), or the grids' pyramid descended
@@ -82,7 +86,7 @@ class Model:
         per_point: the paper's one query at a time instead of the batched projection.
         signed: also signed_distance, negative inside the model's solids (RequestError for a model
         whose bodies are not stated closed); nurbsgl.histogram.plot draws its histogram."""
-        return Result(self._m.distance(points, tol, engine, per_point, accept_partial, cache, signed))
+        return Result(self._m.distance(points, tol, engine, per_point, accept_partial, cache, signed, strict))
 
     def tessellate(self, eps=1e-3, relative=True, watertight=False, guaranteed=True, check=False,
                    accept_partial=False):

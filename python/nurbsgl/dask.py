@@ -32,7 +32,8 @@ _models = {}
 # The per-point fields of a distance answer, in the order of the structured array the command
 # line writes.
 POINT_FIELDS = (("distance", "f8", ()), ("bound", "f8", ()), ("point_bound", "f8", ()), ("point", "f8", (3,)),
-                ("face", "i4", ()), ("uv", "f8", (2,)), ("meets_tolerance", "?", ()))
+                ("face", "i4", ()), ("uv", "f8", (2,)), ("meets_tolerance", "?", ()), ("limited_by_file", "?", ()),
+                ("file_gap", "f8", ()), ("gap_face", "i4", ()))
 
 
 def _model(path):
@@ -60,12 +61,13 @@ def _chunk_size(client, n):
     return min(max(65536, math.ceil(n / (4 * workers))), 1 << 20)
 
 
-def distance(client, model_path, points, tol=1e-5, engine="auto", accept_partial=False, chunk=None):
+def distance(client, model_path, points, tol=1e-5, engine="auto", accept_partial=False, chunk=None, strict=False):
     """nurbsgl.Model.distance of `points` ((N, 3) float64) on the cluster of `client`, in chunks of
     `chunk` points (default: four chunks per worker, from 65536 to 2^20 points each). Returns a
     nurbsgl.Result with the arrays of Model.distance (distance, bound, point_bound, point, face, uv,
-    meets_tolerance, reasons) in input order, tolerance, engine, and failure ("" when every answer
-    meets the tolerance). A worker lost in the middle is replaced and its chunks run again; an
+    meets_tolerance, limited_by_file, file_gap, gap_face, reasons) in input order, tolerance, engine,
+    and failure ("" when every answer is certified: meets the tolerance, or, unless strict, is over it
+    only by the file's precision). A worker lost in the middle is replaced and its chunks run again; an
     error of a chunk (an unreadable model: nurbsgl.ReadError) is raised here, the other chunks
     cancelled."""
     import nurbsgl
@@ -91,7 +93,8 @@ def distance(client, model_path, points, tol=1e-5, engine="auto", accept_partial
     fields["reasons"] = [reason for r in results for reason in r["reasons"]]
     fields["tolerance"] = results[0]["tolerance"]
     fields["engine"] = results[0]["engine"]
-    failing = int(np.count_nonzero(~fields["meets_tolerance"]))
+    certified = fields["meets_tolerance"] | (fields["limited_by_file"] & (not strict))
+    failing = int(np.count_nonzero(~certified))
     fields["failure"] = "" if failing == 0 else f"{failing} of {n} answers do not meet the tolerance"
     fields["chunks"] = len(starts)
     return nurbsgl.Result(fields)
@@ -137,7 +140,7 @@ def clash(client, model_path, min_clearance=None, tol=1e-5, engine="auto", accep
         raise
     rows.sort(key=_row_key)
     computed = [r for r in rows if r["computed"]]
-    failing = [r for r in computed if not r["meets_tolerance"]]
+    failing = [r for r in computed if not r["meets_tolerance"] and not r["limited_by_file"]]
     lines = "".join(f"\n  bodies {r['body_a']} ({r['name_a']}) and {r['body_b']} ({r['name_b']}): {r['failure']}"
                     for r in failing)
     return nurbsgl.Result({
@@ -146,6 +149,7 @@ def clash(client, model_path, min_clearance=None, tol=1e-5, engine="auto", accep
         "pairs_beyond_computed": sum(1 for r in computed if r["beyond_min_clearance"]),
         "pairs_intersecting": sum(1 for r in computed if r["intersecting"]),
         "pairs_uncertified": len(failing), "shards": count,
+        "pairs_limited_by_file": sum(1 for r in computed if r["limited_by_file"]),
         "failure": f"{len(failing)} of {len(computed)} computed pairs not certified:{lines}" if failing else ""})
 
 

@@ -161,3 +161,23 @@ def test_clearance_of_a_moved_copy(sphere):
     overlap = np.eye(4)
     overlap[0, 3] = R  # the spheres cross
     assert nurbsgl.clearance(sphere, sphere, motion=overlap, tol=1e-5).intersecting
+
+
+def test_an_answer_limited_by_the_files_edges_says_so(shared_models):
+    # The bearing's edges lie up to 6e-6 off its faces: beside face 48's edge (3e-6 off) the answer
+    # is over the default tolerance only by that, certified to the file's precision; over a face's
+    # middle it meets the tolerance. strict=True makes the first a failure.
+    import nurbsgl
+    bearing = nurbsgl.load(shared_models / "iges" / "occt_bearing.iges")
+    points = np.array([[0.0226551151168, 0.010058773699, -0.000123904306734],
+                       [0.0156512499625, 0.0249416595128, 0.0258558387296]])
+    r = bearing.distance(points)
+    assert list(r.limited_by_file) == [True, False]
+    assert list(r.meets_tolerance) == [False, True]
+    assert r.gap_face[0] == 48 and 0 < r.file_gap[0] < 1e-5
+    assert "only by the file's precision: face 48 (id 1251)" in r.reasons[0]
+    assert r.reasons[1] == ""
+    assert r.failure == ""
+    assert "face 48 (id 1251)" in r.file_precision
+    strict = bearing.distance(points, strict=True)
+    assert "only by the file's precision (strict)" in strict.failure

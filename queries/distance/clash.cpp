@@ -95,14 +95,15 @@ bool ClashRow::beyond(double min_clearance) const {
   return !computed || (!answer.clearance.intersecting && answer.clearance.distance > min_clearance);
 }
 
-std::string ClashReport::failure() const {
+std::string ClashReport::failure(bool strict) const {
   std::string lines;
+  size_t failing = 0;
   for (const ClashRow& r : rows)
-    if (r.computed && !r.answer.meets())
-      lines +=
-          fmt::format("\n  bodies {} ({}) and {} ({}): {}", r.body_a, r.name_a, r.body_b, r.name_b, r.answer.failure());
+    if (r.computed)
+      if (const std::string why = r.answer.failure(strict); !why.empty())
+        ++failing, lines += fmt::format("\n  bodies {} ({}) and {} ({}): {}", r.body_a, r.name_a, r.body_b, r.name_b, why);
   if (lines.empty()) return {};
-  return fmt::format("{} of {} computed pairs not certified:{}", uncertified, computed, lines);
+  return fmt::format("{} of {} computed pairs not certified:{}", failing, computed, lines);
 }
 
 ClashReport clash_report(const nurbs::LoadedModel& model, const ClashOptions& options, gpgpu::Gpu* gpu,
@@ -183,7 +184,8 @@ ClashReport clash_report(const nurbs::LoadedModel& model, const ClashOptions& op
     ++report.computed;
     report.intersecting += r.answer.clearance.intersecting;
     report.beyond_computed += r.beyond(options.min_clearance);
-    report.uncertified += !r.answer.meets();
+    report.uncertified += !r.answer.meets() && !r.answer.limited_by_file();
+    report.limited_by_file += r.answer.limited_by_file();
     ++(r.answer.on_cpu ? report.cpu_pairs : report.gpu_pairs);
   }
   std::stable_sort(report.rows.begin(), report.rows.end(), row_before);

@@ -63,7 +63,8 @@ struct ClashReport {
   size_t beyond_boxes = 0;     ///< pairs left out by box distance
   size_t beyond_computed = 0;  ///< computed pairs farther apart than min_clearance
   size_t intersecting = 0;
-  size_t uncertified = 0;               ///< computed pairs whose answer does not meet its tolerance
+  size_t uncertified = 0;      ///< computed pairs whose answer is not certified (limited_by_file not among them)
+  size_t limited_by_file = 0;  ///< computed pairs over their tolerance only by the file's precision
   size_t cpu_pairs = 0, gpu_pairs = 0;  ///< computed pairs answered on the CPU alone / with the GPU
   double min_clearance = std::numeric_limits<double>::infinity();
   double seconds = 0.0;  ///< wall time of the whole report
@@ -72,8 +73,9 @@ struct ClashReport {
   std::unique_ptr<gpgpu::Gpu> gpu;
 
   /// Which pairs' answers are not certified and why, one line each after a first line that counts
-  /// them; empty when every computed answer meets its tolerance.
-  [[nodiscard]] std::string failure() const;
+  /// them; empty when every computed answer is certified (meets its tolerance, or, unless
+  /// `strict`, is over it only by the file's precision).
+  [[nodiscard]] std::string failure(bool strict = false) const;
 };
 
 /// The clash report of the bodies of `model`. `gpu`: a GL context for the pairs that need one;

@@ -89,15 +89,26 @@ bool ClearanceAnswer::meets() const {
   return reason.empty() && c.found && c.meets_tolerance && within_tolerance(c.bound, tolerance);
 }
 
-std::string ClearanceAnswer::failure() const {
+bool ClearanceAnswer::limited_by_file() const {
+  const Clearance& c = clearance;
+  return reason.empty() && c.found && c.meets_tolerance && widen > 0.0 && !within_tolerance(c.bound, tolerance) &&
+         within_tolerance(c.bound - widen, tolerance);
+}
+
+std::string ClearanceAnswer::file_precision() const {
+  if (!limited_by_file()) return {};
+  return fmt::format(
+      "its bound {:.3g} is over the tolerance {:.3g} only by the file's precision: face {} (id {}) of {} has edges up "
+      "to {:.3g} off its surface near the answer, which widen the bound by {:.3g} (certified to the file's precision)",
+      clearance.bound, tolerance, gap_face, gap_face_id, gap_model, gap, widen);
+}
+
+std::string ClearanceAnswer::failure(bool strict) const {
   const Clearance& c = clearance;
   if (!c.found) return "no pair of surface points found (every cell trimmed away?)";
   if (!reason.empty()) return "the answer is not certified: " + reason;
   if (meets()) return {};
-  if (widen > 0.0 && within_tolerance(c.bound - widen, tolerance))
-    return fmt::format("the bound {:.3g} is over the tolerance {:.3g}: {:.3g} of it is the file's edges lying off "
-                       "their faces near the answer (a larger --tol)",
-                       c.bound, tolerance, widen);
+  if (limited_by_file()) return strict ? file_precision() + " (strict)" : std::string();
   return fmt::format("the bound {:.3g} is over the tolerance {:.3g} (the refinement's budget ran out)", c.bound,
                      tolerance);
 }
@@ -132,6 +143,8 @@ ClearancePair::ClearancePair(const nurbs::LoadedModel& a, const nurbs::LoadedMod
   // answer's frame.
   doubts_a_.emplace(fa_), doubts_b_.emplace(fb_);
   box_a_ = faces_box(fa_), box_b_ = faces_box(fb_);
+  for (const nurbs::TrimmedSurface& f : fa_) boxes_a_.push_back(nurbs::control_box(f.surface));
+  for (const nurbs::TrimmedSurface& f : fb_) boxes_b_.push_back(nurbs::control_box(f.surface));
   faces_a_ = fa_.size(), faces_b_ = fb_.size();
 }
 
@@ -282,12 +295,36 @@ ClearanceAnswer ClearancePair::query(const glm::dmat4& motion) {
   // Widens c's bound by the gaps within reach; why it is not certified (empty: it may be).
   out.reason = model_reason_;
   if (!doubts_a_->empty() || !doubts_b_->empty()) {
-    const double reach = c.distance + c.bound;
-    const nurbs::FaceDoubts::Verdict va = doubts_a_->near(moved(box_b_, motion), reach);
-    const nurbs::FaceDoubts::Verdict vb = doubts_b_->near(moved(box_a_, glm::inverse(motion)), reach);
-    out.widen = std::max(va.widen, vb.widen);
+    // Each side's gaps judged against the other's face boxes in its frame (docs/distance.md, "The
+    // file's precision"). The witnesses: each answer point lies within its side's K (at most b) of
+    // that side's faces (an exact surface point after the refinement, on a grid triangle before it),
+    // so those face points lie within d + b of each other.
+    const double d = c.distance, b = c.bound;
+    const double low = std::isfinite(d - b) ? std::max(0.0, d - b) : 0.0;
+    const double reach = low + doubts_a_->largest_gap() + doubts_b_->largest_gap();
+    const glm::dmat4 back = glm::inverse(motion);
+    std::vector<nurbs::Box> b_in_a, a_in_b;
+    for (const nurbs::Box& x : boxes_b_) b_in_a.push_back(moved(x, motion));
+    for (const nurbs::Box& x : boxes_a_) a_in_b.push_back(moved(x, back));
+    std::optional<nurbs::FaceDoubts::Witness> wa, wb;
+    if (c.found && glm::length(c.point_a - c.point_b) <= d * (1.0 + 1e-12) + 1e-300 && std::isfinite(b))
+      wa = nurbs::FaceDoubts::Witness{c.point_a, b},
+      wb = nurbs::FaceDoubts::Witness{glm::dvec3(back * glm::dvec4(c.point_b, 1.0)), b};
+    const nurbs::FaceDoubts::Side sa = doubts_a_->side(b_in_a, low, reach, d, b, wa);
+    const nurbs::FaceDoubts::Side sb = doubts_b_->side(a_in_b, low, reach, d, b, wb);
+    const nurbs::FaceDoubts::Verdict v = nurbs::FaceDoubts::clearance(sa, sb, d, b);
+    out.widen = v.widen;
+    if (v.widen > 0.0) {
+      const bool on_a = std::max(sa.gap, sa.cut) >= std::max(sb.gap, sb.cut);
+      out.gap_model = on_a ? "A" : "B";
+      out.gap_face = v.gap_face;  // the doubts index every face of the body, before the cull
+      out.gap_face_id = v.gap_face_id, out.gap = v.gap;
+    }
     c.bound += out.widen;
-    if (out.reason.empty()) out.reason = !va.reason.empty() ? "A: " + va.reason : !vb.reason.empty() ? "B: " + vb.reason : "";
+    if (out.reason.empty())
+      out.reason = !sa.verdict.reason.empty() ? "A: " + sa.verdict.reason
+                   : !sb.verdict.reason.empty() ? "B: " + sb.verdict.reason
+                                                : "";
   }
   if (!out.reason.empty()) c.meets_tolerance = false;
   if (c.face_a >= 0) c.face_a = index_a_[size_t(c.face_a)];

@@ -75,7 +75,11 @@ struct ClearanceAnswer {
   /// widened by the reader's edge gaps within reach; meets_tolerance false when `reason` is set.
   Clearance clearance;
   std::string reason;  ///< why it is not certified; empty when it may be
-  double widen = 0.0;  ///< of the bound, by the reader's edge gaps
+  double widen = 0.0;  ///< of the bound, by what the reader's edge gaps can change
+  /// Where widen > 0: the model ("A" or "B"), face (index into that model's faces) and gap that set it.
+  std::string gap_model;
+  int gap_face = -1, gap_face_id = -1;
+  double gap = 0.0;
   bool on_cpu = false;  ///< answered by clearance_cpu
   std::optional<VoxelStage> first_stage;  ///< the voxel stage of this placement
   double first_stage_seconds = 0.0;
@@ -84,8 +88,13 @@ struct ClearanceAnswer {
 
   /// Found, certified and its bound within T.
   [[nodiscard]] bool meets() const;
-  /// Why it does not meet T, for people; empty when it does.
-  [[nodiscard]] std::string failure() const;
+  /// Certified, over T only by the widening of the reader's edge gaps: certified to the file's precision.
+  [[nodiscard]] bool limited_by_file() const;
+  /// Why the answer is limited by the file, for people; empty when it is not.
+  [[nodiscard]] std::string file_precision() const;
+  /// Why it is not certified, for people; empty when it is (meets T, or, unless `strict`, over it only
+  /// by the file's precision).
+  [[nodiscard]] std::string failure(bool strict = false) const;
 };
 
 class ClearancePair {
@@ -141,6 +150,7 @@ class ClearancePair {
   std::vector<int> index_a_, index_b_;  ///< kept face -> face of the model
   std::optional<nurbs::FaceDoubts> doubts_a_, doubts_b_;
   nurbs::Box box_a_{}, box_b_{};
+  std::vector<nurbs::Box> boxes_a_, boxes_b_;  ///< each face's control box, in its model's frame
   std::vector<glm::dmat4> frames_;  ///< prepare()'s, when the faces were culled for them
   std::unique_ptr<gpgpu::Gpu> own_gpu_;  ///< declared before what holds GL objects: destroyed last
   PreparedPair pair_;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <glm/geometric.hpp>
+#include <map>
 #include <cmath>
 #include <stdexcept>
 
@@ -66,21 +68,46 @@ std::vector<nurbs::PaperSwitch> PointQueryOptions::paper_switches() {
   return {{"per-point", "§3.1"}, {"search", "§3.1, §4"}, {"host-cells", "§3.1"}};
 }
 
-std::string PointQueryResult::failure() const {
+std::string PointQueryResult::failure(bool strict) const {
   if (!model_reason.empty()) return model_reason;
+  std::vector<std::string> parts;
   if (uncertified > 0)
-    return fmt::format("{} of {} answers not certified: {}", uncertified, answers.size(),
-                       *std::find_if(reasons.begin(), reasons.end(), [](const std::string& w) { return !w.empty(); }));
-  if (not_found == 0 && over_tolerance > 0 && widened == over_tolerance)
-    return fmt::format("{} of {} answers with a bound over the tolerance {:.3g} only by the file's edges lying off "
-                       "their faces near them (the edge_gaps; a larger --tol)",
-                       over_tolerance, answers.size(), tolerance);
-  if (not_found > 0 || over_tolerance > 0)
-    return fmt::format(
-        "{} of {} answers not found, {} with a bound over the tolerance {:.3g} (a point far from the model: the "
-        "float slack grows with its distance; a finer --tol or --per-point)",
-        not_found, answers.size(), over_tolerance, tolerance);
-  return {};
+    parts.push_back(fmt::format(
+        "{} not certified ({})", uncertified,
+        *std::find_if(reasons.begin(), reasons.end(), [](const std::string& w) { return !w.empty(); })));
+  if (not_found > 0) parts.push_back(fmt::format("{} not found", not_found));
+  if (const size_t over = over_tolerance - limited_by_file; over > 0) {
+    size_t k = 0;
+    while (k < answers.size() && !(answers[k].found && reasons[k].empty() && !file_limits[k].limited &&
+                                   !over_reasons[k].empty()))
+      ++k;
+    parts.push_back(fmt::format("{} with a bound over the tolerance {:.3g} ({})", over, tolerance,
+                                k < answers.size() ? over_reasons[k] : ""));
+  }
+  if (strict && limited_by_file > 0)
+    parts.push_back(fmt::format("{} over the tolerance only by the file's precision (strict)", limited_by_file));
+  if (parts.empty()) return {};
+  const size_t short_of = uncertified + not_found + over_tolerance - (strict ? 0 : limited_by_file);
+  return fmt::format("{} of {} answers fall short: {}", short_of, answers.size(), fmt::join(parts, "; "));
+}
+
+std::string PointQueryResult::file_precision() const {
+  if (limited_by_file == 0) return {};
+  // Every face that limits an answer, with its gap and how many answers it limits.
+  std::map<int, std::pair<const FileLimit*, size_t>> faces;
+  for (const FileLimit& l : file_limits)
+    if (l.limited) {
+      auto& [first, n] = faces[l.face];
+      if (!first) first = &l;
+      ++n;
+    }
+  std::vector<std::string> named;
+  for (const auto& [face, v] : faces)
+    named.push_back(fmt::format("face {} (id {}) gap {:.3g}: {}", face, v.first->face_id, v.first->gap, v.second));
+  return fmt::format(
+      "{} of {} answers are over the tolerance {:.3g} only because the file's edges lie off their faces near them: "
+      "certified to the file's precision (limited_by_file); by face: {}",
+      limited_by_file, answers.size(), tolerance, fmt::join(named, ", "));
 }
 
 PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQueryOptions options)
@@ -309,26 +336,56 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
   // never a distance.
   for (auto& r : out.answers)
     if (r.found && (r.face < 0 || !std::isfinite(r.distance) || !std::isfinite(r.bound))) r.found = false;
-  // The reader's doubts (nurbs/model_report.h): a face within reach whose edges lie off its surface
-  // widens the bound by the gap; one whose trim could not be made valid, or a model that lost faces,
-  // leaves the answer uncertified.
+  // The reader's doubts (nurbs/model_report.h): what the edge gaps within reach can change widens
+  // the bound; a face whose trim could not be made valid, or a model that lost faces, leaves the
+  // answer uncertified.
   out.reasons.resize(out.answers.size());
+  out.over_reasons.resize(out.answers.size());
+  out.file_limits.resize(out.answers.size());
   const double T = out.tolerance;
   for (size_t k = 0; k < out.answers.size(); ++k) {
     auto& r = out.answers[k];
     if (!r.found) continue;
-    const nurbs::FaceDoubts::Verdict v = doubts_.at(points[k], r.distance, r.bound);
+    // The upper end's witness: on the mesh, the face point nearest the answer's point (within eps of
+    // it, so at most d + eps from p); else the true closest point, within point_bound of it.
+    const bool on_mesh = mesh_ && glm::length(points[k] - r.point) <= r.distance * (1.0 + 1e-12);
+    const nurbs::FaceDoubts::Verdict v = doubts_.at(
+        points[k], r.distance, r.bound,
+        nurbs::FaceDoubts::Witness{r.point, on_mesh ? std::min(r.bound, r.point_bound) : r.point_bound});
     r.bound += v.widen;
-    out.widened += v.widen > 0.0 && within_tolerance(r.bound - v.widen, T) && !within_tolerance(r.bound, T);
+    out.file_limits[k] = {v.widen, v.gap_face, v.gap_face_id, v.gap, false};
     out.reasons[k] = !model_reason_.empty() ? model_reason_ : v.reason;
     if (!out.reasons[k].empty()) r.meets_tolerance = false;
   }
   if (sides_) sign_answers(points, out);
   for (size_t k = 0; k < out.answers.size(); ++k) {
     const auto& r = out.answers[k];
+    FileLimit& limit = out.file_limits[k];
     out.uncertified += !out.reasons[k].empty();
     out.not_found += !r.found;
-    out.over_tolerance += r.found && out.reasons[k].empty() && !meets_tolerance(r, T);
+    if (!r.found) {
+      out.over_reasons[k] = "no surface point found (every cell trimmed away)";
+      continue;
+    }
+    if (!out.reasons[k].empty() || meets_tolerance(r, T)) continue;
+    ++out.over_tolerance;
+    if (r.meets_tolerance && limit.widen > 0.0 && within_tolerance(r.bound - limit.widen, T)) {
+      limit.limited = true;
+      ++out.limited_by_file;
+      out.over_reasons[k] = fmt::format(
+          "its bound {:.3g} is over the tolerance {:.3g} only by the file's precision: face {} (id {}) has edges up "
+          "to {:.3g} off its surface near the answer, which widen the bound by {:.3g}",
+          r.bound, T, limit.face, limit.face_id, limit.gap, limit.widen);
+    } else if (!r.meets_tolerance) {
+      out.over_reasons[k] = fmt::format(
+          "its bound {:.3g} is over the tolerance {:.3g}: the search stopped at its budget (a larger tolerance)",
+          r.bound, T);
+    } else {
+      out.over_reasons[k] = fmt::format(
+          "its bound {:.3g} is over the tolerance {:.3g}: a point far from the model (the float slack grows with its "
+          "distance; a finer tolerance or one point at a time)",
+          r.bound, T);
+    }
   }
   return out;
 }

@@ -105,18 +105,32 @@ struct PointQueryCache {
   double read_seconds = -1.0, write_seconds = -1.0;  ///< -1: not read / not written
 };
 
+/// Where the file's precision sets an answer's bound (nurbs::FaceDoubts::at).
+struct FileLimit {
+  double widen = 0.0;    ///< what the edge gaps within reach added to the bound, model units
+  int face = -1;         ///< the gapped face that set it (index into the query's faces), -1 when none
+  int face_id = -1;      ///< the file's id of that face
+  double gap = 0.0;      ///< its edge gap
+  bool limited = false;  ///< the answer is over T only by `widen`: certified to the file's precision
+};
+
 struct PointQueryResult {
   /// One per point, in input order: found only with a face and finite figures; bound widened by
-  /// the reader's edge gaps near the answer; meets_tolerance false where `reasons` says why.
+  /// what the reader's edge gaps near the answer can change; meets_tolerance false where
+  /// `reasons` says why.
   std::vector<PointDistance> answers;
   /// Per answer, why it is not certified (a dropped face, an invalid trim within reach); empty
   /// where it may be.
   std::vector<std::string> reasons;
+  /// Per answer, why a found, certified answer's bound is over T (the file's precision, the search's
+  /// budget, the float slack), or why it was not found; empty where it meets T.
+  std::vector<std::string> over_reasons;
+  std::vector<FileLimit> file_limits;  ///< per answer
   double tolerance = 0.0;  ///< T, model units
   size_t not_found = 0;
-  size_t over_tolerance = 0;  ///< found, certified, bound over T
+  size_t over_tolerance = 0;   ///< found, certified, bound over T (limited_by_file among them)
   size_t uncertified = 0;
-  size_t widened = 0;  ///< over T only by the reader's edge gaps near them
+  size_t limited_by_file = 0;  ///< over T only by the reader's edge gaps near them
   double seconds = 0.0;  ///< answering the points
   /// PointQueryOptions::signed_distance: per answer the distance, negative inside (NaN where not
   /// found); its bound is the answer's, widened by 2 d where no side was found (either side is then
@@ -128,10 +142,19 @@ struct PointQueryResult {
 
   /// Answer k is certified and within T.
   [[nodiscard]] bool meets(size_t k) const { return reasons[k].empty() && meets_tolerance(answers[k], tolerance); }
+  /// Answer k is certified, within T or over it only by the file's precision.
+  [[nodiscard]] bool certified(size_t k) const { return meets(k) || file_limits[k].limited; }
+  /// Why the answer k falls short (not certified, not found, over T), empty when it meets T.
+  [[nodiscard]] const std::string& reason(size_t k) const { return reasons[k].empty() ? over_reasons[k] : reasons[k]; }
   /// Every answer meets T.
-  [[nodiscard]] bool all_meet() const { return failure().empty(); }
-  /// Why not every answer meets T, for people (the command's exit-1 message); empty when all do.
-  [[nodiscard]] std::string failure() const;
+  [[nodiscard]] bool all_meet() const { return failure(true).empty(); }
+  /// Why the query fails, for people (the command's exit-1 message), every class counted; empty
+  /// when every answer is certified. An answer over T only by the file's precision fails it only
+  /// when `strict`.
+  [[nodiscard]] std::string failure(bool strict = false) const;
+  /// The answers certified to the file's precision, for people: how many, and every gapped face
+  /// that limits them with its gap; empty when none.
+  [[nodiscard]] std::string file_precision() const;
 };
 
 class PointQuery {
