@@ -10,6 +10,7 @@
 #include "nurbs/homogeneous.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/knot_vector.h"
+#include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/validate.h"
 
@@ -58,8 +59,57 @@ namespace {
 
 /// check_trim_loops with the flattening done on demand (after the curves are known valid) when
 /// `given` is null.
+/// The loops' vertices lifted to space, on first use, and what the touch rule asks of them.
+class Touches {
+ public:
+  Touches(const TrimmedSurface& face, const TrimPolygons& polys, double tolerance)
+      : face_(face), polys_(polys), tolerance_(tolerance) {}
+  /// Whether the meeting of edges e and f is a touch (check_trim_loops); `size` gets its span.
+  bool touch(size_t loop_e, size_t index_e, size_t loop_f, size_t index_f, glm::dvec2 where, double& size) {
+    if (!(tolerance_ > 0.0)) return false;
+    size = 0.0;
+    if (loop_e != loop_f) return encloses_nothing(loop_e) || encloses_nothing(loop_f);
+    // The two parts of the loop between the passes: vertices (i, j] and (j, i] in loop order.
+    const std::vector<glm::dvec3>& xyz = lifted(loop_e);
+    const size_t n = xyz.size(), i = std::min(index_e, index_f), j = std::max(index_e, index_f);
+    const glm::dvec3 at = surface_point(face_.surface, where.x, where.y);  // both parts run from it
+    const auto span = [&](size_t from, size_t count) {
+      glm::dvec3 lo = at, hi = at;
+      for (size_t k = 1; k <= count; ++k) lo = glm::min(lo, xyz[(from + k) % n]), hi = glm::max(hi, xyz[(from + k) % n]);
+      return glm::length(hi - lo);
+    };
+    size = std::min(span(i, j - i), span(j, n - (j - i)));
+    return size <= tolerance_;
+  }
+
+ private:
+  const std::vector<glm::dvec3>& lifted(size_t loop) {
+    if (xyz_.empty()) xyz_.resize(polys_.loops.size());
+    std::vector<glm::dvec3>& out = xyz_[loop];
+    if (out.empty())
+      for (const glm::dvec2& p : polys_.loops[loop]) out.push_back(surface_point(face_.surface, p.x, p.y));
+    return out;
+  }
+  /// The loop's polygon has no area: it retraces itself (twice the area over its box's, below 1e-9).
+  bool encloses_nothing(size_t loop) const {
+    const std::vector<glm::dvec2>& poly = polys_.loops[loop];
+    double area = 0.0;
+    glm::dvec2 lo = poly.empty() ? glm::dvec2(0.0) : poly.front(), hi = lo;
+    for (size_t k = 0; k < poly.size(); ++k) {
+      area += cross(poly[k], poly[(k + 1) % poly.size()]);
+      lo = glm::min(lo, poly[k]), hi = glm::max(hi, poly[k]);
+    }
+    return std::abs(area) <= 1e-9 * (hi.x - lo.x) * (hi.y - lo.y) || poly.size() < 3;
+  }
+  const TrimmedSurface& face_;
+  const TrimPolygons& polys_;
+  double tolerance_;
+  std::vector<std::vector<glm::dvec3>> xyz_;
+};
+
 std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tolerance, const TrimPolygons* given,
-                                     double flatten_tolerance) {
+                                     double flatten_tolerance, double touch_tolerance = 0.0,
+                                     double* touch_size = nullptr) {
   std::vector<std::string> out;
   const int id = face.face_id;
   bool curves_valid = true;
@@ -128,6 +178,8 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
     for (Edge& e : edges) std::swap(e.xmin, e.ymin), std::swap(e.xmax, e.ymax);  // the sweep's axis only
   std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) { return e.xmin < f.xmin; });
   std::set<std::pair<size_t, size_t>> reported;  // loop pairs already reported (one message each)
+  Touches touches(face, polys, touch_tolerance);
+  if (touch_size) *touch_size = 0.0;
   for (size_t i = 0; i < edges.size(); ++i) {
     for (size_t j = i + 1; j < edges.size() && edges[j].xmin <= edges[i].xmax; ++j) {
       if (++candidates > kMaxCandidatePairs) {
@@ -143,6 +195,10 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
       if (reported.count(key) != 0) continue;
       glm::dvec2 where;
       if (!segments_meet(e.a, e.b, f.a, f.b, where)) continue;
+      if (double size = 0.0; touches.touch(e.loop, e.index, f.loop, f.index, where, size)) {
+        if (touch_size) *touch_size = std::max(*touch_size, size);
+        continue;
+      }
       if (reported.size() == kMaxCrossingReports) {
         out.push_back(
             fmt::format("face {}: more than {} crossing loop pairs; the rest are not listed", id, kMaxCrossingReports));
@@ -168,8 +224,8 @@ std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap
 }
 
 std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
-                                          const TrimPolygons& polygons) {
-  return check_loops(face, gap_tolerance, &polygons, 0.0);
+                                          const TrimPolygons& polygons, double touch_tolerance, double* touch_size) {
+  return check_loops(face, gap_tolerance, &polygons, 0.0, touch_tolerance, touch_size);
 }
 
 int repair_trim_gaps(TrimmedSurface& face, double tolerance, double min_gap) {

@@ -21,9 +21,16 @@ namespace nurbs {
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
                                                         double flatten_tolerance);
 /// The same with the loops already flattened (flatten_trim of this face, whose curves are valid),
-/// for callers that also orient the loops: one flattening serves both.
+/// for callers that also orient the loops: one flattening serves both. With `touch_tolerance` (model
+/// units, > 0), two kinds of meeting are touches, as OpenCASCADE's BRepCheck holds them, not
+/// crossings: a loop meeting itself where the part of it between the two passes spans at most
+/// `touch_tolerance` in space (a loop through a surface's pole, a pcurve running out and back along
+/// a degenerate side, curve ends a hair apart), and any meeting with a loop that encloses no area (a
+/// pcurve retracing itself). `touch_size`, when given, gets the largest span of a touch taken: the
+/// face's boundary is known only that closely there.
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
-                                                        const TrimPolygons& polygons);
+                                                        const TrimPolygons& polygons, double touch_tolerance = 0.0,
+                                                        double* touch_size = nullptr);
 
 /// Closes gaps of size in (min_gap, tolerance] between consecutive curves of each loop by moving the
 /// end of the earlier curve onto the start of the next (its last control point, after clamping the

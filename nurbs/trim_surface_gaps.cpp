@@ -68,7 +68,8 @@ Curve2 cut(const Curve2& c, double t0, double t1, bool at_start, glm::dvec2 q) {
 // beyond it (the Ventilator's sides drawn 0.024 mm past the corner). When that part lies within
 // `tolerance_3d` of S(q) on the surface, it is cut off. `at_start`: the part before q (curve is the
 // one after the gap), else the part after q (curve is the one before the gap).
-bool trim_overshoot(const Surface& s, Curve2& curve, glm::dvec2 q, bool at_start, double tolerance_3d, double min_gap) {
+bool trim_overshoot(const Surface& s, Curve2& curve, glm::dvec2 q, bool at_start, double tolerance_3d, double min_gap,
+                    double* cut_extent = nullptr) {
   const Interval d = curve_domain(curve);
   const double t = nearest_parameter(curve, q);
   if (!(t > d.min && t < d.max)) return false;  // nearest at an end: nothing overshoots
@@ -79,6 +80,7 @@ bool trim_overshoot(const Surface& s, Curve2& curve, glm::dvec2 q, bool at_start
   const double extent = at_start ? piece_extent(s, curve, d.min, t, p) : piece_extent(s, curve, t, d.max, p);
   if (!(extent <= tolerance_3d)) return false;  // NaN: left alone
   curve = at_start ? cut(curve, t, d.max, true, q) : cut(curve, d.min, t, false, q);
+  if (cut_extent) *cut_extent = extent;
   return true;
 }
 
@@ -111,6 +113,46 @@ int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_
     loop.curves = std::move(closed);
   }
   return added;
+}
+
+double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, int& added) {
+  double largest = 0.0;
+  for (TrimLoop& loop : face.loops) {
+    const size_t n = loop.curves.size();
+    // Overshoots first, as close_gaps_on_surface does: a curve running on past its neighbour's end
+    // is cut there (the cut piece's extent is the gap).
+    for (size_t c = 0; c < n && n > 1; ++c) {
+      Curve2 &prev = loop.curves[c], &next = loop.curves[(c + 1) % n];
+      const glm::dvec2 a = end_point(prev), b = start_point(next);
+      double extent = 0.0;
+      if (glm::length(a - b) > min_gap && (trim_overshoot(face.surface, next, a, true, cap_3d, min_gap, &extent) ||
+                                           trim_overshoot(face.surface, prev, b, false, cap_3d, min_gap, &extent)))
+        largest = std::max(largest, extent), ++added;
+    }
+    std::vector<Curve2> closed;
+    for (size_t c = 0; c < n; ++c) {
+      closed.push_back(loop.curves[c]);
+      const glm::dvec2 a = end_point(loop.curves[c]), b = start_point(loop.curves[(c + 1) % n]);
+      if (!(glm::length(a - b) > min_gap)) continue;
+      // The image at 33 samples: its length, and its reach from either end.
+      const glm::dvec3 pa = surface_point(face.surface, a.x, a.y), pb = surface_point(face.surface, b.x, b.y);
+      double length = 0.0, reach = 0.0;
+      glm::dvec3 last = pa;
+      for (int i = 1; i <= 32; ++i) {
+        const glm::dvec2 m = a + (b - a) * (i / 32.0);
+        const glm::dvec3 q = surface_point(face.surface, m.x, m.y);
+        length += glm::length(q - last), last = q;
+        reach = std::max({reach, std::min(glm::length(q - pa), glm::length(q - pb))});
+      }
+      const double chord = glm::length(pb - pa);
+      if (!(length <= 2.0 * chord && chord <= cap_3d && reach <= cap_3d)) continue;  // NaN: left open
+      closed.push_back(segment_curve(a, b));
+      largest = std::max(largest, length);
+      ++added;
+    }
+    loop.curves = std::move(closed);
+  }
+  return largest;
 }
 
 }  // namespace nurbs

@@ -26,4 +26,14 @@ inline constexpr double kTrimGap3d = 1e-3;
 /// left to check_trim_loops (e.g. a jump across the seam of a closed surface).
 int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_gap);
 
+/// What is still open after close_gaps_on_surface, where OpenCASCADE's healing would close it (its
+/// read.maxprecision.val allows a whole file unit), up to `cap_3d` in space: a curve that runs on
+/// past its neighbour's end is cut there (the overshoot of close_gaps_on_surface); then each gap
+/// larger than `min_gap` in (u, v) whose straight (u, v) segment has an image on the surface no
+/// longer than twice the gap's chord in space (a bridge, not a turn round a closed surface) and
+/// within `cap_3d` of both ends gets that segment.
+/// The face's boundary is then known only as closely as the bridge is long: returns the largest
+/// extent bridged or cut (0 when none), for the caller's edge gap; `added` counts the repairs.
+double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, int& added);
+
 }  // namespace nurbs

@@ -17,6 +17,7 @@
 #include "nurbs/io/iges_analytic.h"
 #include "nurbs/io/pcurve_gap.h"
 #include "nurbs/io/read_error.h"
+#include "nurbs/io/step_reader.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/project_curve.h"
 #include "nurbs/surface_eval.h"
@@ -174,13 +175,24 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     // What is left may still be one point on the surface (pole, pcurves fitted short): trim_surface_gaps.h.
     log.gaps_closed += close_gaps_on_surface(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
+    // Larger gaps bridged as OpenCASCADE's healing does, up to the edge gap a STEP face may keep (a
+    // missing edge): the bridge's length is then the face's edge gap, carried into the bounds near it.
+    int bridged = 0;
+    const double bridge = bridge_open_joints(f, kStepMaxEdgeGap * control_box(f.surface).diagonal(),
+                                             kTrimGapRepair * extent, bridged);
+    log.gaps_closed += bridged;
+    if (bridge > kProjectionTolerance * control_box(f.surface).diagonal()) f.edge_gap = std::max(f.edge_gap, bridge);
     if (unusable()) return;
     TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
     log.outer_loops_fixed += fix_outer_loop(f, polygons);
-    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons)) {
+    // A loop that touches itself in space (through a pole, out and back along a degenerate side)
+    // within the gaps the repairs above close is valid; its boundary is known that closely.
+    double touch = 0.0;
+    for (std::string& problem : check_trim_loops(f, kTrimGapRepair * extent, polygons, kTrimGap3d * model_size, &touch)) {
       if (f.trim_problem.empty()) f.trim_problem = problem;
       log.trim_problems.push_back(std::move(problem));
     }
+    if (touch > kProjectionTolerance * control_box(f.surface).diagonal()) f.edge_gap = std::max(f.edge_gap, touch);
     log.reoriented_loops += orient_trim_loops(f, polygons);
   }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });

@@ -135,8 +135,9 @@ ModelMesh mesh_model(const LoadedModel& loaded, const ModelMeshOptions& options)
   // Faces whose trim the reader could not make valid: their mesh is not certified (the material
   // region is not known); faces whose file edges lie off the surface: the mesh is within eps of the
   // face as read, and within eps plus the gap of the file's edges (nurbs/model_report.h).
+  // Watertight, a shared edge's vertices move onto the other face's loop, up to both gaps away.
   for (size_t f = 0; f < faces.size(); ++f) {
-    out.gap = std::max(out.gap, faces[f].edge_gap);
+    out.gap = std::max(out.gap, (o.watertight ? 2.0 : 1.0) * faces[f].edge_gap);
     if (!faces[f].trim_problem.empty())
       out.uncertified.push_back(fmt::format("face {} (id {}): {}", f, faces[f].face_id, faces[f].trim_problem));
   }

@@ -45,7 +45,7 @@ struct ModelMesh {
   std::vector<TrimmedSurface> faces;  ///< the faces meshed: triangle_face indexes them
   double size = 0.0;                  ///< model_size
   double eps = 0.0;                   ///< model units
-  double gap = 0.0;                   ///< the largest edge gap of the faces (nurbs/model_report.h)
+  double gap = 0.0;  ///< the largest edge gap of the faces (nurbs/model_report.h), twice it when watertight
   /// Of the mesh from the file's faces: eps plus the largest edge gap.
   [[nodiscard]] double bound() const { return eps + gap; }
   bool guaranteed = true;

@@ -154,8 +154,12 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
   std::vector<std::vector<Insertion>> insertions(loops.size());
   struct Best {
     int face, segment;
-    double d, t;
+    double d, t, within;  ///< within: the distance to which the two faces' vertices are one point
   };
+  // Across a B-rep edge whose faces' file edges lie off their surfaces (TrimmedSurface::edge_gap),
+  // the two loops lie up to both gaps apart: vertices of the same edge match that far.
+  double largest_gap = 0.0;
+  for (const TrimmedSurface& face : faces) largest_gap = std::max(largest_gap, face.edge_gap);
   std::vector<Best> best;
   for (int v = 0; v < int(ref.size()); ++v) {
     const glm::dvec3 p = xyz_of(v);
@@ -166,10 +170,14 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
     const int size = int(loops[size_t(f)][size_t(lf)].uv.size());
     const int out_edge = edge_of[size_t(v)], in_edge = edge_of[size_t(v - vf + (vf + size - 1) % size)];
     best.clear();
-    tree.near(p, tolerance, [&](int s, double d, double t) {
+    tree.near(p, tolerance + 2.0 * largest_gap, [&](int s, double d, double t) {
       const int e = edge_of[size_t(segment_vertex[size_t(s)])];
       if (e >= 0 && in_edge >= 0 && out_edge >= 0 && e != in_edge && e != out_edge) return;
       const auto [g, l, i] = ref[size_t(segment_vertex[size_t(s)])];
+      const bool same_edge = e >= 0 && (e == in_edge || e == out_edge);
+      const double within =
+          tolerance + (same_edge ? faces[size_t(f)].edge_gap + faces[size_t(g)].edge_gap : 0.0);
+      if (d > within) return;
       if (g == f) {  // the same face: only across its seam, never its own neighbouring edges
         const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
         const glm::dvec2 foot = glm::mix(loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()], t);
@@ -179,14 +187,14 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       }
       auto it = std::find_if(best.begin(), best.end(), [&](const Best& b) { return b.face == g; });
       if (it == best.end())
-        best.push_back({g, s, d, t});
+        best.push_back({g, s, d, t, within});
       else if (d < it->d)
-        *it = {g, s, d, t};
+        *it = {g, s, d, t, within};
     });
     for (const Best& b : best) {
       const int a = segment_vertex[size_t(b.segment)], c = next_id(a);
       const double da = glm::length(p - xyz_of(a)), dc = glm::length(p - xyz_of(c));
-      if (std::min(da, dc) <= tolerance) {
+      if (std::min(da, dc) <= b.within) {
         groups.unite(v, da <= dc ? a : c);
         continue;
       }

@@ -37,7 +37,10 @@ struct WatertightStats {
 /// `tolerance` is taken. Where the loops carry B-rep edges (LoopPolyline::edge, from a B-rep file's
 /// 508 edge uses), a segment of another edge than those of p's two segments is never taken: a
 /// sliver face narrower than the tolerance (component8, the B-rep Ventilator) has two edges within
-/// it, whose vertices distance alone would put on the wrong neighbour. Unknown edges (-1: curves
+/// it, whose vertices distance alone would put on the wrong neighbour. Where the vertex and the
+/// segment belong to the same B-rep edge, `tolerance` grows by both faces' edge gaps
+/// (TrimmedSurface::edge_gap): the file's faces meet only that closely, and the edge is meshed once
+/// all the same, so a shell the file states closed meshes closed. Unknown edges (-1: curves
 /// the reader added to close gaps, files without topology) match by distance alone. Segments shorter than `tolerance` in 3D (degenerate edges at poles) are
 /// skipped. Within the same face (g = f) only a segment whose foot is more than half the domain
 /// away in u or v counts: that is the other side of a periodic face's seam (same 3D line, the

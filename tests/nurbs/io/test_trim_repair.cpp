@@ -1,6 +1,7 @@
 // The reader's repairs and range handling: declared 128 ranges bound untrimmed faces;
 // trim repair: gaps between trim curves up to kTrimGapRepair of the trim extent are
-// closed and counted; larger gaps and crossing loops are reported naming the face; rounding-level
+// closed and counted; larger ones bridged up to the edge gap a face may keep, beyond it reported
+// naming the face, as crossing loops are; rounding-level
 // gaps are left alone (so round trips stay exact).
 #include <doctest/doctest.h>
 
@@ -44,7 +45,15 @@ TEST_CASE("IGES reader: small trim gaps are closed and counted, large ones repor
   CHECK(small.gaps_closed == 1);
   CHECK(small.trim_problems.empty());
 
-  const io::IgesReadLog large = read_back(with_gap(2e-2));
+  // A larger gap, a short bridge on the surface (a missing edge), is bridged as OpenCASCADE's healing
+  // does, its length the face's edge gap; one whose bridge would exceed the edge gap a face may keep
+  // (0.15 of its size) is reported.
+  const io::IgesReadLog bridged = read_back(with_gap(2e-2));
+  CHECK(bridged.gaps_closed == 1);
+  CHECK(bridged.trim_problems.empty());
+  const Model r = io::read_iges_text(io::write_iges_text(with_gap(2e-2), "gap.igs"), "gap.igs");
+  CHECK(r.bodies[0].faces[0].edge_gap > 0.0);
+  const io::IgesReadLog large = read_back(with_gap(0.4));
   CHECK(large.gaps_closed == 0);
   REQUIRE(large.trim_problems.size() >= 1);
   CHECK(large.trim_problems[0].rfind("face ", 0) == 0);  // names the face (its IGES directory entry)

@@ -1,0 +1,110 @@
+// Trims that OpenCASCADE's BRepCheck holds valid (nurbs/trim_loops.h, nurbs/trim_surface_gaps.h):
+// a loop that meets itself only where the part between its two passes is one point in space (a
+// pole), loops that enclose no area, and a loop missing a short edge, bridged as OCCT's healing
+// does; against the same shapes where the meeting or the gap is real.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "models/exact_shapes.h"
+#include "nurbs/curve_ends.h"
+#include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
+#include "nurbs/trim_loops.h"
+#include "nurbs/trim_surface_gaps.h"
+
+namespace {
+
+nurbs::TrimLoop polygon_loop(const std::vector<glm::dvec2>& points, bool close = true) {
+  nurbs::TrimLoop loop;
+  loop.outer = true;
+  for (size_t k = 0; k + (close ? 0 : 1) < points.size(); ++k)
+    loop.curves.push_back(nurbs::segment_curve(points[k], points[(k + 1) % points.size()]));
+  return loop;
+}
+
+// A loop that runs out along the top side v = 1, back along it, and down across its way out: it
+// crosses itself 3e-5 below the top side (the DirectFET's pcurve at a pole).
+const std::vector<glm::dvec2> kSpike = {{0, 0}, {1, 0}, {1, 0.9999}, {0, 1}, {0.5, 1}, {0, 0.999}};
+
+std::vector<std::string> problems(const nurbs::TrimmedSurface& face, double touch, double* size = nullptr) {
+  return nurbs::check_trim_loops(face, 1e-9, nurbs::flatten_trim(face, 1e-9), touch, size);
+}
+
+}  // namespace
+
+TEST_CASE("trim touch: a loop meeting itself at a pole is valid, the same loop on a plane is not") {
+  nurbs::TrimmedSurface face;
+  face.face_id = 7;
+  face.loops = {polygon_loop(kSpike)};
+  // The top side collapsed to the apex (0.5, 1, 0): the part of the loop between the passes lies
+  // within 1e-4 of it in space.
+  face.surface = models::bilinear_patch({glm::dvec3(0, 0, 0), {1, 0, 0}, {0.5, 1, 0}, {0.5, 1, 0}});
+  CHECK(problems(face, 0.0).front().find("face 7: loop 0 crosses itself") == 0);
+  double size = -1.0;
+  CHECK(problems(face, 1e-3, &size).empty());
+  CHECK(size > 0.0);
+  CHECK(size < 2e-4);  // the lobe lies within 5e-5 in v of the top side: about 1e-4 from the apex
+  // A tolerance below the lobe's span leaves it a crossing.
+  CHECK(!problems(face, 0.1 * size).empty());
+  // On the plane the same lobe spans half the square: a crossing at any touch tolerance below it.
+  face.surface = models::bilinear_square(1.0);
+  CHECK(problems(face, 1e-3).front().find("face 7: loop 0 crosses itself") == 0);
+}
+
+TEST_CASE("trim touch: loops that enclose no area meet anything without crossing it") {
+  // A degenerate face (SOD-323): two loops, each a segment out and back, over each other.
+  nurbs::TrimmedSurface face;
+  face.face_id = 1859;
+  face.surface = models::bilinear_square(1.0);
+  face.loops = {polygon_loop({{0.2, 0.1}, {0.2, 0.9}}), polygon_loop({{0.2, 0.9}, {0.2, 0.1}})};
+  CHECK(problems(face, 0.0).front().find("face 1859: loops 0 and 1 cross") == 0);
+  CHECK(problems(face, 1e-3).empty());
+  // A loop with area crossing one that has none: still a touch (the latter bounds nothing).
+  face.loops = {polygon_loop({{0.1, 0.1}, {0.9, 0.1}, {0.9, 0.9}, {0.1, 0.9}}), polygon_loop({{0.05, 0.5}, {0.5, 0.5}})};
+  CHECK(problems(face, 1e-3).empty());
+  // Two loops with area crossing each other stay a crossing.
+  face.loops = {polygon_loop({{0.1, 0.1}, {0.6, 0.1}, {0.6, 0.6}, {0.1, 0.6}}),
+                polygon_loop({{0.4, 0.4}, {0.9, 0.4}, {0.9, 0.9}, {0.4, 0.9}})};
+  CHECK(problems(face, 1e-3).front().find("loops 0 and 1 cross") != std::string::npos);
+}
+
+TEST_CASE("trim bridge: a loop missing a short edge is closed, its length returned for the edge gap") {
+  // Three sides of the unit square of a plane 10 wide: the fourth, 1 long, is missing.
+  nurbs::TrimmedSurface face;
+  face.surface = models::bilinear_square(10.0);
+  face.loops = {polygon_loop({{2, 2}, {3, 2}, {3, 3}, {2, 3}}, false)};
+  int added = 0;
+  CHECK(nurbs::bridge_open_joints(face, 0.5, 1e-9, added) == 0.0);  // over the cap: left open
+  CHECK(added == 0);
+  CHECK(face.loops[0].curves.size() == 3);
+  CHECK(nurbs::bridge_open_joints(face, 1.5, 1e-9, added) == doctest::Approx(1.0));
+  CHECK(added == 1);
+  REQUIRE(face.loops[0].curves.size() == 4);
+  CHECK(nurbs::check_trim_loops(face, 1e-9, 1e-9).empty());
+
+  // Across a cylinder's seam the straight (u, v) segment turns round the surface: its image is
+  // far longer than the gap's chord, so it is no bridge.
+  nurbs::TrimmedSurface tube;
+  tube.surface = models::rational_cylinder(1.0, 4.0);
+  const nurbs::Interval du = nurbs::surface_domain_u(tube.surface);
+  const nurbs::Interval dv = nurbs::surface_domain_v(tube.surface);  // along the axis, 4 high
+  const double a = du.min + 0.01 * du.width(), b = du.max - 0.01 * du.width();
+  const double v1 = dv.min + 0.25 * dv.width(), v3 = dv.min + 0.75 * dv.width();
+  // Round the tube at heights 1 and 3 (v1, v3), the side back down along the axis missing: bridged,
+  // 2 long.
+  tube.loops = {polygon_loop({{a, v1}, {b, v1}, {b, v3}, {a, v3}}, false)};
+  added = 0;
+  CHECK(nurbs::bridge_open_joints(tube, 10.0, 1e-9, added) == doctest::Approx(2.0));
+  CHECK(added == 1);
+  // Two sides along the axis at u = b and u = a: the (u, v) segments joining them cross the domain,
+  // round the tube the long way (0.98 of a turn for a chord of 0.13): left open.
+  tube.loops = {polygon_loop({{b, v1}, {b, v3}}, false), polygon_loop({{a, v3}, {a, v1}}, false)};
+  tube.loops[0].curves.push_back(tube.loops[1].curves.front());
+  tube.loops.pop_back();
+  added = 0;
+  CHECK(nurbs::bridge_open_joints(tube, 10.0, 1e-9, added) == 0.0);
+  CHECK(added == 0);
+  CHECK(!nurbs::check_trim_loops(tube, 1e-9, 1e-9).empty());  // the seam jump stays open
+}
