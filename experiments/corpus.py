@@ -8,7 +8,8 @@ For each file under FOLDER (.stp, .step, .igs, .iges, any case; recursively), in
   and the error text of a file it rejects;
 - distance, on a file read with at least one face: N random points (fixed seed per file name) in the
   model's box grown by 10% (5% of its extent on each side), `nurbsgl distance MODEL --points F
-  --tol 1e-4 --json`: exit code, not_found, over_tolerance, uncertified, wall time;
+  --tol T --json` (T: --tol, default 1e-4): exit code, not_found, over_tolerance, limited_by_file,
+  uncertified, wall time;
 - with OpenCASCADE's peer (BUILD/experiments/peer_occt_distance, built with -DNURBSGL_PEER_BENCH=ON;
   `points --trimmed`: BRepExtrema_DistShapeShape from each point to the trimmed faces as OCCT reads
   them): OCCT's face count, the largest |ours - occ| over our bound, and WRONG, the answers found (but
@@ -28,7 +29,7 @@ summary and the distinct failure messages (numbers masked) with an example file 
 writes corpus.csv, corpus.json and failures.csv there, rewritten after every file so a long run can
 be read while it goes. A survey, not a test: nothing here fails.
 
-Usage: experiments/corpus.py FOLDER [--build BUILD] [--out OUT] [--points N] [--timeout S]
+Usage: experiments/corpus.py FOLDER [--build BUILD] [--out OUT] [--points N] [--tol T] [--timeout S]
        [--memory GB] [--jobs N] [--peer PEER]
 """
 import argparse
@@ -65,7 +66,7 @@ SYSTEMS = [("solidworks", "SolidWorks"), ("swstep", "SolidWorks"), ("catia", "CA
            ("acis", "ACIS"), ("hoops", "HOOPS"), ("cadfix", "CADfix"), ("parasolid", "Parasolid"),
            ("gmsh", "Gmsh"), ("spaceclaim", "SpaceClaim"), ("zw3d", "ZW3D"), ("ironcad", "IronCAD")]
 COLUMNS = ["file", "writer", "size_kb", "status", "faces", "bodies", "info_s", "faces_in_file", "dropped",
-           "trim_problems", "read_warnings", "dist_exit", "not_found", "over_tol", "uncertified", "dist_s",
+           "trim_problems", "read_warnings", "dist_exit", "not_found", "over_tol", "limited_by_file", "uncertified", "dist_s",
            "occ_faces", "occ_worst_per_bound", "wrong", "occ_disputed", "tess_exit", "open_edges", "failed_faces", "over_eps",
            "tess_s", "occ_mesh_dev", "tess_bound", "tess_wrong"]
 
@@ -227,14 +228,14 @@ def survey(path, rel, writer, a, cli, peer, tmp):
 
     points = os.path.join(tmp, f"{zlib.crc32(rel.encode())}.points.txt")
     size = write_points(j, a.points, zlib.crc32(rel.encode()), points)
-    status, code, out, err, wall = run_child([cli, "distance", path, "--points", points, "--tol", "1e-4",
+    status, code, out, err, wall = run_child([cli, "distance", path, "--points", points, "--tol", repr(a.tol),
                                               "--json"], a.timeout, limit)
     d = parse_json(out)
     row["dist_exit"] = code if status == "ok" else status
     row["dist_s"] = round(wall, 2)
     if status == "ok" and d.get("results") is not None:
         row.update({"not_found": d.get("not_found"), "over_tol": d.get("over_tolerance"),
-                    "uncertified": d.get("uncertified")})
+                    "limited_by_file": d.get("limited_by_file"), "uncertified": d.get("uncertified")})
     if status != "ok" or code != 0:
         row["dist_error"] = error_text(d, err, code) if status == "ok" else status
         failures.append(("distance", mask(row["dist_error"], path)))
@@ -437,6 +438,7 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--out", help="write corpus.csv, corpus.json and failures.csv here")
     ap.add_argument("--points", type=int, default=50, help="random points per file for distance")
+    ap.add_argument("--tol", type=float, default=1e-4, help="distance's --tol")
     ap.add_argument("--timeout", type=float, default=120, help="seconds per child run")
     ap.add_argument("--memory", type=float, default=6, help="GB of address space per child run (RLIMIT_AS)")
     ap.add_argument("--jobs", type=int, default=1, help="files surveyed at once")
