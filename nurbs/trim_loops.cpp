@@ -90,17 +90,7 @@ class Touches {
       for (const glm::dvec2& p : polys_.loops[loop]) out.push_back(surface_point(face_.surface, p.x, p.y));
     return out;
   }
-  /// The loop's polygon has no area: it retraces itself (twice the area over its box's, below 1e-9).
-  bool encloses_nothing(size_t loop) const {
-    const std::vector<glm::dvec2>& poly = polys_.loops[loop];
-    double area = 0.0;
-    glm::dvec2 lo = poly.empty() ? glm::dvec2(0.0) : poly.front(), hi = lo;
-    for (size_t k = 0; k < poly.size(); ++k) {
-      area += cross(poly[k], poly[(k + 1) % poly.size()]);
-      lo = glm::min(lo, poly[k]), hi = glm::max(hi, poly[k]);
-    }
-    return std::abs(area) <= 1e-9 * (hi.x - lo.x) * (hi.y - lo.y) || poly.size() < 3;
-  }
+  bool encloses_nothing(size_t loop) const { return nurbs::encloses_nothing(polys_.loops[loop]); }
   const TrimmedSurface& face_;
   const TrimPolygons& polys_;
   double tolerance_;
@@ -218,6 +208,17 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
 }
 
 }  // namespace
+
+bool encloses_nothing(const std::vector<glm::dvec2>& poly) {
+  if (poly.size() < 3) return true;
+  double area = 0.0;
+  glm::dvec2 lo = poly.front(), hi = lo;
+  for (size_t k = 0; k < poly.size(); ++k) {
+    area += cross(poly[k], poly[(k + 1) % poly.size()]);
+    lo = glm::min(lo, poly[k]), hi = glm::max(hi, poly[k]);
+  }
+  return std::abs(area) <= 1e-9 * (hi.x - lo.x) * (hi.y - lo.y);
+}
 
 std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance, double flatten_tolerance) {
   return check_loops(face, gap_tolerance, nullptr, flatten_tolerance);

@@ -32,6 +32,10 @@ namespace nurbs {
                                                         const TrimPolygons& polygons, double touch_tolerance = 0.0,
                                                         double* touch_size = nullptr);
 
+/// The closed polygon encloses no area: it retraces itself (its area below 1e-9 of its box's), or
+/// has fewer than 3 vertices. Such a loop bounds nothing (check_trim_loops' touches).
+[[nodiscard]] bool encloses_nothing(const std::vector<glm::dvec2>& polygon);
+
 /// Closes gaps of size in (min_gap, tolerance] between consecutive curves of each loop by moving the
 /// end of the earlier curve onto the start of the next (its last control point, after clamping the
 /// curve if it was unclamped). Returns the number of gaps closed; larger gaps are left for the

@@ -24,6 +24,7 @@
 #include "nurbs/tessellation/surface_cells.h"
 #include "nurbs/tessellation/triangulate.h"
 #include "nurbs/tessellation/watertight.h"
+#include "nurbs/trim_loops.h"
 
 namespace nurbs::tess {
 namespace {
@@ -102,6 +103,11 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
 
   // §5 cells over the bounding box of the loops (clipped to the domain by subdivide_surface).
   auto t = Clock::now();
+  // A face whose loops all retrace themselves bounds no area (a degenerate face OpenCASCADE holds
+  // valid): no triangles, and nothing missing.
+  if (!loops.empty() &&
+      std::all_of(loops.begin(), loops.end(), [](const LoopPolyline& l) { return encloses_nothing(l.uv); }))
+    return out;
   const std::optional<CellOptions> co = cell_options(face, loops, o, o.eps);
   if (!co) {
     out.failure = "its trim loops enclose no area inside the surface's parameter domain";

@@ -8,6 +8,7 @@
 
 #include "models/exact_shapes.h"
 #include "models/random_surfaces.h"
+#include "nurbs/curve_ends.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
@@ -116,6 +117,23 @@ TEST_CASE("tessellate: trimmed planes (a hole inside one cell, a loop on the dom
     CHECK((area > 0) == !reversed);  // counter-clockwise seen from Su x Sv, flipped when reversed
     CHECK(nurbs::tess::measure_deviation(faces, r.mesh, {64, 0.0, 0}).max() <= o.eps);
   }
+}
+
+TEST_CASE("tessellate: a face whose loops enclose no area meshes as nothing, not a failure") {
+  // A degenerate face as OpenCASCADE writes one (SOD-323): two loops, each a segment out and back.
+  nurbs::TrimmedSurface line;
+  line.surface = models::bilinear_square(10.0);
+  for (const bool outer : {true, false}) {
+    nurbs::TrimLoop loop;
+    loop.outer = outer;
+    loop.curves = {nurbs::segment_curve({2, 1}, {2, 9}), nurbs::segment_curve({2, 9}, {2, 1})};
+    line.loops.push_back(loop);
+  }
+  TessellateOptions o;
+  o.eps = 1e-3;
+  const auto r = nurbs::tess::tessellate(std::vector<nurbs::TrimmedSurface>{line}, o);
+  CHECK(r.failures.empty());
+  CHECK(r.mesh.triangles.empty());
 }
 
 TEST_CASE("tessellate: the output does not depend on the thread count") {
