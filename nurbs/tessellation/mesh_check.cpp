@@ -407,13 +407,14 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
 }
 
 std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
-                                               double distance) {
+                                               double face_distance, const std::vector<double>& extra) {
   std::vector<OutsideTrim> out(faces.size());
   const std::vector<std::vector<size_t>> of_face = triangles_by_face(faces, mesh, false);
   parallel_for(
       faces.size(), 0,
       [&](long long face, int) {
         const auto f = size_t(face);
+        const double distance = face_distance + (f < extra.size() ? extra[f] : 0.0);
         const Surface& s = faces[f].surface;
         const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
         // Newton starts from the sample's (u, v) and the triangle's corners'.

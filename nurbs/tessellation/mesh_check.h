@@ -65,8 +65,11 @@ struct OutsideTrim {
 /// bound of the sample's distance to the untrimmed surface). Catches triangles that leave the
 /// surface (a wrong cell bound, a triangle across a seam or pole) at one evaluation per sample;
 /// parts of the face the mesh misses are not seen (measure_deviation's surface samples see them).
+/// `extra`, when not empty: per face, what `distance` grows by on that face (a watertight mesh's
+/// boundary vertices moved across the file's edge gaps).
 [[nodiscard]] std::vector<OutsideTrim> triangles_off_surface(const std::vector<TrimmedSurface>& faces,
-                                                             const TriangleMesh& mesh, double distance);
+                                                             const TriangleMesh& mesh, double distance,
+                                                             const std::vector<double>& extra = {});
 
 /// The triangles of face `face` of `mesh` (by triangle_face) as a mesh of their own, vertices
 /// renumbered, triangle_face 0: what measure_deviation needs to measure that face alone.

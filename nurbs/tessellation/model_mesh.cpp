@@ -101,7 +101,16 @@ ModelMesh mesh_model(const LoadedModel& loaded, const ModelMeshOptions& options)
   // (triangles_outside_trim, cheap); such a face fails, named.
   if (out.guaranteed) {
     auto t0 = std::chrono::steady_clock::now();
-    out.off_surface = triangles_off_surface(faces, r.mesh, eps);
+    // Watertight, a face's boundary vertices may move onto a neighbour's loop across both faces'
+    // edge gaps (watertight.h): its triangles may lie that much farther off.
+    std::vector<double> extra;
+    if (o.watertight) {
+      double largest = 0.0;
+      for (const TrimmedSurface& f : faces) largest = std::max(largest, f.edge_gap);
+      if (largest > 0.0)
+        for (const TrimmedSurface& f : faces) extra.push_back(f.edge_gap + largest);
+    }
+    out.off_surface = triangles_off_surface(faces, r.mesh, eps, extra);
     out.surface_check_seconds = nurbs::seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     out.outside = triangles_outside_trim(faces, r.mesh, eps);
