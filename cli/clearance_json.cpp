@@ -37,8 +37,7 @@ nlohmann::json clearance_answer_json(const queries::ClearanceAnswer& answer, int
   if (answer.widen > 0.0)
     j["file_widen"] = answer.widen, j["file_gap"] = answer.gap, j["gap_model"] = answer.gap_model,
     j["gap_face"] = answer.gap_face, j["gap_face_id"] = answer.gap_face_id;
-  if (!answer.meets() && c.found) j["reason"] = answer.reason.empty() && answer.limited_by_file() ? answer.file_precision()
-                                                                                                   : answer.failure(true);
+  if (c.found && !answer.meets()) j["reason"] = answer.shortfall();
   if (const auto& vs = answer.first_stage)
     j["first_stage"] = {{"method", "voxels"},
                         {"voxels", voxels},

@@ -35,6 +35,12 @@ TrimmedSurface transformed(const TrimmedSurface& face, const glm::dmat4& m) {
   return out;
 }
 
+double largest_edge_gap(const std::vector<TrimmedSurface>& faces) {
+  double gap = 0.0;
+  for (const TrimmedSurface& f : faces) gap = std::max(gap, f.edge_gap);
+  return gap;
+}
+
 std::vector<TrimmedSurface> world_faces(const Model& model) {
   std::vector<TrimmedSurface> faces;
   for (const Body& b : model.bodies)

@@ -22,6 +22,9 @@ namespace nurbs {
 /// The faces of every body with their body's transform applied, in body order.
 [[nodiscard]] std::vector<TrimmedSurface> world_faces(const Model& model);
 
+/// The largest TrimmedSurface::edge_gap of `faces`; 0 when none has one.
+[[nodiscard]] double largest_edge_gap(const std::vector<TrimmedSurface>& faces);
+
 /// Axis-aligned box of the model in world coordinates from its surfaces' sample points (a 17 x 17
 /// grid per face) united with nothing else: a tight box, slightly inside the true one on curved
 /// faces. Returns {min, max}; both zero for an empty model.

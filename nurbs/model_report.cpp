@@ -268,9 +268,11 @@ FaceDoubts::Side FaceDoubts::side(const std::vector<Box>& others, double low, do
   Side s;
   if (doubts_.empty()) return s;
   const bool finite = std::isfinite(d + b) && std::isfinite(reach);
+  // A face box within the answer's reach (plus `extra`) of the other side's faces.
+  const double r = finite ? d + b : std::numeric_limits<double>::infinity();
   const auto near_others = [&](const Box& box, double extra) {
     for (const Box& o : others)
-      if (box_distance(box, o) <= d + b + extra) return true;
+      if (box_distance(box, o) <= r + extra) return true;
     return false;
   };
   const auto set_face = [&](const Doubt& x) {
@@ -301,12 +303,7 @@ FaceDoubts::Side FaceDoubts::side(const std::vector<Box>& others, double low, do
       }
     }
   }
-  const double r = finite ? d + b : std::numeric_limits<double>::infinity();
-  mark_invalid(s.verdict, [&](const Box& box, double extra) {
-    for (const Box& o : others)
-      if (box_distance(box, o) <= r + extra) return true;
-    return false;
-  });
+  mark_invalid(s.verdict, near_others);
   return s;
 }
 

@@ -57,8 +57,6 @@ bool adjacent(const Edge& e, const Edge& f) {
 
 namespace {
 
-/// check_trim_loops with the flattening done on demand (after the curves are known valid) when
-/// `given` is null.
 /// The loops' vertices lifted to space, on first use, and what the touch rule asks of them.
 class Touches {
  public:
@@ -97,6 +95,8 @@ class Touches {
   std::vector<std::vector<glm::dvec3>> xyz_;
 };
 
+/// check_trim_loops with the flattening done on demand (after the curves are known valid) when
+/// `given` is null.
 std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tolerance, const TrimPolygons* given,
                                      double flatten_tolerance, double touch_tolerance = 0.0,
                                      double* touch_size = nullptr) {
@@ -211,13 +211,9 @@ std::vector<std::string> check_loops(const TrimmedSurface& face, double gap_tole
 
 bool encloses_nothing(const std::vector<glm::dvec2>& poly) {
   if (poly.size() < 3) return true;
-  double area = 0.0;
   glm::dvec2 lo = poly.front(), hi = lo;
-  for (size_t k = 0; k < poly.size(); ++k) {
-    area += cross(poly[k], poly[(k + 1) % poly.size()]);
-    lo = glm::min(lo, poly[k]), hi = glm::max(hi, poly[k]);
-  }
-  return std::abs(area) <= 1e-9 * (hi.x - lo.x) * (hi.y - lo.y);
+  for (const glm::dvec2& p : poly) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return std::abs(2.0 * signed_area(poly)) <= 1e-9 * (hi.x - lo.x) * (hi.y - lo.y);
 }
 
 std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance, double flatten_tolerance) {

@@ -231,7 +231,7 @@ py::dict answer_dict(const queries::ClearanceAnswer& answer) {
   d["uncertified"] = answer.reason;
   d["limited_by_file"] = answer.limited_by_file();
   d["file_gap"] = answer.widen > 0.0 ? answer.gap : 0.0;
-  d["reason"] = answer.limited_by_file() ? answer.file_precision() : answer.failure(true);
+  d["reason"] = answer.shortfall();
   d["failure"] = answer.failure();
   d["tolerance"] = answer.tolerance;
   d["seconds"] = answer.seconds;

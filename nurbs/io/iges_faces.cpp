@@ -155,6 +155,11 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
   if (unusable()) return;
   if (!f.loops.empty()) {
     const double extent = trim_extent(f);
+    // What a repair moves the face's boundary by, beyond the reader's floor, is the face's edge gap.
+    const double face_size = control_box(f.surface).diagonal();
+    const auto boundary_moved = [&](double by) {
+      if (by > kProjectionTolerance * face_size) f.edge_gap = std::max(f.edge_gap, by);
+    };
     log.loops_wrapped += wrap_loops_into_domain(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
     if (unusable()) return;
     log.reordered_loops += reorder_trim_curves(f, kTrimGapRepair * extent);
@@ -168,8 +173,7 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
           joint_gap =
               std::max(joint_gap, glm::length(surface_point(f.surface, a.x, a.y) - surface_point(f.surface, b.x, b.y)));
       }
-    if (joint_gap > kProjectionTolerance * control_box(f.surface).diagonal())
-      f.edge_gap = std::max(f.edge_gap, joint_gap);
+    boundary_moved(joint_gap);
     log.gaps_closed += repair_trim_gaps(f, kTrimGapRepair * extent, kTrimGapRounding * extent);
     // Loops going round a closed surface jump by its period at the seam: trim_seams.h.
     log.gaps_closed += close_loops_round_seam(f, kTrimGap3d * model_size, kTrimGapRepair * extent);
@@ -178,10 +182,8 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
     // Larger gaps bridged as OpenCASCADE's healing does, up to the edge gap a STEP face may keep (a
     // missing edge): the bridge's length is then the face's edge gap, carried into the bounds near it.
     int bridged = 0;
-    const double bridge = bridge_open_joints(f, kStepMaxEdgeGap * control_box(f.surface).diagonal(),
-                                             kTrimGapRepair * extent, bridged);
+    boundary_moved(bridge_open_joints(f, kStepMaxEdgeGap * face_size, kTrimGapRepair * extent, bridged));
     log.gaps_closed += bridged;
-    if (bridge > kProjectionTolerance * control_box(f.surface).diagonal()) f.edge_gap = std::max(f.edge_gap, bridge);
     if (unusable()) return;
     TrimPolygons polygons = flatten_trim(f, 1e-3 * extent);  // one flattening: check and orient
     log.outer_loops_fixed += fix_outer_loop(f, polygons);
@@ -192,7 +194,7 @@ void finish_trim_loops(TrimmedSurface& f, double model_size, IgesReadLog& log) {
       if (f.trim_problem.empty()) f.trim_problem = problem;
       log.trim_problems.push_back(std::move(problem));
     }
-    if (touch > kProjectionTolerance * control_box(f.surface).diagonal()) f.edge_gap = std::max(f.edge_gap, touch);
+    boundary_moved(touch);
     log.reoriented_loops += orient_trim_loops(f, polygons);
   }
   const bool has_outer = std::any_of(f.loops.begin(), f.loops.end(), [](const TrimLoop& l) { return l.outer; });

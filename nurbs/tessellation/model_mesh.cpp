@@ -99,17 +99,14 @@ ModelMesh mesh_model(const LoadedModel& loaded, const ModelMeshOptions& options)
   // or edge midpoints lie off their face's surface by more than eps (triangles_off_surface: one
   // evaluation per sample), or outside its trim farther than eps from its boundary
   // (triangles_outside_trim, cheap); such a face fails, named.
+  const double largest_gap = largest_edge_gap(faces);
   if (out.guaranteed) {
     auto t0 = std::chrono::steady_clock::now();
     // Watertight, a face's boundary vertices may move onto a neighbour's loop across both faces'
     // edge gaps (watertight.h): its triangles may lie that much farther off.
     std::vector<double> extra;
-    if (o.watertight) {
-      double largest = 0.0;
-      for (const TrimmedSurface& f : faces) largest = std::max(largest, f.edge_gap);
-      if (largest > 0.0)
-        for (const TrimmedSurface& f : faces) extra.push_back(f.edge_gap + largest);
-    }
+    if (o.watertight && largest_gap > 0.0)
+      for (const TrimmedSurface& f : faces) extra.push_back(f.edge_gap + largest_gap);
     out.off_surface = triangles_off_surface(faces, r.mesh, eps, extra);
     out.surface_check_seconds = nurbs::seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
@@ -145,8 +142,8 @@ ModelMesh mesh_model(const LoadedModel& loaded, const ModelMeshOptions& options)
   // region is not known); faces whose file edges lie off the surface: the mesh is within eps of the
   // face as read, and within eps plus the gap of the file's edges (nurbs/model_report.h).
   // Watertight, a shared edge's vertices move onto the other face's loop, up to both gaps away.
+  out.gap = (o.watertight ? 2.0 : 1.0) * largest_gap;
   for (size_t f = 0; f < faces.size(); ++f) {
-    out.gap = std::max(out.gap, (o.watertight ? 2.0 : 1.0) * faces[f].edge_gap);
     if (!faces[f].trim_problem.empty())
       out.uncertified.push_back(fmt::format("face {} (id {}): {}", f, faces[f].face_id, faces[f].trim_problem));
   }

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
 #include "nurbs/tessellation/mesh_topology.h"
@@ -158,8 +159,7 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
   };
   // Across a B-rep edge whose faces' file edges lie off their surfaces (TrimmedSurface::edge_gap),
   // the two loops lie up to both gaps apart: vertices of the same edge match that far.
-  double largest_gap = 0.0;
-  for (const TrimmedSurface& face : faces) largest_gap = std::max(largest_gap, face.edge_gap);
+  const double largest_gap = largest_edge_gap(faces);
   std::vector<Best> best;
   for (int v = 0; v < int(ref.size()); ++v) {
     const glm::dvec3 p = xyz_of(v);

@@ -103,6 +103,11 @@ std::string ClearanceAnswer::file_precision() const {
       clearance.bound, tolerance, gap_face, gap_face_id, gap_model, gap, widen);
 }
 
+std::string ClearanceAnswer::shortfall() const {
+  if (meets()) return {};
+  return limited_by_file() ? file_precision() : failure(true);
+}
+
 std::string ClearanceAnswer::failure(bool strict) const {
   const Clearance& c = clearance;
   if (!c.found) return "no pair of surface points found (every cell trimmed away?)";

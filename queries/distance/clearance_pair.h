@@ -95,6 +95,9 @@ struct ClearanceAnswer {
   /// Why it is not certified, for people; empty when it is (meets T, or, unless `strict`, over it only
   /// by the file's precision).
   [[nodiscard]] std::string failure(bool strict = false) const;
+  /// Why it falls short of T, whatever the reason (file_precision when limited by the file, else
+  /// failure(true)); empty when it meets T: the answer's `reason` in JSON and Python.
+  [[nodiscard]] std::string shortfall() const;
 };
 
 class ClearancePair {

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <map>
-#include <cmath>
 #include <stdexcept>
 
 #include "nurbs/model_ops.h"
