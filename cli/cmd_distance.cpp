@@ -124,7 +124,7 @@ void write_report(const queries::PointQueryResult& r, std::span<const glm::dvec3
   (*j)["deviation"] = deviation_json(report);
   if (!r.signed_distance.empty())
     (*j)["deviation"]["sides"] = {
-        {"by_normal", r.sides.by_normal}, {"by_rays", r.sides.by_rays}, {"unsure", r.sides.unsure}};
+        {"by_normal", r.sides.by_normal}, {"by_rays", r.sides.by_rays}, {"unsure", r.sides.unsure}, {"hidden", r.sides.hidden}};
 }
 
 /// The mesh path's figures in the JSON object.
@@ -327,8 +327,9 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   govern_search(o->preset, search, o->query.search, section("search"));
   o->preset.govern(host_cells, o->query.host_cells, paper.host_cells, section("host-cells"));
   cmd->add_flag("--signed", o->query.signed_distance,
-                "Also the signed distance, negative inside the model's solids (by the outward normal at the closest "
-                "point, by rays where that cannot tell); refused for a model whose bodies are not stated closed");
+                "Also the signed distance, negative inside the model's solids, the part being their union (by the outward "
+                "normal at the closest point, by rays at each solid where that cannot tell); refused for a model whose "
+                "bodies are not stated closed");
   cmd->add_option("--within", o->within,
                   "Tolerances (model units, comma-separated) whose share of points the deviation report gives, each "
                   "also counted with the answers' bounds (certainly / possibly within)")

@@ -10,6 +10,9 @@
 //      (the exact distance to the trimmed faces, and the nearest point), with the shape's tolerance;
 //      --mesh-deflection D: also the distance to OCCT's BRepMesh of the faces at deflection D (a second
 //      opinion where the exact distance's face classification errs).
+//  sides MODEL --points FILE: BRepClass3d_SolidClassifier of every point in every solid of the
+//      file (its tolerance the shape's): "in" inside any solid (the part is their union), else "on"
+//      on any, else "out"; the peer of `nurbsgl distance --signed`.
 //  rays MODEL --rays FILE [--repeat N]: IntCurvesFace_ShapeIntersector loaded once, PerformNearest
 //      per ray (ox oy oz dx dy dz per line, spaces or commas): t along the unit direction, face
 //      index (TopExp_Explorer order), -1 for a miss; the ray peer of `nurbsgl raycast`.
@@ -17,6 +20,7 @@
 #include <fmt/format.h>
 
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
 #include <BRep_Builder.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
@@ -226,7 +230,8 @@ int shapes(const std::string& a_path, const std::string& b_path, const std::stri
   return 0;
 }
 
-int points(const std::string& model, const std::string& file, int repeat, int trimmed, double deflection) {
+/// The points of a file, x y z per line.
+std::vector<gp_Pnt> read_points(const std::string& file) {
   std::vector<gp_Pnt> input;
   std::ifstream f(file);
   if (!f) throw std::runtime_error("--points " + file + ": cannot open the file");
@@ -237,6 +242,37 @@ int points(const std::string& model, const std::string& file, int repeat, int tr
     const auto v = numbers(line, 3, fmt::format("{}: line {}", file, n));
     input.emplace_back(v[0], v[1], v[2]);
   }
+  return input;
+}
+
+int sides(const std::string& model, const std::string& file) {
+  const std::vector<gp_Pnt> input = read_points(file);
+  double read_s = 0;
+  const TopoDS_Shape shape = read_shape(model, read_s);
+  const double tolerance = shape_tolerance(shape);
+  std::vector<TopoDS_Shape> solids;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) solids.push_back(e.Current());
+  const auto t0 = Clock::now();
+  nlohmann::json results = nlohmann::json::array();
+  for (const gp_Pnt& p : input) {
+    bool in = false, on = false;
+    for (const TopoDS_Shape& solid : solids) {
+      BRepClass3d_SolidClassifier c(solid, p, tolerance);
+      in = in || c.State() == TopAbs_IN;
+      on = on || c.State() == TopAbs_ON;
+      if (in) break;
+    }
+    results.push_back(in ? "in" : on ? "on" : "out");
+  }
+  const nlohmann::json out{{"occt", OCC_VERSION_COMPLETE}, {"read_seconds", read_s}, {"solids", solids.size()},
+                           {"tolerance", tolerance},       {"points", input.size()},  {"seconds", seconds_since(t0)},
+                           {"results", results}};
+  fmt::print("{}\n", out.dump(1));
+  return 0;
+}
+
+int points(const std::string& model, const std::string& file, int repeat, int trimmed, double deflection) {
+  const std::vector<gp_Pnt> input = read_points(file);
   double read_s = 0;
   const TopoDS_Shape shape = read_shape(model, read_s);
   const auto t0 = Clock::now();
@@ -384,6 +420,9 @@ int main(int argc, char** argv) {
   p->add_option("--mesh-deflection", deflection,
                 "With --trimmed: also the distance to OCCT's mesh of the faces (BRepMesh at this deflection)")
       ->check(CLI::NonNegativeNumber);
+  auto* c = app.add_subcommand("sides", "BRepClass3d_SolidClassifier of every point: inside any solid, on, or out");
+  c->add_option("MODEL", model, "IGES or STEP model")->required();
+  c->add_option("--points", file, "x y z per line (mm)")->required();
   auto* r = app.add_subcommand("rays", "IntCurvesFace_ShapeIntersector: nearest hit of every ray");
   r->add_option("MODEL", model, "IGES or STEP model")->required();
   r->add_option("--rays", file, "ox oy oz dx dy dz per line")->required();
@@ -392,6 +431,7 @@ int main(int argc, char** argv) {
   Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));  // the reader's chatter
   try {
     if (r->parsed()) return rays(model, file, repeat);
+    if (c->parsed()) return sides(model, file);
     return s->parsed() ? shapes(a, b, move, rotate, motion, witness, repeat) : points(model, file, repeat, trimmed, deflection);
   } catch (const std::exception& e) {
     fmt::print(stderr, "peer_occt_distance: {}\n", e.what());

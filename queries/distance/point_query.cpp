@@ -120,7 +120,10 @@ PointQuery::PointQuery(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, PointQu
   nurbs::require_relative_tolerance(options_.tolerance, "tolerance");
   if (options_.signed_distance) {
     require_closed_solids(model);
-    sides_ = std::make_unique<SideTest>(faces_);
+    std::vector<int> solid_of_face;  // a body is a solid; world_faces keeps body order
+    for (size_t b = 0; b < model.model.bodies.size(); ++b)
+      solid_of_face.insert(solid_of_face.end(), model.model.bodies[b].faces.size(), int(b));
+    sides_ = std::make_unique<SideTest>(faces_, std::move(solid_of_face));
   }
   // The reader's edge gaps widen the bounds near them (nurbs/model_report.h): the query aims that
   // much below the tolerance, up to half of it, so that an answer beside a gap still meets it.
@@ -178,14 +181,23 @@ void PointQuery::require_closed_solids(const nurbs::LoadedModel& model) {
 }
 
 void PointQuery::sign_answers(std::span<const glm::dvec3> points, PointQueryResult& out) {
-  const std::vector<Side> side = sides_->sides(points, out.answers);
+  const std::vector<SideAnswer> side = sides_->sides(points, out.answers);
   out.sides = sides_->figures();
   out.signed_distance.assign(out.answers.size(), std::nan(""));
   for (size_t k = 0; k < out.answers.size(); ++k) {
     PointDistance& r = out.answers[k];
     if (!r.found) continue;
-    if (side[k] != Side::Unsure) {
-      out.signed_distance[k] = side[k] == Side::Inside ? -r.distance : r.distance;
+    if (side[k].hidden_by >= 0 && out.reasons[k].empty()) {
+      // The part is the union of its solids: from inside it, a face point inside or on another
+      // solid is not on its boundary, which may lie farther.
+      r.meets_tolerance = false;
+      out.reasons[k] = fmt::format(
+          "{}: its closest face point (face {}) lies inside or on body {} too (the part's solids overlap or "
+          "touch there), so the part's boundary may lie farther",
+          side[k].side == Side::Inside ? "inside the part" : "inside or outside unsure", r.face, side[k].hidden_by);
+    }
+    if (side[k].side != Side::Unsure) {
+      out.signed_distance[k] = side[k].side == Side::Inside ? -r.distance : r.distance;
     } else {
       // Either side: the true signed distance lies within d + d* <= 2 d + bound of +d. Certified
       // only where that still meets the tolerance (a point on the surface, or within its bound).
