@@ -104,6 +104,7 @@ nlohmann::json mesh_json(const TessArgs& a, const nurbs::tess::ModelMesh& m, con
                       {"cells", r.stats.cells},
                       {"degenerate_triangles", r.stats.degenerate_triangles},
                       {"collapsed_triangles", r.stats.collapsed_triangles},
+                      {"flipped_slivers", r.stats.flipped_slivers},
                       {"watertight",
                        {{"enabled", watertight},
                         {"open_edge_faces", open_edge_faces},

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include "nurbs/model_ops.h"
 #include "nurbs/parallel.h"
@@ -95,6 +96,70 @@ std::optional<CellOptions> cell_options(const TrimmedSurface& face, const std::v
   return co;
 }
 
+double length2(const glm::dvec3& v) { return glm::dot(v, v); }
+
+/// A triangle this flat in space is a sliver: its height under its longest edge, over that edge.
+constexpr double kSliver = 1e-10;
+
+double flatness(const std::vector<glm::dvec3>& p, const glm::ivec3& t) {
+  const glm::dvec3 a = p[size_t(t.x)], b = p[size_t(t.y)], c = p[size_t(t.z)];
+  const double longest = std::max({length2(b - a), length2(c - b), length2(a - c)});
+  return longest > 0.0 ? glm::length(glm::cross(b - a, c - a)) / longest : 0.0;
+}
+
+/// Flips each sliver (three corners on a line in space, though not in (u, v): a planar face's
+/// nearly collinear trim points) with the face's triangle across its longest edge, when the two new
+/// triangles are proper and face the way the neighbour did: the corner opposite the long edge lies
+/// on it, so they split the neighbour there. A sliver whose longest edge is the face's boundary is
+/// dropped: the boundary then runs through its third corner, which lies on that edge (a watertight
+/// mesh closes the junction this leaves with the next face). Returns the slivers flipped or dropped.
+int flip_slivers(const std::vector<glm::dvec3>& p, std::vector<glm::ivec3>& tris) {
+  std::unordered_map<uint64_t, size_t> by_edge;  // directed edge (a, b) -> triangle
+  auto key = [](int a, int b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); };
+  for (size_t k = 0; k < tris.size(); ++k)
+    for (int e = 0; e < 3; ++e) by_edge[key(tris[k][e], tris[k][(e + 1) % 3])] = k;
+  int flipped = 0;
+  for (size_t k = 0; k < tris.size(); ++k) {
+    if (flatness(p, tris[k]) > kSliver) continue;
+    const glm::ivec3 t = tris[k];
+    int e = 0;  // the longest edge t[e] -> t[e + 1]
+    double best = -1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double l = length2(p[size_t(t[(i + 1) % 3])] - p[size_t(t[i])]);
+      if (l > best) best = l, e = i;
+    }
+    const int a = t[e], b = t[(e + 1) % 3], c = t[(e + 2) % 3];
+    const auto it = by_edge.find(key(b, a));
+    if (it == by_edge.end()) {
+      for (int i = 0; i < 3; ++i) by_edge.erase(key(t[i], t[(i + 1) % 3]));
+      tris[k] = glm::ivec3(-1);
+      ++flipped;
+      continue;
+    }
+    if (it->second == k) continue;
+    const glm::ivec3 n = tris[it->second];
+    int d = -1;
+    for (int i = 0; i < 3; ++i)
+      if (n[i] != a && n[i] != b) d = n[i];
+    if (d < 0 || d == c) continue;
+    const glm::ivec3 x(c, a, d), y(c, d, b);
+    const glm::dvec3 was = glm::cross(p[size_t(a)] - p[size_t(b)], p[size_t(d)] - p[size_t(b)]);
+    auto facing = [&](const glm::ivec3& q) {
+      return glm::dot(glm::cross(p[size_t(q.y)] - p[size_t(q.x)], p[size_t(q.z)] - p[size_t(q.x)]), was) > 0.0;
+    };
+    if (flatness(p, x) <= kSliver || flatness(p, y) <= kSliver || !facing(x) || !facing(y)) continue;
+    const size_t m = it->second;
+    for (const size_t q : {k, m})
+      for (int i = 0; i < 3; ++i) by_edge.erase(key(tris[q][i], tris[q][(i + 1) % 3]));
+    tris[k] = x, tris[m] = y;
+    for (const size_t q : {k, m})
+      for (int i = 0; i < 3; ++i) by_edge[key(tris[q][i], tris[q][(i + 1) % 3])] = q;
+    ++flipped;
+  }
+  std::erase(tris, glm::ivec3(-1));
+  return flipped;
+}
+
 FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyline>& loops,
                         const TessellateOptions& o) {
   FaceOut out;
@@ -160,15 +225,19 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
   else
     evaluate_direct(face.surface, m.uv, m.position, m.normal);
   if (o.watertight) boundary_positions(loops, m, m.position);
-  // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface)
-  // cover nothing; they are dropped and counted.
+  // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface,
+  // two trim vertices a hair apart: within the weld distance, TessellateResult::weld_tolerance, of
+  // this face) cover nothing; they are dropped and counted. Slivers are flipped (flip_slivers).
+  const double weld = std::max(1e-9 * control_box(face.surface).diagonal(), o.weld);
   const size_t before = tris.size();
   std::erase_if(tris, [&](const glm::ivec3& t) {
     const glm::dvec3 a = m.position[size_t(t.x)], b = m.position[size_t(t.y)], c = m.position[size_t(t.z)];
+    const double shortest = std::min({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
     const double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-    return glm::length(glm::cross(b - a, c - a)) <= 1e-12 * scale * scale;
+    return shortest <= weld || glm::length(glm::cross(b - a, c - a)) <= 1e-12 * scale * scale;
   });
   out.stats.collapsed_triangles = (long long)(before - tris.size());
+  out.stats.flipped_slivers = flip_slivers(m.position, tris);
   if (face.reversed) {
     for (glm::ivec3& tri : tris) std::swap(tri.y, tri.z);
     for (glm::dvec3& n : m.normal) n = -n;
@@ -291,6 +360,7 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
     s.trim_edges += o.stats.trim_edges;
     s.degenerate_triangles += o.stats.degenerate_triangles;
     s.collapsed_triangles += o.stats.collapsed_triangles;
+    s.flipped_slivers += o.stats.flipped_slivers;
     s.seconds_surface += o.stats.seconds_surface;
     s.seconds_trimming += o.stats.seconds_trimming;
     s.seconds_triangulation += o.stats.seconds_triangulation;
