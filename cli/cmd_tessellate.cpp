@@ -110,6 +110,7 @@ nlohmann::json mesh_json(const TessArgs& a, const nurbs::tess::ModelMesh& m, con
                         {"open_edge_faces", open_edge_faces},
                         {"solid_open_edges", m.solid_open},
                         {"collapsed_triangles", m.collapsed},
+                        {"edge_shared", r.stats.edge_shared},
                         {"shared_vertices", r.stats.shared_vertices},
                         {"t_junction_splits", r.stats.t_junction_splits}}},
                       {"trim",

@@ -21,6 +21,9 @@ struct Body {
   /// The file states that the faces bound a solid (an IGES 186, a STEP MANIFOLD_SOLID_BREP or
   /// BREP_WITH_VOIDS): a watertight mesh of them has no open edges.
   bool closed = false;
+  /// Why a solid the file states closed is read as open (`closed` false), e.g. "2 of its edges bound
+  /// one face only (edge #30 of face #52)"; empty otherwise.
+  std::string not_closed{};
 };
 
 /// A face entity of the file that the model does not hold, and why.

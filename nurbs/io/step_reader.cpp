@@ -182,6 +182,32 @@ std::string StepReader::product_name(long rep) {
   return r->params[0].kind == Kind::String ? r->params[0].text : std::string();
 }
 
+StepReader::UnpairedEdges StepReader::unpaired_edges(const std::vector<FaceJob>& jobs) const {
+  // Uses of each edge: the runs of its pieces in the loops (a seam runs twice along one loop).
+  std::unordered_map<int, std::pair<int, int>> uses;  // edge index -> (uses, first face id)
+  for (const FaceJob& job : jobs)
+    for (const Loop& loop : job.loops) {
+      const size_t n = loop.edges.size();
+      for (size_t k = 0; k < n; ++k) {
+        if (loop.edges[k] < 0 || (n > 1 && loop.edges[k] == loop.edges[(k + n - 1) % n] && k > 0)) continue;
+        if (k == 0 && n > 1 && loop.edges[0] == loop.edges[n - 1] &&
+            std::any_of(loop.edges.begin(), loop.edges.end(), [&](int x) { return x != loop.edges[0]; }))
+          continue;  // the run that wraps round the loop's start is counted where it begins
+        auto [it, fresh] = uses.try_emplace(loop.edges[k], 0, job.f.face_id);
+        ++it->second.first;
+      }
+    }
+  UnpairedEdges out;
+  std::unordered_map<int, long> entity_of;
+  for (const auto& [ec, index] : edge_index_) entity_of.emplace(index, ec);
+  for (const auto& [index, use] : uses) {
+    if (use.first != 1) continue;
+    const long ec = entity_of.count(index) ? entity_of.at(index) : -1;
+    if (out.count++ == 0 || ec < out.edge) out.edge = ec, out.face = use.second;
+  }
+  return out;
+}
+
 Model StepReader::read() {
   Model model;
   model.source = f_.name;
@@ -231,6 +257,20 @@ Model StepReader::read() {
           static_cast<int>(jobs.size());
       continue;
     }
+    // A solid whose shell the file states closed but whose faces leave an edge with one face
+    // (a face missing from the shell, a loop that skips an edge) bounds no inside: read as an
+    // open shell, said once.
+    bool closed = is(e, "MANIFOLD_SOLID_BREP") || is(e, "BREP_WITH_VOIDS");
+    std::string not_closed;
+    if (closed)
+      if (const auto open = unpaired_edges(jobs); open.count > 0) {
+        closed = false;
+        not_closed = fmt::format("{} of its edges bound one face only (edge #{} of face #{})", open.count, open.edge,
+                                 open.face);
+        warnings_.push_back(
+            fmt::format("#{}: the file states a closed solid, but {}: read as an open shell, with no inside", id,
+                        not_closed));
+      }
     const std::vector<TrimmedSurface> faces = build_faces(jobs);
     const double to_model = length_scale_ / model_scale;
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
@@ -254,7 +294,8 @@ Model StepReader::read() {
       const int n = name_count[name]++;
       body.name = n == 0 ? name : fmt::format("{} #{}", name, n + 1);
       body.instance = placed[k].path;
-      body.closed = is(e, "MANIFOLD_SOLID_BREP") || is(e, "BREP_WITH_VOIDS");
+      body.closed = closed;
+      body.not_closed = not_closed;
       glm::dmat4 m = placed[k].m;
       if (to_model != 1.0) m = glm::scale(glm::dmat4(1.0), glm::dvec3(to_model)) * m;
       for (const TrimmedSurface& f : faces) {

@@ -475,6 +475,13 @@ class StepReader {
     std::string skipped;  // why the face is dropped, when it is
   };
   FaceJob face_job(long id, const StepEntity& from);
+  /// Edges of a solid's faces that bound one face only (a closed shell has none): how many, and
+  /// the lowest such EDGE_CURVE with a face it bounds.
+  struct UnpairedEdges {
+    int count = 0;
+    long edge = -1, face = -1;
+  };
+  UnpairedEdges unpaired_edges(const std::vector<FaceJob>& jobs) const;
   /// The face's surface and trims from its job: no shared state, run on worker threads.
   TrimmedSurface build_face(FaceJob& job) const;
   /// The loop from its edges' parameter-space curves on `s` (of a seam's two, the one continuing the

@@ -333,7 +333,10 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
     }
   }
   WatertightStats ws;
-  if (options.watertight) share_boundary_vertices(faces, loops, to.eps, &ws);
+  if (options.watertight) {
+    share_edge_polylines(faces, loops, to.eps, &ws);
+    share_boundary_vertices(faces, loops, to.eps, &ws);
+  }
   std::atomic<int> done{0};
   std::mutex report;
   for_faces([&](size_t f) {
@@ -379,6 +382,7 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   r.weld_tolerance = std::max(1e-9 * size, options.weld);
   if (options.watertight) {
     close_t_junctions(mesh, r.weld_tolerance, &ws);
+    s.edge_shared = ws.edge_shared;
     s.shared_vertices = ws.inserted + ws.merged;
     s.t_junction_splits = ws.splits;
   }

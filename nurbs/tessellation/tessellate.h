@@ -91,6 +91,7 @@ struct TessellateStats {
   long long degenerate_triangles = 0;  ///< zero-area triangles in (u, v) the triangulation could not avoid
   long long collapsed_triangles = 0;   ///< zero-area in space (at poles, corners within the weld), dropped
   long long flipped_slivers = 0;       ///< flat in space (collinear corners), flipped with a neighbour
+  int edge_shared = 0;                 ///< watertight: loop vertices a face took from its B-rep edge's other face
   int shared_vertices = 0;             ///< watertight: loop vertices inserted or merged across faces
   int t_junction_splits = 0;           ///< watertight: triangles split at other faces' boundary vertices
   double seconds_surface = 0.0, seconds_trimming = 0.0, seconds_triangulation = 0.0, seconds_evaluation = 0.0;

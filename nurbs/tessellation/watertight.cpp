@@ -105,6 +105,16 @@ glm::dvec2 insertion_uv(const Surface& surface, const glm::dvec3& p, glm::dvec2 
   return q;
 }
 
+/// An edge of welded ids (min << 32 | max) within one face.
+struct FaceEdge {
+  int face;
+  uint64_t edge;
+  bool operator==(const FaceEdge&) const = default;
+};
+struct FaceEdgeHash {
+  size_t operator()(const FaceEdge& k) const { return std::hash<uint64_t>()(k.edge * 31u + uint64_t(uint32_t(k.face))); }
+};
+
 /// A vertex of another part of the mesh lying inside an open edge.
 struct Split {
   int edge;  ///< 0..2 within its triangle
@@ -112,7 +122,188 @@ struct Split {
   int point;  ///< welded vertex id
 };
 
+/// A loop's run of consecutive segments along one B-rep edge: vertices first .. first + count.
+struct Stretch {
+  int face, loop, first, count;
+};
+
+/// The loop turned so that vertex 0 starts a run of one edge (nothing to do when the whole loop is
+/// one edge, or carries no edges).
+void start_at_edge_change(LoopPolyline& loop) {
+  const size_t n = loop.uv.size();
+  if (loop.edge.size() != n || n < 2) return;
+  size_t s = 0;
+  while (s < n && loop.edge[s] == loop.edge[(s + n - 1) % n]) ++s;
+  if (s == 0 || s == n) return;
+  std::rotate(loop.uv.begin(), loop.uv.begin() + long(s), loop.uv.end());
+  std::rotate(loop.xyz.begin(), loop.xyz.begin() + long(s), loop.xyz.end());
+  std::rotate(loop.edge.begin(), loop.edge.begin() + long(s), loop.edge.end());
+}
+
+/// Vertex k of a stretch (the loop closes: vertex n is vertex 0).
+const glm::dvec3& stretch_xyz(const LoopPolyline& loop, const Stretch& s, int k) {
+  return loop.xyz[size_t(s.first + k) % loop.xyz.size()];
+}
+
+/// Distance from p to the segment ab.
+double segment_distance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return glm::length(a + t * ab - p);
+}
+
+/// Cumulative 3D arc length along a stretch's vertices, from 0.
+std::vector<double> arc_lengths(const LoopPolyline& loop, const Stretch& s) {
+  std::vector<double> arc{0.0};
+  for (int k = 1; k <= s.count; ++k)
+    arc.push_back(arc.back() + glm::length(stretch_xyz(loop, s, k) - stretch_xyz(loop, s, k - 1)));
+  return arc;
+}
+
+/// The point at arc-length fraction f of a stretch, with the segment j it lies on and t along it.
+glm::dvec3 at_fraction(const LoopPolyline& loop, const Stretch& s, const std::vector<double>& arc, double f, int* j,
+                       double* t) {
+  const double want = std::clamp(f, 0.0, 1.0) * arc.back();
+  int k = int(std::upper_bound(arc.begin(), arc.end(), want) - arc.begin()) - 1;
+  k = std::clamp(k, 0, s.count - 1);
+  const double len = arc[size_t(k) + 1] - arc[size_t(k)];
+  const double u = len > 0.0 ? std::clamp((want - arc[size_t(k)]) / len, 0.0, 1.0) : 0.0;
+  if (j) *j = k;
+  if (t) *t = u;
+  return glm::mix(stretch_xyz(loop, s, k), stretch_xyz(loop, s, k + 1), u);
+}
+
 }  // namespace
+
+int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
+                         double tolerance, WatertightStats* stats) {
+  if (faces.size() != loops.size()) throw std::invalid_argument("share_edge_polylines: one loop list per face");
+  const auto start = Clock::now();
+  std::unordered_map<int, std::vector<Stretch>> by_edge;
+  for (size_t f = 0; f < loops.size(); ++f)
+    for (size_t l = 0; l < loops[f].size(); ++l) {
+      LoopPolyline& loop = loops[f][l];
+      start_at_edge_change(loop);
+      const int n = int(loop.uv.size());
+      if (loop.edge.size() != size_t(n) || n < 2) continue;
+      for (int i = 0; i < n;) {
+        int j = i + 1;
+        while (j < n && loop.edge[size_t(j)] == loop.edge[size_t(i)]) ++j;
+        if (loop.edge[size_t(i)] >= 0) by_edge[loop.edge[size_t(i)]].push_back({int(f), int(l), i, j - i});
+        i = j;
+      }
+    }
+  // Per slave loop, its stretches' new interior vertices (read from the loops as they are).
+  struct Replace {
+    Stretch stretch;
+    std::vector<glm::dvec3> xyz;
+    std::vector<glm::dvec2> uv;
+    int edge;
+  };
+  std::vector<Replace> replaced;
+  for (auto& [edge, list] : by_edge) {
+    if (list.size() != 2) continue;  // an edge of one face (a border), or of more (not a manifold edge)
+    const bool first_master = list[0].count >= list[1].count;
+    const Stretch& m = list[first_master ? 0 : 1];
+    const Stretch& s = list[first_master ? 1 : 0];
+    const LoopPolyline& ml = loops[size_t(m.face)][size_t(m.loop)];
+    const LoopPolyline& sl = loops[size_t(s.face)][size_t(s.loop)];
+    const std::vector<double> ma = arc_lengths(ml, m), sa = arc_lengths(sl, s);
+    if (!(ma.back() > 0.0) || !(sa.back() > 0.0)) continue;
+    // The two faces' polylines run along the edge the same way or opposite ways: the way whose
+    // points a third and two thirds along lie nearer. Each lies within its loop tolerance of its
+    // face's edge, and the two edges within both faces' gaps: a pair farther apart is not the same
+    // curve (the reader's topology is then not trusted), and is left to the vertex matching.
+    const double reach = tolerance + faces[size_t(m.face)].edge_gap + faces[size_t(s.face)].edge_gap;
+    auto off = [&](bool reverse) {
+      double worst = 0.0;
+      for (const double f : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0})
+        worst = std::max(worst, glm::length(at_fraction(sl, s, sa, f, nullptr, nullptr) -
+                                            at_fraction(ml, m, ma, reverse ? 1.0 - f : f, nullptr, nullptr)));
+      return worst;
+    };
+    const double forward = off(false), backward = off(true);
+    const bool reverse = backward < forward;
+    if (!(std::min(forward, backward) <= 2.0 * reach)) continue;
+    Replace r{s, {}, {}, edge};
+    const Surface& surface = faces[size_t(s.face)].surface;
+    bool monotone = true, along_chain = true;
+    double taken_f = 0.0;
+    double last = -1.0;
+    std::vector<glm::dvec2> lerp;
+    for (int k = 1; k < m.count; ++k) {
+      const int mk = reverse ? m.count - k : k;
+      const glm::dvec3 p = stretch_xyz(ml, m, mk);
+      const double f = reverse ? 1.0 - ma[size_t(mk)] / ma.back() : ma[size_t(mk)] / ma.back();
+      // A master vertex repeated (a segment of no length), or within the tolerance of a stretch end,
+      // is not taken: the slave's loop would get a segment of (almost) no length.
+      if (!(f > taken_f && f < 1.0)) continue;
+      if (glm::length(p - stretch_xyz(sl, s, 0)) <= tolerance || glm::length(p - stretch_xyz(sl, s, s.count)) <= tolerance)
+        continue;  // the corner's own: share_boundary_vertices makes corners one
+      taken_f = f;
+      int j = 0;
+      double t = 0.0;
+      at_fraction(sl, s, sa, f, &j, &t);
+      const glm::dvec2 ua = sl.uv[size_t(s.first + j) % sl.uv.size()], ub = sl.uv[size_t(s.first + j + 1) % sl.uv.size()];
+      // The taken point lies along the slave's own chain (near its segment at that arc fraction):
+      // else the two stretches are not one curve run alike (the pair is left as it is).
+      double gap = 1e300;
+      for (int q = std::max(0, j - 2); q <= std::min(s.count - 1, j + 2); ++q)
+        gap = std::min(gap, segment_distance(p, stretch_xyz(sl, s, q), stretch_xyz(sl, s, q + 1)));
+      along_chain = along_chain && gap <= reach;
+      double along = t;
+      r.uv.push_back(insertion_uv(surface, p, ua, ub, t, &along));
+      lerp.push_back(glm::mix(ua, ub, t));
+      monotone = monotone && j + along > last;
+      last = j + along;
+      r.xyz.push_back(p);
+    }
+    if (!monotone) r.uv = lerp;  // Newton's points must keep their order along the chain
+    // Each taken point stays within reach of its own face where its uv puts it (the mesh's bound
+    // allows a boundary vertex that move, model_mesh.h), else the pair is left as it is.
+    bool near = along_chain;
+    for (size_t k = 0; k < r.xyz.size() && near; ++k)
+      near = glm::length(surface_point(surface, r.uv[k].x, r.uv[k].y) - r.xyz[k]) <= reach;
+    if (near) replaced.push_back(std::move(r));
+  }
+  // Each slave loop rebuilt: its stretches' interiors replaced, the rest kept (stretches in order).
+  std::sort(replaced.begin(), replaced.end(), [](const Replace& a, const Replace& b) {
+    return std::tie(a.stretch.face, a.stretch.loop, a.stretch.first) <
+           std::tie(b.stretch.face, b.stretch.loop, b.stretch.first);
+  });
+  std::vector<bool> touched(loops.size(), false);
+  int shared = 0;
+  for (size_t i = 0; i < replaced.size();) {
+    const int f = replaced[i].stretch.face, l = replaced[i].stretch.loop;
+    LoopPolyline& loop = loops[size_t(f)][size_t(l)];
+    const int n = int(loop.uv.size());
+    LoopPolyline out;
+    out.outer = loop.outer;
+    int v = 0;
+    for (; i < replaced.size() && replaced[i].stretch.face == f && replaced[i].stretch.loop == l; ++i) {
+      const Replace& r = replaced[i];
+      for (; v <= r.stretch.first; ++v) {  // up to and with the stretch's first vertex
+        out.uv.push_back(loop.uv[size_t(v)]), out.xyz.push_back(loop.xyz[size_t(v)]);
+        out.edge.push_back(loop.edge[size_t(v)]);
+      }
+      for (size_t k = 0; k < r.xyz.size(); ++k)
+        out.uv.push_back(r.uv[k]), out.xyz.push_back(r.xyz[k]), out.edge.push_back(r.edge);
+      v = r.stretch.first + r.stretch.count;  // the stretch's last vertex starts the next run
+      shared += int(r.xyz.size());
+    }
+    for (; v < n; ++v)
+      out.uv.push_back(loop.uv[size_t(v)]), out.xyz.push_back(loop.xyz[size_t(v)]), out.edge.push_back(loop.edge[size_t(v)]);
+    loop = std::move(out);
+    touched[size_t(f)] = true;
+  }
+  if (stats) {
+    stats->edge_shared += shared;
+    stats->faces_touched += int(std::count(touched.begin(), touched.end(), true));
+    stats->seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  return shared;
+}
 
 int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
                             double tolerance, WatertightStats* stats) {
@@ -297,16 +488,25 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
     for (const glm::ivec3& t : mesh.triangles)
       for (int e = 0; e < 3; ++e)
         if (id[size_t(t[e])] != id[size_t(t[(e + 1) % 3])]) ++uses[key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
-    std::vector<Segment> open;
+    // Uses per face: an edge on its face's boundary may be used by more faces than two where
+    // bodies touch (a face of each body along one line), and a junction on it is closed all the same.
+    std::unordered_map<FaceEdge, int, FaceEdgeHash> face_uses;
+    auto face_of = [&](int k) { return mesh.triangle_face.empty() ? 0 : mesh.triangle_face[size_t(k)]; };
+    for (int k = 0; k < int(mesh.triangles.size()); ++k)
+      for (int e = 0; e < 3; ++e) {
+        const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
+        if (a != b) ++face_uses[{face_of(k), key(a, b)}];
+      }
+    std::vector<Segment> open;                 // the faces' boundary edges
     std::vector<std::array<int, 2>> open_ref;  // (triangle, edge)
     std::vector<int> points;                   // welded ids on open edges
     for (int k = 0; k < int(mesh.triangles.size()); ++k)
       for (int e = 0; e < 3; ++e) {
         const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
-        if (a == b || uses[key(a, b)] != 1) continue;
+        if (a == b || face_uses[{face_of(k), key(a, b)}] != 1) continue;
         open.push_back({mesh.positions[size_t(a)], mesh.positions[size_t(b)]});
         open_ref.push_back({k, e});
-        points.push_back(a), points.push_back(b);
+        if (uses[key(a, b)] == 1) points.push_back(a), points.push_back(b);
       }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());

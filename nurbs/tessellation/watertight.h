@@ -3,7 +3,10 @@
 /// Beyond the paper: a watertight mesh across faces. Balázs, Guthe and Klein (WSCG 2004)
 /// approximate each face's trim loops on their own (§5), so the two faces of a B-rep edge get
 /// different polyline vertices along it and the merged mesh has cracks (up to eps) and open edges.
-/// Two steps close them:
+/// Three steps close them:
+///   0. share_edge_polylines, between §5 and §6: where the file gives its topology, each B-rep
+///      edge is meshed once, as BRepMesh does: the edge's second face takes the first's polyline
+///      along it (same xyz bit for bit), so a closed shell meshes closed by construction;
 ///   1. share_boundary_vertices, between §5 and §6: every loop vertex of a face lying on a loop
 ///      segment of another face is inserted into that segment (same xyz bit for bit), or made
 ///      identical to the other loop's vertex it coincides with; both sides of an edge then carry
@@ -21,6 +24,7 @@ namespace nurbs::tess {
 
 /// Figures of the two steps (each function adds to them, so one object can collect both).
 struct WatertightStats {
+  int edge_shared = 0;    ///< loop vertices a face took from the other face of their B-rep edge
   int inserted = 0;       ///< loop vertices inserted into another face's loop segment
   int merged = 0;         ///< loop vertices made identical to a vertex of another face's loop
   int faces_touched = 0;  ///< faces whose loops changed
@@ -28,6 +32,22 @@ struct WatertightStats {
   int collapsed = 0;      ///< triangles removed by close_t_junctions (two corners welded together)
   double seconds = 0.0;   ///< wall time of the calls
 };
+
+/// Meshes each B-rep edge once. `loops[f]` as for share_boundary_vertices, with their edges
+/// (LoopPolyline::edge); each loop is first turned so that its vertex 0 starts a run of one edge.
+/// For every edge that runs along exactly two stretches of loops (two faces, or a periodic face's
+/// seam twice), the stretch with more segments is the master; the other's vertices between its two
+/// ends are replaced by the master's (xyz copied, in the order the other runs: the way along which
+/// the points a third and two thirds along lie nearer). Each replaced vertex's uv on its own face is
+/// where its chain holds the same share of its 3D length, improved by 4 Newton steps of
+/// project_point while they stay in the band of that chord and keep the chain's order (else all
+/// take the chain's points). The ends stay: share_boundary_vertices makes the corners one. A pair
+/// farther apart than twice (`tolerance` + both faces' edge gaps) at their ends or a third or two
+/// thirds along is not taken, nor one whose taken points lie farther than `tolerance` + both gaps
+/// from the face's surface at their uv (the move share_boundary_vertices allows a boundary
+/// vertex). Returns the vertices replaced.
+int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
+                         double tolerance, WatertightStats* stats = nullptr);
 
 /// Shares trim-loop vertices between faces. `loops[f]` are the closed polylines of face `faces[f]`
 /// (world coordinates, xyz = S(uv) per vertex, as approximate_trim_loops returns them); changed in

@@ -154,8 +154,10 @@ void PointQuery::require_closed_solids(const nurbs::LoadedModel& model) {
                                           model.path.string(), b, name.empty() ? "" : " (" + name + ")", why));
   };
   for (size_t b = 0; b < model.model.bodies.size(); ++b)
-    if (!model.model.bodies[b].closed)
-      refuse(b, "is not stated closed (an open shell or loose faces: its inside is not defined)");
+    if (const nurbs::Body& body = model.model.bodies[b]; !body.closed)
+      refuse(b, body.not_closed.empty()
+                    ? "is not stated closed (an open shell or loose faces: its inside is not defined)"
+                    : "is stated closed, but " + body.not_closed + ": its inside is not defined");
   // A file may state a solid whose faces do not close (a face missing, edges that do not meet):
   // the rays of the side test would then pass through the gaps. A watertight mesh shows it (at the
   // tessellation's default eps: coarser meshes may leave cracks of their own).

@@ -90,6 +90,49 @@ TEST_CASE("watertight: two squares with a straight edge split differently share 
   CHECK(nurbs::tess::share_boundary_vertices(faces, apart, tol) == 0);
 }
 
+TEST_CASE("watertight: a B-rep edge's two faces take one polyline along it, across the file's edge gap") {
+  // A: x in [0, 1] at z = 0; B: x in [1, 2] at z = 1e-3, ten times the tolerance (a file whose edge
+  // lies off its faces by their edge gaps). Their shared edge (id 1) is split at A's y = 0.2, 0.4,
+  // 0.6, 0.8 and at B's 0.7, 0.3: B takes A's four points, the ends stay for the corner matching.
+  const double gap = 1e-3, tol = 1e-4;
+  std::vector<nurbs::TrimmedSurface> faces{bilinear({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, 1, 1),
+                                           bilinear({1, 0, gap}, {2, 0, gap}, {1, 1, gap}, {2, 1, gap}, 1, 2)};
+  faces[0].edge_gap = faces[1].edge_gap = gap;
+  auto with_edges = [](nurbs::tess::LoopPolyline l, std::vector<int> e) {
+    l.edge = std::move(e);
+    return l;
+  };
+  const std::vector<std::vector<nurbs::tess::LoopPolyline>> given{
+      {with_edges(loop_of(faces[0], {{0, 0}, {1, 0}, {1, 0.2}, {1, 0.4}, {1, 0.6}, {1, 0.8}, {1, 1}, {0, 1}}),
+                  {10, 1, 1, 1, 1, 1, 11, 12})},
+      {with_edges(loop_of(faces[1], {{1, 2}, {0, 2}, {0, 1.4}, {0, 0.6}, {0, 0}, {1, 0}}), {20, 1, 1, 1, 21, 22})}};
+  auto loops = given;
+  nurbs::tess::WatertightStats stats;
+  CHECK(nurbs::tess::share_edge_polylines(faces, loops, tol, &stats) == 4);
+  CHECK(stats.edge_shared == 4);
+  const nurbs::tess::LoopPolyline& b = loops[1][0];
+  REQUIRE(b.xyz.size() == 8);
+  REQUIRE(b.edge.size() == 8);
+  // B's loop starts at an edge change; its edge-1 run goes down from y = 1 to y = 0.
+  std::vector<double> ys;
+  for (size_t k = 0; k < b.xyz.size(); ++k)
+    if (b.edge[k] == 1 || b.edge[(k + b.xyz.size() - 1) % b.xyz.size()] == 1) ys.push_back(b.xyz[k].y);
+  CHECK(ys == std::vector<double>{1, 0.8, 0.6, 0.4, 0.2, 0});
+  for (size_t k = 0; k < b.xyz.size(); ++k)  // A's points bit for bit, their uv on B (v = 2 y)
+    if (b.xyz[k].y > 0 && b.xyz[k].y < 1 && b.xyz[k].x == 1.0) {
+      const auto& a = loops[0][0].xyz;
+      CHECK(std::find(a.begin(), a.end(), b.xyz[k]) != a.end());
+      CHECK(b.uv[k].y == doctest::Approx(2.0 * b.xyz[k].y));
+    }
+  CHECK(loops[0][0].xyz == given[0][0].xyz);  // the master keeps its own
+  // The same faces 0.05 apart (far beyond both gaps): not one curve, nothing taken.
+  faces[1] = bilinear({1, 0, 0.05}, {2, 0, 0.05}, {1, 1, 0.05}, {2, 1, 0.05}, 1, 2);
+  faces[1].edge_gap = gap;
+  auto apart = given;
+  for (auto& p : apart[1][0].xyz) p.z = 0.05;
+  CHECK(nurbs::tess::share_edge_polylines(faces, apart, tol) == 0);
+}
+
 TEST_CASE("watertight: a face's own neighbouring edges are not shared, its seam is") {
   // A loop running along x = 1 twice, 1e-9 apart in uv and in space: the same face with nearby uv
   // (not a seam), so nothing is inserted although the segments are within the tolerance.
@@ -253,6 +296,22 @@ TEST_CASE("watertight: close_t_junctions splits the triangle on the other side o
   CHECK(nurbs::tess::close_t_junctions(t, weld) == 3);
   CHECK(nurbs::tess::count_edges(t, weld).open == 1 + 2 + 2);  // hypotenuse, strip, fan
   CHECK(t.triangles.size() == 9);
+}
+
+TEST_CASE("watertight: a T-junction on an edge that faces of two bodies share is closed on both") {
+  // Face 0: square [0, 1]^2 in z = 0; face 1: [1, 2] x [0, 1] with a vertex at (1, 0.5); face 2, of
+  // another body touching along x = 1: the square x = 1, y in [0, 1], z in [0, 1]. The edge
+  // (1, 0)-(1, 1) is used by faces 0 and 2 (not open), yet face 1's two halves need its point.
+  nurbs::TriangleMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},                     // face 0
+                 {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 0.5, 0},        // face 1
+                 {1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}};                    // face 2
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 8}, {5, 6, 8}, {6, 7, 8}, {9, 12, 10}, {10, 12, 11}};
+  m.triangle_face = {0, 0, 1, 1, 1, 2, 2};
+  const double weld = 1e-9;
+  CHECK(nurbs::tess::count_edges(m, weld).open == 3 + 5 + 3);
+  CHECK(nurbs::tess::close_t_junctions(m, weld) == 2);  // face 0's triangle and face 2's
+  CHECK(nurbs::tess::count_edges(m, weld).open == 3 + 3 + 3);
 }
 
 TEST_CASE("watertight: closed models lose their open edges" * test::needs_shared_models()) {
