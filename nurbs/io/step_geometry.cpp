@@ -467,6 +467,11 @@ FaceSurface StepReader::surface(long id, const StepEntity& from) {
       const double x = glm::dot(d, a.f.x), y = glm::dot(d, a.f.y);
       if (std::hypot(x, y) > best) best = std::hypot(x, y), a.phi0 = std::atan2(y, x);
     }
+    // Control points beyond the axis, on the far side of the profile's half-plane: the profile
+    // may cross the axis (a full circle swept about a line through it: a spindle, a domed end).
+    const glm::dvec3 side = std::cos(a.phi0) * a.f.x + std::sin(a.phi0) * a.f.y;
+    for (const glm::dvec3& q : a.curve.points)
+      a.profile_crosses_axis = a.profile_crosses_axis || glm::dot(q - a.f.o, side) < -1e-9 * best;
     return s;
   }
   if (const StepRecord* r = e.record("SURFACE_OF_LINEAR_EXTRUSION")) {

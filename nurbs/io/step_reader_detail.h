@@ -96,6 +96,7 @@ struct Analytic {
     return dd > 0 ? glm::dot(p - c.points[0], d) / dd : 0.0;
   }
   double phi0 = 0.0;    // revolution: angle of the profile about the axis
+  bool profile_crosses_axis = false;  // revolution: the profile has points on both sides of the axis
   glm::dvec3 dir{0.0};  // extrusion: unit direction
   Interval t_range{0, 1};
 
@@ -192,12 +193,22 @@ struct Analytic {
         uv = {std::atan2(y, x), std::atan2(z, rho - r)};
         break;
       case Revolution: {
-        const double u = std::atan2(y, x) - phi0;
-        // Turn p back by u into the profile's half-plane, then the nearest profile point.
+        // Turn p back by u into the profile's half-plane, then the nearest profile point. A profile
+        // that crosses the axis sweeps p's circle from either side: at u or at u + pi, from the
+        // opposite half-plane; the side whose profile point lies nearer is p's.
         const glm::dvec3 along = z * f.z, rr = d - along;
-        const glm::dvec3 back = f.o + along + std::cos(-u) * rr + std::sin(-u) * glm::cross(f.z, rr);
-        uv = {u, line ? line_t(curve, back)
-                      : nearest_t(curve, back, t_range, prev ? std::optional(prev->y) : std::nullopt, accept)};
+        auto on_side = [&](double u) {
+          const glm::dvec3 back = f.o + along + std::cos(-u) * rr + std::sin(-u) * glm::cross(f.z, rr);
+          const double t = line ? line_t(curve, back)
+                                : nearest_t(curve, back, t_range, prev ? std::optional(prev->y) : std::nullopt, accept);
+          return std::pair{glm::dvec2(u, t), glm::length(curve_at(t) - back)};
+        };
+        const auto [near_uv, near_d] = on_side(std::atan2(y, x) - phi0);
+        uv = near_uv;
+        if (profile_crosses_axis && near_d > 0.0) {
+          const auto [far_uv, far_d] = on_side(std::atan2(-y, -x) - phi0);
+          if (far_d < near_d) uv = far_uv;
+        }
         break;
       }
     }

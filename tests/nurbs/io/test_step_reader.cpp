@@ -419,6 +419,26 @@ TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole
   CHECK(highest > 0.99);
 }
 
+TEST_CASE("STEP reader: a surface of revolution whose profile crosses the axis keeps its edges' side") {
+  // A domed end: the circle of radius 30 about (-20, 0, 0) in the plane y = 0 swept about the z
+  // axis. It crosses the axis, so each circle about it at height z below the top (22.36) lies on
+  // the surface twice: swept from the profile's near side (x > 0) and from its far side. The face is
+  // the dome above its edge, the circle of radius 2 at z = sqrt(416), which the near side sweeps;
+  // the far side reaches radius 2 at z = 24 only. Its edge lies on the face read (no edge gap).
+  std::string d = at_origin("SURFACE_OF_REVOLUTION('',#43,#44)");
+  d += "#40=CARTESIAN_POINT('',(-20.,0.,0.));\n#41=DIRECTION('',(0.,1.,0.));\n#42=AXIS2_PLACEMENT_3D('',#40,#41,#3);\n"
+       "#43=CIRCLE('',#42,30.);\n#44=AXIS1_PLACEMENT('',#1,#2);\n"
+       "#6=CARTESIAN_POINT('',(0.,0.,20.396078054371138));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+       "#8=CIRCLE('',#7,2.);\n#9=CARTESIAN_POINT('',(2.,0.,20.396078054371138));\n#10=VERTEX_POINT('',#9);\n"
+       "#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
+  for (const char* edge_sense : {".T.", ".F."}) {
+    CAPTURE(edge_sense);
+    const nurbs::Model m = read_one_edge_face(d, edge_sense, ".T.");
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(f.edge_gap < 1e-9);
+  }
+}
+
 TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
   // Cone of radius 1 at z = 0 and semi-angle 45 degrees, narrowing towards -z (apex at z = -1),
   // bounded by the circle at z = 0 only, used clockwise seen from +z: the material, left of the
