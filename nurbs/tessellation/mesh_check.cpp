@@ -344,7 +344,7 @@ std::vector<std::vector<size_t>> triangles_by_face(const std::vector<TrimmedSurf
 /// largest value into out.distance, the triangles where it passes `distance` counted.
 template <class Sample>
 void measure_triangles(const TriangleMesh& mesh, const std::vector<size_t>& triangles, size_t f, double distance,
-                       OutsideTrim& out, Sample&& sample) {
+                       OutsideTrim& out, Sample&& sample, bool centroids_only = false) {
   for (const size_t k : triangles) {
     const glm::ivec3 t = mesh.triangles[k];
     if (mesh.vertex_face[size_t(t.x)] != int(f) || mesh.vertex_face[size_t(t.y)] != int(f) ||
@@ -353,9 +353,11 @@ void measure_triangles(const TriangleMesh& mesh, const std::vector<size_t>& tria
     const std::array<glm::dvec2, 3> c = {mesh.uv[size_t(t.x)], mesh.uv[size_t(t.y)], mesh.uv[size_t(t.z)]};
     const glm::dvec3 pa = mesh.positions[size_t(t.x)], pb = mesh.positions[size_t(t.y)],
                      pc = mesh.positions[size_t(t.z)];
-    const double d = std::max(
-        {sample((c[0] + c[1] + c[2]) / 3.0, (pa + pb + pc) / 3.0, c), sample(0.5 * (c[0] + c[1]), 0.5 * (pa + pb), c),
-         sample(0.5 * (c[1] + c[2]), 0.5 * (pb + pc), c), sample(0.5 * (c[2] + c[0]), 0.5 * (pc + pa), c)});
+    const double centroid = sample((c[0] + c[1] + c[2]) / 3.0, (pa + pb + pc) / 3.0, c);
+    const double d = centroids_only ? centroid
+                                    : std::max({centroid, sample(0.5 * (c[0] + c[1]), 0.5 * (pa + pb), c),
+                                                sample(0.5 * (c[1] + c[2]), 0.5 * (pb + pc), c),
+                                                sample(0.5 * (c[2] + c[0]), 0.5 * (pc + pa), c)});
     out.distance = std::max(out.distance, d);
     out.triangles += d > distance;
   }
@@ -364,7 +366,7 @@ void measure_triangles(const TriangleMesh& mesh, const std::vector<size_t>& tria
 }  // namespace
 
 std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface>& faces, const TriangleMesh& mesh,
-                                                double distance) {
+                                                double distance, bool centroids_only) {
   std::vector<OutsideTrim> out(faces.size());
   const std::vector<std::vector<size_t>> of_face = triangles_by_face(faces, mesh, true);
   // One face at a time on every hardware thread (each writes its own out[f]).
@@ -400,7 +402,7 @@ std::vector<OutsideTrim> triangles_outside_trim(const std::vector<TrimmedSurface
             }
           return best;
         };
-        measure_triangles(mesh, of_face[f], f, distance, out[f], outside);
+        measure_triangles(mesh, of_face[f], f, distance, out[f], outside, centroids_only);
       },
       1);
   return out;

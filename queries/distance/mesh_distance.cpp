@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "nurbs/parallel.h"
+#include "nurbs/tessellation/mesh_check.h"
 #include "nurbs/stopwatch.h"
 #include "queries/distance/point_batch_descent.h"
 
@@ -164,6 +165,17 @@ MeshDistance::MeshDistance(const std::vector<nurbs::TrimmedSurface>& faces, doub
   o.max_cells = max_cells;
   auto t0 = std::chrono::steady_clock::now();
   tess_ = nurbs::tess::tessellate(faces, o);
+  // The tessellation's trim stage against the exact trims (one point-in-polygon test per triangle
+  // centroid): a face whose triangles lie outside its trim by more than eps (a loop the half-edge
+  // stage read otherwise, e.g. one touching itself where a hole meets the outline) is not meshed
+  // within the bound, and fails as a face that gave no triangles.
+  const std::vector<nurbs::tess::OutsideTrim> outside =
+      nurbs::tess::triangles_outside_trim(faces, tess_.mesh, eps, /*centroids_only=*/true);
+  for (size_t f = 0; f < outside.size(); ++f)
+    if (outside[f].triangles > 0)
+      tess_.failures.push_back({int(f), fmt::format("{} triangles lie outside its trim, up to {:.3g} beyond its "
+                                                    "edges (the mesh's trim differs from the face's)",
+                                                    outside[f].triangles, outside[f].distance)});
   tess_seconds_ = nurbs::seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   const nurbs::TriangleMesh& m = tess_.mesh;
