@@ -242,6 +242,7 @@ std::vector<StepReader::Loop> StepReader::face_loops(const StepEntity& face, lon
       const bool forward = logical(oe, param(oe, orr, 4, "orientation"), "orientation");
       const std::vector<EdgePiece>& pieces = edge(ec, oe);
       const int index = edge_index_.at(ec);
+      loop.uses.push_back(index);
       auto add = [&](const EdgePiece& p, bool flip) {
         loop.curves.push_back(flip ? reversed(p.c) : p.c);
         loop.edges.push_back(index);

@@ -183,20 +183,13 @@ std::string StepReader::product_name(long rep) {
 }
 
 StepReader::UnpairedEdges StepReader::unpaired_edges(const std::vector<FaceJob>& jobs) const {
-  // Uses of each edge: the runs of its pieces in the loops (a seam runs twice along one loop).
-  std::unordered_map<int, std::pair<int, int>> uses;  // edge index -> (uses, first face id)
+  std::unordered_map<int, std::pair<int, int>> uses;  // edge index -> (oriented uses, first face id)
   for (const FaceJob& job : jobs)
-    for (const Loop& loop : job.loops) {
-      const size_t n = loop.edges.size();
-      for (size_t k = 0; k < n; ++k) {
-        if (loop.edges[k] < 0 || (n > 1 && loop.edges[k] == loop.edges[(k + n - 1) % n] && k > 0)) continue;
-        if (k == 0 && n > 1 && loop.edges[0] == loop.edges[n - 1] &&
-            std::any_of(loop.edges.begin(), loop.edges.end(), [&](int x) { return x != loop.edges[0]; }))
-          continue;  // the run that wraps round the loop's start is counted where it begins
-        auto [it, fresh] = uses.try_emplace(loop.edges[k], 0, job.f.face_id);
+    for (const Loop& loop : job.loops)
+      for (const int edge : loop.uses) {
+        auto [it, fresh] = uses.try_emplace(edge, 0, job.f.face_id);
         ++it->second.first;
       }
-    }
   UnpairedEdges out;
   std::unordered_map<int, long> entity_of;
   for (const auto& [ec, index] : edge_index_) entity_of.emplace(index, ec);

@@ -471,6 +471,7 @@ class StepReader {
   struct Loop {
     std::vector<Curve3> curves;
     std::vector<int> edges;
+    std::vector<int> uses;  // per ORIENTED_EDGE of the loop, its edge (a seam's twice)
     std::vector<std::vector<Curve3>> pcurves;  // per curve: its parameter-space curves on the face's surface
     bool outer = false;
   };

@@ -405,6 +405,37 @@ TEST_CASE("STEP reader: a ball whose seam edge runs down to the pole and up agai
     }
 }
 
+TEST_CASE("STEP reader: a closed shell's seam used twice in a row bounds its face on both sides") {
+  // A ball as one face whose loop is its seam, the meridian from pole to pole through (1, 0, 0), run
+  // down and back up (as OpenCASCADE writes a sphere): each edge of the shell has two uses, so the
+  // solid stays closed. The same solid with a second meridian used once is open, and says so.
+  const std::string ball =
+      at_origin("SPHERICAL_SURFACE('',#4,1.)") +
+      "#6=DIRECTION('',(0.,1.,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#6,#3);\n#8=CIRCLE('',#7,1.);\n"
+      "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#11=CARTESIAN_POINT('',(0.,0.,-1.));\n"
+      "#12=VERTEX_POINT('',#11);\n#13=EDGE_CURVE('',#10,#12,#8,.T.);\n#14=ORIENTED_EDGE('',*,*,#13,.T.);\n"
+      "#15=ORIENTED_EDGE('',*,*,#13,.F.);\n";
+  const std::string solid = "#17=FACE_OUTER_BOUND('',#16,.T.);\n#18=ADVANCED_FACE('',(#17),#5,.T.);\n"
+                            "#19=CLOSED_SHELL('',(#18));\n#20=MANIFOLD_SOLID_BREP('ball',#19);\n"
+                            "#21=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#20),#900);\n";
+  const nurbs::Model closed =
+      nurbs::io::read_step_text(step_file(ball + "#16=EDGE_LOOP('',(#14,#15));\n" + solid), "ball.stp");
+  REQUIRE(closed.bodies.size() == 1);
+  CHECK(closed.bodies[0].closed);
+  CHECK(closed.bodies[0].not_closed.empty());
+  CHECK(closed.read_warnings.empty());
+  // A second meridian through (-1, 0, 0), down from the north pole: the loop goes round the ball
+  // by two different edges, each used once.
+  const std::string other = "#30=DIRECTION('',(-1.,0.,0.));\n#31=AXIS2_PLACEMENT_3D('',#1,#6,#30);\n"
+                            "#32=CIRCLE('',#31,1.);\n#33=EDGE_CURVE('',#12,#10,#32,.F.);\n"
+                            "#34=ORIENTED_EDGE('',*,*,#33,.T.);\n";
+  const nurbs::Model open =
+      nurbs::io::read_step_text(step_file(ball + other + "#16=EDGE_LOOP('',(#14,#34));\n" + solid), "ball.stp");
+  REQUIRE(open.bodies.size() == 1);
+  CHECK_FALSE(open.bodies[0].closed);
+  CHECK(open.bodies[0].not_closed == "2 of its edges bound one face only (edge #13 of face #18)");
+}
+
 TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
   std::string d = at_origin("SPHERICAL_SURFACE('',#4,1.)");
   d += "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#13=VERTEX_LOOP('',#10);\n"
