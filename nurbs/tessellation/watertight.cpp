@@ -112,7 +112,9 @@ struct FaceEdge {
   bool operator==(const FaceEdge&) const = default;
 };
 struct FaceEdgeHash {
-  size_t operator()(const FaceEdge& k) const { return std::hash<uint64_t>()(k.edge * 31u + uint64_t(uint32_t(k.face))); }
+  size_t operator()(const FaceEdge& k) const {
+    return std::hash<uint64_t>()(k.edge * 31u + uint64_t(uint32_t(k.face)));
+  }
 };
 
 /// A vertex of another part of the mesh lying inside an open edge.
@@ -239,13 +241,15 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
       // A master vertex repeated (a segment of no length), or within the tolerance of a stretch end,
       // is not taken: the slave's loop would get a segment of (almost) no length.
       if (!(f > taken_f && f < 1.0)) continue;
-      if (glm::length(p - stretch_xyz(sl, s, 0)) <= tolerance || glm::length(p - stretch_xyz(sl, s, s.count)) <= tolerance)
+      if (glm::length(p - stretch_xyz(sl, s, 0)) <= tolerance ||
+          glm::length(p - stretch_xyz(sl, s, s.count)) <= tolerance)
         continue;  // the corner's own: share_boundary_vertices makes corners one
       taken_f = f;
       int j = 0;
       double t = 0.0;
       at_fraction(sl, s, sa, f, &j, &t);
-      const glm::dvec2 ua = sl.uv[size_t(s.first + j) % sl.uv.size()], ub = sl.uv[size_t(s.first + j + 1) % sl.uv.size()];
+      const glm::dvec2 ua = sl.uv[size_t(s.first + j) % sl.uv.size()];
+      const glm::dvec2 ub = sl.uv[size_t(s.first + j + 1) % sl.uv.size()];
       // The taken point lies along the slave's own chain (near its segment at that arc fraction):
       // else the two stretches are not one curve run alike (the pair is left as it is).
       double gap = 1e300;
@@ -293,7 +297,8 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
       shared += int(r.xyz.size());
     }
     for (; v < n; ++v)
-      out.uv.push_back(loop.uv[size_t(v)]), out.xyz.push_back(loop.xyz[size_t(v)]), out.edge.push_back(loop.edge[size_t(v)]);
+      out.uv.push_back(loop.uv[size_t(v)]), out.xyz.push_back(loop.xyz[size_t(v)]);
+      out.edge.push_back(loop.edge[size_t(v)]);
     loop = std::move(out);
     touched[size_t(f)] = true;
   }
