@@ -205,7 +205,7 @@ struct Analytic {
         };
         const auto [near_uv, near_d] = on_side(std::atan2(y, x) - phi0);
         uv = near_uv;
-        if (profile_crosses_axis && near_d > 0.0) {
+        if (profile_crosses_axis && near_d > accept) {  // the near side does not hold p
           const auto [far_uv, far_d] = on_side(std::atan2(-y, -x) - phi0);
           if (far_d < near_d) uv = far_uv;
         }

@@ -468,6 +468,26 @@ TEST_CASE("STEP reader: a surface of revolution whose profile crosses the axis k
     const nurbs::TrimmedSurface& f = only_face(m);
     CHECK(f.edge_gap < 1e-9);
   }
+  // A ball of radius 0.0125 as a circle swept about an axis through its centre, placed off the
+  // origin with a normal 2.5e-5 off x (as FreeCAD writes a chip's rounded corner): both sides sweep
+  // every point, and each point keeps the near side's parameters (the far side, equal up to
+  // rounding, would throw the loop's points half a turn apart).
+  std::string ball = at_origin("SURFACE_OF_REVOLUTION('',#43,#44)");
+  ball += "#40=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,1.007499999982));\n"
+          "#41=DIRECTION('',(-0.99999999969,2.489943571616E-005,5.528825243E-021));\n"
+          "#45=DIRECTION('',(-2.489943571616E-005,-0.99999999969,-2.220446048E-016));\n"
+          "#42=AXIS2_PLACEMENT_3D('',#40,#41,#45);\n#43=CIRCLE('',#42,1.250000000054E-002);\n"
+          "#46=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,2.007499999978));\n#44=AXIS1_PLACEMENT('',#46,#2);\n"
+          "#6=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,1.013749999982));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+          "#8=CIRCLE('',#7,0.010825317547);\n#9=CARTESIAN_POINT('',(1.424898203899,-0.60407288634,1.013749999982));\n"
+          "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
+  for (const char* edge_sense : {".T.", ".F."}) {
+    CAPTURE(edge_sense);
+    const nurbs::Model m = read_one_edge_face(ball, edge_sense, ".T.");
+    CHECK(m.dropped_faces.empty());
+    const nurbs::TrimmedSurface& f = only_face(m);
+    CHECK(f.edge_gap < 1e-9);
+  }
 }
 
 TEST_CASE("STEP reader: a cone face bounded by one circle reaches its apex") {
