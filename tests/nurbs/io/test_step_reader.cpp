@@ -478,7 +478,8 @@ TEST_CASE("STEP reader: a surface of revolution whose profile crosses the axis k
           "#45=DIRECTION('',(-2.489943571616E-005,-0.99999999969,-2.220446048E-016));\n"
           "#42=AXIS2_PLACEMENT_3D('',#40,#41,#45);\n#43=CIRCLE('',#42,1.250000000054E-002);\n"
           "#46=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,2.007499999978));\n#44=AXIS1_PLACEMENT('',#46,#2);\n"
-          "#6=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,1.013749999982));\n#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
+          "#6=CARTESIAN_POINT('',(1.414072886352,-0.60407288634,1.013749999982));\n"
+          "#7=AXIS2_PLACEMENT_3D('',#6,#2,#3);\n"
           "#8=CIRCLE('',#7,0.010825317547);\n#9=CARTESIAN_POINT('',(1.424898203899,-0.60407288634,1.013749999982));\n"
           "#10=VERTEX_POINT('',#9);\n#11=EDGE_CURVE('',#10,#10,#8,.T.);\n";
   for (const char* edge_sense : {".T.", ".F."}) {
