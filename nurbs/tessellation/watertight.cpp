@@ -296,9 +296,10 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
       v = r.stretch.first + r.stretch.count;  // the stretch's last vertex starts the next run
       shared += int(r.xyz.size());
     }
-    for (; v < n; ++v)
+    for (; v < n; ++v) {
       out.uv.push_back(loop.uv[size_t(v)]), out.xyz.push_back(loop.xyz[size_t(v)]);
       out.edge.push_back(loop.edge[size_t(v)]);
+    }
     loop = std::move(out);
     touched[size_t(f)] = true;
   }
