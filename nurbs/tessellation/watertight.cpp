@@ -505,14 +505,14 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
       }
     std::vector<Segment> open;                 // the faces' boundary edges
     std::vector<std::array<int, 2>> open_ref;  // (triangle, edge)
-    std::vector<int> points;                   // welded ids on those edges
+    std::vector<int> points;                   // welded ids on open edges
     for (int k = 0; k < int(mesh.triangles.size()); ++k)
       for (int e = 0; e < 3; ++e) {
         const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
         if (a == b || face_uses[{face_of(k), key(a, b)}] != 1) continue;
         open.push_back({mesh.positions[size_t(a)], mesh.positions[size_t(b)]});
         open_ref.push_back({k, e});
-        points.push_back(a), points.push_back(b);
+        if (uses[key(a, b)] == 1) points.push_back(a), points.push_back(b);
       }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());

@@ -84,13 +84,12 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
 /// Closes T-junctions of a merged mesh. Vertices within `weld_tolerance` are one point (grid
 /// hashing); an edge used by one triangle is open. Triangles with two corners welded together are
 /// removed first (they cover nothing, and their two other edges, being one edge counted twice,
-/// would look closed and hide a junction on it). Each vertex on a face's boundary (an edge its own
-/// face's triangles use once) that lies on another such edge a-b (distance to the segment <=
-/// weld_tolerance, farther than weld_tolerance from a and b) splits that edge's triangle (a, b, c):
-/// where bodies touch, an edge may be used by more faces than two, and a junction's point may have
-/// no open edge of its own while the edge past it is open. The split is a fan (a, p1, c),
-/// (p1, p2, c), ..., (pk, b, c) with the points sorted along a-b; a triangle with points on several
-/// edges is split edge after edge.
+/// would look closed and hide a junction on it). Each vertex of an open edge that lies on a face's
+/// boundary edge a-b (one its own face's triangles use once: where bodies touch, an edge may be
+/// used by more faces than two, and a junction on it is closed all the same; distance to the
+/// segment <= weld_tolerance, farther than weld_tolerance from a and b) splits that edge's triangle
+/// (a, b, c) into a fan (a, p1, c), (p1, p2, c), ..., (pk, b, c) with the points sorted along a-b;
+/// a triangle with points on several edges is split edge after edge.
 /// Each split point becomes a new vertex of the triangle's face: position copied bit for bit from
 /// the point, uv, normal and color interpolated along a-b. Orientation, face ids and all existing
 /// positions are kept. Returns the number of triangles added (one per split point).

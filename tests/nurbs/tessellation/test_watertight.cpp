@@ -312,18 +312,6 @@ TEST_CASE("watertight: a T-junction on an edge that faces of two bodies share is
   CHECK(nurbs::tess::count_edges(m, weld).open == 3 + 5 + 3);
   CHECK(nurbs::tess::close_t_junctions(m, weld) == 2);  // face 0's triangle and face 2's
   CHECK(nurbs::tess::count_edges(m, weld).open == 3 + 3 + 3);
-
-  // A junction whose point has no open edge of its own: (0, 1) splits faces 1 and 2 along x = 0,
-  // which meet there, while face 0's edge (0, 0)-(0, 2) runs past it.
-  nurbs::TriangleMesh n;
-  n.positions = {{0, 0, 0}, {0, 2, 0}, {-1, 1, 0},                       // face 0
-                 {0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {1, 1, 0},             // face 1
-                 {0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 0, 1}, {0, 2, 1}};  // face 2, in x = 0
-  n.triangles = {{0, 2, 1}, {3, 6, 4}, {4, 6, 5}, {7, 8, 10}, {8, 9, 11}, {8, 11, 10}};
-  n.triangle_face = {0, 1, 1, 2, 2, 2};
-  CHECK(nurbs::tess::count_edges(n, weld).open == 3 + 2 + 3);  // face 0's three, then 1's and 2's borders
-  CHECK(nurbs::tess::close_t_junctions(n, weld) == 1);          // face 0's triangle
-  CHECK(nurbs::tess::count_edges(n, weld).open == 2 + 2 + 3);   // (0, 0)-(0, 2) split onto the others'
 }
 
 TEST_CASE("watertight: closed models lose their open edges" * test::needs_shared_models()) {
