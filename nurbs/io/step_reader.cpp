@@ -186,10 +186,7 @@ StepReader::UnpairedEdges StepReader::unpaired_edges(const std::vector<FaceJob>&
   std::unordered_map<int, std::pair<int, int>> uses;  // edge index -> (oriented uses, first face id)
   for (const FaceJob& job : jobs)
     for (const Loop& loop : job.loops)
-      for (const int edge : loop.uses) {
-        auto [it, fresh] = uses.try_emplace(edge, 0, job.f.face_id);
-        ++it->second.first;
-      }
+      for (const int edge : loop.uses) ++uses.try_emplace(edge, 0, job.f.face_id).first->second.first;
   UnpairedEdges out;
   std::unordered_map<int, long> entity_of;
   for (const auto& [ec, index] : edge_index_) entity_of.emplace(index, ec);

@@ -18,6 +18,7 @@
 #include "nurbs/model_ops.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/surface_project.h"
+#include "nurbs/tessellation/douglas_peucker.h"
 #include "nurbs/tessellation/mesh_topology.h"
 
 namespace nurbs::tess {
@@ -145,14 +146,6 @@ void start_at_edge_change(LoopPolyline& loop) {
 /// Vertex k of a stretch (the loop closes: vertex n is vertex 0).
 const glm::dvec3& stretch_xyz(const LoopPolyline& loop, const Stretch& s, int k) {
   return loop.xyz[size_t(s.first + k) % loop.xyz.size()];
-}
-
-/// Distance from p to the segment ab.
-double segment_distance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return glm::length(a + t * ab - p);
 }
 
 /// Cumulative 3D arc length along a stretch's vertices, from 0.
