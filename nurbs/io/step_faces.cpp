@@ -1,6 +1,7 @@
 // STEP faces and trims: the charts that bring a face's edges into its NURBS parameters, loops
 // through poles and apexes, the faces built from their jobs (on worker threads), shells and solids.
 #include "nurbs/io/step_reader_detail.h"
+#include "nurbs/curve_ends.h"
 
 namespace nurbs::io::step_detail {
 
@@ -87,10 +88,10 @@ Chart bspline_chart(const Surface& s, double accept) {
 // (u, v) (the material on its left: the natural parameters of ISO 10303-42's surfaces are
 // right-handed about the outer normal, and the reader has turned the bounds of a same_sense .F.
 // face round) within one turn, the narrowest such choice. Other loops are left as they are.
-void choose_branches_across_axis(std::vector<glm::dvec2>& loop) {
+void choose_branches_across_axis(const std::vector<glm::dvec2*>& loop, double turn) {
   std::vector<size_t> axis;
   for (size_t i = 0; i < loop.size(); ++i)
-    if (!std::isfinite(loop[i].x)) axis.push_back(i);
+    if (!std::isfinite(loop[i]->x)) axis.push_back(i);
   if (axis.size() < 2) return;
   // Runs between consecutive axis points (cyclically), as [begin, end) index ranges into loop.
   std::vector<std::pair<size_t, size_t>> runs;
@@ -99,8 +100,7 @@ void choose_branches_across_axis(std::vector<glm::dvec2>& loop) {
     if (e > b) runs.emplace_back(b, e);
   }
   if (runs.size() < 2 || runs.size() > 4) return;
-  const auto at = [&](size_t i) -> glm::dvec2& { return loop[i % loop.size()]; };
-  const double turn = 2 * kPi;
+  const auto at = [&](size_t i) -> glm::dvec2& { return *loop[i % loop.size()]; };
   std::vector<int> best, pick(runs.size(), 0);
   double best_extent = std::numeric_limits<double>::infinity();
   const auto combos = static_cast<int>(std::pow(3, runs.size() - 1));
@@ -119,7 +119,8 @@ void choose_branches_across_axis(std::vector<glm::dvec2>& loop) {
       }
     if (!head) return;
     area += last.x * head->y - head->x * last.y;
-    if (area > 0.0 && hi - lo <= turn + 1e-9 && hi - lo < best_extent) best_extent = hi - lo, best = pick;
+    // Twice the area, beyond the rounding of runs on one line (a seam down and up again, unshifted).
+    if (area > 1e-9 * turn * turn && hi - lo <= turn + 1e-9 && hi - lo < best_extent) best_extent = hi - lo, best = pick;
   }
   if (best.empty()) return;
   for (size_t r = 1; r < runs.size(); ++r)
@@ -131,8 +132,10 @@ void choose_branches_across_axis(std::vector<glm::dvec2>& loop) {
 // within half a period of the one before: the samples next to a pole, which have no neighbour's
 // angle to follow, land on either side of a seam edge), and the run that ends the loop shifted by
 // whole periods to end where the loop starts (a ball's seam used down to the pole and up again:
-// the way up is on the other side of the seam).
-void unwrap_across_axis(std::vector<std::vector<glm::dvec2>>& loop, double period) {
+// the way up is on the other side of the seam). An outer loop that passes the axis twice or more
+// has runs that no continuity ties together (a whole ball bounded by its seam alone, from pole to
+// pole and back): their branches are chosen by choose_branches_across_axis.
+void unwrap_across_axis(std::vector<std::vector<glm::dvec2>>& loop, double period, bool outer) {
   std::vector<glm::dvec2*> pts;
   for (auto& l : loop)
     for (glm::dvec2& q : l) pts.push_back(&q);
@@ -151,9 +154,11 @@ void unwrap_across_axis(std::vector<std::vector<glm::dvec2>>& loop, double perio
       run = i;
     last = &q;
   }
-  if (!axis || run == 0 || !last || !std::isfinite(pts.front()->x)) return;
-  const double shift = period * std::round((pts.front()->x - last->x) / period);
-  for (size_t i = run; i < pts.size(); ++i) pts[i]->x += shift;
+  if (axis && run != 0 && last && std::isfinite(pts.front()->x)) {
+    const double shift = period * std::round((pts.front()->x - last->x) / period);
+    for (size_t i = run; i < pts.size(); ++i) pts[i]->x += shift;
+  }
+  if (outer) choose_branches_across_axis(pts, period);
 }
 
 Chart analytic_chart(const Analytic& a, const AnalyticSurface& as) {
@@ -455,7 +460,11 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
         first = li;
         break;
       }
-    if (a.u_angular() && !coarse.empty()) choose_branches_across_axis(coarse[first]);
+    if (a.u_angular() && !coarse.empty()) {
+      std::vector<glm::dvec2*> pts;
+      for (glm::dvec2& q : coarse[first]) pts.push_back(&q);
+      choose_branches_across_axis(pts, 2 * kPi);
+    }
     for (size_t li = 0; li < loops.size(); ++li) {
       // A point on the axis (a pole, an apex) has no angle of its own but its latitude or height
       // belongs to the box: a meridian ending at a pole takes the patch up to it.
@@ -615,9 +624,31 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
   }
   set_gap(off);
   if (!fs.bspline && chart.period.x > 0)
-    for (auto& loop : lines) unwrap_across_axis(loop, chart.period.x);
-  // Points on an axis (apex, pole) take the angle of their neighbour along the loop.
-  for (auto& loop : lines) {
+    for (size_t li = 0; li < loops.size(); ++li) unwrap_across_axis(lines[li], chart.period.x, loops[li].outer);
+  // Points on an axis (apex, pole) take the angle of their nearest neighbour on their own edge (an
+  // edge leaving a pole starts at its own angle, not at the one the edge before arrived with), else
+  // of their neighbour along the loop.
+  // Per loop, per edge: whether it starts and ends on the axis.
+  std::vector<std::vector<std::pair<bool, bool>>> axis_ends(lines.size());
+  for (size_t li = 0; li < lines.size(); ++li) {
+    auto& loop = lines[li];
+    for (auto& l : loop) {
+      axis_ends[li].emplace_back(!l.empty() && !std::isfinite(l.front().x), !l.empty() && !std::isfinite(l.back().x));
+      const std::vector<glm::dvec2> given_uv = l;
+      for (size_t i = 0; i < l.size(); ++i) {
+        if (std::isfinite(l[i].x)) continue;
+        for (size_t k = 1; k < l.size(); ++k) {
+          if (i + k < l.size() && std::isfinite(given_uv[i + k].x)) {
+            l[i].x = given_uv[i + k].x;
+            break;
+          }
+          if (k <= i && std::isfinite(given_uv[i - k].x)) {
+            l[i].x = given_uv[i - k].x;
+            break;
+          }
+        }
+      }
+    }
     std::vector<glm::dvec2*> pts;
     for (auto& l : loop)
       for (glm::dvec2& q : l) pts.push_back(&q);
@@ -684,6 +715,13 @@ TrimmedSurface StepReader::build_face(FaceJob& job) const {
         c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree), static_cast<double>(i));
       c.knots.insert(c.knots.end(), static_cast<size_t>(c.degree) + 1, static_cast<double>(pieces));
       t.curves.push_back(std::move(c));
+      // Two edges meeting at a pole or apex at different angles: the loop runs along the axis's
+      // line of the parameter plane between them (the degenerate edge a file leaves out).
+      const size_t next = (k + 1) % lines[li].size();
+      if (axis_ends[li][k].second && axis_ends[li][next].first && !lines[li][next].empty()) {
+        const glm::dvec2 a = end_point(t.curves.back()), b = lines[li][next].front();
+        if (std::abs(a.x - b.x) > 1e-9 * chart.period.x) t.curves.push_back(segment_curve(a, {b.x, a.y}));
+      }
     }
     f.loops.push_back(std::move(t));
   }

@@ -408,22 +408,35 @@ TEST_CASE("STEP reader: a ball whose seam edge runs down to the pole and up agai
 TEST_CASE("STEP reader: a closed shell's seam used twice in a row bounds its face on both sides") {
   // A ball as one face whose loop is its seam, the meridian from pole to pole through (1, 0, 0), run
   // down and back up (as OpenCASCADE writes a sphere): each edge of the shell has two uses, so the
-  // solid stays closed. The same solid with a second meridian used once is open, and says so.
-  const std::string ball =
-      at_origin("SPHERICAL_SURFACE('',#4,1.)") +
-      "#6=DIRECTION('',(0.,1.,0.));\n#7=AXIS2_PLACEMENT_3D('',#1,#6,#3);\n#8=CIRCLE('',#7,1.);\n"
-      "#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n#11=CARTESIAN_POINT('',(0.,0.,-1.));\n"
-      "#12=VERTEX_POINT('',#11);\n#13=EDGE_CURVE('',#10,#12,#8,.T.);\n#14=ORIENTED_EDGE('',*,*,#13,.T.);\n"
-      "#15=ORIENTED_EDGE('',*,*,#13,.F.);\n";
+  // solid stays closed, and its face is the whole sphere, its trim valid. The same with the seam
+  // through (-1, 0, 0), the sphere's own seam (as Fusion 360 writes it). The same solid with a
+  // second meridian used once is open, and says so.
   const std::string solid = "#17=FACE_OUTER_BOUND('',#16,.T.);\n#18=ADVANCED_FACE('',(#17),#5,.T.);\n"
                             "#19=CLOSED_SHELL('',(#18));\n#20=MANIFOLD_SOLID_BREP('ball',#19);\n"
                             "#21=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#20),#900);\n";
-  const nurbs::Model closed =
-      nurbs::io::read_step_text(step_file(ball + "#16=EDGE_LOOP('',(#14,#15));\n" + solid), "ball.stp");
-  REQUIRE(closed.bodies.size() == 1);
-  CHECK(closed.bodies[0].closed);
-  CHECK(closed.bodies[0].not_closed.empty());
-  CHECK(closed.read_warnings.empty());
+  const auto seam_ball = [](const char* axis, const char* ref) {
+    return at_origin("SPHERICAL_SURFACE('',#4,1.)") +
+           fmt::format("#6=DIRECTION('',{});\n#22=DIRECTION('',{});\n#7=AXIS2_PLACEMENT_3D('',#1,#6,#22);\n",
+                       axis, ref) +
+           "#8=CIRCLE('',#7,1.);\n#9=CARTESIAN_POINT('',(0.,0.,1.));\n#10=VERTEX_POINT('',#9);\n"
+           "#11=CARTESIAN_POINT('',(0.,0.,-1.));\n#12=VERTEX_POINT('',#11);\n#13=EDGE_CURVE('',#10,#12,#8,.T.);\n"
+           "#14=ORIENTED_EDGE('',*,*,#13,.T.);\n#15=ORIENTED_EDGE('',*,*,#13,.F.);\n";
+  };
+  for (const auto& [axis, ref] : {std::pair{"(0.,1.,0.)", "(1.,0.,0.)"}, std::pair{"(0.,-1.,0.)", "(-1.,0.,0.)"}}) {
+    const std::string seam_ref = ref;
+    CAPTURE(seam_ref);
+    const nurbs::Model closed = nurbs::io::read_step_text(
+        step_file(seam_ball(axis, ref) + "#16=EDGE_LOOP('',(#14,#15));\n" + solid), "ball.stp");
+    REQUIRE(closed.bodies.size() == 1);
+    CHECK(closed.bodies[0].closed);
+    CHECK(closed.bodies[0].not_closed.empty());
+    CHECK(closed.read_warnings.empty());
+    const nurbs::TrimmedSurface& f = only_face(closed);
+    CHECK(f.trim_problem.empty());
+    const GridAgreement g = grid_agreement(f, [](glm::dvec3) -> std::optional<bool> { return true; });
+    CHECK(g.wrong == 0);
+  }
+  const std::string ball = seam_ball("(0.,1.,0.)", "(1.,0.,0.)");
   // A second meridian through (-1, 0, 0), down from the north pole: the loop goes round the ball
   // by two different edges, each used once.
   const std::string other = "#30=DIRECTION('',(-1.,0.,0.));\n#31=AXIS2_PLACEMENT_3D('',#1,#6,#30);\n"
