@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <glm/geometric.hpp>
+#include <limits>
+#include <map>
 #include <set>
 
 #include "nurbs/curve_eval.h"
@@ -27,7 +29,7 @@ bool segments_meet(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d, glm::
   const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
   const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
   if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
-    where = a + (b - a) * (d1 / (d1 - d2));
+    where = c + (d - c) * (d1 / (d1 - d2));  // d1, d2: c's and d's sides of the line ab
     return true;
   }
   auto on = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {  // r on segment pq, given collinear
@@ -66,7 +68,19 @@ class Touches {
   bool touch(size_t loop_e, size_t index_e, size_t loop_f, size_t index_f, glm::dvec2 where, double& size) {
     if (!(tolerance_ > 0.0)) return false;
     size = 0.0;
-    if (loop_e != loop_f) return encloses_nothing(loop_e) || encloses_nothing(loop_f);
+    if (loop_e != loop_f) {
+      if ((size = at_shared_vertex(loop_e, loop_f, where)) <= tolerance_) return true;
+      size = 0.0;
+      if (encloses_nothing(loop_e) || encloses_nothing(loop_f)) return true;
+      const std::pair<size_t, size_t> key{std::min(loop_e, loop_f), std::max(loop_e, loop_f)};
+      auto found = lens_.find(key);
+      if (found == lens_.end()) {
+        const double lens = std::max(beyond(loop_e, loop_f), beyond(loop_f, loop_e));
+        found = lens_.emplace(key, lens).first;
+      }
+      size = found->second;
+      return size <= tolerance_;
+    }
     // The two parts of the loop between the passes: vertices (i, j] and (j, i] in loop order.
     const std::vector<glm::dvec3>& xyz = lifted(loop_e);
     const size_t n = xyz.size(), i = std::min(index_e, index_f), j = std::max(index_e, index_f);
@@ -77,10 +91,67 @@ class Touches {
       return glm::length(hi - lo);
     };
     size = std::min(span(i, j - i), span(j, n - (j - i)));
+    if (size <= tolerance_) return true;
+    size = at_shared_vertex(loop_e, loop_f, where);
     return size <= tolerance_;
   }
 
  private:
+  /// How far in space the vertices of loop a on its lesser side of loop b (inside b or outside,
+  /// whichever holds fewer) lie from b's polygon: two loops that only touch (a hole tangent to the
+  /// outline, both curves fitted within the tolerance) cross in a lens no wider than the fits'
+  /// error; loops that overlap put a whole stretch of one on the wrong side.
+  double beyond(size_t a, size_t b) {
+    const std::vector<glm::dvec2>& pa = polys_.loops[a];
+    std::vector<char> in(pa.size());
+    size_t inside = 0;
+    for (size_t i = 0; i < pa.size(); ++i) inside += in[i] = winding_number(polys_.loops[b], pa[i]) != 0;
+    const bool lesser = 2 * inside < pa.size();  // the side with fewer vertices: inside when true
+    const std::vector<glm::dvec3>& xa = lifted(a);
+    const std::vector<glm::dvec3>& xb = lifted(b);
+    double worst = 0.0;
+    for (size_t i = 0; i < pa.size(); ++i) {
+      if (bool(in[i]) != lesser) continue;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (size_t k = 0; k < xb.size(); ++k) {
+        const glm::dvec3 p = xb[k], q = xb[(k + 1) % xb.size()], d = q - p;
+        const double dd = glm::dot(d, d);
+        const double t = dd > 0.0 ? std::clamp(glm::dot(xa[i] - p, d) / dd, 0.0, 1.0) : 0.0;
+        nearest = std::min(nearest, glm::length(xa[i] - (p + t * d)));
+      }
+      worst = std::max(worst, nearest);
+      if (worst > tolerance_) break;
+    }
+    return worst;
+  }
+  /// Where the loops meet at `where` in a vertex they both pass through, two of loop e's when
+  /// e = f (curve ends, in space within the tolerance): a hole whose vertex lies on the outline, a
+  /// loop through one vertex twice (BRepCheck takes meetings at a vertex as valid), how far in
+  /// space the meeting lies from those vertices; else infinity.
+  double at_shared_vertex(size_t loop_e, size_t loop_f, glm::dvec2 where) {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    if (loop_e >= face_.loops.size() || loop_f >= face_.loops.size()) return kNone;
+    const glm::dvec3 at = surface_point(face_.surface, where.x, where.y);
+    double far = 0.0;
+    const auto near = [&](size_t loop) {
+      size_t n = 0;
+      for (const glm::dvec3& v : vertices(loop))
+        if (const double d = glm::length(v - at); d <= tolerance_) ++n, far = std::max(far, d);
+      return n;
+    };
+    const bool shared = loop_e == loop_f ? near(loop_e) >= 2 : near(loop_e) >= 1 && near(loop_f) >= 1;
+    return shared ? far : kNone;
+  }
+  const std::vector<glm::dvec3>& vertices(size_t loop) {
+    if (vertices_.empty()) vertices_.resize(face_.loops.size());
+    std::vector<glm::dvec3>& out = vertices_[loop];
+    if (out.empty())
+      for (const Curve2& c : face_.loops[loop].curves) {
+        const glm::dvec2 p = start_point(c);
+        out.push_back(surface_point(face_.surface, p.x, p.y));
+      }
+    return out;
+  }
   const std::vector<glm::dvec3>& lifted(size_t loop) {
     if (xyz_.empty()) xyz_.resize(polys_.loops.size());
     std::vector<glm::dvec3>& out = xyz_[loop];
@@ -92,7 +163,8 @@ class Touches {
   const TrimmedSurface& face_;
   const TrimPolygons& polys_;
   double tolerance_;
-  std::vector<std::vector<glm::dvec3>> xyz_;
+  std::vector<std::vector<glm::dvec3>> xyz_, vertices_;
+  std::map<std::pair<size_t, size_t>, double> lens_;  ///< beyond() both ways, per pair of loops
 };
 
 /// check_trim_loops with the flattening done on demand (after the curves are known valid) when

@@ -22,12 +22,16 @@ namespace nurbs {
                                                         double flatten_tolerance);
 /// The same with the loops already flattened (flatten_trim of this face, whose curves are valid),
 /// for callers that also orient the loops: one flattening serves both. With `touch_tolerance` (model
-/// units, > 0), two kinds of meeting are touches, as OpenCASCADE's BRepCheck holds them, not
-/// crossings: a loop meeting itself where the part of it between the two passes spans at most
+/// units, > 0), these meetings are touches, as OpenCASCADE's BRepCheck holds them, not crossings:
+/// a loop meeting itself where the part of it between the two passes spans at most
 /// `touch_tolerance` in space (a loop through a surface's pole, a pcurve running out and back along
-/// a degenerate side, curve ends a hair apart), and any meeting with a loop that encloses no area (a
-/// pcurve retracing itself). `touch_size`, when given, gets the largest span of a touch taken: the
-/// face's boundary is known only that closely there.
+/// a degenerate side, curve ends a hair apart); any meeting with a loop that encloses no area (a
+/// pcurve retracing itself); a meeting within `touch_tolerance` of a vertex (curve end) that both
+/// loops pass through, or that the loop passes twice (a hole whose vertex lies on the outline); and
+/// two loops whose vertices on the wrong side of each other lie within `touch_tolerance` of it (a
+/// hole tangent to the outline, the fits crossing in a thin lens). `touch_size`, when given, gets
+/// the largest span, distance from the vertex or lens width of a touch taken: the face's boundary
+/// is known only that closely there.
 [[nodiscard]] std::vector<std::string> check_trim_loops(const TrimmedSurface& face, double gap_tolerance,
                                                         const TrimPolygons& polygons, double touch_tolerance = 0.0,
                                                         double* touch_size = nullptr);

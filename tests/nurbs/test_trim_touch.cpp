@@ -32,6 +32,11 @@ std::vector<std::string> problems(const nurbs::TrimmedSurface& face, double touc
   return nurbs::check_trim_loops(face, 1e-9, nurbs::flatten_trim(face, 1e-9), touch, size);
 }
 
+std::string first_problem(const nurbs::TrimmedSurface& face, double touch) {
+  const std::vector<std::string> p = problems(face, touch);
+  return p.empty() ? std::string() : p.front();
+}
+
 }  // namespace
 
 TEST_CASE("trim touch: a loop meeting itself at a pole is valid, the same loop on a plane is not") {
@@ -107,4 +112,53 @@ TEST_CASE("trim bridge: a loop missing a short edge is closed, its length return
   CHECK(nurbs::bridge_open_joints(tube, 10.0, 1e-9, added) == 0.0);
   CHECK(added == 0);
   CHECK(!nurbs::check_trim_loops(tube, 1e-9, 1e-9).empty());  // the seam jump stays open
+}
+
+TEST_CASE("trim touch: loops meeting at a vertex they share are valid, crossing there by a stretch is not") {
+  nurbs::TrimmedSurface face;
+  face.face_id = 624;
+  face.surface = models::bilinear_square(1.0);
+  // A hole whose corner is a vertex of the outline's right side (the outline split there), as a
+  // 5 mm LED's flange writes its hole against the flat.
+  const nurbs::TrimLoop outline = polygon_loop({{0.1, 0.1}, {0.8, 0.1}, {0.8, 0.5}, {0.8, 0.9}, {0.1, 0.9}});
+  face.loops = {outline, polygon_loop({{0.8, 0.5}, {0.6, 0.65}, {0.4, 0.5}, {0.6, 0.35}})};
+  face.loops[1].outer = false;
+  CHECK(first_problem(face, 0.0).find("face 624: loops 0 and 1 cross") == 0);
+  CHECK(problems(face, 1e-3).empty());
+  // One loop through that vertex twice: along the bottom to its middle, round the hole the other
+  // way, on along the bottom.
+  face.loops = {polygon_loop({{0.1, 0.1}, {0.5, 0.1}, {0.3, 0.3}, {0.5, 0.5}, {0.7, 0.3}, {0.5, 0.1}, {0.8, 0.1},
+                              {0.8, 0.9}, {0.1, 0.9}})};
+  CHECK(first_problem(face, 0.0).find("face 624: loop 0 crosses itself") == 0);
+  CHECK(problems(face, 1e-3).empty());
+  // The hole moved 0.1 to the right runs out of the outline between vertices: a crossing.
+  face.loops = {outline, polygon_loop({{0.9, 0.5}, {0.7, 0.65}, {0.5, 0.5}, {0.7, 0.35}})};
+  face.loops[1].outer = false;
+  CHECK(first_problem(face, 1e-3).find("face 624: loops 0 and 1 cross near (u, v) = (0.8, 0.575)") == 0);
+}
+
+TEST_CASE("trim touch: a hole tangent to the outline, fitted a hair beyond it, touches; one a stretch beyond crosses") {
+  // The hole a 48-gon of radius 0.25 tangent to the outline's right side x = 0.8 at (0.8, 0.5),
+  // pushed `out` beyond it: its points past the side lie at most `out` from it.
+  nurbs::TrimmedSurface face;
+  face.face_id = 78;
+  face.surface = models::bilinear_square(1.0);
+  const auto hole = [](double out) {
+    std::vector<glm::dvec2> points;
+    for (int k = 0; k < 48; ++k) {
+      const double a = -2.0 * M_PI * k / 48;  // clockwise: a hole
+      points.emplace_back(0.55 + out + 0.25 * std::cos(a), 0.5 + 0.25 * std::sin(a));
+    }
+    nurbs::TrimLoop loop = polygon_loop(points);
+    loop.outer = false;
+    return loop;
+  };
+  face.loops = {polygon_loop({{0.1, 0.1}, {0.8, 0.1}, {0.8, 0.9}, {0.1, 0.9}}), hole(1e-4)};
+  CHECK(first_problem(face, 0.0).find("face 78: loops 0 and 1 cross") == 0);
+  double size = -1.0;
+  CHECK(problems(face, 1e-3, &size).empty());
+  CHECK(size == doctest::Approx(1e-4).epsilon(1e-6));
+  face.loops[1] = hole(0.02);
+  CHECK(first_problem(face, 1e-3).find("face 78: loops 0 and 1 cross") == 0);
+  CHECK(problems(face, 0.03).empty());  // within a touch tolerance beyond its 0.02
 }
