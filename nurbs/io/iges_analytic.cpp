@@ -142,8 +142,10 @@ AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& pare
       break;
     }
     case 120: {  // L (axis line), C (generatrix), SA, TA (radians)
-      const Curve3 axis = single_curve(g, p, 1, m);
-      Curve3 generatrix = single_curve(g, p, 2, m);
+      // Turned in the entity's own space, then placed: a placing transform that mirrors (a 124 of
+      // form 1, determinant -1) mirrors the turn's sense with it.
+      const Curve3 axis = single_curve(g, p, 1, glm::dmat4(1.0));
+      Curve3 generatrix = single_curve(g, p, 2, glm::dmat4(1.0));
       const double sa = p.real(3), ta = p.real(4);
       if (!(sa < ta)) p.fail(3, fmt::format("start angle {} is not less than terminate angle {}", sa, ta));
       p.check_trailing(4);
@@ -156,7 +158,7 @@ AnalyticSurface analytic_surface(IgesGeometry& g, int de, const glm::dmat4& pare
       const glm::dvec3 o = axis.points.front(), d = glm::normalize(axis.points.back() - o);
       out.surface = revolve(generatrix, o, d, lo.y, dv, false);
       out.v = angular_axis(1.0, lo.y, hi.y);
-      return out;  // already in model space
+      break;
     }
     case 122: {  // DE (directrix), LX, LY, LZ (the generatrix end)
       const Curve3 c = single_curve(g, p, 1, m);

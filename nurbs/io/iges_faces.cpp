@@ -214,7 +214,7 @@ void IgesFaces::no_parameter_curve(int de, const std::string& what) {
 // parameter curves are then in the analytic surface's IGES (u, v), mapped with it
 // (set_analytic_surface).
 TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
-  const int pts = g_.expect(p, 1, {128, 120, 122, 190, 192, 194, 196, 198}, "a surface");
+  const int pts = g_.expect(p, 1, {128, 108, 120, 122, 190, 192, 194, 196, 198}, "a surface");
   const bool analytic = is_analytic_surface_type(g_.file().entry(pts).type);
   const int n1 = p.integer(2, 0, 1, "outer boundary flag N1");
   const int n2 = p.integer(3, 0, std::max(0, p.size() - 4), "number of inner boundaries N2");
@@ -235,6 +235,11 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
                [](const ParameterRef& r) { return r.de != 0; });
   reject_repeats(p, given, "the parameter-space curve of loop");
   TrimmedSurface f;
+  if (g_.file().entry(pts).type == 108) {
+    std::vector<int> des;
+    for (const ParameterRef& l : loops) des.push_back(l.de);
+    return face_144_on_plane(p, m, pts, des, n1);
+  }
   if (analytic) {
     // The range bounds a face without outer boundary; 190-198 have none (unbounded parameters).
     const auto range = n1 == 0 ? analytic_range(g_, pts) : std::nullopt;
@@ -266,6 +271,57 @@ TrimmedSurface IgesFaces::face_144(const EntityParams& p, const glm::dmat4& m) {
     }
     f.loops.push_back(std::move(loop));
     if (curves[k].de != 0) add_model_curve(f, loops[k].de);
+  }
+  measure_edge_gaps(f, m);
+  return f;
+}
+
+// A 144 on a 108 plane (A x + B y + C z = D; OpenCASCADE writes its planes so): IGES gives a plane
+// no parametrization, so its 142s are read by their model-space curves CPTR, projected onto a
+// patch of the plane (u, v along default_x of its normal and the normal cross that) over the
+// curves' extent on it, widened by a hundredth each way. Unbounded (N1 = 0) or without model-space
+// curves, the face is refused.
+TrimmedSurface IgesFaces::face_144_on_plane(const EntityParams& p, const glm::dmat4& m, int pts,
+                                            const std::vector<int>& loops, int n1) {
+  if (n1 == 0) g_.fail(p.entry().de, fmt::format("has no outer boundary (N1 = 0) and its surface D{} is an "
+                                                 "unbounded plane",
+                                                 pts));
+  EntityParams plane(g_.file(), g_.file().entry(pts));
+  const glm::dvec3 normal(plane.real(1), plane.real(2), plane.real(3));
+  const double length = glm::length(normal);
+  if (!(length > 0.0) || !std::isfinite(plane.real(4))) plane.fail(1, "plane normal (A, B, C) has zero length");
+  const glm::dmat4 mp = m * g_.transform(pts);
+  const glm::dvec3 n = glm::normalize(glm::dvec3(mp * glm::dvec4(normal / length, 0.0)));
+  const glm::dvec3 o(mp * glm::dvec4(plane.real(4) / (length * length) * normal, 1.0));
+  const glm::dvec3 x = default_x(n), y = glm::cross(n, x);
+  std::vector<std::vector<Curve3>> model(loops.size());
+  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (size_t k = 0; k < loops.size(); ++k) {
+    EntityParams c(g_.file(), g_.file().entry(loops[k]));
+    const int cptr = g_.expect(c, 4, kCurveTypes, "a curve", true);
+    if (cptr == 0)
+      no_parameter_curve(loops[k], fmt::format("has no model-space curve (CPTR = 0) and its face's surface D{} "
+                                                  "is a 108 plane, which IGES gives no parameters",
+                                                  pts));
+    model[k] = g_.curves(cptr, m);
+    for (const Curve3& curve : model[k]) {
+      const Interval d = curve_domain(curve);
+      for (int i = 0; i <= 64; ++i) {
+        const glm::dvec3 q = curve_point(curve, d.min + d.width() * i / 64) - o;
+        const glm::dvec2 uv(glm::dot(q, x), glm::dot(q, y));
+        lo = glm::min(lo, uv), hi = glm::max(hi, uv);
+      }
+    }
+  }
+  if (!(hi.x >= lo.x && hi.y >= lo.y)) g_.fail(p.entry().de, "has no trim curves on its plane");
+  const glm::dvec2 margin = 0.01 * (hi - lo) + glm::dvec2(1e-9 * glm::length(hi - lo));
+  TrimmedSurface f;
+  f.surface = plane_patch(o, x, y, lo - margin, hi + margin);
+  for (size_t k = 0; k < loops.size(); ++k) {
+    TrimLoop loop;
+    loop.outer = n1 == 1 && k == 0;
+    for (const Curve3& c : model[k]) loop.curves.push_back(projected(f.surface, c, loops[k]));
+    f.loops.push_back(std::move(loop));
   }
   measure_edge_gaps(f, m);
   return f;

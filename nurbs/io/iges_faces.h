@@ -37,6 +37,8 @@ class IgesFaces {
 
  private:
   TrimmedSurface face_144(const EntityParams& p, const glm::dmat4& m);
+  TrimmedSurface face_144_on_plane(const EntityParams& p, const glm::dmat4& m, int pts,
+                                   const std::vector<int>& loops, int n1);
   TrimmedSurface face_143(const EntityParams& p, const glm::dmat4& m);
   TrimmedSurface face_510(const EntityParams& p, const glm::dmat4& m);
   std::pair<int, int> curve_142(int de);

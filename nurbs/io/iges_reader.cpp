@@ -31,7 +31,7 @@ bool is_read_type(int type) {
     case 143:
     case 144:
     case 186:
-    case 108:  // bounded planes (form 1) are faces; 108 under a 143/144 is not read
+    case 108:  // bounded planes (form 1) are faces; a 108 under a 144 is read with it
     case 120:  // 120, 122, 190-198: analytic surfaces, read for the 144 and 510 faces on them (iges_analytic.h)
     case 122:
     case 190:

@@ -551,3 +551,40 @@ TEST_CASE("IGES 144 over a 120 whose generatrix is an arc: the pcurves' u is the
     CHECK(nearest < 1e-12);
   }
 }
+
+TEST_CASE("IGES 144 over a 120 placed by a mirroring 124: the face is the mirror image of the turned one") {
+  // The cone of `revolution` placed by the mirror x -> -x (a 124 of form 1, determinant -1, as
+  // OpenCASCADE writes mirrored parts): the trim's corners at (u, v) land on the mirror of cone(u, v),
+  // where turning the mirrored generatrix the right-handed way would put them at (x, -y) of that.
+  using namespace revolution;
+  nurbs::Model base;
+  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
+  nurbs::TrimmedSurface bump;
+  bump.surface = nurbs::io::test::bump();
+  base.bodies[0].faces.push_back(bump);
+  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(base));
+  const int surface = surface_120(e, 0.0, 2 * std::numbers::pi);
+  const int mirror = e.append(124, {"-1", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0"}, 1);
+  e.set_de_field(surface, 7, mirror);
+  const glm::dvec2 c[4] = {{kU0, kV0}, {kU1, kV0}, {kU1, kV1}, {kU0, kV1}};
+  std::vector<std::string> pieces{"4"};
+  for (int k = 0; k < 4; ++k)
+    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
+  const int on_surface = e.append(142, {"1", s(surface), s(e.append(102, pieces)), "0", "2"});
+  const int face = e.append(144, {s(surface), "1", "0", s(on_surface)});
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "mirrored_revolution.igs", {}, &log);
+  CHECK(m.dropped_faces.empty());
+  CHECK(log.trim_problems.empty());
+  const nurbs::TrimmedSurface* f = find_face(m, face);
+  REQUIRE(f != nullptr);
+  REQUIRE(f->loops.size() == 1);
+  for (const glm::dvec2& q : c) {
+    const glm::dvec3 expected = cone(q.x, q.y) * glm::dvec3(-1, 1, 1);
+    double nearest = 1e300;
+    for (const nurbs::Curve2& curve : f->loops[0].curves)
+      for (const glm::dvec2& st : curve.points)
+        nearest = std::min(nearest, glm::length(nurbs::surface_point(f->surface, st.x, st.y) - expected));
+    CHECK(nearest < 1e-12);
+  }
+}

@@ -1,8 +1,12 @@
 // IGES 108 bounded plane (form 1, IGES 5.3 §4.8) as a face: a bilinear patch in the plane with the
 // boundary curve as its outer loop, mapped exactly; classification of surface points against the
-// exact boundary (a circle), a transform, and the errors of a boundary off the plane.
+// exact boundary (a circle), a transform, and the errors of a boundary off the plane; a 144 trimmed
+// surface over an unbounded 108, trimmed by its model-space curves.
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 
 #include "iges_edit.h"
@@ -92,4 +96,59 @@ TEST_CASE("IGES 108: a boundary off the plane is refused, naming the entity") {
     CHECK(what.find("type 108") != std::string::npos);
     CHECK(what.find("off the plane") != std::string::npos);
   }
+}
+
+TEST_CASE("IGES 144 over a 108 plane: its loops are its model-space curves on the plane") {
+  // The plane z = 2 (unbounded, form 0, as OpenCASCADE writes a face's plane) trimmed by the square
+  // [-1, 1]^2 and a hole of radius 0.5 about the z axis, given by model-space curves only (142: BPTR
+  // = 0, PREF = 2): IGES gives a plane no parameters.
+  int plane = 0;
+  IgesEdit e = plane_file(2.0, plane);
+  const int unbounded = e.append(108, {"0.", "0.", "1.", "2.", "0", "0.", "0.", "0.", "0."});
+  const glm::dvec2 c[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  std::vector<std::string> sides{"4"};
+  for (int k = 0; k < 4; ++k) {
+    const glm::dvec2 a = c[k], b = c[(k + 1) % 4];
+    sides.push_back(std::to_string(e.append(110, {fmt::format("{}", a.x), fmt::format("{}", a.y), "2.",
+                                                  fmt::format("{}", b.x), fmt::format("{}", b.y), "2."})));
+  }
+  const int square = e.append(102, sides);
+  const int hole = e.append(100, {"2.", "0.", "0.", "0.5", "0.", "0.5", "0."});
+  const int outer = e.append(142, {"0", std::to_string(unbounded), "0", std::to_string(square), "2"});
+  const int inner = e.append(142, {"0", std::to_string(unbounded), "0", std::to_string(hole), "2"});
+  const int face = e.append(144, {std::to_string(unbounded), "1", "1", std::to_string(outer), std::to_string(inner)});
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "plane_144.igs", {}, &log);
+  CHECK(m.dropped_faces.empty());
+  CHECK(log.trim_problems.empty());
+  const nurbs::TrimmedSurface* f = find_face(m, face);
+  REQUIRE(f != nullptr);
+  REQUIRE(f->loops.size() == 2);
+  CHECK(f->edge_gap < 1e-12);
+  const nurbs::Interval du = nurbs::surface_domain_u(f->surface), dv = nurbs::surface_domain_v(f->surface);
+  const nurbs::TrimPolygons trim = nurbs::flatten_trim(*f, 1e-6);
+  int inside = 0, checked = 0;
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i) {
+      const glm::dvec2 uv(du.min + du.width() * (i + 0.5) / 40, dv.min + dv.width() * (j + 0.5) / 40);
+      const glm::dvec3 p = nurbs::surface_point(f->surface, uv.x, uv.y);
+      CHECK(p.z == doctest::Approx(2.0).epsilon(1e-12));
+      const double r = std::hypot(p.x, p.y), box = std::max(std::abs(p.x), std::abs(p.y));
+      if (std::abs(r - 0.5) < 1e-3 || std::abs(box - 1.0) < 1e-3) continue;
+      CHECK(nurbs::is_material(trim, uv) == (r > 0.5 && box < 1.0));
+      inside += r > 0.5 && box < 1.0;
+      ++checked;
+    }
+  CHECK(inside > 800);
+  CHECK(checked > 1500);
+  const auto d = nurbs::surface_derivatives(f->surface, du.min + 0.5 * du.width(), dv.min + 0.5 * dv.width());
+  CHECK(glm::cross(d.su, d.sv).z > 0);
+
+  // A 142 on the plane with a parameter-space curve and no model-space one: dropped, saying why.
+  const int given = e.append(142, {"0", std::to_string(unbounded), std::to_string(square), "0", "1"});
+  const int no_model = e.append(144, {std::to_string(unbounded), "1", "0", std::to_string(given)});
+  const nurbs::Model d2 = nurbs::io::read_iges_text(e.text(), "plane_144.igs", {}, nullptr);
+  REQUIRE(d2.dropped_faces.size() == 1);
+  CHECK(d2.dropped_faces[0].entity == fmt::format("D{}", no_model));
+  CHECK(d2.dropped_faces[0].reason.find("is a 108 plane, which IGES gives no parameters") != std::string::npos);
 }

@@ -186,7 +186,7 @@ const Case kCases[] = {
            int t = e.find(144);
            e.fields(t)[1] = std::to_string(e.find(142));
            return std::vector<std::string>{
-               ent(t, 144), "is an entity of type 142, expected a surface (128/120/122/190/192/194/196/198)"};
+               ent(t, 144), "is an entity of type 142, expected a surface (128/108/120/122/190/192/194/196/198)"};
          }),
     edit("too few parameters",
          [](IgesEdit& e) {
