@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <array>
 #include <functional>
 #include <glm/geometric.hpp>
 #include <numbers>
@@ -416,23 +417,16 @@ struct File {
 
 constexpr double kU0 = 0.25, kU1 = 0.75, kV0 = 0.5, kV1 = 2.0;
 
+constexpr std::array<glm::dvec2, 4> kCorners = {glm::dvec2{kU0, kV0}, {kU1, kV0}, {kU1, kV1}, {kU0, kV1}};
+
+IgesEdit base_file();
+int quadrilateral_face(IgesEdit& e, int surface, const std::array<glm::dvec2, 4>& c);
+
 File make_file() {
-  nurbs::Model base;  // a loose 128 first (the writer's file frame), then the 144s
-  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
-  nurbs::TrimmedSurface bump;
-  bump.surface = nurbs::io::test::bump();
-  base.bodies[0].faces.push_back(bump);
-  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(base));
+  IgesEdit e = base_file();  // a loose 128 first (the writer's file frame), then the 144s
   File f;
   // Face 1: the rectangle [kU0, kU1] x [kV0, kV1] of the 120's (u, v), a 102 of four 110 lines.
-  const int s1 = surface_120(e, 0.0, 2 * std::numbers::pi);
-  const glm::dvec2 c[4] = {{kU0, kV0}, {kU1, kV0}, {kU1, kV1}, {kU0, kV1}};
-  std::vector<std::string> pieces{"4"};
-  for (int k = 0; k < 4; ++k)
-    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
-  const int composite = e.append(102, pieces);
-  const int on_surface = e.append(142, {"1", s(s1), s(composite), "0", "2"});
-  f.trimmed = e.append(144, {s(s1), "1", "0", s(on_surface)});
+  f.trimmed = quadrilateral_face(e, surface_120(e, 0.0, 2 * std::numbers::pi), kCorners);
   // Face 2: no outer boundary (N1 = 0): the whole 120 between its angles.
   const int s2 = surface_120(e, kV0, kV1);
   f.whole = e.append(144, {s(s2), "0", "0", "0"});
@@ -463,6 +457,46 @@ double trimmed_area(const nurbs::TrimmedSurface& f, int n) {
   return area;
 }
 
+// An IGES file holding a loose 128 (the writer's file frame), to append entities to.
+IgesEdit base_file() {
+  nurbs::Model base;
+  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
+  nurbs::TrimmedSurface bump;
+  bump.surface = nurbs::io::test::bump();
+  base.bodies[0].faces.push_back(bump);
+  return IgesEdit::parse(nurbs::io::write_iges_text(base));
+}
+
+// A 144 on `surface` whose outer loop is the (u, v) quadrilateral c (a 102 of four 110 lines, the
+// 142's parameter curve); returns the 144.
+int quadrilateral_face(IgesEdit& e, int surface, const std::array<glm::dvec2, 4>& c) {
+  std::vector<std::string> pieces{"4"};
+  for (int k = 0; k < 4; ++k)
+    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
+  const int on_surface = e.append(142, {"1", s(surface), s(e.append(102, pieces)), "0", "2"});
+  return e.append(144, {s(surface), "1", "0", s(on_surface)});
+}
+
+// Reads the file; the 144 `face` is read whole, one loop whose control points come within 1e-12 of
+// `expected` at each corner (u, v) of c.
+void check_corners(const IgesEdit& e, int face, const std::array<glm::dvec2, 4>& c,
+                   const std::function<glm::dvec3(glm::dvec2)>& expected) {
+  nurbs::io::IgesReadLog log;
+  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "revolution.igs", {}, &log);
+  CHECK(m.dropped_faces.empty());
+  CHECK(log.trim_problems.empty());
+  const nurbs::TrimmedSurface* f = find_face(m, face);
+  REQUIRE(f != nullptr);
+  REQUIRE(f->loops.size() == 1);
+  for (const glm::dvec2& q : c) {
+    double nearest = 1e300;
+    for (const nurbs::Curve2& curve : f->loops[0].curves)
+      for (const glm::dvec2& st : curve.points)
+        nearest = std::min(nearest, glm::length(nurbs::surface_point(f->surface, st.x, st.y) - expected(q)));
+    CHECK(nearest < 1e-12);
+  }
+}
+
 }  // namespace revolution
 
 TEST_CASE("IGES 144 over a 120 surface of revolution: exact surface, trims in place, area kept") {
@@ -485,8 +519,7 @@ TEST_CASE("IGES 144 over a 120 surface of revolution: exact surface, trims in pl
       CHECK(std::abs(std::hypot(p.x, p.y) - (1 + p.z / 2)) < 1e-12);
     }
   // The loop's corners are the cone's points at the file's (u, v) corners.
-  const glm::dvec2 corners[4] = {{kU0, kV0}, {kU1, kV0}, {kU1, kV1}, {kU0, kV1}};
-  for (const glm::dvec2& q : corners) {
+  for (const glm::dvec2& q : kCorners) {
     double nearest = 1e300;
     for (const nurbs::Curve2& c : f->loops[0].curves)
       for (const glm::dvec2& st : c.points)
@@ -519,37 +552,14 @@ TEST_CASE("IGES 144 over a 120 whose generatrix is an arc: the pcurves' u is the
     return glm::dvec3(q.x * std::cos(v) - q.y * std::sin(v), q.x * std::sin(v) + q.y * std::cos(v), 0.0);
   };
   const double a0 = std::numbers::pi / 3, a1 = 2 * std::numbers::pi / 3;
-  nurbs::Model base;
-  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
-  nurbs::TrimmedSurface bump;
-  bump.surface = nurbs::io::test::bump();
-  base.bodies[0].faces.push_back(bump);
-  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(base));
+  IgesEdit e = base_file();
   const int axis = line(e, {0, 0, 0}, {0, 0, 1});
   const int arc = e.append(100, {"0", "2", "0", revolution::r(2 + std::cos(a0)), revolution::r(std::sin(a0)),
                                  revolution::r(2 + std::cos(a1)), revolution::r(std::sin(a1))});
   const int surface = e.append(120, {s(axis), s(arc), "0", revolution::r(2 * std::numbers::pi)});
   const double u0 = 1.2, u1 = 1.9, v0 = 0.5, v1 = 2.0;  // inside [a0, a1] x [0, 2 pi]
-  const glm::dvec2 c[4] = {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
-  std::vector<std::string> pieces{"4"};
-  for (int k = 0; k < 4; ++k)
-    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
-  const int on_surface = e.append(142, {"1", s(surface), s(e.append(102, pieces)), "0", "2"});
-  const int face = e.append(144, {s(surface), "1", "0", s(on_surface)});
-  nurbs::io::IgesReadLog log;
-  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "arc_revolution.igs", {}, &log);
-  CHECK(m.dropped_faces.empty());
-  CHECK(log.trim_problems.empty());
-  const nurbs::TrimmedSurface* f = find_face(m, face);
-  REQUIRE(f != nullptr);
-  REQUIRE(f->loops.size() == 1);
-  for (const glm::dvec2& q : c) {
-    double nearest = 1e300;
-    for (const nurbs::Curve2& curve : f->loops[0].curves)
-      for (const glm::dvec2& st : curve.points)
-        nearest = std::min(nearest, glm::length(nurbs::surface_point(f->surface, st.x, st.y) - point(q.x, q.y)));
-    CHECK(nearest < 1e-12);
-  }
+  const std::array<glm::dvec2, 4> c = {glm::dvec2{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
+  check_corners(e, quadrilateral_face(e, surface, c), c, [&](glm::dvec2 q) { return point(q.x, q.y); });
 }
 
 TEST_CASE("IGES 144 over a 120 placed by a mirroring 124: the face is the mirror image of the turned one") {
@@ -557,34 +567,10 @@ TEST_CASE("IGES 144 over a 120 placed by a mirroring 124: the face is the mirror
   // OpenCASCADE writes mirrored parts): the trim's corners at (u, v) land on the mirror of cone(u, v),
   // where turning the mirrored generatrix the right-handed way would put them at (x, -y) of that.
   using namespace revolution;
-  nurbs::Model base;
-  base.bodies.push_back({"b", {}, glm::dmat4(1.0), ""});
-  nurbs::TrimmedSurface bump;
-  bump.surface = nurbs::io::test::bump();
-  base.bodies[0].faces.push_back(bump);
-  IgesEdit e = IgesEdit::parse(nurbs::io::write_iges_text(base));
+  IgesEdit e = base_file();
   const int surface = surface_120(e, 0.0, 2 * std::numbers::pi);
   const int mirror = e.append(124, {"-1", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0"}, 1);
   e.set_de_field(surface, 7, mirror);
-  const glm::dvec2 c[4] = {{kU0, kV0}, {kU1, kV0}, {kU1, kV1}, {kU0, kV1}};
-  std::vector<std::string> pieces{"4"};
-  for (int k = 0; k < 4; ++k)
-    pieces.push_back(s(line(e, {c[k].x, c[k].y, 0}, {c[(k + 1) % 4].x, c[(k + 1) % 4].y, 0})));
-  const int on_surface = e.append(142, {"1", s(surface), s(e.append(102, pieces)), "0", "2"});
-  const int face = e.append(144, {s(surface), "1", "0", s(on_surface)});
-  nurbs::io::IgesReadLog log;
-  const nurbs::Model m = nurbs::io::read_iges_text(e.text(), "mirrored_revolution.igs", {}, &log);
-  CHECK(m.dropped_faces.empty());
-  CHECK(log.trim_problems.empty());
-  const nurbs::TrimmedSurface* f = find_face(m, face);
-  REQUIRE(f != nullptr);
-  REQUIRE(f->loops.size() == 1);
-  for (const glm::dvec2& q : c) {
-    const glm::dvec3 expected = cone(q.x, q.y) * glm::dvec3(-1, 1, 1);
-    double nearest = 1e300;
-    for (const nurbs::Curve2& curve : f->loops[0].curves)
-      for (const glm::dvec2& st : curve.points)
-        nearest = std::min(nearest, glm::length(nurbs::surface_point(f->surface, st.x, st.y) - expected));
-    CHECK(nearest < 1e-12);
-  }
+  check_corners(e, quadrilateral_face(e, surface, kCorners), kCorners,
+                [](glm::dvec2 q) { return cone(q.x, q.y) * glm::dvec3(-1, 1, 1); });
 }
