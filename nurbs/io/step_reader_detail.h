@@ -190,7 +190,11 @@ struct Analytic {
         uv = {std::atan2(y, x), std::atan2(z, rho)};
         break;
       case Torus:
-        uv = {std::atan2(y, x), std::atan2(z, rho - r)};
+        // A spindle torus (minor radius above the major) holds points on its inner part at angle u
+        // + pi, where r + r2 cos v < 0: the side whose tube circle passes nearer is p's.
+        uv = std::abs(std::hypot(rho + r, z) - r2) < std::abs(std::hypot(rho - r, z) - r2)
+                 ? glm::dvec2(std::atan2(-y, -x), std::atan2(z, -rho - r))
+                 : glm::dvec2(std::atan2(y, x), std::atan2(z, rho - r));
         break;
       case Revolution: {
         // Turn p back by u into the profile's half-plane, then the nearest profile point. A profile

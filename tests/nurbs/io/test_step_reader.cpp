@@ -1179,3 +1179,36 @@ TEST_CASE("model format by content: STEP and IGES starts are told apart, anythin
   CHECK(sniff_model_format("solid cube\n  facet normal 0 0 1\n") == ModelFormat::Unknown);
   CHECK(sniff_model_format("") == ModelFormat::Unknown);
 }
+
+TEST_CASE("STEP reader: a face on a spindle torus's inner part lies on it") {
+  // TOROIDAL_SURFACE of major radius 1 and minor radius 3 (a screw head's dome, EUCLID): its inner
+  // part, where 1 + 3 cos v < 0, holds each point at angle u + pi. The band of it between the circles
+  // v = 2.5 and v = 2 pi - 2.5: radius rho = -(1 + 3 cos 2.5) at heights z = +-3 sin 2.5.
+  const double rho = -(1 + 3 * std::cos(2.5)), z = 3 * std::sin(2.5);
+  std::string d = at_origin("TOROIDAL_SURFACE('',#4,1.,3.)");
+  for (const auto& [k, h] : {std::pair{0, z}, std::pair{1, -z}}) {
+    const int n = 6 + 10 * k;
+    d += fmt::format(
+        "#{}=CARTESIAN_POINT('',(0.,0.,{}));\n#{}=AXIS2_PLACEMENT_3D('',#{},#2,#3);\n#{}=CIRCLE('',#{},{});\n"
+        "#{}=CARTESIAN_POINT('',({},0.,{}));\n#{}=VERTEX_POINT('',#{});\n#{}=EDGE_CURVE('',#{},#{},#{},.T.);\n"
+        "#{}=ORIENTED_EDGE('',*,*,#{},.T.);\n#{}=EDGE_LOOP('',(#{}));\n#{}=FACE_BOUND('',#{},{});\n",
+        n, h, n + 1, n, n + 2, n + 1, rho, n + 3, rho, h, n + 4, n + 3, n + 5, n + 4, n + 4, n + 2, n + 6, n + 5,
+        n + 7, n + 6, n + 8, n + 7, k == 0 ? ".T." : ".F.");
+  }
+  d += "#30=ADVANCED_FACE('',(#14,#24),#5,.T.);\n#31=OPEN_SHELL('',(#30));\n"
+       "#32=SHELL_BASED_SURFACE_MODEL('',(#31));\n#33=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#900);\n";
+  const nurbs::Model m = nurbs::io::read_step_text(step_file(d), "spindle.stp");
+  CHECK(m.dropped_faces.empty());
+  const nurbs::TrimmedSurface& f = only_face(m);
+  CHECK(f.trim_problem.empty());
+  CHECK(f.edge_gap < 1e-9);
+  // Every point of the patch lies on the inner part: distance rho' from the axis with
+  // (rho' + 1)^2 + z^2 = 9, within the band and the margin the patch takes beyond its edges.
+  const nurbs::Interval u = nurbs::surface_domain_u(f.surface), v = nurbs::surface_domain_v(f.surface);
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j) {
+      const glm::dvec3 p = nurbs::surface_point(f.surface, u.min + u.width() * i / 8, v.min + v.width() * j / 8);
+      CHECK(std::abs(std::hypot(std::hypot(p.x, p.y) + 1, p.z) - 3) < 1e-9);
+      CHECK(std::abs(p.z) < z + 0.1);
+    }
+}
