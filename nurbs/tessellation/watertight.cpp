@@ -346,6 +346,7 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
   struct Best {
     int face, segment;
     double d, t, within;  ///< within: the distance to which the two faces' vertices are one point
+    glm::dvec2 foot;      ///< on the face's (u, v): the two sides of its seam are two matches
   };
   // Across a B-rep edge whose faces' file edges lie off their surfaces (TrimmedSurface::edge_gap),
   // the two loops lie up to both gaps apart: vertices of the same edge match that far.
@@ -368,18 +369,21 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       const double within =
           tolerance + (same_edge ? faces[size_t(f)].edge_gap + faces[size_t(g)].edge_gap : 0.0);
       if (d > within) return;
-      if (g == f) {  // the same face: only across its seam, never its own neighbouring edges
-        const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
-        const glm::dvec2 foot = glm::mix(loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()], t);
-        if (!(std::abs(foot.x - uv.x) > 0.5 * period[size_t(f)].x ||
-              std::abs(foot.y - uv.y) > 0.5 * period[size_t(f)].y))
-          return;
-      }
-      auto it = std::find_if(best.begin(), best.end(), [&](const Best& b) { return b.face == g; });
+      const LoopPolyline& loop = loops[size_t(g)][size_t(l)];
+      const glm::dvec2 foot = glm::mix(loop.uv[size_t(i)], loop.uv[(size_t(i) + 1) % loop.uv.size()], t);
+      const auto across_seam = [&](glm::dvec2 a, glm::dvec2 b) {
+        return std::abs(a.x - b.x) > 0.5 * period[size_t(g)].x || std::abs(a.y - b.y) > 0.5 * period[size_t(g)].y;
+      };
+      // The same face: only across its seam, never its own neighbouring edges.
+      if (g == f && !across_seam(foot, uv)) return;
+      // The nearest segment of each face, on each side of its seam (a seam's two sides carry one
+      // edge twice: both take the vertex).
+      auto it = std::find_if(best.begin(), best.end(),
+                             [&](const Best& b) { return b.face == g && !across_seam(b.foot, foot); });
       if (it == best.end())
-        best.push_back({g, s, d, t, within});
+        best.push_back({g, s, d, t, within, foot});
       else if (d < it->d)
-        *it = {g, s, d, t, within};
+        *it = {g, s, d, t, within, foot};
     });
     for (const Best& b : best) {
       const int a = segment_vertex[size_t(b.segment)], c = next_id(a);

@@ -169,6 +169,19 @@ TEST_CASE("watertight: a face's own neighbouring edges are not shared, its seam 
   std::sort(u3.begin(), u3.end());
   CHECK(u0.size() == 5);
   CHECK(u0 == u3);
+
+  // A neighbouring face with a vertex on the seam's line, (0, 0, 0.4): both sides of the seam take
+  // it (one side alone leaves the seam open between them).
+  const nurbs::TrimmedSurface wing = bilinear({-1, 0, 0}, {0, 0, 0}, {-1, 0, 1}, {0, 0, 1}, 1, 1);
+  const std::vector<nurbs::TrimmedSurface> pair{tube, wing};
+  std::vector<std::vector<nurbs::tess::LoopPolyline>> two{
+      {loop_of(tube, {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {2, 1}, {1, 1}, {0, 1}})},
+      {loop_of(wing, {{0, 0}, {1, 0}, {1, 0.4}, {1, 1}, {0, 1}})}};
+  nurbs::tess::share_boundary_vertices(pair, two, 1e-6);
+  int on_seam = 0;
+  for (size_t i = 0; i < two[0][0].uv.size(); ++i)
+    on_seam += two[0][0].xyz[i] == glm::dvec3(0, 0, 0.4) && (two[0][0].uv[i].x == 0.0 || two[0][0].uv[i].x == 3.0);
+  CHECK(on_seam == 2);
 }
 
 TEST_CASE("watertight: a sliver face's two edges within the tolerance keep their own vertices (B-rep edges)") {
