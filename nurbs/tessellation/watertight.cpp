@@ -376,10 +376,17 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       };
       // The same face: only across its seam, never its own neighbouring edges.
       if (g == f && !across_seam(foot, uv)) return;
-      // The nearest segment of each face, on each side of its seam (a seam's two sides carry one
-      // edge twice: both take the vertex).
+      // The nearest segment of each face, on each side of its seam (feet a whole domain apart along
+      // one parameter at the same other one: both sides take the vertex; a sliver's two sides, also
+      // far apart in (u, v), are not a domain apart at one parameter, and keep one match).
+      const glm::dvec2 domain = period[size_t(g)];
+      const auto seam_sides = [&](glm::dvec2 a, glm::dvec2 b) {
+        const glm::dvec2 gap = glm::abs(a - b);
+        return (gap.x >= (1 - 1e-3) * domain.x && gap.y <= 1e-3 * domain.y) ||
+               (gap.y >= (1 - 1e-3) * domain.y && gap.x <= 1e-3 * domain.x);
+      };
       auto it = std::find_if(best.begin(), best.end(),
-                             [&](const Best& b) { return b.face == g && !across_seam(b.foot, foot); });
+                             [&](const Best& b) { return b.face == g && !seam_sides(b.foot, foot); });
       if (it == best.end())
         best.push_back({g, s, d, t, within, foot});
       else if (d < it->d)

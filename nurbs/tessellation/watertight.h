@@ -54,8 +54,8 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
 /// place. `tolerance`: absolute 3D distance (the driver passes eps, the loop budget).
 ///
 /// For each loop vertex p of face f and each face g, the nearest segment a-b of g's loops within
-/// `tolerance` is taken, on each side of g's seam (segments whose (u, v) feet lie more than half the
-/// domain apart: the seam's two sides both take the vertex). Where the loops carry B-rep edges (LoopPolyline::edge, from a B-rep file's
+/// `tolerance` is taken, on each side of g's seam (segments whose (u, v) feet lie a whole domain
+/// apart along one parameter at the same other one: the seam's two sides both take the vertex). Where the loops carry B-rep edges (LoopPolyline::edge, from a B-rep file's
 /// 508 edge uses), a segment of another edge than those of p's two segments is never taken: a
 /// sliver face narrower than the tolerance (component8, the B-rep Ventilator) has two edges within
 /// it, whose vertices distance alone would put on the wrong neighbour. Where the vertex and the

@@ -170,8 +170,8 @@ TEST_CASE("watertight: a face's own neighbouring edges are not shared, its seam 
   CHECK(u0.size() == 5);
   CHECK(u0 == u3);
 
-  // A neighbouring face with a vertex on the seam's line, (0, 0, 0.4): both sides of the seam take
-  // it (one side alone leaves the seam open between them).
+  // A face along the seam's line with a vertex on it, (0, 0, 0.4): both sides of the seam take it
+  // (one side alone leaves the seam open between them).
   const nurbs::TrimmedSurface wing = bilinear({-1, 0, 0}, {0, 0, 0}, {-1, 0, 1}, {0, 0, 1}, 1, 1);
   const std::vector<nurbs::TrimmedSurface> pair{tube, wing};
   std::vector<std::vector<nurbs::tess::LoopPolyline>> two{
