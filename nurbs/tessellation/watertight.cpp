@@ -234,9 +234,12 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
       // A master vertex repeated (a segment of no length), or within the tolerance of a stretch end,
       // is not taken: the slave's loop would get a segment of (almost) no length.
       if (!(f > taken_f && f < 1.0)) continue;
-      if (glm::length(p - stretch_xyz(sl, s, 0)) <= tolerance ||
-          glm::length(p - stretch_xyz(sl, s, s.count)) <= tolerance)
-        continue;  // the corner's own: share_boundary_vertices makes corners one
+      // The corner's own (share_boundary_vertices makes corners one): within the tolerance of a
+      // stretch end, or a tenth of the stretch's length on an edge shorter than that (a pin tip's
+      // circle below the tolerance keeps its points, both faces alike).
+      const double corner = std::min(tolerance, 0.1 * sa.back());
+      if (glm::length(p - stretch_xyz(sl, s, 0)) <= corner || glm::length(p - stretch_xyz(sl, s, s.count)) <= corner)
+        continue;
       taken_f = f;
       int j = 0;
       double t = 0.0;

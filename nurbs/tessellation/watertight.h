@@ -41,7 +41,9 @@ struct WatertightStats {
 /// the points a third and two thirds along lie nearer). Each replaced vertex's uv on its own face is
 /// where its chain holds the same share of its 3D length, improved by 4 Newton steps of
 /// project_point while they stay in the band of that chord and keep the chain's order (else all
-/// take the chain's points). The ends stay: share_boundary_vertices makes the corners one. A pair
+/// take the chain's points). The ends stay: share_boundary_vertices makes the corners one (master
+/// vertices within `tolerance` of an end, or within a tenth of the edge's length on an edge shorter
+/// than that, are not taken). A pair
 /// farther apart than twice (`tolerance` + both faces' edge gaps) at their ends or a third or two
 /// thirds along is not taken, nor one whose taken points lie farther than `tolerance` + both gaps
 /// from the face's surface at their uv (the move share_boundary_vertices allows a boundary

@@ -131,6 +131,13 @@ TEST_CASE("watertight: a B-rep edge's two faces take one polyline along it, acro
   auto apart = given;
   for (auto& p : apart[1][0].xyz) p.z = 0.05;
   CHECK(nurbs::tess::share_edge_polylines(faces, apart, tol) == 0);
+  // The edge shorter than the tolerance (a pin tip's circle below it): B still takes A's points, but
+  // for those within a tenth of the edge's length of an end.
+  faces[1] = bilinear({1, 0, 0}, {2, 0, 0}, {1, 1, 0}, {2, 1, 0}, 1, 2);
+  faces[0].edge_gap = faces[1].edge_gap = 0.0;
+  auto small = given;
+  for (auto& p : small[1][0].xyz) p.z = 0.0;
+  CHECK(nurbs::tess::share_edge_polylines(faces, small, 2.0) == 4);
 }
 
 TEST_CASE("watertight: a face's own neighbouring edges are not shared, its seam is") {
