@@ -8,19 +8,18 @@
 #include <map>
 #include <set>
 
+#include "nurbs/curve_ends.h"
 #include "nurbs/curve_eval.h"
 #include "nurbs/homogeneous.h"
 #include "nurbs/knot_insertion.h"
 #include "nurbs/knot_vector.h"
+#include "nurbs/segment_distance.h"
 #include "nurbs/surface_eval.h"
 #include "nurbs/trim_classify.h"
 #include "nurbs/validate.h"
 
 namespace nurbs {
 namespace {
-
-glm::dvec2 start_point(const Curve2& c) { return curve_point(c, curve_domain(c).min); }
-glm::dvec2 end_point(const Curve2& c) { return curve_point(c, curve_domain(c).max); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 
@@ -113,12 +112,8 @@ class Touches {
     for (size_t i = 0; i < pa.size(); ++i) {
       if (bool(in[i]) != lesser) continue;
       double nearest = std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < xb.size(); ++k) {
-        const glm::dvec3 p = xb[k], q = xb[(k + 1) % xb.size()], d = q - p;
-        const double dd = glm::dot(d, d);
-        const double t = dd > 0.0 ? std::clamp(glm::dot(xa[i] - p, d) / dd, 0.0, 1.0) : 0.0;
-        nearest = std::min(nearest, glm::length(xa[i] - (p + t * d)));
-      }
+      for (size_t k = 0; k < xb.size(); ++k)
+        nearest = std::min(nearest, segment_distance(xa[i], xb[k], xb[(k + 1) % xb.size()]));
       worst = std::max(worst, nearest);
       if (worst > tolerance_) break;
     }

@@ -9,17 +9,9 @@
 #include <utility>
 #include <vector>
 
-namespace nurbs::tess {
+#include "nurbs/segment_distance.h"
 
-/// Distance from p to the segment a b.
-template <int D>
-[[nodiscard]] double segment_distance(const glm::vec<D, double>& p, const glm::vec<D, double>& a,
-                                      const glm::vec<D, double>& b) {
-  const glm::vec<D, double> d = b - a;
-  const double l2 = glm::dot(d, d);
-  const double lam = l2 > 0.0 ? std::clamp(glm::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
-  return glm::length(p - a - lam * d);
-}
+namespace nurbs::tess {
 
 /// Refines `keep` (one flag per vertex of a polyline of keep.size() vertices; the vertices kept at
 /// the start, vertex 0 among them, and for an open polyline the last one too): every chain between
