@@ -120,7 +120,10 @@ void choose_branches_across_axis(const std::vector<glm::dvec2*>& loop, double tu
     if (!head) return;
     area += last.x * head->y - head->x * last.y;
     // Twice the area, beyond the rounding of runs on one line (a seam down and up again, unshifted).
-    if (area > 1e-9 * turn * turn && hi - lo <= turn + 1e-9 && hi - lo < best_extent) best_extent = hi - lo, best = pick;
+    if (area > 1e-9 * turn * turn && hi - lo <= turn + 1e-9 && hi - lo < best_extent) {
+      best_extent = hi - lo;
+      best = pick;
+    }
   }
   if (best.empty()) return;
   for (size_t r = 1; r < runs.size(); ++r)

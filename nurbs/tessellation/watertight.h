@@ -43,11 +43,10 @@ struct WatertightStats {
 /// project_point while they stay in the band of that chord and keep the chain's order (else all
 /// take the chain's points). The ends stay: share_boundary_vertices makes the corners one (master
 /// vertices within `tolerance` of an end, or within a tenth of the edge's length on an edge shorter
-/// than that, are not taken). A pair
-/// farther apart than twice (`tolerance` + both faces' edge gaps) at their ends or a third or two
-/// thirds along is not taken, nor one whose taken points lie farther than `tolerance` + both gaps
-/// from the face's surface at their uv (the move share_boundary_vertices allows a boundary
-/// vertex). Returns the vertices replaced.
+/// than that, are not taken). A pair farther apart than twice (`tolerance` + both faces' edge
+/// gaps) at their ends or a third or two thirds along is not taken, nor one whose taken points lie
+/// farther than `tolerance` + both gaps from the face's surface at their uv (the move
+/// share_boundary_vertices allows a boundary vertex). Returns the vertices replaced.
 int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
                          double tolerance, WatertightStats* stats = nullptr);
 
@@ -57,10 +56,11 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
 ///
 /// For each loop vertex p of face f and each face g, the nearest segment a-b of g's loops within
 /// `tolerance` is taken, on each side of g's seam (segments whose (u, v) feet lie a whole domain
-/// apart along one parameter at the same other one: the seam's two sides both take the vertex). Where the loops carry B-rep edges (LoopPolyline::edge, from a B-rep file's
-/// 508 edge uses), a segment of another edge than those of p's two segments is never taken: a
-/// sliver face narrower than the tolerance (component8, the B-rep Ventilator) has two edges within
-/// it, whose vertices distance alone would put on the wrong neighbour. Where the vertex and the
+/// apart along one parameter at the same other one: the seam's two sides both take the vertex).
+/// Where the loops carry B-rep edges (LoopPolyline::edge, from a B-rep file's 508 edge uses), a
+/// segment of another edge than those of p's two segments is never taken: a sliver face narrower
+/// than the tolerance (component8, the B-rep Ventilator) has two edges within it, whose vertices
+/// distance alone would put on the wrong neighbour. Where the vertex and the
 /// segment belong to the same B-rep edge, `tolerance` grows by both faces' edge gaps
 /// (TrimmedSurface::edge_gap): the file's faces meet only that closely, and the edge is meshed once
 /// all the same, so a shell the file states closed meshes closed. Unknown edges (-1: curves
