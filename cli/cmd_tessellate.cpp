@@ -72,6 +72,9 @@ void print_text(const TessArgs& a, const nurbs::tess::ModelMesh& m) {
   if (m.gap > 0.0)
     fmt::print("edge gap     the file's edges lie up to {:.6g} off their faces: the mesh is within {:.6g} of them\n",
                m.gap, m.bound());
+  if (r.stats.sliver_holes > 0)
+    fmt::print("sliver holes {} closed, up to {:.3g} wide: the mesh is within {:.6g} of the faces\n",
+               r.stats.sliver_holes, r.fill_width, m.bound());
 }
 
 /// The JSON object of a mesh (the fields are a contract: README.md).
@@ -112,7 +115,9 @@ nlohmann::json mesh_json(const TessArgs& a, const nurbs::tess::ModelMesh& m, con
                         {"collapsed_triangles", m.collapsed},
                         {"edge_shared", r.stats.edge_shared},
                         {"shared_vertices", r.stats.shared_vertices},
-                        {"t_junction_splits", r.stats.t_junction_splits}}},
+                        {"t_junction_splits", r.stats.t_junction_splits},
+                        {"sliver_holes", r.stats.sliver_holes},
+                        {"fill_width", r.fill_width}}},
                       {"trim",
                        {{"curve_pieces", r.stats.trim.curve_pieces},
                         {"edges_before_simplification", r.stats.trim.edges_before},

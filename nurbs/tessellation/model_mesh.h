@@ -46,8 +46,9 @@ struct ModelMesh {
   double size = 0.0;                  ///< model_size
   double eps = 0.0;                   ///< model units
   double gap = 0.0;  ///< the largest edge gap of the faces (nurbs/model_report.h), twice it when watertight
-  /// Of the mesh from the file's faces: eps plus the largest edge gap.
-  [[nodiscard]] double bound() const { return eps + gap; }
+  /// Of the mesh from the file's faces: eps plus the largest edge gap, plus the widest sliver hole
+  /// the watertight mesh closed (TessellateResult::fill_width).
+  [[nodiscard]] double bound() const { return eps + gap + result.fill_width; }
   bool guaranteed = true;
 
   /// Guaranteed mode: per face, the triangles outside its trim, or off its surface, by more than eps.

@@ -98,6 +98,10 @@ std::optional<CellOptions> cell_options(const TrimmedSurface& face, const std::v
 
 double length2(const glm::dvec3& v) { return glm::dot(v, v); }
 
+/// Watertight: a hole of three open edges this narrow, relative to eps, is a sliver the trimming
+/// lost; close_t_junctions closes it (watertight.h) and the mesh's bound grows by its width.
+constexpr double kSliverHole = 1e-3;
+
 /// A triangle this flat in space is a sliver: its height under its longest edge, over that edge.
 constexpr double kSliver = 1e-10;
 
@@ -381,10 +385,12 @@ TessellateResult tessellate(const std::vector<TrimmedSurface>& faces, const Tess
   for (const TrimmedSurface& f : faces) size = std::max(size, control_box(f.surface).diagonal());
   r.weld_tolerance = std::max(1e-9 * size, options.weld);
   if (options.watertight) {
-    close_t_junctions(mesh, r.weld_tolerance, &ws);
+    close_t_junctions(mesh, r.weld_tolerance, &ws, kSliverHole * options.eps);
     s.edge_shared = ws.edge_shared;
     s.shared_vertices = ws.inserted + ws.merged;
     s.t_junction_splits = ws.splits;
+    s.sliver_holes = ws.filled;
+    r.fill_width = ws.fill_width;
   }
   s.failed_faces = int(r.failures.size());
   s.triangles = (long long)mesh.triangles.size();

@@ -94,6 +94,7 @@ struct TessellateStats {
   int edge_shared = 0;                 ///< watertight: loop vertices a face took from its B-rep edge's other face
   int shared_vertices = 0;             ///< watertight: loop vertices inserted or merged across faces
   int t_junction_splits = 0;           ///< watertight: triangles split at other faces' boundary vertices
+  int sliver_holes = 0;                ///< watertight: sliver holes closed (watertight.h, close_t_junctions)
   double seconds_surface = 0.0, seconds_trimming = 0.0, seconds_triangulation = 0.0, seconds_evaluation = 0.0;
   double seconds = 0.0;
 };
@@ -111,6 +112,9 @@ struct TessellateResult {
   /// control-box diagonal, the larger (watertight mode closes T-junctions within it; count open
   /// edges with it too).
   double weld_tolerance = 0.0;
+  /// Watertight: the widest sliver hole closed (close_t_junctions); the mesh lies that much farther
+  /// from the faces than eps at most.
+  double fill_width = 0.0;
 };
 
 /// Tessellates `faces` (world coordinates, e.g. world_faces(model)). Each face's triangles are

@@ -169,6 +169,62 @@ glm::dvec3 at_fraction(const LoopPolyline& loop, const Stretch& s, const std::ve
   return glm::mix(stretch_xyz(loop, s, k), stretch_xyz(loop, s, k + 1), u);
 }
 
+/// The sliver holes of close_t_junctions (watertight.h): returns the triangles added and the
+/// largest height of one. `id`: welded ids of the mesh's vertices.
+std::pair<int, double> fill_sliver_holes(TriangleMesh& mesh, const std::vector<int>& id, double fill_width) {
+  if (!(fill_width > 0.0)) return {0, 0.0};
+  auto key = [](int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); };
+  std::unordered_map<uint64_t, int> uses;
+  for (const glm::ivec3& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++uses[key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
+  struct Open {
+    int a, b;    ///< welded ids, in the direction the triangle uses the edge
+    int va, vb;  ///< the triangle's own vertices
+    int face;
+  };
+  std::vector<Open> open;
+  std::unordered_map<int, std::vector<int>> from;  // welded id -> open edges leaving it
+  for (size_t k = 0; k < mesh.triangles.size(); ++k)
+    for (int e = 0; e < 3; ++e) {
+      const int va = mesh.triangles[k][e], vb = mesh.triangles[k][(e + 1) % 3];
+      const int a = id[size_t(va)], b = id[size_t(vb)];
+      if (uses[key(a, b)] != 1) continue;
+      from[a].push_back(int(open.size()));
+      open.push_back({a, b, va, vb, mesh.triangle_face.empty() ? 0 : mesh.triangle_face[k]});
+    }
+  int filled = 0;
+  double widest = 0.0;
+  std::vector<bool> closed(open.size(), false);
+  for (int i = 0; i < int(open.size()); ++i)
+    for (int j : from[open[size_t(i)].b])
+      for (int k : from[open[size_t(j)].b]) {
+        const Open &x = open[size_t(i)], &y = open[size_t(j)], &z = open[size_t(k)];
+        if (z.b != x.a || y.b == x.a || i > j || i > k) continue;  // each hole once, from its first edge
+        if (closed[size_t(i)] || closed[size_t(j)] || closed[size_t(k)]) continue;
+        const glm::dvec3 pa = mesh.positions[size_t(x.va)], pb = mesh.positions[size_t(y.va)],
+                         pc = mesh.positions[size_t(z.va)];
+        const double longest = std::max({glm::length(pb - pa), glm::length(pc - pb), glm::length(pa - pc)});
+        const double height = longest > 0 ? glm::length(glm::cross(pb - pa, pc - pa)) / longest : 0.0;
+        if (height > fill_width) continue;
+        // The face holding two of the edges gives all three corners.
+        int a, b, c, face;
+        if (y.face == z.face)
+          face = y.face, a = z.vb, b = y.va, c = y.vb;
+        else if (x.face == y.face)
+          face = x.face, a = x.va, b = x.vb, c = y.vb;
+        else if (x.face == z.face)
+          face = x.face, a = x.va, b = x.vb, c = z.va;
+        else
+          continue;
+        mesh.triangles.emplace_back(a, c, b);
+        closed[size_t(i)] = closed[size_t(j)] = closed[size_t(k)] = true;
+        if (!mesh.triangle_face.empty()) mesh.triangle_face.push_back(face);
+        ++filled;
+        widest = std::max(widest, height);
+      }
+  return {filled, widest};
+}
+
 }  // namespace
 
 int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<std::vector<LoopPolyline>>& loops,
@@ -361,12 +417,14 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
     const glm::dvec2 uv = loops[size_t(f)][size_t(lf)].uv[size_t(vf)];
     // The B-rep edges of the vertex's two segments: with the file's topology, a vertex goes only onto
     // segments of those edges (a sliver face's two sides may lie within the tolerance of each other).
+    // One known edge is enough: the other, a curve the reader added to close a gap, ends at the
+    // known edge's end, a corner of that edge's faces, not a point of any other edge.
     const int size = int(loops[size_t(f)][size_t(lf)].uv.size());
     const int out_edge = edge_of[size_t(v)], in_edge = edge_of[size_t(v - vf + (vf + size - 1) % size)];
     best.clear();
     tree.near(p, tolerance + 2.0 * largest_gap, [&](int s, double d, double t) {
       const int e = edge_of[size_t(segment_vertex[size_t(s)])];
-      if (e >= 0 && in_edge >= 0 && out_edge >= 0 && e != in_edge && e != out_edge) return;
+      if (e >= 0 && (in_edge >= 0 || out_edge >= 0) && e != in_edge && e != out_edge) return;
       const auto [g, l, i] = ref[size_t(segment_vertex[size_t(s)])];
       const bool same_edge = e >= 0 && (e == in_edge || e == out_edge);
       const double within =
@@ -475,7 +533,7 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
   return inserted + merged;
 }
 
-int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats) {
+int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats, double fill_width) {
   const auto start = Clock::now();
   std::vector<int> id = weld_vertices(mesh.positions, weld_tolerance);
   // Triangles with two corners welded together cover nothing, and their two remaining edges are
@@ -593,9 +651,12 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
       }
     }
   }
+  const auto [filled, widest] = fill_sliver_holes(mesh, id, fill_width);
   if (stats) {
     stats->splits += splits;
     stats->collapsed += collapsed;
+    stats->filled += filled;
+    stats->fill_width = std::max(stats->fill_width, widest);
     stats->seconds += std::chrono::duration<double>(Clock::now() - start).count();
   }
   return splits;

@@ -30,6 +30,8 @@ struct WatertightStats {
   int faces_touched = 0;  ///< faces whose loops changed
   int splits = 0;         ///< triangles split by close_t_junctions (one more triangle each)
   int collapsed = 0;      ///< triangles removed by close_t_junctions (two corners welded together)
+  int filled = 0;         ///< sliver holes close_t_junctions closed (one triangle each)
+  double fill_width = 0;  ///< the widest of them: its height over its longest edge
   double seconds = 0.0;   ///< wall time of the calls
 };
 
@@ -96,6 +98,13 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
 /// Each split point becomes a new vertex of the triangle's face: position copied bit for bit from
 /// the point, uv, normal and color interpolated along a-b. Orientation, face ids and all existing
 /// positions are kept. Returns the number of triangles added (one per split point).
-int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats = nullptr);
+/// Last, sliver holes: three open edges (each used once in the whole mesh) that close a triangle
+/// no higher than `fill_width` over its longest edge, two of them on one face, are closed by that
+/// triangle on that face (its corners are that face's vertices, orientation opposite the hole's
+/// edges). Such a hole is a piece of a face the trimming lost beside a cell line that passes a
+/// hair from a trim vertex; every point of the triangle lies within its height of an edge of the
+/// mesh, so the mesh's bound grows by WatertightStats::fill_width.
+int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats* stats = nullptr,
+                      double fill_width = 0.0);
 
 }  // namespace nurbs::tess

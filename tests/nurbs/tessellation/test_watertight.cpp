@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <tuple>
 
@@ -254,6 +255,56 @@ TEST_CASE("watertight: a sliver face's two edges within the tolerance keep their
   nurbs::tess::share_boundary_vertices(faces, without, tol);
   CHECK(above(without[1][0]) > 0);
   CHECK(on_x_axis(without[2][0]) > 0);
+}
+
+TEST_CASE("watertight: a vertex with one known B-rep edge goes only onto that edge's segments") {
+  // Face A, the square [0, 1]^2: edge 1 along the bottom, then a curve the reader added to close a
+  // gap (edge -1) up to P = (1, 0.5), edge 2 from P up the right side, edges 3 and 4 round the top.
+  // Face B, the square [1.005, 2] x [0, 1], its left side edge 5, 0.005 from P: another edge, though
+  // within the tolerance 0.01. P ends edge 2 and is a corner of A, not a point of edge 5.
+  const double tol = 0.01;
+  std::vector<nurbs::TrimmedSurface> faces{bilinear({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, 1, 1),
+                                           bilinear({1.005, 0, 0}, {2, 0, 0}, {1.005, 1, 0}, {2, 1, 0}, 1, 1)};
+  nurbs::tess::LoopPolyline a = loop_of(faces[0], {{0, 0}, {1, 0}, {1, 0.5}, {1, 1}, {0, 1}});
+  a.edge = {1, -1, 2, 3, 4};
+  nurbs::tess::LoopPolyline b = loop_of(faces[1], {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  b.edge = {6, 7, 8, 5};
+  std::vector<std::vector<nurbs::tess::LoopPolyline>> loops{{a}, {b}};
+  nurbs::tess::share_boundary_vertices(faces, loops, tol);
+  CHECK(loops[1][0].xyz.size() == 4);  // P is not inserted into edge 5
+  for (const glm::dvec3& p : loops[1][0].xyz) CHECK(p.y != 0.5);
+}
+
+TEST_CASE("watertight: a sliver hole the trimming lost is closed on the face that holds two of its sides") {
+  // Face 1, the square [1, 2] x [0, 1], has the vertices A = (1, 0.5) and B = (1, 0.5 + 1e-7) on
+  // its left side; face 0, the square [0, 1]^2, has both but lacks the sliver (A, B, C) with its
+  // centre C = (0.5, 0.5): a hole of three open edges, 7e-8 high over its longest edge.
+  nurbs::TriangleMesh m;
+  const double h = 1e-7;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0.5, 0}, {1, 0.5 + h, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0},  // face 0
+                 {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 0.5, 0}, {1, 0.5 + h, 0}};              // face 1
+  m.triangles = {{0, 1, 6}, {1, 2, 6}, {3, 4, 6}, {4, 5, 6}, {5, 0, 6},  // face 0: no (2, 3, 6)
+                 {7, 8, 11}, {11, 8, 12}, {12, 8, 9}, {12, 9, 10}};
+  m.triangle_face = {0, 0, 0, 0, 0, 1, 1, 1, 1};
+  const double weld = 1e-9;
+  CHECK(nurbs::tess::count_edges(m, weld).open == 6 + 3);
+  nurbs::TriangleMesh narrow = m;
+  nurbs::tess::WatertightStats none;
+  nurbs::tess::close_t_junctions(narrow, weld, &none, 1e-8);  // the hole is wider than 1e-8: kept
+  CHECK(none.filled == 0);
+  CHECK(nurbs::tess::count_edges(narrow, weld).open == 6 + 3);
+  nurbs::tess::WatertightStats stats;
+  nurbs::tess::close_t_junctions(m, weld, &stats, 1e-6);
+  CHECK(stats.filled == 1);
+  CHECK(stats.fill_width == doctest::Approx(h * 0.5 / std::sqrt(0.25 + 0.25)).epsilon(1e-6));
+  CHECK(nurbs::tess::count_edges(m, weld).open == 6);  // the border of the 2 x 1 rectangle
+  REQUIRE(m.triangles.size() == 10);
+  CHECK(m.triangle_face.back() == 0);
+  const glm::ivec3 t = m.triangles.back();
+  for (int c = 0; c < 3; ++c) CHECK(t[c] < 7);  // face 0's own vertices
+  const glm::dvec3 n = glm::cross(m.positions[size_t(t.y)] - m.positions[size_t(t.x)],
+                                  m.positions[size_t(t.z)] - m.positions[size_t(t.x)]);
+  CHECK(n.z > 0);  // counter-clockwise seen from +z, as its face
 }
 
 TEST_CASE("watertight: close_t_junctions splits the triangle on the other side of a T-junction") {
