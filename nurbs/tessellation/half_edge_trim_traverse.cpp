@@ -6,6 +6,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "nurbs/segment_distance.h"
 #include "nurbs/tessellation/half_edge_trim_graph.h"
 #include "nurbs/trim_classify.h"
 
@@ -150,12 +151,16 @@ int add_bridge(TrimGraph& g, int from, int from_prev, int from_next, const std::
         continue;
       const double o1 = orient(p, q, a), o2 = orient(p, q, b);
       const bool shares = e.a == from || e.b == from || e.a == t || e.b == t;
+      // Within the snapping tolerance is on: a bridge along a hole's side that lies a rounding off
+      // the bridge's line (the holes of a row, their sides on one line) would cut the hole.
+      const auto on_bridge = [&](glm::dvec2 x) {
+        return segment_distance(x, p, q) <= g.eps && glm::length(x - p) > g.eps && glm::length(x - q) > g.eps;
+      };
       if (shares) {
-        // Only an overlap along the bridge blocks it: the other endpoint on the bridge's line.
-        const int other = (e.a == from || e.a == t) ? e.b : e.a;
-        const double o = orient(p, q, at(other));
-        if (o == 0.0 && glm::dot(at(other) - p, q - p) > 0.0 && glm::dot(at(other) - q, p - q) > 0.0) blocked = true;
-      } else if (o1 * o2 <= 0.0 && orient(a, b, p) * orient(a, b, q) <= 0.0) {
+        // Only an overlap along the bridge blocks it: the other endpoint on the bridge.
+        if (on_bridge(at((e.a == from || e.a == t) ? e.b : e.a))) blocked = true;
+      } else if ((o1 * o2 <= 0.0 && orient(a, b, p) * orient(a, b, q) <= 0.0) || on_bridge(a) || on_bridge(b) ||
+                 segment_distance(p, a, b) <= g.eps || segment_distance(q, a, b) <= g.eps) {
         blocked = true;
       }
       if (blocked) break;
