@@ -61,8 +61,9 @@ struct TrimOptions {
 /// (a loop running along a cell edge or along R's boundary) merge into one edge whose net trim count
 /// gives its direction; (5) §6 hole bridges: a clockwise loop strictly inside one cell is joined to the
 /// cell's upper-left and lower-right corners (nearest loop vertex that the corner sees, the bridge
-/// crossing nothing: passing within the snapping tolerance of an edge or vertex counts as crossing); (6) the traversal (half_edge_trim_graph.h); holes it finds unconnected (several
-/// holes in a cell, corners cut off by another loop, a hole touching a cell edge) get two fallback
+/// crossing nothing: passing within the snapping tolerance of an edge or vertex counts as
+/// crossing); (6) the traversal (half_edge_trim_graph.h); holes it finds unconnected (several holes
+/// in a cell, corners cut off by another loop, a hole touching a cell edge) get two fallback
 /// bridges and the traversal is repeated; (7) holes still unjoined after that (no vertex of the polygon
 /// around them visible, e.g. a row of holes in one cell) have the cells under them cut at the middle
 /// of their u range, and the graph is built again from step 1. Loops are assumed not to cross each
