@@ -89,9 +89,14 @@ class Touches {
       for (size_t k = 1; k <= count; ++k) lo = glm::min(lo, xyz[(from + k) % n]), hi = glm::max(hi, xyz[(from + k) % n]);
       return glm::length(hi - lo);
     };
-    size = std::min(span(i, j - i), span(j, n - (j - i)));
+    const double span_i = span(i, j - i), span_j = span(j, n - (j - i));
+    size = std::min(span_i, span_j);
     if (size <= tolerance_) return true;
-    size = at_shared_vertex(loop_e, loop_f, where);
+    if ((size = at_shared_vertex(loop_e, loop_f, where)) <= tolerance_) return true;
+    const bool first = span_i <= span_j;  // the lobe: the part of lesser extent
+    size = first ? thin_part(xyz, i, j - i, at) : thin_part(xyz, j, n - (j - i), at);
+    if (size <= tolerance_) return true;
+    size = first ? hugging_part(xyz, i, j - i, at) : hugging_part(xyz, j, n - (j - i), at);
     return size <= tolerance_;
   }
 
@@ -116,6 +121,49 @@ class Touches {
         nearest = std::min(nearest, segment_distance(xa[i], xb[k], xb[(k + 1) % xb.size()]));
       worst = std::max(worst, nearest);
       if (worst > tolerance_) break;
+    }
+    return worst;
+  }
+  /// The part of a loop between its two passes through `at`, vertices from + 1 .. from + count:
+  /// split at its vertex farthest from `at` into two sides running from `at` to it, how far in
+  /// space the vertices of each side lie from the other side. A sliver face whose two long edges,
+  /// as fitted, cross near its tip leaves a lobe beyond the crossing no wider than that (a lens,
+  /// as beyond() measures between two loops); a loop that truly crosses itself leaves a wide one.
+  /// Stops once past the tolerance.
+  double thin_part(const std::vector<glm::dvec3>& xyz, size_t from, size_t count, const glm::dvec3& at) const {
+    std::vector<glm::dvec3> part{at};
+    for (size_t k = 1; k <= count; ++k) part.push_back(xyz[(from + k) % xyz.size()]);
+    part.push_back(at);
+    size_t apex = 0;
+    for (size_t k = 1; k < part.size(); ++k)
+      if (glm::length(part[k] - at) > glm::length(part[apex] - at)) apex = k;
+    double worst = 0.0;
+    const auto from_side = [&](size_t lo, size_t hi, size_t other_lo, size_t other_hi) {
+      for (size_t k = lo; k <= hi && worst <= tolerance_; ++k) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (size_t m = other_lo; m < other_hi; ++m)
+          nearest = std::min(nearest, segment_distance(part[k], part[m], part[m + 1]));
+        worst = std::max(worst, nearest);
+      }
+    };
+    from_side(0, apex, apex, part.size() - 1);
+    from_side(apex, part.size() - 1, 0, apex);
+    return worst;
+  }
+  /// How far in space the vertices from + 1 .. from + count of a loop lie from the rest of it (the
+  /// other part, through `at`): a lobe that runs along the loop beyond the crossing, within that of
+  /// it (a pcurve running out and back along a side, as fitted). Stops once past the tolerance.
+  double hugging_part(const std::vector<glm::dvec3>& xyz, size_t from, size_t count, const glm::dvec3& at) const {
+    const size_t n = xyz.size();
+    std::vector<glm::dvec3> rest{at};
+    for (size_t k = from + count + 1; k <= from + n; ++k) rest.push_back(xyz[k % n]);
+    rest.push_back(at);
+    double worst = 0.0;
+    for (size_t k = 1; k <= count && worst <= tolerance_; ++k) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (size_t m = 0; m + 1 < rest.size(); ++m)
+        nearest = std::min(nearest, segment_distance(xyz[(from + k) % n], rest[m], rest[m + 1]));
+      worst = std::max(worst, nearest);
     }
     return worst;
   }

@@ -39,7 +39,7 @@ std::string first_problem(const nurbs::TrimmedSurface& face, double touch) {
 
 }  // namespace
 
-TEST_CASE("trim touch: a loop meeting itself at a pole is valid, the same loop on a plane is not") {
+TEST_CASE("trim touch: a loop meeting itself at a pole or in a lobe thinner than the tolerance is valid") {
   nurbs::TrimmedSurface face;
   face.face_id = 7;
   face.loops = {polygon_loop(kSpike)};
@@ -51,11 +51,34 @@ TEST_CASE("trim touch: a loop meeting itself at a pole is valid, the same loop o
   CHECK(problems(face, 1e-3, &size).empty());
   CHECK(size > 0.0);
   CHECK(size < 2e-4);  // the lobe lies within 5e-5 in v of the top side: about 1e-4 from the apex
-  // A tolerance below the lobe's span leaves it a crossing.
-  CHECK(!problems(face, 0.1 * size).empty());
-  // On the plane the same lobe spans half the square: a crossing at any touch tolerance below it.
+  // On the plane the lobe spans half the square, yet runs along the loop's way out within 1e-3 of
+  // it (its far end (0, 1) is 1e-3 above the way back at (0, 0.999)): a touch of that width, as
+  // fitted curves crossing in a thin lobe; a tolerance below the width leaves it a crossing.
   face.surface = models::bilinear_square(1.0);
-  CHECK(problems(face, 1e-3).front().find("face 7: loop 0 crosses itself") == 0);
+  double flat = -1.0;
+  CHECK(problems(face, 2e-3, &flat).empty());
+  CHECK(flat == doctest::Approx(1e-3).epsilon(0.05));
+  CHECK(first_problem(face, 5e-4).find("face 7: loop 0 crosses itself") == 0);
+  // A bow tie: both parts between the passes are half the square wide, a crossing at any tolerance
+  // below that.
+  face.loops = {polygon_loop({{0, 0}, {1, 0}, {0, 1}, {1, 1}})};
+  CHECK(first_problem(face, 1e-2).find("face 7: loop 0 crosses itself") == 0);
+}
+
+TEST_CASE("trim touch: a sliver face whose long sides, as fitted, cross near its tip is valid") {
+  // A sliver 0.002 wide at its right end (a KiCad diode bridge's face between two arcs of nearly
+  // one circle): the top side dips 3e-4 below the bottom one before it reaches the tip, crossing it
+  // twice. The lobes beyond the crossings are thinner than 5e-4 in space.
+  nurbs::TrimmedSurface face;
+  face.face_id = 9;
+  face.surface = models::bilinear_patch({glm::dvec3(0, 0, 0), {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
+  face.loops = {polygon_loop({{0, 0.01}, {1, 0.01}, {1, 0.012}, {0.1, 0.0105}, {0.02, 0.0097}, {0, 0.0102}})};
+  CHECK(first_problem(face, 0.0).find("face 9: loop 0 crosses itself") == 0);
+  double size = -1.0;
+  CHECK(problems(face, 1e-3, &size).empty());
+  CHECK(size > 1e-4);
+  CHECK(size < 5e-4);
+  CHECK(first_problem(face, 1e-4).find("face 9: loop 0 crosses itself") == 0);
 }
 
 TEST_CASE("trim touch: loops that enclose no area meet anything without crossing it") {
