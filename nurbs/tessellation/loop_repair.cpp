@@ -1,8 +1,10 @@
 #include "nurbs/tessellation/loop_repair.h"
 
 #include <algorithm>
+#include <glm/geometric.hpp>
 
 #include "nurbs/surface_eval.h"
+#include "nurbs/trim_classify.h"
 
 namespace nurbs::tess {
 namespace {
@@ -74,11 +76,21 @@ LoopPolyline piece(const LoopPolyline& l, size_t first, size_t last) {
   return out;
 }
 
-/// A loop that crosses itself (a crossing vertex twice in it) cut there into simple pieces; the
-/// pieces turning against the whole loop (`sign`: its signed area's) are the lobes that the
-/// polylines' error folded over, and are dropped, as are pieces of no area. Appends the kept pieces
-/// to `out`.
-void untangle(const LoopPolyline& l, double sign, std::vector<LoopPolyline>& out) {
+/// Twice a closed polyline's area in space over its length: the width of a thin lobe.
+double width_in_space(const std::vector<glm::dvec3>& xyz) {
+  glm::dvec3 area(0.0);
+  double length = 0.0;
+  for (size_t k = 0; k < xyz.size(); ++k) {
+    const glm::dvec3 a = xyz[k] - xyz[0], b = xyz[(k + 1) % xyz.size()] - xyz[0];
+    area += glm::cross(a, b);
+    length += glm::length(b - a);
+  }
+  return length > 0.0 ? glm::length(area) / length : 0.0;
+}
+
+/// A loop that crosses itself (a crossing vertex twice in it) cut there into simple pieces, each
+/// appended to `out` with its signed area's sign relative to `sign` (the whole loop's).
+void untangle(const LoopPolyline& l, double sign, std::vector<std::pair<LoopPolyline, double>>& out) {
   for (size_t i = 0; i < l.uv.size(); ++i)
     for (size_t j = i + 1; j < l.uv.size(); ++j)
       if (l.uv[i] == l.uv[j]) {
@@ -86,14 +98,36 @@ void untangle(const LoopPolyline& l, double sign, std::vector<LoopPolyline>& out
         untangle(piece(l, j, i), sign, out);
         return;
       }
-  if (l.uv.size() >= 3 && area2(l.uv) * sign > 0.0) out.push_back(l);
+  if (l.uv.size() >= 3) out.emplace_back(l, area2(l.uv) * sign);
+}
+
+/// The pieces of a self-crossing loop that are kept (repair_crossings): those turning as the loop
+/// does; those turning against it that are wider in space than `fold_width` and lie inside one of
+/// the former (a hole the loop reaches through a slit), as loops of the other kind. The others are
+/// folds of the polylines' error, or have no area.
+void keep_pieces(std::vector<std::pair<LoopPolyline, double>>& pieces, double fold_width,
+                 std::vector<LoopPolyline>& out) {
+  const size_t first = out.size();
+  for (auto& [piece, turn] : pieces)
+    if (turn > 0.0) out.push_back(piece);
+  const size_t kept = out.size();
+  for (auto& [piece, turn] : pieces) {
+    if (!(turn < 0.0) || width_in_space(piece.xyz) <= fold_width) continue;
+    glm::dvec2 centre(0.0);
+    for (const glm::dvec2& p : piece.uv) centre += p / double(piece.uv.size());
+    bool inside = false;
+    for (size_t k = first; k < kept && !inside; ++k) inside = winding_number(out[k].uv, centre) != 0;
+    if (!inside) continue;
+    piece.outer = !piece.outer;
+    out.push_back(std::move(piece));
+  }
 }
 
 }  // namespace
 
 size_t count_crossings(const std::vector<LoopPolyline>& loops) { return find_crossings(loops).size() / 2; }
 
-size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface) {
+size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface, double fold_width) {
   std::vector<Hit> hits = find_crossings(loops);
   if (hits.empty()) return 0;
   // find_crossings gives each crossing as two consecutive hits: a loop crossing itself has both.
@@ -124,10 +158,13 @@ size_t repair_crossings(std::vector<LoopPolyline>& loops, const Surface& surface
   // Self-crossings: each such loop is cut at its crossings and its folded lobes dropped.
   std::vector<LoopPolyline> untangled;
   for (size_t l = 0; l < loops.size(); ++l) {
-    if (self[l])
-      untangle(loops[l], area2(loops[l].uv), untangled);
-    else
+    if (self[l]) {
+      std::vector<std::pair<LoopPolyline, double>> pieces;
+      untangle(loops[l], area2(loops[l].uv), pieces);
+      keep_pieces(pieces, fold_width, untangled);
+    } else {
       untangled.push_back(std::move(loops[l]));
+    }
   }
   loops = std::move(untangled);
   return hits.size() / 2;

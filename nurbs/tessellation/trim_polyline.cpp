@@ -276,7 +276,7 @@ std::vector<LoopPolyline> approximate_trim_loops(const TrimmedSurface& face, con
       st.edges_before = finer_st.edges_before, st.thinned_points = finer_st.thinned_points;
       out = std::move(again), crossings = n, st.crossing_refined_faces = 1;
     }
-    st.crossings_fixed = repair_crossings(out, face.surface);
+    st.crossings_fixed = repair_crossings(out, face.surface, opt.eps);
     st.seconds_approximation += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   for (const auto& pl : out) st.edges_after += pl.uv.size();
