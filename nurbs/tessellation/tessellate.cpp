@@ -230,9 +230,12 @@ FaceOut tessellate_face(const TrimmedSurface& face, const std::vector<LoopPolyli
     evaluate_direct(face.surface, m.uv, m.position, m.normal);
   if (o.watertight) boundary_positions(loops, m, m.position);
   // Triangles that collapse in space (two corners on a pole or a degenerate edge of the surface,
-  // two trim vertices a hair apart: within the weld distance, TessellateResult::weld_tolerance, of
-  // this face) cover nothing; they are dropped and counted. Slivers are flipped (flip_slivers).
-  const double weld = std::max(1e-9 * control_box(face.surface).diagonal(), o.weld);
+  // two trim vertices a rounding apart: within 1e-9 of this face's control box) cover nothing; they
+  // are dropped and counted. Not within the file's resolution (TessellateOptions::weld): a cell
+  // narrower than that (cells of a tube halved towards a knot line, 0.004 wide under a resolution of
+  // 0.01) still covers a strip, and dropping its triangles would leave a slot in the mesh. Slivers
+  // are flipped (flip_slivers).
+  const double weld = 1e-9 * control_box(face.surface).diagonal();
   const size_t before = tris.size();
   std::erase_if(tris, [&](const glm::ivec3& t) {
     const glm::dvec3 a = m.position[size_t(t.x)], b = m.position[size_t(t.y)], c = m.position[size_t(t.z)];

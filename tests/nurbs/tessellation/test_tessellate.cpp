@@ -136,6 +136,28 @@ TEST_CASE("tessellate: a face whose loops enclose no area meshes as nothing, not
   CHECK(r.mesh.triangles.empty());
 }
 
+TEST_CASE("tessellate: a strip narrower than the file's resolution is meshed, not dropped") {
+  // A plane trimmed to the strip [2, 2.004] x [1, 9] in a file whose resolution is 0.01: its
+  // triangles are 0.004 wide but cover the strip; only triangles whose corners coincide are dropped.
+  nurbs::TrimmedSurface strip;
+  strip.surface = models::bilinear_square(10.0);
+  nurbs::TrimLoop loop;
+  const std::vector<glm::dvec2> c{{2, 1}, {2.004, 1}, {2.004, 9}, {2, 9}};
+  for (size_t k = 0; k < c.size(); ++k) loop.curves.push_back(nurbs::segment_curve(c[k], c[(k + 1) % c.size()]));
+  strip.loops.push_back(loop);
+  TessellateOptions o;
+  o.eps = 0.05;
+  o.weld = 0.01;
+  const auto r = nurbs::tess::tessellate(std::vector<nurbs::TrimmedSurface>{strip}, o);
+  CHECK(r.failures.empty());
+  double area = 0.0;
+  for (const glm::ivec3& t : r.mesh.triangles)
+    area += 0.5 * glm::cross(r.mesh.positions[size_t(t.y)] - r.mesh.positions[size_t(t.x)],
+                             r.mesh.positions[size_t(t.z)] - r.mesh.positions[size_t(t.x)])
+                      .z;
+  CHECK(std::abs(area) == doctest::Approx(0.004 * 8).epsilon(1e-9));
+}
+
 TEST_CASE("tessellate: the output does not depend on the thread count") {
   const std::vector<nurbs::TrimmedSurface> faces{face_of(models::rational_sphere(3.0)),
                                                  face_of(models::rational_torus(8.0, 2.0)),
