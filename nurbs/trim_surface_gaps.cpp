@@ -84,6 +84,29 @@ bool trim_overshoot(const Surface& s, Curve2& curve, glm::dvec2 q, bool at_start
   return true;
 }
 
+/// The gap from the end a of `prev` to the start b of `next` runs along one side of the surface's
+/// parameter domain (both ends on it within 1e-6 of its width), and neither curve runs back along
+/// that side over the gap (a curve moved off its joint, whose gap the side would retrace).
+bool along_one_side(const Surface& s, const Curve2& prev, const Curve2& next) {
+  const glm::dvec2 a = end_point(prev), b = start_point(next);
+  const Interval dp = curve_domain(prev), dn = curve_domain(next);
+  const glm::dvec2 before = curve_point(prev, dp.max - 1e-3 * dp.width()),
+                   after = curve_point(next, dn.min + 1e-3 * dn.width());
+  const Interval du = surface_domain_u(s), dv = surface_domain_v(s);
+  for (int axis = 0; axis < 2; ++axis) {
+    const Interval d = axis == 0 ? du : dv;
+    const double tol = 1e-6 * d.width();
+    for (const double side : {d.min, d.max}) {
+      if (!(std::abs(a[axis] - side) <= tol && std::abs(b[axis] - side) <= tol)) continue;
+      const auto over_gap = [&](glm::dvec2 p, glm::dvec2 from, glm::dvec2 to) {
+        return std::abs(p[axis] - side) <= tol && glm::dot(p - from, to - from) > 0.0;
+      };
+      return !over_gap(after, b, a) && !over_gap(before, a, b);
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_gap) {
@@ -145,9 +168,13 @@ double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, i
         reach = std::max({reach, std::min(glm::length(q - pa), glm::length(q - pb))});
       }
       const double chord = glm::length(pb - pa);
-      if (!(length <= 2.0 * chord && chord <= cap_3d && reach <= cap_3d)) continue;  // NaN: left open
+      // Both ends on one side of the domain: the missing edge is that side (a loop round three sides
+      // of a pipe's half, its fourth missing: PyGeM's deformed pipes), whatever its length; the face
+      // is bounded there by its surface's own side, which the straight (u, v) segment is exactly.
+      const bool along_side = along_one_side(face.surface, loop.curves[c], loop.curves[(c + 1) % n]);
+      if (!along_side && !(length <= 2.0 * chord && chord <= cap_3d && reach <= cap_3d)) continue;  // NaN: open
       closed.push_back(segment_curve(a, b));
-      largest = std::max(largest, length);
+      if (!along_side) largest = std::max(largest, length);
       ++added;
     }
     loop.curves = std::move(closed);

@@ -31,7 +31,9 @@ int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_
 /// past its neighbour's end is cut there (the overshoot of close_gaps_on_surface); then each gap
 /// larger than `min_gap` in (u, v) whose straight (u, v) segment has an image on the surface no
 /// longer than twice the gap's chord in space (a bridge, not a turn round a closed surface) and
-/// within `cap_3d` of both ends gets that segment.
+/// within `cap_3d` of both ends gets that segment; so does a gap of any length whose two ends lie
+/// on one side of the domain, neither curve running back along it (the missing edge is the
+/// surface's own side there, exactly).
 /// The face's boundary is then known only as closely as the bridge is long: returns the largest
 /// extent bridged or cut (0 when none), for the caller's edge gap; `added` counts the repairs.
 double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, int& added);
