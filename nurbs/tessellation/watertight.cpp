@@ -380,7 +380,12 @@ int share_boundary_vertices(const std::vector<TrimmedSurface>& faces, std::vecto
       const auto& xyz = loop.xyz;
       for (size_t i = 0; i < xyz.size(); ++i) {
         const glm::dvec3 a = xyz[i], b = xyz[(i + 1) % xyz.size()];
-        if (glm::length(b - a) > tolerance) segments.push_back({a, b}), segment_vertex.push_back(int(ref.size()));
+        // Without the file's edges, a segment shorter than the tolerance is skipped (a degenerate
+        // edge at a pole); with them only a degenerate one is (a fillet's arc narrower than the
+        // tolerance is still an edge its neighbours share).
+        const bool known = loop.edge.size() == xyz.size() && loop.edge[i] >= 0;
+        if (glm::length(b - a) > (known ? 1e-6 : 1.0) * tolerance)
+          segments.push_back({a, b}), segment_vertex.push_back(int(ref.size()));
         ref.push_back({int(f), int(l), int(i)});
         edge_of.push_back(loop.edge.size() == xyz.size() ? loop.edge[i] : -1);
       }

@@ -65,9 +65,11 @@ int share_edge_polylines(const std::vector<TrimmedSurface>& faces, std::vector<s
 /// distance alone would put on the wrong neighbour. Where the vertex and the
 /// segment belong to the same B-rep edge, `tolerance` grows by both faces' edge gaps
 /// (TrimmedSurface::edge_gap): the file's faces meet only that closely, and the edge is meshed once
-/// all the same, so a shell the file states closed meshes closed. Unknown edges (-1: curves
-/// the reader added to close gaps, files without topology) match by distance alone. Segments shorter than `tolerance` in 3D (degenerate edges at poles) are
-/// skipped. Within the same face (g = f) only a segment whose foot is more than half the domain
+/// all the same, so a shell the file states closed meshes closed. Unknown edges (-1: curves the
+/// reader added to close gaps, files without topology) match by distance alone. Segments without
+/// a known edge shorter than `tolerance` in 3D (degenerate edges at poles) are skipped; with one,
+/// only degenerate ones (under 1e-6 of it): a small fillet's arc is still an edge its faces share.
+/// Within the same face (g = f) only a segment whose foot is more than half the domain
 /// away in u or v counts: that is the other side of a periodic face's seam (same 3D line, the
 /// other end of the domain), never the vertex's own or neighbouring edges.
 /// If p is within `tolerance` of a or b, the two vertices are merged: every vertex of such a group

@@ -275,6 +275,22 @@ TEST_CASE("watertight: a vertex with one known B-rep edge goes only onto that ed
   for (const glm::dvec3& p : loops[1][0].xyz) CHECK(p.y != 0.5);
 }
 
+TEST_CASE("watertight: an edge shorter than the tolerance is still matched across its faces") {
+  // Edge 5, 0.07 long (a small fillet's arc under a tolerance of 0.09): face A holds it as one chord,
+  // face B as two segments through (0.002, 0.0015), 0.0025 from the corner (0, 0). B's vertex is
+  // within the tolerance of A's corner, so the two become one point.
+  const double tol = 0.09;
+  std::vector<nurbs::TrimmedSurface> faces{bilinear({0, -1, 0}, {1, -1, 0}, {0, 0, 0}, {1, 0, 0}, 1, 1),
+                                           bilinear({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, 1, 1)};
+  nurbs::tess::LoopPolyline a = loop_of(faces[0], {{0, 0}, {0.07, 0}, {0.07, 1}, {0, 1}});
+  a.edge = {1, 2, 5, 3};
+  nurbs::tess::LoopPolyline b = loop_of(faces[1], {{0, 0}, {0.002, 0.0015}, {0.07, 0}, {0.07, 1}, {0, 1}});
+  b.edge = {5, 5, 6, 7, 8};
+  std::vector<std::vector<nurbs::tess::LoopPolyline>> loops{{a}, {b}};
+  nurbs::tess::share_boundary_vertices(faces, loops, tol);
+  CHECK(loops[1][0].xyz[1] == glm::dvec3(0, 0, 0));
+}
+
 TEST_CASE("watertight: a sliver hole the trimming lost is closed on the face that holds two of its sides") {
   // Face 1, the square [1, 2] x [0, 1], has the vertices A = (1, 0.5) and B = (1, 0.5 + 1e-7) on
   // its left side; face 0, the square [0, 1]^2, has both but lacks the sliver (A, B, C) with its
