@@ -182,4 +182,39 @@ double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, i
   return largest;
 }
 
+int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance, int& next_edge) {
+  struct Added {
+    size_t face;
+    Curve2* curve;
+    glm::dvec3 a, b;
+  };
+  std::vector<Added> added;
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (TrimLoop& l : faces[f]->loops)
+      for (Curve2& c : l.curves) {
+        if (c.edge != -1) continue;
+        const glm::dvec2 p = start_point(c), q = end_point(c);
+        const Surface& s = faces[f]->surface;
+        added.push_back({f, &c, surface_point(s, p.x, p.y), surface_point(s, q.x, q.y)});
+      }
+  const auto same = [&](const Added& x, const Added& y) {
+    const auto near = [&](glm::dvec3 p, glm::dvec3 q) { return glm::length(p - q) <= tolerance; };
+    return x.face != y.face && ((near(x.a, y.b) && near(x.b, y.a)) || (near(x.a, y.a) && near(x.b, y.b)));
+  };
+  int pairs = 0;
+  for (size_t i = 0; i < added.size(); ++i) {
+    if (added[i].curve->edge != -1) continue;
+    std::vector<size_t> match;
+    for (size_t j = 0; j < added.size(); ++j)
+      if (j != i && same(added[i], added[j])) match.push_back(j);
+    if (match.size() != 1 || added[match[0]].curve->edge != -1) continue;
+    size_t others = 0;  // the partner's own matches: the pair must be alone
+    for (size_t j = 0; j < added.size(); ++j) others += j != match[0] && same(added[match[0]], added[j]);
+    if (others != 1) continue;
+    added[i].curve->edge = added[match[0]].curve->edge = next_edge++;
+    ++pairs;
+  }
+  return pairs;
+}
+
 }  // namespace nurbs

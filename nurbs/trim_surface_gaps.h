@@ -10,6 +10,8 @@
 /// (ShapeFix_Wire: FixConnected, FixDegenerated, FixLacking; read.maxprecision.val caps them at one
 /// file unit); here the gap is closed in (u, v) by a straight segment whose image on the surface is
 /// checked to stay within the 3D tolerance, so the loop's material side never changes.
+#include <vector>
+
 #include "nurbs/trimmed_surface.h"
 
 namespace nurbs {
@@ -37,5 +39,13 @@ int close_gaps_on_surface(TrimmedSurface& face, double tolerance_3d, double min_
 /// The face's boundary is then known only as closely as the bridge is long: returns the largest
 /// extent bridged or cut (0 when none), for the caller's edge gap; `added` counts the repairs.
 double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, int& added);
+
+/// The curves the repairs above added (Curve2::edge -1) where a file's loops skip an edge: where
+/// the loops of two faces of one body each skip it, their two added curves join the same two points
+/// in space (within `tolerance`, either way round), and are the same missing edge. Each such pair,
+/// and only a pair (no third added curve there), gets one new edge number, `next_edge` (then
+/// incremented: the caller starts it above every edge of the model), so that a watertight mesh
+/// meshes it once (watertight.h). Returns the pairs numbered.
+int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance, int& next_edge);
 
 }  // namespace nurbs

@@ -2,6 +2,7 @@
 // ISO 10303-42 geometry and topology, placed by the assembly structure of AP203 / AP214 / AP242.
 // Units, representations and their placements, products, the model (step_reader_detail.h: the parts).
 #include "nurbs/io/step_reader_detail.h"
+#include "nurbs/trim_surface_gaps.h"
 
 namespace nurbs::io {
 namespace step_detail {
@@ -345,6 +346,17 @@ Model StepReader::read() {
       model.dropped_faces.push_back({fmt::format("#{}", f.face_id), f.trim_problem});  // faces_in_file holds it
       return true;
     });
+  // An edge the loops of two faces both skip, bridged on each: one edge (trim_surface_gaps.h).
+  int next_edge = 0;
+  for (const Body& b : model.bodies)
+    for (const TrimmedSurface& f : b.faces)
+      for (const TrimLoop& l : f.loops)
+        for (const Curve2& c : l.curves) next_edge = std::max(next_edge, c.edge + 1);
+  for (Body& b : model.bodies) {
+    std::vector<TrimmedSurface*> faces;
+    for (TrimmedSurface& f : b.faces) faces.push_back(&f);
+    pair_added_edges(faces, kTrimGap3d * size, next_edge);
+  }
   for (const IgesReadLog& l : logs) {
     log_.reoriented_loops += l.reoriented_loops;
     log_.outer_loops_fixed += l.outer_loops_fixed;

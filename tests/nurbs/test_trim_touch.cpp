@@ -148,6 +148,30 @@ TEST_CASE("trim bridge: a loop missing a short edge is closed, its length return
   CHECK(!nurbs::check_trim_loops(tube, 1e-9, 1e-9).empty());  // the seam jump stays open
 }
 
+TEST_CASE("trim bridge: two faces that both skip one edge get one edge number for their two bridges") {
+  // Two squares of the plane z = 0 side by side, [0, 1] and [1, 2] in x: each loop skips the
+  // shared side x = 1 (as a file's loops that both leave out an edge), bridged by the repair (-1).
+  auto square = [](double x0, int first_edge, bool skip_right) {
+    nurbs::TrimmedSurface f;
+    f.surface = models::bilinear_patch({glm::dvec3(x0, 0, 0), {x0 + 1, 0, 0}, {x0, 1, 0}, {x0 + 1, 1, 0}});
+    f.loops = {polygon_loop({{0, 0}, {1, 0}, {1, 1}, {0, 1}})};
+    for (size_t k = 0; k < 4; ++k) f.loops[0].curves[k].edge = first_edge + int(k);
+    f.loops[0].curves[skip_right ? 1 : 3].edge = -1;
+    return f;
+  };
+  nurbs::TrimmedSurface left = square(0, 0, true), right = square(1, 10, false), third = square(1, 20, false);
+  int next = 30;
+  CHECK(nurbs::pair_added_edges({&left, &right}, 1e-6, next) == 1);
+  CHECK(next == 31);
+  CHECK(left.loops[0].curves[1].edge == 30);
+  CHECK(right.loops[0].curves[3].edge == 30);
+  CHECK(left.loops[0].curves[0].edge == 0);  // the file's own edges keep their numbers
+  // A third face bridging the same two points: no pair is certain, none is numbered.
+  left = square(0, 0, true), right = square(1, 10, false);
+  CHECK(nurbs::pair_added_edges({&left, &right, &third}, 1e-6, next) == 0);
+  CHECK(left.loops[0].curves[1].edge == -1);
+}
+
 TEST_CASE("trim touch: loops meeting at a vertex they share are valid, crossing there by a stretch is not") {
   nurbs::TrimmedSurface face;
   face.face_id = 624;
