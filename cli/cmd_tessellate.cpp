@@ -61,9 +61,10 @@ void print_text(const TessArgs& a, const nurbs::tess::ModelMesh& m) {
     fmt::print("deviation    {:.6g} (surface to mesh {:.6g}, mesh to surface {:.6g}; {} + {} samples, {:.2f} s){}\n",
                dev->max(), dev->surface_to_mesh, dev->mesh_to_surface, dev->surface_samples, dev->mesh_samples,
                dev->seconds,
-               dev->max() <= m.eps ? ""
-               : m.guaranteed      ? "  ABOVE eps"
-                                   : "  (above eps: approximate mode)");
+               dev->max() <= m.eps       ? ""
+               : !m.guaranteed           ? "  (above eps: approximate mode)"
+               : dev->max() <= m.bound() ? "  (above eps, within the file's edge gaps: the bound below)"
+                                         : "  ABOVE eps");
   for (const std::string& f : m.over_eps) fmt::print("outside trim {}  ABOVE eps\n", f);
   for (const std::string& f : m.off_eps) fmt::print("off surface  {}  ABOVE eps\n", f);
   if (!a.output.empty()) fmt::print("written      {}\n", a.output);

@@ -60,3 +60,19 @@ TEST_CASE("model mesh: paper() sets the paper's switches, each with its section"
   CHECK(paper.tess.mode == nurbs::tess::TessMode::Guaranteed);
   CHECK(nurbs::paper_section(nurbs::tess::ModelMeshOptions::paper_switches(), "evaluation") == "§8");
 }
+
+TEST_CASE("model mesh: a measured deviation above eps within the file's edge gaps is certified to them") {
+  // The mesh of faces whose file edges lie off them by the gap is certified within eps plus it:
+  // the deviation fails only beyond that bound.
+  nurbs::tess::ModelMesh m;
+  m.eps = 0.01;
+  m.gap = 0.05;
+  m.deviation = nurbs::tess::Deviation{};
+  m.deviation->surface_to_mesh = 0.04;  // above eps, below eps + gap
+  CHECK(m.failure().empty());
+  m.deviation->surface_to_mesh = 0.07;
+  CHECK(m.failure().find("measured deviation 0.07 exceeds eps 0.01 plus the file's edge gaps, 0.06") == 0);
+  m.gap = 0.0;  // no gap: the bound is eps
+  m.deviation->surface_to_mesh = 0.04;
+  CHECK(m.failure() == "measured deviation 0.04 exceeds eps 0.01");
+}
