@@ -243,11 +243,15 @@ std::vector<Body> ModelBuilder::build() {
   if (!validate_model_size(size).empty()) size = 0.0;
   for (Body& b : sized.bodies) {
     for (TrimmedSurface& f : b.faces) faces_.finish(f, size);
+    const size_t before = b.faces.size();
     std::erase_if(b.faces, [&](const TrimmedSurface& f) {
       if (trims_evaluable(f)) return false;
       dropped_.push_back({fmt::format("D{}", f.face_id), f.trim_problem});
       return true;
     });
+    // A closed solid that lost a face (dropped, said) bounds no inside as read.
+    if (b.closed && b.faces.size() < before)
+      b.closed = false, b.not_closed = fmt::format("{} of its faces were dropped", before - b.faces.size());
   }
   return std::move(sized.bodies);
 }

@@ -263,6 +263,11 @@ Model StepReader::read() {
                         not_closed));
       }
     const std::vector<TrimmedSurface> faces = build_faces(jobs);
+    // A closed solid that lost a face (dropped, said) bounds no inside as read.
+    if (closed && faces.size() < jobs.size()) {
+      closed = false;
+      not_closed = fmt::format("{} of its faces were dropped", jobs.size() - faces.size());
+    }
     const double to_model = length_scale_ / model_scale;
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
     if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
@@ -340,12 +345,16 @@ Model StepReader::read() {
   std::vector<IgesReadLog> logs(all.size());
   parallel_for(all.size(), 0, [&](size_t k, int) { finish_trim_loops(*all[k], size, logs[k]); });
   // Faces whose trim curves cannot be evaluated (finish_trim_loops said why): dropped.
-  for (Body& b : model.bodies)
+  for (Body& b : model.bodies) {
+    const size_t before = b.faces.size();
     std::erase_if(b.faces, [&](const TrimmedSurface& f) {
       if (trims_evaluable(f)) return false;
       model.dropped_faces.push_back({fmt::format("#{}", f.face_id), f.trim_problem});  // faces_in_file holds it
       return true;
     });
+    if (b.closed && b.faces.size() < before)
+      b.closed = false, b.not_closed = fmt::format("{} of its faces were dropped", before - b.faces.size());
+  }
   // An edge the loops of two faces both skip, bridged on each: one edge (trim_surface_gaps.h).
   int next_edge = 0;
   for (const Body& b : model.bodies)

@@ -447,6 +447,16 @@ TEST_CASE("STEP reader: a closed shell's seam used twice in a row bounds its fac
   REQUIRE(open.bodies.size() == 1);
   CHECK_FALSE(open.bodies[0].closed);
   CHECK(open.bodies[0].not_closed == "2 of its edges bound one face only (edge #13 of face #18)");
+  // The ball's surface of radius 2 under its seam of radius 1: the edges lie 1 off it, the face is
+  // dropped, and the solid, which lost a face, is read as open.
+  std::string far = ball;
+  far.replace(far.find("SPHERICAL_SURFACE('',#4,1.)"), 27, "SPHERICAL_SURFACE('',#4,2.)");
+  const nurbs::Model lost =
+      nurbs::io::read_step_text(step_file(far + "#16=EDGE_LOOP('',(#14,#15));\n" + solid), "ball.stp");
+  REQUIRE(lost.dropped_faces.size() == 1);
+  REQUIRE(lost.bodies.size() == 1);
+  CHECK_FALSE(lost.bodies[0].closed);
+  CHECK(lost.bodies[0].not_closed == "1 of its faces were dropped");
 }
 
 TEST_CASE("STEP reader: a sphere face bounded only by a vertex loop is the whole sphere") {
