@@ -106,7 +106,10 @@ glm::dvec2 insertion_uv(const Surface& surface, const glm::dvec3& p, glm::dvec2 
   return q;
 }
 
-/// An edge of welded ids (min << 32 | max) within one face.
+/// An undirected edge of welded ids: min << 32 | max.
+uint64_t edge_key(int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); }
+
+/// An edge of welded ids (edge_key) within one face.
 struct FaceEdge {
   int face;
   uint64_t edge;
@@ -173,10 +176,9 @@ glm::dvec3 at_fraction(const LoopPolyline& loop, const Stretch& s, const std::ve
 /// largest height of one. `id`: welded ids of the mesh's vertices.
 std::pair<int, double> fill_sliver_holes(TriangleMesh& mesh, const std::vector<int>& id, double fill_width) {
   if (!(fill_width > 0.0)) return {0, 0.0};
-  auto key = [](int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); };
   std::unordered_map<uint64_t, int> uses;
   for (const glm::ivec3& t : mesh.triangles)
-    for (int e = 0; e < 3; ++e) ++uses[key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
+    for (int e = 0; e < 3; ++e) ++uses[edge_key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
   struct Open {
     int a, b;    ///< welded ids, in the direction the triangle uses the edge
     int va, vb;  ///< the triangle's own vertices
@@ -188,7 +190,7 @@ std::pair<int, double> fill_sliver_holes(TriangleMesh& mesh, const std::vector<i
     for (int e = 0; e < 3; ++e) {
       const int va = mesh.triangles[k][e], vb = mesh.triangles[k][(e + 1) % 3];
       const int a = id[size_t(va)], b = id[size_t(vb)];
-      if (uses[key(a, b)] != 1) continue;
+      if (uses[edge_key(a, b)] != 1) continue;
       from[a].push_back(int(open.size()));
       open.push_back({a, b, va, vb, mesh.triangle_face.empty() ? 0 : mesh.triangle_face[k]});
     }
@@ -560,10 +562,11 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
   // only confirms (and catches a point that lay on an edge's two sides, split in the first pass).
   for (int pass = 0; pass < 2; ++pass) {
     std::unordered_map<uint64_t, int> uses;
-    auto key = [&](int a, int b) { return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b)); };
     for (const glm::ivec3& t : mesh.triangles)
-      for (int e = 0; e < 3; ++e)
-        if (id[size_t(t[e])] != id[size_t(t[(e + 1) % 3])]) ++uses[key(id[size_t(t[e])], id[size_t(t[(e + 1) % 3])])];
+      for (int e = 0; e < 3; ++e) {
+        const int a = id[size_t(t[e])], b = id[size_t(t[(e + 1) % 3])];
+        if (a != b) ++uses[edge_key(a, b)];
+      }
     // Uses per face: an edge on its face's boundary may be used by more faces than two where
     // bodies touch (a face of each body along one line), and a junction on it is closed all the same.
     std::unordered_map<FaceEdge, int, FaceEdgeHash> face_uses;
@@ -571,7 +574,7 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
     for (int k = 0; k < int(mesh.triangles.size()); ++k)
       for (int e = 0; e < 3; ++e) {
         const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
-        if (a != b) ++face_uses[{face_of(k), key(a, b)}];
+        if (a != b) ++face_uses[{face_of(k), edge_key(a, b)}];
       }
     std::vector<Segment> open;                 // the faces' boundary edges
     std::vector<std::array<int, 2>> open_ref;  // (triangle, edge)
@@ -579,10 +582,10 @@ int close_t_junctions(TriangleMesh& mesh, double weld_tolerance, WatertightStats
     for (int k = 0; k < int(mesh.triangles.size()); ++k)
       for (int e = 0; e < 3; ++e) {
         const int a = id[size_t(mesh.triangles[size_t(k)][e])], b = id[size_t(mesh.triangles[size_t(k)][(e + 1) % 3])];
-        if (a == b || face_uses[{face_of(k), key(a, b)}] != 1) continue;
+        if (a == b || face_uses[{face_of(k), edge_key(a, b)}] != 1) continue;
         open.push_back({mesh.positions[size_t(a)], mesh.positions[size_t(b)]});
         open_ref.push_back({k, e});
-        if (uses[key(a, b)] == 1) points.push_back(a), points.push_back(b);
+        if (uses[edge_key(a, b)] == 1) points.push_back(a), points.push_back(b);
       }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());
