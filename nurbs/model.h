@@ -24,6 +24,13 @@ struct Body {
   /// Why a solid the file states closed is read as open (`closed` false), e.g. "2 of its edges bound
   /// one face only (edge #30 of face #52)"; empty otherwise.
   std::string not_closed{};
+  /// The reader dropped `count` of its faces (said where dropped): a closed solid that lost faces
+  /// bounds no inside as read, and is open from then on.
+  void lose_faces(size_t count) {
+    if (!closed || count == 0) return;
+    closed = false;
+    not_closed = std::to_string(count) + " of its faces were dropped";
+  }
 };
 
 /// A face entity of the file that the model does not hold, and why.

@@ -249,9 +249,7 @@ std::vector<Body> ModelBuilder::build() {
       dropped_.push_back({fmt::format("D{}", f.face_id), f.trim_problem});
       return true;
     });
-    // A closed solid that lost a face (dropped, said) bounds no inside as read.
-    if (b.closed && b.faces.size() < before)
-      b.closed = false, b.not_closed = fmt::format("{} of its faces were dropped", before - b.faces.size());
+    b.lose_faces(before - b.faces.size());
   }
   return std::move(sized.bodies);
 }

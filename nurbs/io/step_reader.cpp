@@ -263,11 +263,6 @@ Model StepReader::read() {
                         not_closed));
       }
     const std::vector<TrimmedSurface> faces = build_faces(jobs);
-    // A closed solid that lost a face (dropped, said) bounds no inside as read.
-    if (closed && faces.size() < jobs.size()) {
-      closed = false;
-      not_closed = fmt::format("{} of its faces were dropped", jobs.size() - faces.size());
-    }
     const double to_model = length_scale_ / model_scale;
     std::string name = rep != rep_of_item.end() ? product_name(rep->second) : std::string();
     if (name.empty() && !e.records.front().params.empty() && e.records.front().params[0].kind == Kind::String)
@@ -292,6 +287,7 @@ Model StepReader::read() {
       body.instance = placed[k].path;
       body.closed = closed;
       body.not_closed = not_closed;
+      body.lose_faces(jobs.size() - faces.size());
       glm::dmat4 m = placed[k].m;
       if (to_model != 1.0) m = glm::scale(glm::dmat4(1.0), glm::dvec3(to_model)) * m;
       for (const TrimmedSurface& f : faces) {
@@ -352,8 +348,7 @@ Model StepReader::read() {
       model.dropped_faces.push_back({fmt::format("#{}", f.face_id), f.trim_problem});  // faces_in_file holds it
       return true;
     });
-    if (b.closed && b.faces.size() < before)
-      b.closed = false, b.not_closed = fmt::format("{} of its faces were dropped", before - b.faces.size());
+    b.lose_faces(before - b.faces.size());
   }
   // An edge the loops of two faces both skip, bridged on each: one edge (trim_surface_gaps.h).
   int next_edge = 0;
