@@ -182,7 +182,10 @@ double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, i
   return largest;
 }
 
-int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance, int& next_edge) {
+namespace {
+
+/// pair_added_edges within one body's faces, numbering from `next_edge`.
+int pair_in_body(std::vector<TrimmedSurface>& faces, double tolerance, int& next_edge) {
   struct Added {
     size_t face;
     Curve2* curve;
@@ -190,11 +193,11 @@ int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance
   };
   std::vector<Added> added;
   for (size_t f = 0; f < faces.size(); ++f)
-    for (TrimLoop& l : faces[f]->loops)
+    for (TrimLoop& l : faces[f].loops)
       for (Curve2& c : l.curves) {
         if (c.edge != -1) continue;
         const glm::dvec2 p = start_point(c), q = end_point(c);
-        const Surface& s = faces[f]->surface;
+        const Surface& s = faces[f].surface;
         added.push_back({f, &c, surface_point(s, p.x, p.y), surface_point(s, q.x, q.y)});
       }
   const auto same = [&](const Added& x, const Added& y) {
@@ -214,6 +217,19 @@ int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance
     added[i].curve->edge = added[match[0]].curve->edge = next_edge++;
     ++pairs;
   }
+  return pairs;
+}
+
+}  // namespace
+
+int pair_added_edges(std::vector<Body>& bodies, double tolerance) {
+  int next_edge = 0;
+  for (const Body& b : bodies)
+    for (const TrimmedSurface& f : b.faces)
+      for (const TrimLoop& l : f.loops)
+        for (const Curve2& c : l.curves) next_edge = std::max(next_edge, c.edge + 1);
+  int pairs = 0;
+  for (Body& b : bodies) pairs += pair_in_body(b.faces, tolerance, next_edge);
   return pairs;
 }
 

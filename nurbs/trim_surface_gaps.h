@@ -12,6 +12,7 @@
 /// checked to stay within the 3D tolerance, so the loop's material side never changes.
 #include <vector>
 
+#include "nurbs/model.h"
 #include "nurbs/trimmed_surface.h"
 
 namespace nurbs {
@@ -43,9 +44,8 @@ double bridge_open_joints(TrimmedSurface& face, double cap_3d, double min_gap, i
 /// The curves the repairs above added (Curve2::edge -1) where a file's loops skip an edge: where
 /// the loops of two faces of one body each skip it, their two added curves join the same two points
 /// in space (within `tolerance`, either way round), and are the same missing edge. Each such pair,
-/// and only a pair (no third added curve there), gets one new edge number, `next_edge` (then
-/// incremented: the caller starts it above every edge of the model), so that a watertight mesh
-/// meshes it once (watertight.h). Returns the pairs numbered.
-int pair_added_edges(const std::vector<TrimmedSurface*>& faces, double tolerance, int& next_edge);
+/// and only a pair (no third added curve there), gets one new edge number above every edge of
+/// `bodies`, so that a watertight mesh meshes it once (watertight.h). Returns the pairs numbered.
+int pair_added_edges(std::vector<Body>& bodies, double tolerance);
 
 }  // namespace nurbs

@@ -351,16 +351,7 @@ Model StepReader::read() {
     b.lose_faces(before - b.faces.size());
   }
   // An edge the loops of two faces both skip, bridged on each: one edge (trim_surface_gaps.h).
-  int next_edge = 0;
-  for (const Body& b : model.bodies)
-    for (const TrimmedSurface& f : b.faces)
-      for (const TrimLoop& l : f.loops)
-        for (const Curve2& c : l.curves) next_edge = std::max(next_edge, c.edge + 1);
-  for (Body& b : model.bodies) {
-    std::vector<TrimmedSurface*> faces;
-    for (TrimmedSurface& f : b.faces) faces.push_back(&f);
-    pair_added_edges(faces, kTrimGap3d * size, next_edge);
-  }
+  pair_added_edges(model.bodies, kTrimGap3d * size);
   for (const IgesReadLog& l : logs) {
     log_.reoriented_loops += l.reoriented_loops;
     log_.outer_loops_fixed += l.outer_loops_fixed;

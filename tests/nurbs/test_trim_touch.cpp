@@ -159,17 +159,20 @@ TEST_CASE("trim bridge: two faces that both skip one edge get one edge number fo
     f.loops[0].curves[skip_right ? 1 : 3].edge = -1;
     return f;
   };
-  nurbs::TrimmedSurface left = square(0, 0, true), right = square(1, 10, false), third = square(1, 20, false);
-  int next = 30;
-  CHECK(nurbs::pair_added_edges({&left, &right}, 1e-6, next) == 1);
-  CHECK(next == 31);
-  CHECK(left.loops[0].curves[1].edge == 30);
-  CHECK(right.loops[0].curves[3].edge == 30);
-  CHECK(left.loops[0].curves[0].edge == 0);  // the file's own edges keep their numbers
-  // A third face bridging the same two points: no pair is certain, none is numbered.
-  left = square(0, 0, true), right = square(1, 10, false);
-  CHECK(nurbs::pair_added_edges({&left, &right, &third}, 1e-6, next) == 0);
-  CHECK(left.loops[0].curves[1].edge == -1);
+  // Another body's face bridging the same two points, its edges up to 29: no partner across
+  // bodies, and the new number lies above every edge of the model.
+  const glm::dmat4 at(1.0);
+  std::vector<nurbs::Body> model{{"pair", {square(0, 0, true), square(1, 10, false)}, at, {}},
+                                 {"other", {square(1, 27, false)}, at, {}}};
+  CHECK(nurbs::pair_added_edges(model, 1e-6) == 1);
+  CHECK(model[0].faces[0].loops[0].curves[1].edge == 30);
+  CHECK(model[0].faces[1].loops[0].curves[3].edge == 30);
+  CHECK(model[0].faces[0].loops[0].curves[0].edge == 0);  // the file's own edges keep their numbers
+  CHECK(model[1].faces[0].loops[0].curves[3].edge == -1);
+  // A third face of the body bridging the same two points: no pair is certain, none is numbered.
+  std::vector<nurbs::Body> three{{"three", {square(0, 0, true), square(1, 10, false), square(1, 20, false)}, at, {}}};
+  CHECK(nurbs::pair_added_edges(three, 1e-6) == 0);
+  CHECK(three[0].faces[0].loops[0].curves[1].edge == -1);
 }
 
 TEST_CASE("trim touch: loops meeting at a vertex they share are valid, crossing there by a stretch is not") {
