@@ -124,6 +124,19 @@ class Touches {
     }
     return worst;
   }
+  /// The largest distance in space from points[lo..hi] to the polyline line[first..last] (its
+  /// segments); stops once past the tolerance.
+  double farthest(const std::vector<glm::dvec3>& points, size_t lo, size_t hi, const std::vector<glm::dvec3>& line,
+                  size_t first, size_t last) const {
+    double worst = 0.0;
+    for (size_t k = lo; k <= hi && worst <= tolerance_; ++k) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (size_t m = first; m < last; ++m)
+        nearest = std::min(nearest, segment_distance(points[k], line[m], line[m + 1]));
+      worst = std::max(worst, nearest);
+    }
+    return worst;
+  }
   /// The part of a loop between its two passes through `at`, vertices from + 1 .. from + count:
   /// split at its vertex farthest from `at` into two sides running from `at` to it, how far in
   /// space the vertices of each side lie from the other side. A sliver face whose two long edges,
@@ -137,35 +150,20 @@ class Touches {
     size_t apex = 0;
     for (size_t k = 1; k < part.size(); ++k)
       if (glm::length(part[k] - at) > glm::length(part[apex] - at)) apex = k;
-    double worst = 0.0;
-    const auto from_side = [&](size_t lo, size_t hi, size_t other_lo, size_t other_hi) {
-      for (size_t k = lo; k <= hi && worst <= tolerance_; ++k) {
-        double nearest = std::numeric_limits<double>::infinity();
-        for (size_t m = other_lo; m < other_hi; ++m)
-          nearest = std::min(nearest, segment_distance(part[k], part[m], part[m + 1]));
-        worst = std::max(worst, nearest);
-      }
-    };
-    from_side(0, apex, apex, part.size() - 1);
-    from_side(apex, part.size() - 1, 0, apex);
-    return worst;
+    const size_t end = part.size() - 1;
+    const double one = farthest(part, 0, apex, part, apex, end);
+    return one > tolerance_ ? one : std::max(one, farthest(part, apex, end, part, 0, apex));
   }
   /// How far in space the vertices from + 1 .. from + count of a loop lie from the rest of it (the
   /// other part, through `at`): a lobe that runs along the loop beyond the crossing, within that of
   /// it (a pcurve running out and back along a side, as fitted). Stops once past the tolerance.
   double hugging_part(const std::vector<glm::dvec3>& xyz, size_t from, size_t count, const glm::dvec3& at) const {
     const size_t n = xyz.size();
-    std::vector<glm::dvec3> rest{at};
+    std::vector<glm::dvec3> lobe, rest{at};
+    for (size_t k = 1; k <= count; ++k) lobe.push_back(xyz[(from + k) % n]);
     for (size_t k = from + count + 1; k <= from + n; ++k) rest.push_back(xyz[k % n]);
     rest.push_back(at);
-    double worst = 0.0;
-    for (size_t k = 1; k <= count && worst <= tolerance_; ++k) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (size_t m = 0; m + 1 < rest.size(); ++m)
-        nearest = std::min(nearest, segment_distance(xyz[(from + k) % n], rest[m], rest[m + 1]));
-      worst = std::max(worst, nearest);
-    }
-    return worst;
+    return lobe.empty() ? 0.0 : farthest(lobe, 0, lobe.size() - 1, rest, 0, rest.size() - 1);
   }
   /// Where the loops meet at `where` in a vertex they both pass through, two of loop e's when
   /// e = f (curve ends, in space within the tolerance): a hole whose vertex lies on the outline, a
