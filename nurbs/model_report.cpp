@@ -9,6 +9,7 @@
 
 #include "nurbs/curve_eval.h"
 #include "nurbs/request_error.h"
+#include "nurbs/segment_distance.h"
 #include "nurbs/surface_eval.h"
 
 namespace nurbs {
@@ -104,14 +105,6 @@ namespace {
 /// runs' slack then takes little of what the rule can save), within [64, 1024].
 constexpr int kMinBoundarySamples = 64, kMaxBoundarySamples = 1024;
 constexpr size_t kRunSamples = 16;
-
-/// The distance from p to the segment [a, b].
-double segment_distance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return glm::length(a + t * ab - p);
-}
 
 }  // namespace
 
