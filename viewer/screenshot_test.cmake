@@ -1,8 +1,8 @@
-# cmake -DCASE=screenshot|events|modes|bad_model -DXVFB_RUN=... -DVIEWER=... [-DNURBSGL=... -DCHECK=... -DMODEL_A=...
+# cmake -DCASE=screenshot|events|modes|bad_model -DXVFB_EXEC=... -DVIEWER=... [-DNURBSGL=... -DCHECK=... -DMODEL_A=...
 #       -DMODEL_B=... -DMOVE=DX,DY,DZ -DTRIMMED_A=... -DTRIMMED_B=...] -DOUT=DIR -P screenshot_test.cmake
 # The viewer's tests (viewer/CMakeLists.txt). Prints "SKIP: ..." (ctest reports Skipped) without xvfb-run.
 cmake_policy(VERSION 3.16)  # if() compares quoted strings as strings (CMP0054)
-if(NOT XVFB_RUN)
+if(NOT XVFB_EXEC)
   message("SKIP: xvfb-run not found (apt install xvfb xauth)")
   return()
 endif()
@@ -64,7 +64,7 @@ if(CASE STREQUAL "bad_model")
   # A malformed IGES file: the reader's message on stderr (and in the window), exit code 2, no crash.
   set(bad ${OUT}/bad.igs)
   file(WRITE ${bad} "this is not IGES\n")
-  execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${bad} --frames 2 --screenshot ${OUT}/bad.png
+  execute_process(COMMAND ${XVFB_EXEC} ${VIEWER} ${bad} --frames 2 --screenshot ${OUT}/bad.png
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message("exit ${rc}; stderr: ${err}")
   if(NOT rc EQUAL 2)
@@ -94,7 +94,7 @@ if(CASE STREQUAL "modes")
       list(REMOVE_AT args 0)
       set(models ${TRIMMED_A} ${TRIMMED_B})
     endif()
-    execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${models} ${args} --frames 2 --screenshot ${png}
+    execute_process(COMMAND ${XVFB_EXEC} ${VIEWER} ${models} ${args} --frames 2 --screenshot ${png}
                             --width 640 --height 480
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     message("${args}: exit ${rc} ${out}${err}")
@@ -155,7 +155,7 @@ frame
   foreach(script move turn)
     set(png ${OUT}/events_${script}.png)
     file(REMOVE ${png})
-    execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${MODEL_A} ${MODEL_B} --events ${OUT}/events_${script}.txt
+    execute_process(COMMAND ${XVFB_EXEC} ${VIEWER} ${MODEL_A} ${MODEL_B} --events ${OUT}/events_${script}.txt
                             --move-b ${MOVE} --screenshot ${png} --width 960 --height 640
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     message("viewer, events_${script}.txt (exit ${rc}): ${out}${err}")
@@ -188,7 +188,7 @@ endif()
 set(png ${OUT}/viewer.png)
 file(REMOVE ${png})
 string(TIMESTAMP t0 "%s")
-execute_process(COMMAND ${XVFB_RUN} -a ${VIEWER} ${MODEL_A} ${MODEL_B} --frames 24 --screenshot ${png} --move-b ${MOVE}
+execute_process(COMMAND ${XVFB_EXEC} ${VIEWER} ${MODEL_A} ${MODEL_B} --frames 24 --screenshot ${png} --move-b ${MOVE}
                 --width 960 --height 640
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 string(TIMESTAMP t1 "%s")
