@@ -207,7 +207,7 @@ void run(const GlobalOptions& global, const Options& o) {
   const LoadedModel loaded = load_model(o.path, "distance");
   const double limit = nurbs::coordinate_limit(nurbs::model_box(loaded.model));
   const std::vector<glm::dvec3> points =
-      o.point.empty() ? nurbs::io::parse_points(read_input_text(o.points, "--points"), o.points, limit)
+      o.point.empty() ? read_points_file(o.points, "--points", limit).points
                       : std::vector{nurbs::io::parse_point(o.point, "--point", limit)};
   const std::string unit = unit_name(loaded.model);  // of every distance printed
   if (!o.histogram.empty()) check_histogram_python();
@@ -277,7 +277,10 @@ void add_distance(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<Options>();
   cmd->add_option("MODEL", o->path, "Model file (IGES .igs/.iges, STEP .stp/.step, .bpt; read by its content where that is STEP or IGES)")->required();
   cmd->add_option("--point", o->point, "The query point X,Y,Z");
-  cmd->add_option("--points", o->points, "A file of points, x y z per line (spaces or commas; - reads stdin)");
+  cmd->add_option("--points", o->points,
+                  "A file of points: x y z per line (spaces, tabs, commas or semicolons; a header line may name the "
+                  "columns), a PLY (ascii or binary) or a NumPy .npy N x 3 array, told apart by content; "
+                  "- reads stdin");
   cmd->add_option("--tol", o->query.tolerance, "K_e of the faces' grids, relative to the model size")
       ->check(relative_tolerance())
       ->capture_default_str();

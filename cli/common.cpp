@@ -108,6 +108,15 @@ std::string read_input_text(const std::string& path, const std::string& option) 
   }
 }
 
+nurbs::io::PointCloud read_points_file(const std::string& path, const std::string& option, double limit) {
+  try {
+    return path == "-" ? nurbs::io::read_point_cloud(std::cin, "stdin", limit)
+                       : nurbs::io::read_point_cloud_file(path, limit);
+  } catch (const nurbs::io::ReadError& e) {
+    throw BadInput(option + " " + e.what());
+  }
+}
+
 void check_output(const std::string& path, const std::string& option) {
   if (path.empty()) return;
   try {

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "gpgpu/gpu.h"
+#include "nurbs/io/point_cloud.h"
+#include "nurbs/io/point_cloud.h"
 #include "nurbs/model.h"
 #include "nurbs/model_report.h"
 
@@ -100,6 +102,11 @@ struct CommandProgress {
 /// reads standard input. BadInput (exit 2) "OPTION PATH: PROBLEM" when it is missing, a directory or
 /// cannot be read (nurbs/io/input_file.h).
 [[nodiscard]] std::string read_input_text(const std::string& path, const std::string& option);
+
+/// The points of the file `path` given with `option` (a scan or a list of points, any format of
+/// nurbs/io/point_cloud.h; "-" reads standard input). BadInput (exit 2) "OPTION PATH: ..." for a
+/// file that cannot be read or is malformed.
+[[nodiscard]] nurbs::io::PointCloud read_points_file(const std::string& path, const std::string& option, double limit);
 
 /// Before a command's work: BadInput (exit 2) naming `option` unless `path` can be written
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.

@@ -1,7 +1,7 @@
 // libFuzzer target: the text formats of query inputs (nurbs/io/query_text.h), the same bytes read as
-// a points file and as a ray file, with the coordinate limit of a model of size 1 at the origin
-// (1e15). ReadError is the expected answer to bad input; what is read must be finite, within the
-// limit, and every ray direction of unit length.
+// a --point and as a ray file, with the coordinate limit of a model of size 1 at the origin (1e15).
+// ReadError is the expected answer to bad input; what is read must be finite, within the limit, and
+// every ray direction of unit length. Files of points: fuzz_points.cpp.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -17,8 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   constexpr double limit = 1e15;
   try {
-    for (const glm::dvec3& p : nurbs::io::parse_points(text, "fuzz", limit))
-      if (!nurbs::within_coordinate_limit(p, limit)) std::abort();
+    if (!nurbs::within_coordinate_limit(nurbs::io::parse_point(text, "fuzz", limit), limit)) std::abort();
   } catch (const nurbs::io::ReadError&) {
   }
   try {

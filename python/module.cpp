@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gpgpu/context.h"
+#include "nurbs/io/point_cloud.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/read_model.h"
 #include "nurbs/model_ops.h"
@@ -63,6 +64,26 @@ py::dict model_info(const ModelBinding& m) {
   return d;
 }
 
+py::dict read_points(const std::string& path) {
+  nurbs::io::PointCloud cloud;
+  {
+    py::gil_scoped_release release;
+    cloud = nurbs::io::read_point_cloud_file(path);
+  }
+  py::dict d;
+  d["points"] = array3(cloud.points);
+  d["normals"] = cloud.normals.empty() ? py::object(py::none()) : py::object(array3(cloud.normals));
+  if (cloud.colors.empty()) {
+    d["colors"] = py::none();
+  } else {
+    py::array_t<uint8_t> colors({py::ssize_t(cloud.colors.size()), py::ssize_t(3)});
+    std::memcpy(colors.mutable_data(), cloud.colors.data(), cloud.colors.size() * 3);
+    d["colors"] = colors;
+  }
+  d["format"] = cloud.format;
+  return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_nurbsgl, m) {
@@ -82,6 +103,7 @@ PYBIND11_MODULE(_nurbsgl, m) {
       .def("thickness", &thickness, py::arg("samples"), py::arg("engine"), py::arg("ball"), py::arg("min_wall"),
            py::arg("accept_partial"));
   m.def("load", &load, py::arg("path"), "Reads an IGES, STEP or .bpt file.");
+  m.def("read_points", &read_points, py::arg("path"), "Reads a file of points: PLY, .npy or text (point_cloud.h).");
   m.def("clearance", &clearance, py::arg("a"), py::arg("b"), py::arg("motions"), py::arg("body_a"),
         py::arg("body_b"), py::arg("tol"), py::arg("engine"), py::arg("voxel_stage"), py::arg("accept_partial"));
   m.def("clash", &clash, py::arg("model"), py::arg("min_clearance"), py::arg("tol"), py::arg("engine"),

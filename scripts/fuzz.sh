@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs the libFuzzer target fuzz_TARGET (iges, step, bpt, mesh, motion or query_text; fuzz/) for SECONDS under ASan +
-# UBSan. Builds it with clang in build-fuzz/ (NURBSGL_FUZZ=ON, NURBSGL_CPU_ONLY=ON) when needed, seeds
+# Runs the libFuzzer target fuzz_TARGET (iges, step, bpt, mesh, motion, query_text or points; fuzz/) for SECONDS
+# under ASan + UBSan. Builds it with clang in build-fuzz/ (NURBSGL_FUZZ=ON, NURBSGL_CPU_ONLY=ON) when needed, seeds
 # its corpus from the project's own files (the generated models of build/models, tests/data, the
 # shared models, fuzz/regressions/TARGET), and writes what it finds (crash-*, timeout-*, slow-unit-*)
 # to fuzz/findings/TARGET/. Once fixed, a finding goes into fuzz/regressions/TARGET/, which every build
@@ -12,8 +12,8 @@ target=${1:?usage: scripts/fuzz.sh TARGET SECONDS}
 seconds=${2:?usage: scripts/fuzz.sh TARGET SECONDS}
 shift 2
 case $target in
-  iges | step | bpt | mesh | motion | query_text) ;;
-  *) echo "fuzz.sh: unknown target '$target' (iges, step, bpt, mesh, motion, query_text)" >&2; exit 2 ;;
+  iges | step | bpt | mesh | motion | query_text | points) ;;
+  *) echo "fuzz.sh: unknown target '$target' (iges, step, bpt, mesh, motion, query_text, points)" >&2; exit 2 ;;
 esac
 build=${NURBSGL_FUZZ_BUILD:-build-fuzz}
 if [ ! -f "$build/CMakeCache.txt" ]; then
@@ -45,6 +45,7 @@ case $target in
       { printf "$b"; cat "$f"; } >"$corpus/seed_$k"; k=$((k + 1))
     done ;;
   query_text) for f in $(small txt tests/data build/tests/cli); do cp "$f" "$corpus/"; done ;;
+  points) for f in $(small 'txt|csv|ply|npy|pts|xyz' tests/data build/tests/cli); do cp "$f" "$corpus/"; done ;;
   motion) printf '5 0 0 0 0 1 0\n6,0,0,0,0,1,30\n# comment\n0 0 0 1 1 1 -720\n' >"$corpus/seed_motion" ;;
 esac
 "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \

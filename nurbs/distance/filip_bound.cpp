@@ -278,7 +278,7 @@ SecondDerivativeBounds bezier_patch_bounds(const BezierNet& patch, double du, do
   const int p = patch.p, q = patch.q;
   if (!patch.s->rational()) return polynomial_patch_bounds(patch, du, dv);
   const auto [c, R, Re, wmin] = net_frame(patch);
-  auto N = [&](int i, int j) { return patch.weight(i, j) * (patch.point(i, j) - c); };
+  auto N = [&patch, centre = c](int i, int j) { return patch.weight(i, j) * (patch.point(i, j) - centre); };
   auto W = [&](int i, int j) { return patch.weight(i, j); };
   const auto [Au, Av, Wu, Wv] = first_differences(patch, c, du, dv);
   MaxAbs Auu, Auv, Avv;

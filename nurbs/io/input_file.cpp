@@ -10,7 +10,7 @@
 
 namespace nurbs::io {
 
-std::string read_input_file(const std::filesystem::path& path) {
+std::ifstream open_input_file(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
@@ -20,7 +20,12 @@ std::string read_input_file(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(status)) throw ReadError(name, "", "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ReadError(name, "", std::string("cannot be read (") + std::strerror(errno) + ")");
-  return read_input_stream(in, name);
+  return in;
+}
+
+std::string read_input_file(const std::filesystem::path& path) {
+  std::ifstream in = open_input_file(path);
+  return read_input_stream(in, path.string());
 }
 
 std::string read_input_stream(std::istream& in, const std::string& name) {

@@ -4,10 +4,15 @@
 /// directory, no permission, an I/O error) is named as such rather than surfacing as a stream
 /// exception from inside a parser.
 #include <filesystem>
+#include <fstream>
 #include <istream>
 #include <string>
 
 namespace nurbs::io {
+
+/// The file at `path` opened for reading (binary). Throws ReadError (read_error.h) naming it: "no
+/// such file", "is a directory, not a file", "cannot be read (REASON)".
+[[nodiscard]] std::ifstream open_input_file(const std::filesystem::path& path);
 
 /// The bytes of the file at `path`. Throws ReadError (read_error.h) naming it: "no such file",
 /// "is a directory, not a file", "cannot be read (REASON)".

@@ -14,10 +14,6 @@
 namespace nurbs::io {
 namespace {
 
-std::string beyond(double limit) {
-  return fmt::format("lies beyond {:.3g}, the coordinates double arithmetic carries for this model", limit);
-}
-
 bool separator(char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; }
 
 /// The words of one line (separated by spaces, tabs and commas; a trailing CR ignored) and their
@@ -63,29 +59,17 @@ void for_lines(std::string_view text, F&& line) {
 
 }  // namespace
 
+std::string beyond_limit(double limit) {
+  return fmt::format("lies beyond {:.3g}, the coordinates double arithmetic carries for this model", limit);
+}
+
 glm::dvec3 parse_point(const std::string& text, const std::string& name, double limit) {
   std::vector<double> v;
   std::vector<std::string_view> words;
   if (const auto p = point_of(text, limit, v, words)) return *p;
   if (v.size() == 3 && words.size() == 3 && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))
-    throw ReadError(name, "", fmt::format("'{}' {}", text, beyond(limit)));
+    throw ReadError(name, "", fmt::format("'{}' {}", text, beyond_limit(limit)));
   throw ReadError(name, "", fmt::format("'{}' is not a point X,Y,Z of three finite numbers", text));
-}
-
-std::vector<glm::dvec3> parse_points(std::string_view text, const std::string& name, double limit) {
-  std::vector<glm::dvec3> out;
-  std::vector<double> v;
-  std::vector<std::string_view> words;
-  for_lines(text, [&](int n, std::string_view line) {
-    if (line.find_first_not_of(" \t\r") == std::string_view::npos) return;
-    if (line.back() == '\r') line.remove_suffix(1);
-    if (const auto p = point_of(line, limit, v, words))
-      out.push_back(*p);
-    else  // the message of parse_point
-      out.push_back(parse_point(std::string(line), fmt::format("{}: line {}", name, n), limit));
-  });
-  if (out.empty()) throw ReadError(name, "", "no points in the file");
-  return out;
 }
 
 std::vector<TextRay> parse_rays(std::string_view text, const std::string& name, double limit) {
@@ -107,7 +91,7 @@ std::vector<TextRay> parse_rays(std::string_view text, const std::string& name, 
       throw ReadError(name, where(), fmt::format("{} numbers, expected 6 (ox oy oz dx dy dz)", v.size()));
     const glm::dvec3 origin(v[0], v[1], v[2]);
     if (!within_coordinate_limit(origin, limit))
-      throw ReadError(name, where(), fmt::format("the origin ({}, {}, {}) {}", v[0], v[1], v[2], beyond(limit)));
+      throw ReadError(name, where(), fmt::format("the origin ({}, {}, {}) {}", v[0], v[1], v[2], beyond_limit(limit)));
     // Scaled by its largest component first: a length of 1e200-sized components would overflow.
     const double largest = std::max({std::abs(v[3]), std::abs(v[4]), std::abs(v[5])});
     const glm::dvec3 d = largest > 0.0 ? glm::dvec3(v[3], v[4], v[5]) / largest : glm::dvec3(0.0);

@@ -1,8 +1,8 @@
 #pragma once
 /// \file query_text.h
-/// The text formats of query inputs: points ("x y z" per line, `distance --points`, and `--point`)
-/// and rays ("ox oy oz dx dy dz" per line, `raycast --rays`). Numbers are separated by spaces, tabs
-/// or commas; blank lines are skipped, and for rays lines starting with '#'. Every coordinate must be
+/// The text formats of query inputs: a point (`--point`; files of points: point_cloud.h) and rays
+/// ("ox oy oz dx dy dz" per line, `raycast --rays`). Numbers are separated by spaces, tabs or commas;
+/// blank lines and lines starting with '#' are skipped. Every coordinate must be
 /// finite and of magnitude at most `limit` (nurbs::coordinate_limit of the model queried).
 #include <glm/vec3.hpp>
 #include <string>
@@ -15,9 +15,8 @@ namespace nurbs::io {
 /// "NAME: '...' lies beyond LIMIT, ..." (NAME: "--point", or "FILE: line N").
 [[nodiscard]] glm::dvec3 parse_point(const std::string& text, const std::string& name, double limit);
 
-/// Every non-blank line of `text` as a point (parse_point, named "NAME: line N"); ReadError
-/// "NAME: no points in the file" when there is none.
-[[nodiscard]] std::vector<glm::dvec3> parse_points(std::string_view text, const std::string& name, double limit);
+/// "lies beyond LIMIT, ...": the end of the message for a coordinate beyond the limit.
+[[nodiscard]] std::string beyond_limit(double limit);
 
 /// A ray of a ray file: its origin and unit direction.
 struct TextRay {

@@ -18,7 +18,8 @@ from ._nurbsgl import NoGLError, ReadError, RequestError, gl_info
 from . import _nurbsgl
 from . import histogram
 
-__all__ = ["load", "clearance", "clash", "histogram", "Model", "Result", "ReadError", "RequestError", "NoGLError", "gl_info"]
+__all__ = ["load", "read_points", "clearance", "clash", "histogram", "Model", "Result", "ReadError", "RequestError",
+           "NoGLError", "gl_info"]
 
 
 class Result:
@@ -118,6 +119,15 @@ class Model:
 def load(path):
     """Reads an IGES, STEP or .bpt file. Raises ReadError naming the file and where in it."""
     return Model(_nurbsgl.load(str(path)))
+
+
+def read_points(path):
+    """Reads a file of points as scanners write them, told apart by content: PLY (ascii or binary,
+    either byte order), NumPy .npy (N x 3 or more columns, float32 or float64) or text (x y z per line,
+    spaces, tabs, commas or semicolons, an optional header naming the columns). Returns a Result with
+    `points` (N x 3 float64), `normals` (N x 3, or None), `colors` (N x 3 uint8, or None) and `format`.
+    Raises ReadError naming the file and the line or byte."""
+    return Result(_nurbsgl.read_points(str(path)))
 
 
 def _frames(motion):

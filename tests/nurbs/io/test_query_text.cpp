@@ -1,4 +1,4 @@
-// Text formats of query inputs (nurbs/io/query_text.h): points and rays, their separators, and the
+// Text formats of query inputs (nurbs/io/query_text.h): a point and rays, their separators, and the
 // exact message of each bad line.
 #include <doctest/doctest.h>
 
@@ -21,11 +21,8 @@ std::string error_of(Parse parse) {
 
 }  // namespace
 
-TEST_CASE("query text: points and rays with spaces, tabs, commas, CRLF and comments") {
-  const auto points = nurbs::io::parse_points("1 2 3\r\n\n4,5,6\n7\t8\t9\n", "p.txt", 1e3);
-  REQUIRE(points.size() == 3);
-  CHECK(points[1] == glm::dvec3(4, 5, 6));
-  CHECK(points[2] == glm::dvec3(7, 8, 9));
+TEST_CASE("query text: a point and rays with spaces, tabs, commas, CRLF and comments") {
+  CHECK(nurbs::io::parse_point("4,5\t6", "--point", 1e3) == glm::dvec3(4, 5, 6));
   const auto rays = nurbs::io::parse_rays("# ox oy oz dx dy dz\n0 0 30 0 0 -2\n1,2,3,1e300,0,0\n", "r.txt", 1e3);
   REQUIRE(rays.size() == 2);
   CHECK(rays[0].direction == glm::dvec3(0, 0, -1));
@@ -33,14 +30,13 @@ TEST_CASE("query text: points and rays with spaces, tabs, commas, CRLF and comme
 }
 
 TEST_CASE("query text: each bad input names the file, the line and the problem") {
-  using nurbs::io::parse_points, nurbs::io::parse_rays, nurbs::io::parse_point;
+  using nurbs::io::parse_rays, nurbs::io::parse_point;
   const std::string beyond = "lies beyond 1e+03, the coordinates double arithmetic carries for this model";
-  CHECK(error_of([] { return parse_points("1 2 3\n1 2\n", "p.txt", 1e3); }) ==
-        "p.txt: line 2: '1 2' is not a point X,Y,Z of three finite numbers");
-  CHECK(error_of([] { return parse_points("1 2 3\n1e50 0 0\n", "p.txt", 1e3); }) == "p.txt: line 2: '1e50 0 0' " + beyond);
-  CHECK(error_of([] { return parse_points(" \n\n", "p.txt", 1e3); }) == "p.txt: no points in the file");
-  CHECK(error_of([] { return parse_points("1 nan 3\n", "p.txt", 1e3); }) ==
-        "p.txt: line 1: '1 nan 3' is not a point X,Y,Z of three finite numbers");
+  CHECK(error_of([] { return parse_point("1 2", "--point", 1e3); }) ==
+        "--point: '1 2' is not a point X,Y,Z of three finite numbers");
+  CHECK(error_of([] { return parse_point("1e50 0 0", "--point", 1e3); }) == "--point: '1e50 0 0' " + beyond);
+  CHECK(error_of([] { return parse_point("1 nan 3", "--point", 1e3); }) ==
+        "--point: '1 nan 3' is not a point X,Y,Z of three finite numbers");
   CHECK(error_of([] { return parse_point("1,2,\x01", "--point", 1e3); }) ==
         "--point: '1,2,\\x01' is not a point X,Y,Z of three finite numbers");
   CHECK(error_of([] { return parse_rays("0 0 0 0 0\n", "r.txt", 1e3); }) ==
