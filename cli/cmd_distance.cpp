@@ -101,12 +101,7 @@ void write_csv(const std::string& path, const queries::PointQueryResult& r, std:
     else
       fmt::format_to(out, ",false,,");
     buf.push_back(',');
-    buf.push_back('"');
-    for (char c : r.reason(k)) {
-      if (c == '"') buf.push_back('"');
-      buf.push_back(c);
-    }
-    buf.push_back('"');
+    append_csv_quoted(buf, r.reason(k));
     buf.push_back('\n');
   });
 }

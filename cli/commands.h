@@ -25,6 +25,7 @@ void add_clearance(CLI::App& app, const GlobalOptions& global);
 void add_clash(CLI::App& app, const GlobalOptions& global);
 void add_tessellate(CLI::App& app, const GlobalOptions& global);
 void add_deviation(CLI::App& app, const GlobalOptions& global);
+void add_inspect(CLI::App& app, const GlobalOptions& global);
 void add_raycast(CLI::App& app, const GlobalOptions& global);
 void add_thickness(CLI::App& app, const GlobalOptions& global);
 

@@ -117,6 +117,15 @@ nurbs::io::PointCloud read_points_file(const std::string& path, const std::strin
   }
 }
 
+void append_csv_quoted(fmt::memory_buffer& buf, std::string_view text) {
+  buf.push_back('"');
+  for (const char c : text) {
+    if (c == '"') buf.push_back('"');
+    buf.push_back(c);
+  }
+  buf.push_back('"');
+}
+
 void check_output(const std::string& path, const std::string& option) {
   if (path.empty()) return;
   try {

@@ -112,6 +112,9 @@ struct CommandProgress {
 /// (nurbs::io::check_writable). Empty `path`: nothing to check.
 void check_output(const std::string& path, const std::string& option);
 
+/// `text` appended to a CSV row as one quoted field (quotes doubled).
+void append_csv_quoted(fmt::memory_buffer& buf, std::string_view text);
+
 /// Writes `header` then `rows` lines to `path` (nurbs::io::write_file: a temporary file renamed),
 /// line k formatted by row(buffer, k): the rows formatted in contiguous shares on every hardware
 /// thread, written in order (the same file as one thread makes).

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   cli::add_clash(app, global);
   cli::add_tessellate(app, global);
   cli::add_deviation(app, global);
+  cli::add_inspect(app, global);
   cli::add_raycast(app, global);
   cli::add_thickness(app, global);
 

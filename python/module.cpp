@@ -96,6 +96,9 @@ PYBIND11_MODULE(_nurbsgl, m) {
       .def("info", &model_info, "The model's bodies, faces, size, unit and what the reader changed.")
       .def("distance", &point_distance, py::arg("points"), py::arg("tol"), py::arg("engine"), py::arg("per_point"),
            py::arg("accept_partial"), py::arg("cache"), py::arg("signed"), py::arg("strict"))
+      .def("inspect", &inspect, py::arg("scan"), py::arg("within"), py::arg("max_distance"), py::arg("tol"),
+           py::arg("transform"), py::arg("align"), py::arg("align_faces"), py::arg("align_sample"), py::arg("engine"),
+           py::arg("accept_partial"))
       .def("tessellate", &tessellate, py::arg("eps"), py::arg("relative"), py::arg("watertight"),
            py::arg("guaranteed"), py::arg("check"), py::arg("accept_partial"))
       .def("raycast", &raycast, py::arg("origins"), py::arg("directions"), py::arg("t_min"), py::arg("engine"),

@@ -13,6 +13,7 @@
 #include "python/gl_thread.h"
 #include "queries/distance/clash.h"
 #include "queries/distance/clearance_pair.h"
+#include "queries/inspection/inspect.h"
 #include "queries/raycast/ray_caster.h"
 #include "queries/raycast/raycast_query.h"
 #include "queries/raycast/thickness_map.h"
@@ -92,6 +93,76 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   d["seconds"] = r.seconds;
   d["prepare_seconds"] = q->prepare_seconds();
   d["failure"] = r.failure(strict);
+  return d;
+}
+
+py::dict inspect(ModelBinding& m, const py::handle& scan, const std::vector<double>& within, double max_distance,
+                 double tol, const py::handle& transform, bool align, const std::vector<int>& align_faces,
+                 size_t align_sample, const std::string& engine, bool accept_partial) {
+  const std::vector<glm::dvec3> p = points_from(scan, "scan", coordinate_limit(m.loaded->model));
+  queries::InspectOptions o;
+  o.within = within, o.max_distance = max_distance, o.tolerance = tol, o.align = align;
+  o.fit.faces = align_faces, o.fit.sample = align_sample;
+  o.query.engine = engine_of(engine), o.query.accept_partial = accept_partial;
+  if (!transform.is_none()) {
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(transform);
+    if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+      throw py::value_error("transform: a 4 x 4 array (scan into model coordinates)");
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) o.transform[c][r] = a.at(r, c);
+  }
+  queries::InspectResult r;
+  {
+    py::gil_scoped_release release;
+    GlThread::instance().run([&] { r = queries::inspect(GlThread::instance().gpu(), *m.loaded, p, o); });
+  }
+  const size_t n = r.points.size(), nb = r.bands.size();
+  std::vector<double> bound(n);
+  std::vector<glm::dvec3> closest(n);
+  std::vector<int32_t> face(n);
+  py::array_t<int8_t> verdicts({py::ssize_t(n), py::ssize_t(nb)});
+  for (size_t k = 0; k < n; ++k) {
+    const queries::PointDistance& a = r.answers.answers[k];
+    bound[k] = a.found ? a.bound : std::nan("");
+    closest[k] = a.point, face[k] = a.found ? a.face : -1;
+    for (size_t b = 0; b < nb; ++b)
+      verdicts.mutable_at(py::ssize_t(k), py::ssize_t(b)) = int8_t(r.verdicts[k * nb + b]);
+  }
+  py::array_t<double> matrix({4, 4});
+  for (int row = 0; row < 4; ++row)
+    for (int c = 0; c < 4; ++c) matrix.mutable_at(row, c) = r.alignment.matrix[c][row];
+  py::dict alignment;
+  alignment["matrix"] = matrix, alignment["aligned"] = r.aligned, alignment["rms"] = r.alignment.rms;
+  alignment["points_used"] = r.alignment.points_used, alignment["iterations"] = r.alignment.iterations;
+  alignment["converged"] = r.alignment.converged, alignment["coarse_start"] = r.alignment.coarse_start;
+  alignment["problem"] = r.alignment.problem;
+  py::list bands;
+  for (const queries::BandVerdicts& b : r.bands) {
+    py::dict d;
+    d["within"] = b.within, d["certainly_within"] = b.certainly_within, d["certainly_outside"] = b.certainly_outside;
+    d["undecided"] = b.undecided, d["share_within"] = b.share_within, d["share_above"] = b.share_above;
+    d["share_below"] = b.share_below;
+    bands.append(d);
+  }
+  const queries::InspectStatistics& s = r.stats;
+  py::dict stats;
+  stats["points"] = s.points, stats["inliers"] = s.inliers, stats["outliers"] = s.outliers;
+  stats["not_found"] = s.not_found, stats["min"] = s.min, stats["max"] = s.max, stats["mean"] = s.mean;
+  stats["sigma"] = s.sigma, stats["rms"] = s.rms;
+  py::dict percentiles;
+  for (size_t i = 0; i < s.percentiles.size(); ++i)
+    percentiles[py::float_(queries::InspectStatistics::kPercentiles[i])] = s.percentiles[i];
+  stats["percentiles"] = percentiles;
+  py::list reasons;
+  for (size_t k = 0; k < n; ++k) reasons.append(r.answers.reason(k));
+  py::dict d;
+  d["points"] = array3(r.points), d["deviation"] = array1(r.deviation), d["bound"] = array1(bound);
+  d["closest"] = array3(closest), d["normal"] = array3(r.normals), d["face"] = array1(face);
+  d["outlier"] = bools(r.outlier), d["verdicts"] = verdicts, d["reasons"] = reasons;
+  d["signed"] = r.signed_values, d["unsigned_reason"] = r.unsigned_reason, d["tolerance"] = r.tolerance;
+  d["alignment"] = alignment, d["bands"] = bands, d["statistics"] = stats;
+  d["undecided_points"] = r.undecided_points, d["failure"] = r.failure();
+  d["seconds"] = r.prepare_seconds + r.fit_seconds + r.query_seconds;
   return d;
 }
 

@@ -22,6 +22,11 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
 
 /// The model's mesh: vertices (V, 3), triangles (T, 3), triangle_face (T), normals, eps, bound,
 /// failure (empty when certified within bound).
+/// queries::inspect of an (N, 3) scan; the verdicts as an (N, bands) int8 array (queries::Verdict:
+/// 0 within, 1 outside, 2 undecided, 3 outlier, 4 not found).
+py::dict inspect(ModelBinding& m, const py::handle& scan, const std::vector<double>& within, double max_distance,
+                 double tol, const py::handle& transform, bool align, const std::vector<int>& align_faces,
+                 size_t align_sample, const std::string& engine, bool accept_partial);
 py::dict tessellate(ModelBinding& m, double eps, bool relative, bool watertight, bool guaranteed, bool check,
                     bool accept_partial);
 

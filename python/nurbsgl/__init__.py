@@ -89,6 +89,22 @@ class Model:
         whose bodies are not stated closed); nurbsgl.histogram.plot draws its histogram."""
         return Result(self._m.distance(points, tol, engine, per_point, accept_partial, cache, signed, strict))
 
+    def inspect(self, scan, within=(), max_distance=float("inf"), tol=0.0, transform=None, align=False,
+                align_faces=(), align_sample=20000, engine="auto", accept_partial=False):
+        """A scan against the model, as `nurbsgl inspect`: `scan` an (N, 3) array or a file read by
+        read_points; `within` the inspection bands (model units, ascending); points farther than
+        `max_distance` are outliers; `tol` the certification tolerance in model units (0: the smallest
+        band / 10); `transform` a 4 x 4 placement applied first; `align` best-fits the scan (on
+        `align_faces` only when given). Returns a Result with points (in the model's frame), deviation
+        (signed where the solids are closed), bound, closest, normal (outward, at the closest point),
+        face, outlier, verdicts ((N, bands) int8: 0 within, 1 outside, 2 undecided, 3 outlier,
+        4 not found), reasons, alignment, bands, statistics, undecided_points and failure ("" when
+        every inlier's verdicts are certain)."""
+        if isinstance(scan, (str, bytes)) or hasattr(scan, "__fspath__"):
+            scan = read_points(scan).points
+        return Result(self._m.inspect(scan, list(within), float(max_distance), float(tol), transform, bool(align),
+                                      list(align_faces), int(align_sample), engine, bool(accept_partial)))
+
     def tessellate(self, eps=1e-3, relative=True, watertight=False, guaranteed=True, check=False,
                    accept_partial=False):
         """The model as one triangle mesh within eps of its faces (Balazs, Guthe, Klein): eps relative to

@@ -49,16 +49,20 @@ glm::dvec3 deviation_colour(double deviation, double green, double full) {
   return glm::mix(glm::dvec3(0.1, 0.85, 0.9), glm::dvec3(0.05, 0.1, 0.85), t);
 }
 
-nurbs::TriangleMesh deviation_cloud(std::span<const glm::dvec3> points, const DeviationReport& report,
-                                    double green) {
+nurbs::TriangleMesh deviation_cloud(std::span<const glm::dvec3> points, std::span<const double> deviation,
+                                    double green, double full) {
   nurbs::TriangleMesh m;
   m.positions.assign(points.begin(), points.end());
-  const double full = std::max(std::abs(report.min), std::abs(report.max));
   m.colors.reserve(points.size());
-  for (const double d : report.deviation) m.colors.push_back(deviation_colour(d, green, full));
-  m.values = report.deviation;  // NaN where no answer was found
+  for (const double d : deviation) m.colors.push_back(deviation_colour(d, green, full));
+  m.values.assign(deviation.begin(), deviation.end());  // NaN where no answer was found
   m.values_name = "deviation";
   return m;
+}
+
+nurbs::TriangleMesh deviation_cloud(std::span<const glm::dvec3> points, const DeviationReport& report,
+                                    double green) {
+  return deviation_cloud(points, report.deviation, green, std::max(std::abs(report.min), std::abs(report.max)));
 }
 
 }  // namespace queries

@@ -44,5 +44,8 @@ struct DeviationReport {
 /// "deviation" (NaN where none was found), for nurbs::io::write_mesh_file (PLY).
 [[nodiscard]] nurbs::TriangleMesh deviation_cloud(std::span<const glm::dvec3> points, const DeviationReport& report,
                                                   double green);
+/// The same with the colour scale's end given: full red or blue at |deviation| >= `full`.
+[[nodiscard]] nurbs::TriangleMesh deviation_cloud(std::span<const glm::dvec3> points, std::span<const double> deviation,
+                                                  double green, double full);
 
 }  // namespace queries
