@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "nurbs/model_ops.h"
+#include "nurbs/parallel.h"
 #include "nurbs/request_error.h"
 #include "nurbs/tessellation/model_mesh.h"
 #include "nurbs/stopwatch.h"
@@ -357,9 +358,11 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
   out.over_reasons.resize(out.answers.size());
   out.file_limits.resize(out.answers.size());
   const double T = out.tolerance;
-  for (size_t k = 0; k < out.answers.size(); ++k) {
+  // Per answer on its own: on every core, in contiguous shares (the gapped faces' boundaries are
+  // searched per answer).
+  nurbs::parallel_for(out.answers.size(), 0, [&](size_t k, int) {
     auto& r = out.answers[k];
-    if (!r.found) continue;
+    if (!r.found) return;
     // The upper end's witness: on the mesh, the face point nearest the answer's point (within eps of
     // it, so at most d + eps from p); else the true closest point, within point_bound of it.
     const bool on_mesh = mesh_ && glm::length(points[k] - r.point) <= r.distance * (1.0 + 1e-12);
@@ -370,7 +373,7 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
     out.file_limits[k] = {v.widen, v.gap_face, v.gap_face_id, v.gap, false};
     out.reasons[k] = !model_reason_.empty() ? model_reason_ : v.reason;
     if (!out.reasons[k].empty()) r.meets_tolerance = false;
-  }
+  }, 1024);
   if (sides_) sign_answers(points, out);
   for (size_t k = 0; k < out.answers.size(); ++k) {
     const auto& r = out.answers[k];
