@@ -164,6 +164,58 @@ FaceDoubts::FaceDoubts(const std::vector<TrimmedSurface>& faces) {
     }
     doubts_.push_back(std::move(d));
   }
+  for (size_t i = 0; i < doubts_.size(); ++i) {
+    largest_gap_ = std::max(largest_gap_, doubts_[i].gap);
+    if (!doubts_[i].problem.empty()) invalid_.push_back(int(i));
+  }
+  for (size_t i = 0; i < doubts_.size(); ++i)
+    for (size_t r = 0; r < doubts_[i].boundary.size(); ++r) {
+      runs_.emplace_back(int(i), int(r));
+      largest_slack_ = std::max(largest_slack_, doubts_[i].boundary[r].slack);
+    }
+  const auto run = [this](int k) -> const BoundaryRun& {
+    return doubts_[size_t(runs_[size_t(k)].first)].boundary[size_t(runs_[size_t(k)].second)];
+  };
+  run_tree_ = std::make_shared<const MedianTree>(
+      int(runs_.size()),
+      [&](int k, auto add) {
+        add(run(k).box.min);
+        add(run(k).box.max);
+      },
+      [&](int k, int axis) { return run(k).box.min[axis] + run(k).box.max[axis]; });
+}
+
+void FaceDoubts::boundaries_near(const glm::dvec3& q, double radius,
+                                 std::vector<std::pair<int, double>>& out) const {
+  out.clear();
+  if (run_tree_->nodes.empty()) return;
+  int stack[128], top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const MedianTree::Node& n = run_tree_->nodes[size_t(stack[--top])];
+    if (box_distance(Box{n.lo, n.hi}, q) - largest_slack_ > radius) continue;
+    if (n.left >= 0) {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+      continue;
+    }
+    for (int k = n.first; k < n.first + n.count; ++k) {
+      const auto [doubt, r] = runs_[size_t(run_tree_->order[size_t(k)])];
+      const BoundaryRun& run = doubts_[size_t(doubt)].boundary[size_t(r)];
+      if (box_distance(run.box, q) - run.slack > radius) continue;
+      double near = std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j + 1 < run.points.size(); ++j)
+        near = std::min(near, segment_distance(q, run.points[j], run.points[j + 1]));
+      const double lower = std::max(0.0, near - run.slack);
+      if (lower > radius) continue;
+      const auto at = std::find_if(out.begin(), out.end(), [&](const auto& e) { return e.first == doubt; });
+      if (at == out.end())
+        out.emplace_back(doubt, lower);
+      else
+        at->second = std::min(at->second, lower);
+    }
+  }
+  std::sort(out.begin(), out.end());
 }
 
 double FaceDoubts::boundary_distance(const Doubt& d, const glm::dvec3& p, double within) {
@@ -180,8 +232,8 @@ double FaceDoubts::boundary_distance(const Doubt& d, const glm::dvec3& p, double
 
 template <class Within>
 void FaceDoubts::mark_invalid(Verdict& v, Within within) const {
-  for (const Doubt& d : doubts_)
-    if (!d.problem.empty() && within(d.box, v.widen)) {
+  for (const int i : invalid_)
+    if (const Doubt& d = doubts_[size_t(i)]; within(d.box, v.widen)) {
       v.invalid_face = d.face;
       v.reason = invalid_trim_text(d.face, d.face_id, d.problem);
       return;
@@ -202,26 +254,34 @@ FaceDoubts::Verdict FaceDoubts::at(const glm::dvec3& p, double d, double b,
   const auto raise = [&](double w, const Doubt& x) {
     if (w > v.widen) v.widen = w, v.gap_face = x.face, v.gap_face_id = x.face_id, v.gap = x.gap;
   };
-  for (const Doubt& x : doubts_) {
-    const double g = x.gap;
-    if (!(g > 0.0) || v.widen >= g) continue;
-    if (!finite) {
-      raise(g, x);
-      continue;
-    }
-    // Below, by (i): the file's face may add material within g of B, nearer than `low` only where
-    // dist(p, B) < low + g.
-    if (low > 0.0 && box_distance(x.box, p) < low + g) {
-      const double to_b = boundary_distance(x, p, low + g);
-      if (to_b < low + g) raise(std::min({g, low, low + g - to_b}), x);
-    }
-    // Above, by (ii) and (iii): the closest point may have been cut away only within g of B.
-    if (v.widen < g) {
-      const bool cut = witnessed ? box_distance(x.box, closest->point) <= g + closest->within &&
-                                       boundary_distance(x, closest->point, g + closest->within) <=
-                                           g + closest->within
-                                 : box_distance(x.box, p) <= reach + g && boundary_distance(x, p, reach + g) <= reach + g;
-      if (cut) raise(g, x);
+  if (!finite) {
+    for (const Doubt& x : doubts_)
+      if (x.gap > 0.0) raise(x.gap, x);
+  } else {
+    // The gapped boundaries within reach of p (below) and of the witness, or p (above), from the
+    // tree of runs: the faces are taken in their order, as each face's own test would.
+    const double largest = largest_gap_;
+    thread_local std::vector<std::pair<int, double>> below, above;
+    below.clear();
+    if (low > 0.0) boundaries_near(p, low + largest, below);
+    if (witnessed)
+      boundaries_near(closest->point, largest + closest->within, above);
+    else
+      boundaries_near(p, reach + largest, above);
+    size_t i = 0, j = 0;
+    while (i < below.size() || j < above.size()) {
+      constexpr int none = std::numeric_limits<int>::max();
+      const int face = std::min(i < below.size() ? below[i].first : none, j < above.size() ? above[j].first : none);
+      const double to_p = i < below.size() && below[i].first == face ? below[i++].second : inf;
+      const double to_witness = j < above.size() && above[j].first == face ? above[j++].second : inf;
+      const Doubt& x = doubts_[size_t(face)];
+      const double g = x.gap;
+      if (!(g > 0.0) || v.widen >= g) continue;
+      // Below, by (i): the file's face may add material within g of B, nearer than `low` only where
+      // dist(p, B) < low + g.
+      if (low > 0.0 && to_p < low + g) raise(std::min({g, low, low + g - to_p}), x);
+      // Above, by (ii) and (iii): the closest point may have been cut away only within g of B.
+      if (v.widen < g && to_witness <= (witnessed ? g + closest->within : reach + g)) raise(g, x);
     }
   }
   // After the gaps: a widened bound reaches farther, to faces an invalid trim may hold.
@@ -250,11 +310,7 @@ double FaceDoubts::boundary_distance(const Doubt& d, const std::vector<Box>& box
   return best <= within ? best : std::numeric_limits<double>::infinity();
 }
 
-double FaceDoubts::largest_gap() const {
-  double g = 0.0;
-  for (const Doubt& d : doubts_) g = std::max(g, d.gap);
-  return g;
-}
+double FaceDoubts::largest_gap() const { return largest_gap_; }
 
 FaceDoubts::Side FaceDoubts::side(const std::vector<Box>& others, double low, double reach, double d, double b,
                                   const std::optional<Witness>& witness) const {

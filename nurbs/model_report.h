@@ -12,10 +12,12 @@
 #include <filesystem>
 #include <glm/vec3.hpp>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "nurbs/median_tree.h"
 #include "nurbs/model.h"
 #include "nurbs/model_ops.h"
 
@@ -165,7 +167,15 @@ class FaceDoubts {
   /// Marks v uncertified by the first face with an invalid trim for which within(box, v.widen) holds.
   template <class Within>
   void mark_invalid(Verdict& v, Within within) const;
+  /// Per gapped face whose lifted loops come within `radius` of q: (index into doubts_, the
+  /// boundary_distance lower bound), ascending by index; from the tree of every face's runs.
+  void boundaries_near(const glm::dvec3& q, double radius, std::vector<std::pair<int, double>>& out) const;
   std::vector<Doubt> doubts_;
+  /// Every gapped face's boundary runs (doubt index, run index) in one median tree.
+  std::vector<std::pair<int, int>> runs_;
+  std::shared_ptr<const MedianTree> run_tree_;
+  double largest_slack_ = 0.0, largest_gap_ = 0.0;
+  std::vector<int> invalid_;  ///< the doubts with an invalid trim, in order
 };
 
 }  // namespace nurbs

@@ -1,15 +1,15 @@
 #pragma once
 /// \file triangle_bvh.h
 /// Closest point on a set of triangles (or segments: triangles with a repeated corner), with a
-/// bounding volume hierarchy of axis-aligned boxes split at the median centroid (median_tree.h). The deviation check
-/// of the tessellation (mesh_check.h) asks it millions of times.
+/// bounding volume hierarchy of axis-aligned boxes split at the median centroid (nurbs/median_tree.h).
+/// The deviation check of the tessellation (mesh_check.h) asks it millions of times.
 #include <array>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "nurbs/tessellation/median_tree.h"
+#include "nurbs/median_tree.h"
 
 namespace nurbs::tess {
 

@@ -1,6 +1,6 @@
 #include "nurbs/tessellation/watertight.h"
 
-#include "nurbs/tessellation/median_tree.h"
+#include "nurbs/median_tree.h"
 
 #include <algorithm>
 #include <array>
@@ -27,8 +27,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Segment = std::array<glm::dvec3, 2>;
 
-/// Segments in 3D on the shared median tree (median_tree.h); near() visits every segment within r
-/// of a point, with its distance and foot (the closest one alone would be the point's own edge).
+/// Segments in 3D on the shared median tree (nurbs/median_tree.h); near() visits every segment
+/// within r of a point, with its distance and foot (the closest one alone would be the point's own edge).
 class SegmentTree {
  public:
   explicit SegmentTree(std::vector<Segment> segments)

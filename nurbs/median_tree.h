@@ -1,8 +1,8 @@
 #pragma once
 /// \file median_tree.h
-/// The bounding-box hierarchy the tessellation's searches share (TriangleBvh, the watertight
-/// stitching's segment tree): items' axis-aligned boxes, split at the median of a key along the
-/// box's longest axis, at most four items a leaf. Built once; each user walks it its own way.
+/// The bounding-box hierarchy the searches share (the tessellation's TriangleBvh, the watertight
+/// stitching's segment tree, the file gaps' boundary runs of model_report.h): items' axis-aligned
+/// boxes, split at the median of a key along the box's longest axis, at most four items a leaf. Built once; each user walks it its own way.
 #include <algorithm>
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
@@ -10,7 +10,7 @@
 #include <numeric>
 #include <vector>
 
-namespace nurbs::tess {
+namespace nurbs {
 
 struct MedianTree {
   struct Node {
@@ -54,4 +54,4 @@ struct MedianTree {
   }
 };
 
-}  // namespace nurbs::tess
+}  // namespace nurbs
