@@ -2,7 +2,8 @@
 /// \file median_tree.h
 /// The bounding-box hierarchy the searches share (the tessellation's TriangleBvh, the watertight
 /// stitching's segment tree, the file gaps' boundary runs of model_report.h): items' axis-aligned
-/// boxes, split at the median of a key along the box's longest axis, at most four items a leaf. Built once; each user walks it its own way.
+/// boxes, split at the median of a key along the box's longest axis, at most four items a leaf.
+/// Built once; each user walks it its own way.
 #include <algorithm>
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
