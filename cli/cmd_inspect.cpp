@@ -9,18 +9,22 @@
 
 #include "cli/commands.h"
 #include "cli/validators.h"
+#include "nurbs/io/input_file.h"
 #include "nurbs/io/mesh_writer.h"
+#include "nurbs/io/output_file.h"
 #include "nurbs/io/read_error.h"
 #include "nurbs/io/transform_file.h"
 #include "nurbs/model_ops.h"
 #include "queries/distance/deviation_report.h"
+#include "nurbs/tessellation/model_mesh.h"
 #include "queries/inspection/inspect.h"
+#include "queries/inspection/inspection_report.h"
 
 namespace cli {
 namespace cmd_inspect_impl {
 
 struct Options {
-  std::string model, scan, transform, csv, ply;
+  std::string model, scan, transform, csv, ply, report;
   queries::InspectOptions inspect;
   double range = 0.0;  ///< the PLY's colour scale end; 0: the widest band
   std::string engine = "auto";
@@ -151,6 +155,15 @@ void run(const GlobalOptions& global, Options o) {
   const nurbs::io::PointCloud scan = read_points_file(o.scan, "SCAN", limit);
   if (!o.csv.empty()) check_output(o.csv, "--csv");
   if (!o.ply.empty()) check_output(o.ply, "--ply");
+  std::string three_js;
+  if (!o.report.empty()) {
+    check_output(o.report, "--report");
+    try {
+      three_js = nurbs::io::read_input_file(NURBSGL_THREE_JS);
+    } catch (const nurbs::io::ReadError& e) {
+      throw BadInput(fmt::format("--report draws the part with three.js: {} (apt install libjs-three)", e.what()));
+    }
+  }
   o.inspect.check();
   auto gpu = start_gpu(global);
   o.inspect.query.engine = queries::engine_choice(o.engine);
@@ -166,8 +179,20 @@ void run(const GlobalOptions& global, Options o) {
                                                                   : 2.0 * r.bands.back().within;
     nurbs::io::write_mesh_file(o.ply, queries::deviation_cloud(r.points, r.deviation, green, full));
   }
+  if (!o.report.empty()) {
+    // The part for display: its approximate tessellation at 1e-3 of the model size.
+    nurbs::tess::ModelMeshOptions mo;
+    mo.eps = 1e-3, mo.tess.mode = nurbs::tess::TessMode::Approximate, mo.accept_partial = true;
+    const nurbs::tess::ModelMesh part = nurbs::tess::mesh_model(loaded, mo);
+    queries::InspectionReportInputs in;
+    in.model = o.model, in.scan = o.scan, in.unit = unit, in.result = &r, in.part = &part.result.mesh;
+    in.three_js = std::move(three_js), in.range = o.range;
+    const std::string text = queries::inspection_report_html(in);
+    nurbs::io::write_file(o.report, [&](std::ostream& out) { out.write(text.data(), std::streamsize(text.size())); });
+  }
   if (o.json) {
     nlohmann::json j = result_json(r, o, scan);
+    if (!o.report.empty()) j["report"] = o.report;
     j["unit"] = unit;
     add_model_json(j, loaded.report, global);
     print_json(j);
@@ -228,6 +253,10 @@ void add_inspect(CLI::App& app, const GlobalOptions& global) {
       ->check(extension_is(".csv"));
   cmd->add_option("--ply", o->ply, "Write the points coloured by deviation (green within the first band) as PLY")
       ->check(extension_is(".ply"));
+  cmd->add_option("--report", o->report,
+                  "Write the inspection report: one HTML file that opens with no network (the part and the scan "
+                  "coloured by deviation in a 3D view, the bands, histogram, statistics, alignment and certificate)")
+      ->check(extension_is(".html"));
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([&global, o] {
     if (!o->inspect.fit.faces.empty() && !o->inspect.align) throw BadInput("--align-faces applies with --align");

@@ -23,6 +23,8 @@ packages=(
   libembree-dev                              # BVH of the certified meshes (queries/distance/mesh_distance.h)
   python3-pytest python3-distributed         # its tests; scale-out on Dask (nurbsgl.dask)
   python3-matplotlib                         # the deviation histogram (PNG)
+  libjs-three                                # the inspection report's 3D view (three.js, inlined)
+  chromium                                   # its test in a real browser (headless)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -52,8 +52,7 @@ bool rigid_motion(const glm::dmat4& m, std::string* why) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (!std::isfinite(m[c][r])) return fail("a number is not finite");
-  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
-    return fail("its last row is not 0 0 0 1");
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0) return fail("its last row is not 0 0 0 1");
   const glm::dmat3 r(m);
   const glm::dmat3 rtr = glm::transpose(r) * r;
   double off = 0.0;
@@ -71,8 +70,8 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
   if (!(o.max_distance > 0.0)) throw nurbs::RequestError("best fit: max_distance must be positive");
   for (const int f : o.faces)
     if (f < 0 || size_t(f) >= faces.size())
-      throw nurbs::RequestError(fmt::format("best fit: face {} is not a face of the model (0 to {})", f,
-                                            faces.size() - 1));
+      throw nurbs::RequestError(
+          fmt::format("best fit: face {} is not a face of the model (0 to {})", f, faces.size() - 1));
   std::string why;
   if (!rigid_motion(o.start, &why)) throw nurbs::RequestError("best fit: the start is not a rigid motion: " + why);
   if (scan.empty()) throw nurbs::RequestError("best fit: no points");
@@ -126,9 +125,10 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
       residual.push_back(std::abs(pairs.back().e));
     }
     if (pairs.size() < 6) {
-      a.problem = fmt::format("{} of the {} sampled points lie within the maximum distance of the fitted faces; "
-                              "6 are needed",
-                              pairs.size(), n);
+      a.problem = fmt::format(
+          "{} of the {} sampled points lie within the maximum distance of the fitted faces; "
+          "6 are needed",
+          pairs.size(), n);
       break;
     }
     const double scale = std::max(kMadToSigma * median(residual), tolerance);
@@ -158,17 +158,23 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
       a.problem = "fewer than 6 points within the robust weight's reach";
       break;
     }
-    // A light damping (1e-9 of the trace): motions the faces do not hold (a sphere's rotations) stay
-    // put instead of making the equations singular.
-    ata += 1e-9 * ata.trace() * Eigen::Matrix<double, 6, 6>::Identity();
-    const Eigen::Matrix<double, 6, 1> x = ata.ldlt().solve(atb);
+    // Motions the faces do not hold (a sphere's rotations, a torus's about its axis) stay put: the
+    // equations are solved in their eigenvectors, those of eigenvalues below 1e-9 of the largest
+    // left out, instead of letting noise slide the scan along them.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(ata);
+    const double largest = eigen.eigenvalues().maxCoeff();
+    Eigen::Matrix<double, 6, 1> x = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int i = 0; i < 6; ++i) {
+      const double lambda = eigen.eigenvalues()[i];
+      if (lambda > 1e-9 * largest) x += (eigen.eigenvectors().col(i).dot(atb) / lambda) * eigen.eigenvectors().col(i);
+    }
     if (!x.allFinite()) {
       a.problem = "the fit's equations are singular (the fitted faces do not hold the scan in every direction)";
       break;
     }
     const glm::dvec3 w(x[0], x[1], x[2]), t(x[3], x[4], x[5]);
-    const glm::dmat4 delta = motion(glm::dvec3(0.0), centre + t) * motion(w, glm::dvec3(0.0)) *
-                             motion(glm::dvec3(0.0), -centre);
+    const glm::dmat4 delta =
+        motion(glm::dvec3(0.0), centre + t) * motion(w, glm::dvec3(0.0)) * motion(glm::dvec3(0.0), -centre);
     double moved_most = 0.0;
     for (const Pair& q : pairs) moved_most = std::max(moved_most, glm::length(apply(delta, q.p) - q.p));
     a.matrix = delta * a.matrix;
@@ -179,8 +185,8 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
   }
   a.iterations = std::min(a.iterations, o.max_iterations);
   if (!a.converged && a.problem.empty())
-    a.problem = fmt::format("no convergence in {} rounds (the last moved points more than {:.3g})", o.max_iterations,
-                            step);
+    a.problem =
+        fmt::format("no convergence in {} rounds (the last moved points more than {:.3g})", o.max_iterations, step);
   return a;
 }
 

@@ -35,8 +35,8 @@ struct BestFitOptions {
 };
 
 struct Alignment {
-  glm::dmat4 matrix{1.0};  ///< scan into model coordinates
-  double rms = 0.0;        ///< of the fitted points' distances to the model after the fit
+  glm::dmat4 matrix{1.0};     ///< scan into model coordinates
+  double rms = 0.0;           ///< of the fitted points' distances to the model after the fit
   long long points_used = 0;  ///< fitted in the last round (within max_distance, weight > 0)
   int iterations = 0;
   bool converged = false;

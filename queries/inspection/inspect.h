@@ -44,7 +44,7 @@ struct InspectOptions {
 
 /// The verdicts of one band over the inliers.
 struct BandVerdicts {
-  double within = 0.0;  ///< D
+  double within = 0.0;              ///< D
   long long certainly_within = 0;   ///< |deviation| + bound <= D
   long long certainly_outside = 0;  ///< |deviation| - bound > D
   long long undecided = 0;          ///< the bound straddles D, or the answer is not certified
@@ -54,10 +54,10 @@ struct BandVerdicts {
 };
 
 struct InspectStatistics {
-  long long points = 0;     ///< in the scan
-  long long inliers = 0;    ///< answered within max_distance
-  long long outliers = 0;   ///< answered beyond it
-  long long not_found = 0;  ///< no answer
+  long long points = 0;                                             ///< in the scan
+  long long inliers = 0;                                            ///< answered within max_distance
+  long long outliers = 0;                                           ///< answered beyond it
+  long long not_found = 0;                                          ///< no answer
   double min = 0.0, max = 0.0, mean = 0.0, sigma = 0.0, rms = 0.0;  ///< of the inliers' deviations
   /// The inliers' deviations at these percentiles.
   static constexpr std::array<double, 7> kPercentiles{1, 5, 25, 50, 75, 95, 99};
@@ -71,8 +71,8 @@ struct InspectResult {
   std::vector<glm::dvec3> points;  ///< the scan in model coordinates
   PointQueryResult answers;        ///< per point; answers.signed_distance when signed
   bool signed_values = false;
-  std::string unsigned_reason;    ///< why the deviations are unsigned (the model's solids not closed)
-  std::vector<double> deviation;  ///< per point: signed distance, or distance (NaN where none)
+  std::string unsigned_reason;      ///< why the deviations are unsigned (the model's solids not closed)
+  std::vector<double> deviation;    ///< per point: signed distance, or distance (NaN where none)
   std::vector<glm::dvec3> normals;  ///< per point, outward at the closest point (0 where none)
   std::vector<char> outlier;        ///< per point
   std::vector<Verdict> verdicts;    ///< per point and band: verdicts[k * bands + b]
