@@ -10,6 +10,7 @@ the scan back on the model (scan into model coordinates, the matrix `inspect --t
 """
 import argparse
 import json
+import pathlib
 import sys
 
 import numpy as np
@@ -33,7 +34,8 @@ def main(argv=None):
     p.add_argument("--outliers", type=float, default=0.01, help="share of points off the part")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--truth", help="write the placement back (scan into model) as JSON here")
-    p.add_argument("--build", default="build", help="the build folder holding python/nurbsgl")
+    p.add_argument("--build", default=str(pathlib.Path(__file__).resolve().parent.parent / "build"),
+                   help="the build folder holding python/nurbsgl (default: build/ beside experiments/)")
     a = p.parse_args(argv)
     sys.path.insert(0, a.build + "/python")
     import nurbsgl
