@@ -3,10 +3,12 @@
 fit, certified signed deviations), CloudCompare (Debian `cloudcompare`, headless: ICP with 95 %
 overlap on a BRepMesh mesh at the smallest band / 10, then cloud-to-mesh distances) and Open3D
 (Debian `python3-open3d`: point-to-plane ICP on the same mesh's vertices, then RaycastingScene
-signed distances). Scans come from experiments/make_scan.py: sampled on the model, 0.02 noise along
-the normal, 1 % outliers, misplaced by 0.5 degrees and 0.3. Per tool and scan: the whole process's
-wall time and peak memory (GNU time), its stages where it reports them, and the fit's error: the
-largest distance, over the model's box corners, between the fitted and the true placement.
+signed distances). Scans come from experiments/make_scan.py: sampled on the model, noise along the
+normal, 1 % outliers, misplaced by 0.5 degrees and a shift; all lengths relative to the model size S
+as a 100 mm part's are to it: noise 2e-4 S (0.02 mm), shift 3e-3 S (0.3 mm), bands 5e-4 S and 1e-3 S,
+outliers beyond 1e-2 S, the peers' mesh at the smallest band / 10. Per tool and scan: the whole
+process's wall time and peak memory (GNU time), its stages where it reports them, and the fit's
+error: the largest distance, over the model's box corners, between the fitted and the true placement.
 
     experiments/inspect_bench.py --build build --out results/inspect [--points 1000000 ...] [--models ...]
 
@@ -31,7 +33,8 @@ MODELS = {  # IGES B-reps: BRepMesh (peer_occt_mesh) reads IGES
     "Motor": SHARED / "generated" / "occt_Motor-c_brep.igs",
     "bearing": SHARED / "iges" / "occt_bearing.iges",
 }
-BANDS = (0.05, 0.1)
+BANDS = (5e-4, 1e-3)  # times the model size
+NOISE, SHIFT, MAX_DISTANCE = 2e-4, 3e-3, 1e-2
 
 
 def timed(cmd, env=None):
@@ -64,7 +67,7 @@ def cloudcompare(scan, mesh):
 
 OPEN3D = r"""
 import sys, time, json, numpy as np, open3d as o3d
-scan_path, mesh_path = sys.argv[1], sys.argv[2]
+scan_path, mesh_path, reach = sys.argv[1], sys.argv[2], float(sys.argv[3])
 t0 = time.time()
 scan = o3d.io.read_point_cloud(scan_path)
 mesh = o3d.io.read_triangle_mesh(mesh_path)
@@ -74,7 +77,7 @@ target.normals = mesh.vertex_normals
 pts = np.asarray(scan.points)
 sample = scan.select_by_index(np.linspace(0, len(pts) - 1, 20000).astype(int))
 t1 = time.time()
-reg = o3d.pipelines.registration.registration_icp(sample, target, 1.0, np.eye(4),
+reg = o3d.pipelines.registration.registration_icp(sample, target, reach, np.eye(4),
     o3d.pipelines.registration.TransformationEstimationPointToPlane(),
     o3d.pipelines.registration.ICPConvergenceCriteria(max_iteration=60))
 t2 = time.time()
@@ -88,8 +91,8 @@ print(json.dumps({"matrix": reg.transformation.tolist(), "rms": reg.inlier_rmse,
 """
 
 
-def open3d(scan, mesh):
-    out, err, wall, peak, rc = timed([sys.executable, "-c", OPEN3D, scan, mesh])
+def open3d(scan, mesh, reach):
+    out, err, wall, peak, rc = timed([sys.executable, "-c", OPEN3D, scan, mesh, reach])
     try:
         r = json.loads(out.strip().splitlines()[-1])
     except (ValueError, IndexError):
@@ -124,9 +127,11 @@ def main(argv=None):
         v = loaded.tessellate(eps=1e-3).vertices
         lo, hi = v.min(0), v.max(0)
         corners = np.array(list(itertools.product(*zip(lo, hi))))
+        size = float(np.linalg.norm(hi - lo))
+        bands = [b * size for b in BANDS]
         mesh = work / f"{name}_brepmesh.ply"
         if mesher.exists():
-            m_out, m_err, m_wall, _, _ = timed([mesher, model, "--deflection", min(BANDS) / 10, "-o", mesh])
+            m_out, m_err, m_wall, _, _ = timed([mesher, model, "--deflection", min(bands) / 10, "-o", mesh])
             mesh_json = json.loads(m_out) if m_out.strip().startswith("{") else {}
         else:
             mesh_json = {}
@@ -134,20 +139,22 @@ def main(argv=None):
             scan, truth_file = work / f"{name}_{n}.ply", work / f"{name}_{n}_truth.json"
             if not scan.exists():
                 subprocess.run([sys.executable, ROOT / "experiments" / "make_scan.py", model, scan, "--points", str(n),
-                                "--truth", truth_file, "--build", build], check=True)
+                                "--noise", str(NOISE * size), "--shift", str(SHIFT * size), "--truth", truth_file,
+                                "--build", build], check=True)
             truth = np.array(json.load(open(truth_file))["matrix"])
-            row = {"model": name, "faces": loaded.faces, "points": n, "mesh_triangles": mesh_json.get("triangles"),
+            row = {"model": name, "faces": loaded.faces, "points": n, "size": size, "bands": bands,
+                   "mesh_triangles": mesh_json.get("triangles"),
                    "mesh_seconds": mesh_json.get("seconds")}
             o_out, o_err, wall, peak, rc = timed([nurbsgl, "inspect", model, scan, "--within",
-                                                  ",".join(map(str, BANDS)), "--max-distance", "1", "--align",
-                                                  "--json"])
+                                                  ",".join(f"{b:.6g}" for b in bands), "--max-distance",
+                                                  f"{MAX_DISTANCE * size:.6g}", "--align", "--json"])
             j = json.loads(o_out)
             row["nurbsgl"] = {"seconds": wall, "peak_mb": peak, "stages": j["seconds"], "rc": rc,
                               "rms": j["alignment"]["rms"], "undecided": j["undecided_points"],
                               "fit_error": placement_error(np.array(j["alignment"]["matrix"]), truth, corners)}
             if mesh.exists():
                 row["cloudcompare"] = cloudcompare(scan, mesh)
-                o3 = open3d(scan, mesh)
+                o3 = open3d(scan, mesh, MAX_DISTANCE * size)
                 if o3.get("ok"):
                     o3["fit_error"] = placement_error(np.array(o3["matrix"]), truth, corners)
                     del o3["matrix"]
@@ -155,13 +162,13 @@ def main(argv=None):
             rows.append(row)
             print(json.dumps(row), flush=True)
     (out / "inspect_bench.json").write_text(json.dumps(rows, indent=1))
-    lines = ["| model (faces) | points | nurbsgl whole s | its stages (prepare / fit / deviations) | peak MB "
+    lines = ["| model (faces, size) | points | nurbsgl whole s | its stages (prepare / fit / deviations) | peak MB "
              "| fit error | CloudCompare whole s (C2M s) | peak MB | Open3D whole s (fit / distances) | fit error |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         o, c, d = r["nurbsgl"], r.get("cloudcompare", {}), r.get("open3d", {})
         st = o["stages"]
-        lines.append(f"| {r['model']} ({r['faces']}) | {r['points']:,} | {o['seconds']:.2f} | "
+        lines.append(f"| {r['model']} ({r['faces']}, {r['size']:.3g}) | {r['points']:,} | {o['seconds']:.2f} | "
                      f"{st['prepare']:.2f} / {st['fit']:.2f} / {st['deviations']:.2f} | {o['peak_mb']:.0f} | "
                      f"{o['fit_error']:.2g} | {c.get('seconds', float('nan')):.2f} ({c.get('distance_seconds', 0):.2f})"
                      f" | {c.get('peak_mb', float('nan')):.0f} | {d.get('seconds', float('nan')):.2f} "
@@ -175,7 +182,7 @@ def main(argv=None):
         "DIR" if sys.argv[i - 1] in ("--out", "--work") else w for i, w in enumerate(sys.argv[1:], 1))
     report.write_benchmarks("Scan inspection", command, gl,
                             [(f"`inspect_bench.json`: {', '.join(f'{n:,}' for n in a.points)} points, bands "
-                              f"{', '.join(map(str, BANDS))}, fit error over the model's box",
+                              f"{BANDS[0]:g} and {BANDS[1]:g} of the model size, fit error over the model's box",
                               "\n".join(lines))], "" if mesher.exists() else "the peers (no peer_occt_mesh)")
 
 

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -89,18 +90,33 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
   const double tolerance = query.tolerance();
   const double step = o.step > 0.0 ? o.step : 1e-3 * tolerance;
   if (o.coarse_start) {
-    nurbs::Box model;
-    bool first = true;
-    for (const nurbs::TrimmedSurface& f : faces) {
-      const nurbs::Box b = nurbs::sampled_box(f.surface);
-      model.min = first ? b.min : glm::min(model.min, b.min), model.max = first ? b.max : glm::max(model.max, b.max);
-      first = false;
-    }
-    glm::dvec3 lo(1e300), hi(-1e300);
-    for (const glm::dvec3& p : sample) lo = glm::min(lo, apply(a.matrix, p)), hi = glm::max(hi, apply(a.matrix, p));
-    const glm::dvec3 shift = 0.5 * (model.min + model.max) - 0.5 * (lo + hi);
-    if (glm::length(shift) > 0.25 * query.model_size()) {
-      a.matrix = motion(glm::dvec3(0.0), shift) * a.matrix;
+    // Far off: the sample's median distance to the model above a tenth of its size. The fit then
+    // starts from the translation between the box centres: the model's faces' and the sample's
+    // between its 2nd and 98th percentiles per axis (outliers do not move it).
+    std::vector<glm::dvec3> start(n);
+    for (size_t k = 0; k < n; ++k) start[k] = apply(a.matrix, sample[k]);
+    std::vector<double> distance;
+    for (const PointDistance& d : query.query(start).answers)
+      distance.push_back(d.found ? d.distance : std::numeric_limits<double>::infinity());
+    if (median(distance) > 0.1 * query.model_size()) {
+      nurbs::Box model;
+      bool first = true;
+      for (const nurbs::TrimmedSurface& f : faces) {
+        const nurbs::Box b = nurbs::sampled_box(f.surface);
+        model.min = first ? b.min : glm::min(model.min, b.min), model.max = first ? b.max : glm::max(model.max, b.max);
+        first = false;
+      }
+      glm::dvec3 centre;
+      for (int axis = 0; axis < 3; ++axis) {
+        std::vector<double> c;
+        for (const glm::dvec3& p : start) c.push_back(p[axis]);
+        const auto lo = c.begin() + long(0.02 * double(n)), hi = c.begin() + long(0.98 * double(n - 1));
+        std::nth_element(c.begin(), lo, c.end());
+        const double low = *lo;
+        std::nth_element(c.begin(), hi, c.end());
+        centre[axis] = 0.5 * (low + *hi);
+      }
+      a.matrix = motion(glm::dvec3(0.0), 0.5 * (model.min + model.max) - centre) * a.matrix;
       a.coarse_start = true;
     }
   }

@@ -27,8 +27,9 @@ struct BestFitOptions {
   std::vector<int> faces;
   /// The motion the fit starts from (scan into model coordinates).
   glm::dmat4 start{1.0};
-  /// When the scan's box centre lies farther than a quarter of the model size from the model's,
-  /// the fit starts with the translation between the two centres (the scan is far off).
+  /// When the sample's median distance to the model is above a tenth of its size (the scan is far
+  /// off), the fit starts with the translation between the model's box centre and the sample's
+  /// (between its 2nd and 98th percentiles per axis).
   bool coarse_start = true;
   /// Converged when a round moves no sampled point more than this (model units).
   double step = 0.0;  ///< 0: a thousandth of the query's tolerance
