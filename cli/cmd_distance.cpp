@@ -1,7 +1,7 @@
 // `nurbsgl distance MODEL --point X,Y,Z | --points FILE`: minimum distance from points to a trimmed
 // NURBS model with the bounds of Krishnamurthy et al. §4, through the library's front door
 // queries::PointQuery (queries/distance/point_query.h: preparation, refusals, cache, engine, answers). JSON for
-// --point: found, meets_tolerance, query, distance, bound, point, face, uv, seconds (and point_bound,
+// --point: found, meets_tolerance, query, distance, bound, point, normal, face, uv, seconds (and point_bound,
 // on_trim_edge, candidates); for --points: {"points", "seconds", "not_found", "over_tolerance",
 // "results": [...]} in input order. --points runs the batched projection (queries/distance/point_batch.h: all
 // points in one pass, on faithful grids within 1 GB or on coarse ones, every answer whose bound is
@@ -64,6 +64,7 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
                       {"bound", d.bound},
                       {"point_bound", d.point_bound},
                       {"point", {d.point.x, d.point.y, d.point.z}},
+                      {"normal", {r.normals[k].x, r.normals[k].y, r.normals[k].z}},
                       {"face", d.face},
                       {"face_id", d.face >= 0 ? faces[size_t(d.face)].face_id : -1},
                       {"uv", {d.uv.x, d.uv.y}},
@@ -82,7 +83,8 @@ nlohmann::json result_json(const queries::PointQueryResult& r, size_t k, const g
 /// temporary file and renamed.
 void write_csv(const std::string& path, const queries::PointQueryResult& r, std::span<const glm::dvec3> points) {
   const std::string header =
-      std::string("point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,face,u,v") +
+      std::string("point,x,y,z,found,meets_tolerance,distance,bound,point_bound,closest_x,closest_y,closest_z,"
+                  "normal_x,normal_y,normal_z,face,u,v") +
       (r.signed_distance.empty() ? "" : ",signed_distance") + ",limited_by_file,file_gap,gap_face,reason\n";
   write_rows(path, header, points.size(), [&](fmt::memory_buffer& buf, size_t k) {
     const auto out = std::back_inserter(buf);
@@ -90,10 +92,10 @@ void write_csv(const std::string& path, const queries::PointQueryResult& r, std:
     fmt::format_to(out, "{},{},{},{},{},{}", k, points[k].x, points[k].y, points[k].z, d.found ? "true" : "false",
                    r.meets(k) ? "true" : "false");
     if (d.found)
-      fmt::format_to(out, ",{},{},{},{},{},{},{},{},{}", d.distance, d.bound, d.point_bound, d.point.x, d.point.y,
-                     d.point.z, d.face, d.uv.x, d.uv.y);
+      fmt::format_to(out, ",{},{},{},{},{},{},{},{},{},{},{},{}", d.distance, d.bound, d.point_bound, d.point.x,
+                     d.point.y, d.point.z, r.normals[k].x, r.normals[k].y, r.normals[k].z, d.face, d.uv.x, d.uv.y);
     else
-      fmt::format_to(out, ",,,,,,,-1,,");
+      fmt::format_to(out, ",,,,,,,,,,-1,,");
     if (!r.signed_distance.empty()) fmt::format_to(out, ",{}", r.signed_distance[k]);
     const queries::FileLimit& l = r.file_limits[k];
     if (l.widen > 0.0)

@@ -123,4 +123,9 @@ std::string unit_name(const nurbs::Model& model) {
   return fmt::format("x {:g} mm", k);
 }
 
+glm::dvec3 outward_normal(const TrimmedSurface& f, const glm::dvec2& uv) {
+  const glm::dvec3 n = surface_normal(f.surface, uv.x, uv.y);
+  return f.reversed ? -n : n;
+}
+
 }  // namespace nurbs

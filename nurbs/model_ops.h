@@ -44,6 +44,10 @@ struct Box {
 [[nodiscard]] double box_distance(const Box& a, const Box& b);
 [[nodiscard]] double box_distance(const Box& b, const glm::dvec3& p);
 
+/// The outward unit normal of face `f` at (u, v): Su x Sv, negated when the face is reversed
+/// (TrimmedSurface::reversed); zero where the surface has none (a pole).
+[[nodiscard]] glm::dvec3 outward_normal(const TrimmedSurface& f, const glm::dvec2& uv);
+
 /// Model size = model_box(model).diagonal().
 [[nodiscard]] double model_size(const Model& model);
 

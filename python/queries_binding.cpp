@@ -82,6 +82,7 @@ py::dict point_distance(ModelBinding& m, const py::handle& points, double tol, c
   py::dict d;
   d["distance"] = array1(distance), d["bound"] = array1(bound), d["point_bound"] = array1(point_bound);
   d["point"] = array3(closest), d["uv"] = array2(uv), d["face"] = array1(face), d["meets_tolerance"] = bools(meets);
+  d["normal"] = array3(r.normals);
   d["reasons"] = reasons;
   d["limited_by_file"] = bools(limited), d["file_gap"] = array1(file_gap), d["gap_face"] = array1(gap_face);
   d["file_precision"] = r.file_precision();

@@ -71,7 +71,8 @@ class Model:
         """Minimum distance from every point of an (N, 3) float64 array (model units, the model's frame)
         to the model (Krishnamurthy et al.), each answer within `tol` x the model size.
 
-        Returns a Result with, per point: distance, bound, point_bound, point (N, 3), face, uv (N, 2),
+        Returns a Result with, per point: distance, bound, point_bound, point (N, 3), normal (N, 3: the
+        face's outward unit normal at the closest point), face, uv (N, 2),
         meets_tolerance (bool), reasons (why an answer falls short of the tolerance: not certified, not
         found, or over it, "" where it meets it), limited_by_file (bool: over the tolerance only because
         the file's edges lie off their faces near it, certified to the file's precision), file_gap and

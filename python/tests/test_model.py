@@ -181,3 +181,11 @@ def test_an_answer_limited_by_the_files_edges_says_so(shared_models):
     assert "face 48 (id 1251)" in r.file_precision
     strict = bearing.distance(points, strict=True)
     assert "only by the file's precision (strict)" in strict.failure
+
+
+def test_every_answer_carries_the_outward_normal_at_its_closest_point(sphere):
+    # On the sphere about the origin the outward normal at the closest point is the point's direction.
+    pts = sphere_points(200, seed=7)
+    r = sphere.distance(pts, tol=1e-6)
+    expected = pts / np.linalg.norm(pts, axis=1)[:, None]
+    assert np.abs(r.normal - expected).max() < 1e-4

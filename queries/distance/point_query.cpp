@@ -357,12 +357,14 @@ PointQueryResult PointQuery::query(std::span<const glm::dvec3> points) {
   out.reasons.resize(out.answers.size());
   out.over_reasons.resize(out.answers.size());
   out.file_limits.resize(out.answers.size());
+  out.normals.assign(out.answers.size(), glm::dvec3(0.0));
   const double T = out.tolerance;
   // Per answer on its own: on every core, in contiguous shares (the gapped faces' boundaries are
   // searched per answer).
   nurbs::parallel_for(out.answers.size(), 0, [&](size_t k, int) {
     auto& r = out.answers[k];
     if (!r.found) return;
+    out.normals[k] = nurbs::outward_normal(faces_[size_t(r.face)], r.uv);
     // The upper end's witness: on the mesh, the face point nearest the answer's point (within eps of
     // it, so at most d + eps from p); else the true closest point, within point_bound of it.
     const bool on_mesh = mesh_ && glm::length(points[k] - r.point) <= r.distance * (1.0 + 1e-12);

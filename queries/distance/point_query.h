@@ -126,6 +126,8 @@ struct PointQueryResult {
   /// budget, the float slack), or why it was not found; empty where it meets T.
   std::vector<std::string> over_reasons;
   std::vector<FileLimit> file_limits;  ///< per answer
+  /// Per answer, the face's outward unit normal at the closest point's (u, v) (zero where not found).
+  std::vector<glm::dvec3> normals;
   double tolerance = 0.0;  ///< T, model units
   size_t not_found = 0;
   size_t over_tolerance = 0;   ///< found, certified, bound over T (limited_by_file among them)

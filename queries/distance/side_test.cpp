@@ -22,11 +22,6 @@ const glm::dvec3 kRayDirections[3] = {glm::normalize(glm::dvec3(0.5381, 0.3128, 
                                       glm::normalize(glm::dvec3(-0.7713, 0.5894, 0.2404)),
                                       glm::normalize(glm::dvec3(0.1667, -0.8911, 0.4219))};
 
-glm::dvec3 outward_normal(const nurbs::TrimmedSurface& f, const glm::dvec2& uv) {
-  const glm::dvec3 n = nurbs::surface_normal(f.surface, uv.x, uv.y);
-  return f.reversed ? -n : n;
-}
-
 /// Whether (u, v) lies on the edge of the face's parameter rectangle (where the face may end).
 bool on_domain_edge(const nurbs::Surface& s, const glm::dvec2& uv) {
   const double u0 = s.knots_u[size_t(s.degree_u)], u1 = s.knots_u[size_t(s.count_u)];
@@ -70,7 +65,7 @@ Side SideTest::by_normal(const glm::dvec3& p, const PointDistance& a) const {
   const glm::dvec3 v = p - a.point;
   const double d = glm::length(v);
   if (!(d > a.point_bound) || !(d > 0.0)) return Side::Unsure;
-  const glm::dvec3 n = outward_normal(f, a.uv);
+  const glm::dvec3 n = nurbs::outward_normal(f, a.uv);
   const double c = glm::dot(v / d, n);
   if (!std::isfinite(c) || std::abs(c) < kNormalCone) return Side::Unsure;
   return c > 0.0 ? Side::Outside : Side::Inside;
@@ -114,7 +109,7 @@ std::vector<Side> SideTest::ask(const std::vector<Ask>& asks, bool both_ways, co
         }
         if (both_ways && !(h.t > near[a.k])) close = true;
         const glm::dvec3 dir = rays[per * m + r].direction;
-        const double c = glm::dot(dir, outward_normal(faces_[size_t(solid.faces[size_t(h.face)])], h.uv));
+        const double c = glm::dot(dir, nurbs::outward_normal(faces_[size_t(solid.faces[size_t(h.face)])], h.uv));
         if (!std::isfinite(c) || std::abs(c) < kGrazing) continue;
         (c > 0.0 ? inside : outside) += 1;  // leaving the solid through its face: the ray started inside
       }

@@ -38,11 +38,6 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-glm::dvec3 face_normal(const nurbs::TrimmedSurface& face, const glm::dvec2& uv) {
-  const glm::dvec3 n = nurbs::surface_normal(face.surface, uv.x, uv.y);
-  return face.reversed ? -n : n;
-}
-
 glm::dvec3 apply(const glm::dmat4& matrix, const glm::dvec3& p) { return glm::dvec3(matrix * glm::dvec4(p, 1.0)); }
 
 bool rigid_motion(const glm::dmat4& m, std::string* why) {
@@ -135,7 +130,7 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
     for (size_t k = 0; k < n; ++k) {
       const PointDistance& d = r.answers[k];
       if (!d.found || d.distance > o.max_distance || !fit_face[size_t(d.face)]) continue;
-      const glm::dvec3 normal = face_normal(faces[size_t(d.face)], d.uv);
+      const glm::dvec3 normal = r.normals[k];
       if (!(glm::length(normal) > 0.5)) continue;  // a degenerate point (a pole)
       pairs.push_back({moved[k], normal, glm::dot(moved[k] - d.point, normal)});
       residual.push_back(std::abs(pairs.back().e));

@@ -45,9 +45,6 @@ struct Alignment {
   std::string problem;        ///< why it did not converge (empty when it did)
 };
 
-/// The outward unit normal of face `face` at (u, v) (Su x Sv, negated for a reversed face).
-[[nodiscard]] glm::dvec3 face_normal(const nurbs::TrimmedSurface& face, const glm::dvec2& uv);
-
 /// `matrix` applied to `p` (a rigid motion: rotation and translation).
 [[nodiscard]] glm::dvec3 apply(const glm::dmat4& matrix, const glm::dvec3& p);
 

@@ -119,7 +119,6 @@ InspectResult inspect(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, std::spa
   out.answers = query->query(out.points);
   out.query_seconds = seconds(t0);
   const PointQueryResult& r = out.answers;
-  const std::vector<nurbs::TrimmedSurface>& faces = query->faces();
   const size_t n = out.points.size(), nb = o.within.size();
   out.deviation.assign(n, std::nan(""));
   out.normals.assign(n, glm::dvec3(0.0));
@@ -140,7 +139,7 @@ InspectResult inspect(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, std::spa
     }
     const double dev = out.signed_values ? r.signed_distance[k] : d.distance;
     out.deviation[k] = dev;
-    out.normals[k] = face_normal(faces[size_t(d.face)], d.uv);
+    out.normals[k] = r.normals[k];
     if (d.distance > o.max_distance) {
       out.outlier[k] = 1, ++st.outliers;
       for (size_t b = 0; b < nb; ++b) out.verdicts[k * nb + b] = Verdict::Outlier;
