@@ -65,7 +65,21 @@ std::string InspectResult::failure() const {
     std::string line = fmt::format("{} of {} inliers undecided", undecided_points, stats.inliers);
     if (uncertified < undecided_points)
       line += fmt::format(" ({} whose bound straddles a band's limit)", undecided_points - uncertified);
-    for (const auto& [reason, count] : why) line += fmt::format("; {} not certified: {}", count, reason);
+    // The most frequent reasons (ties in their text's order), the rest counted: the CSV names each
+    // point's reason.
+    std::vector<std::pair<long long, std::string>> ranked;
+    for (const auto& [reason, count] : why) ranked.emplace_back(-count, reason);
+    std::sort(ranked.begin(), ranked.end());
+    constexpr size_t kShown = 4;
+    long long rest = 0;
+    for (size_t i = 0; i < ranked.size(); ++i) {
+      if (i < kShown)
+        line += fmt::format("; {} not certified: {}", -ranked[i].first, ranked[i].second);
+      else
+        rest += -ranked[i].first;
+    }
+    if (ranked.size() > kShown)
+      line += fmt::format("; {} more not certified for {} other reasons", rest, ranked.size() - kShown);
     parts.push_back(line);
   }
   return fmt::format("{}", fmt::join(parts, "; "));

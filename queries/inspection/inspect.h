@@ -87,7 +87,8 @@ struct InspectResult {
   /// Wall time: preparing the model for the queries, the best fit, the deviations of every point.
   double prepare_seconds = 0.0, fit_seconds = 0.0, query_seconds = 0.0;
 
-  /// Why the inspection is not certain (exit 1), for people: every class counted; empty when every
+  /// Why the inspection is not certain (exit 1), for people: every class counted, the four most
+  /// frequent reasons an answer is not certified named (the others counted); empty when every
   /// inlier's verdicts are certain (and the fit, when asked, converged).
   [[nodiscard]] std::string failure() const;
 };
