@@ -5,9 +5,11 @@
 // failed), with the counts and reasons; the outputs are written either way.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/deviation_outputs.h"
 #include "cli/validators.h"
 #include "nurbs/io/input_file.h"
 #include "nurbs/io/mesh_writer.h"
@@ -24,7 +26,7 @@ namespace cli {
 namespace cmd_inspect_impl {
 
 struct Options {
-  std::string model, scan, transform, csv, ply, report;
+  std::string model, scan, transform, csv, ply, report, histogram;
   queries::InspectOptions inspect;
   double range = 0.0;  ///< the PLY's colour scale end; 0: the widest band
   std::string engine = "auto";
@@ -155,6 +157,7 @@ void run(const GlobalOptions& global, Options o) {
   const nurbs::io::PointCloud scan = read_points_file(o.scan, "SCAN", limit);
   if (!o.csv.empty()) check_output(o.csv, "--csv");
   if (!o.ply.empty()) check_output(o.ply, "--ply");
+  if (!o.histogram.empty()) check_histogram_python();
   std::string three_js;
   if (!o.report.empty()) {
     check_output(o.report, "--report");
@@ -178,6 +181,14 @@ void run(const GlobalOptions& global, Options o) {
     const double full = o.range > 0.0 ? o.range : r.bands.empty() ? std::max(std::abs(r.stats.min), r.stats.max)
                                                                   : 2.0 * r.bands.back().within;
     nurbs::io::write_mesh_file(o.ply, queries::deviation_cloud(r.points, r.deviation, green, full));
+  }
+  if (!o.histogram.empty()) {  // of the inliers
+    queries::DeviationReport inliers;
+    inliers.signed_values = r.signed_values;
+    inliers.deviation = r.deviation;
+    for (size_t k = 0; k < r.points.size(); ++k)
+      if (r.outlier[k]) inliers.deviation[k] = std::nan("");
+    write_histogram(o.histogram, inliers, o.inspect.within, unit);
   }
   if (!o.report.empty()) {
     // The part for display: its approximate tessellation at 1e-3 of the model size.
@@ -253,6 +264,9 @@ void add_inspect(CLI::App& app, const GlobalOptions& global) {
       ->check(extension_is(".csv"));
   cmd->add_option("--ply", o->ply, "Write the points coloured by deviation (green within the first band) as PLY")
       ->check(extension_is(".ply"));
+  cmd->add_option("--histogram", o->histogram,
+                  "Write the inliers' deviation histogram with the bands as PNG (as distance --histogram)")
+      ->check(extension_is(".png"));
   cmd->add_option("--report", o->report,
                   "Write the inspection report: one HTML file that opens with no network (the part and the scan "
                   "coloured by deviation in a 3D view, the bands, histogram, statistics, alignment and certificate)")

@@ -1,6 +1,7 @@
 """Model.inspect: a scan of a generated surface moved by a known rigid motion is fitted back onto it
 (the fit's matrix against the motion's inverse), its verdicts hold against the exact deviations, and
 refused options name their field."""
+import json
 import subprocess
 
 import numpy as np
@@ -83,3 +84,24 @@ def test_refused_options_name_their_field(surface):
         surface.inspect(on, within=[0.2, 0.1])
     with pytest.raises(nurbsgl.RequestError, match="transform: not a rigid motion"):
         surface.inspect(on, transform=np.diag([2.0, 1.0, 1.0, 1.0]))
+
+
+def test_the_command_line_writes_every_output(cli, surface, tmp_path):
+    # A scan file of the surface 0.1 off along its normals, inspected by `nurbsgl inspect`: the CSV
+    # holds the deviations, normals and verdicts, the PLY its points, the PNG a histogram.
+    on = scan_of(surface, 300)
+    off = on + 0.1 * surface.inspect(on).normal
+    np.save(tmp_path / "scan.npy", off)
+    csv, ply, png = tmp_path / "r.csv", tmp_path / "r.ply", tmp_path / "r.png"
+    out = subprocess.run([cli, "inspect", surface.path, str(tmp_path / "scan.npy"), "--within", "0.05,0.2",
+                          "--csv", str(csv), "--ply", str(ply), "--histogram", str(png), "--json"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    j = json.loads(out.stdout)
+    assert j["scan"]["format"] == "npy float64" and j["statistics"]["inliers"] == 300
+    assert [b["certainly_outside"] for b in j["bands"]] == [300, 0]
+    rows = np.genfromtxt(csv, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert np.allclose(rows["deviation"], 0.1, atol=j["tolerance"])
+    assert (rows["within_005"] == "outside").all() and (rows["within_02"] == "within").all()
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert b"element vertex 300" in ply.read_bytes().split(b"end_header\n")[0]
