@@ -105,3 +105,25 @@ def test_the_command_line_writes_every_output(cli, surface, tmp_path):
     assert (rows["within_005"] == "outside").all() and (rows["within_02"] == "within").all()
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"element vertex 300" in ply.read_bytes().split(b"end_header\n")[0]
+
+
+def test_a_scan_far_off_starts_from_the_box_centres(surface):
+    # Moved by a third of the model size: the sample's median distance is above a tenth of it, so the
+    # fit first matches the box centres, then converges onto the surface.
+    on = scan_of(surface)
+    centre = 0.5 * (on.min(0) + on.max(0))
+    far = motion(0.5, [0.3, -0.2, 1.0], [30.0, -25.0, 20.0], centre)
+    r = surface.inspect(apply(far, on), within=[0.05], align=True)
+    assert r.alignment["coarse_start"] and r.alignment["converged"], r.alignment["problem"]
+    assert (np.abs(r.deviation) <= r.bound).all()
+    near = surface.inspect(apply(motion(0.5, [0.3, -0.2, 1.0], [0.3, -0.1, 0.2], centre), on), within=[0.05],
+                           align=True)
+    assert not near.alignment["coarse_start"]
+
+
+def test_the_fit_on_chosen_faces(surface):
+    on = scan_of(surface, 500)
+    r = surface.inspect(on + [0.2, 0.0, 0.0], within=[0.05], align=True, align_faces=[0])
+    assert r.alignment["converged"] and (np.abs(r.deviation) <= r.bound).all()
+    with pytest.raises(nurbsgl.RequestError, match="face 3 is not a face of the model"):
+        surface.inspect(on, align=True, align_faces=[3])
