@@ -33,6 +33,8 @@ double coordinate_limit(const nurbs::Model& model) { return nurbs::coordinate_li
 
 /// The prepared point query of `m` for these options, prepared on the GL thread on first use.
 std::shared_ptr<queries::PointQuery> point_query(ModelBinding& m, const queries::PointQueryOptions& o) {
+  // Checked before the cache is looked up: a key of NaN would find another tolerance's query.
+  nurbs::require_relative_tolerance(o.tolerance, "tolerance");
   const ModelBinding::Key key{o.tolerance, o.per_point, int(o.engine), o.accept_partial, o.cache, o.signed_distance};
   std::lock_guard lock(m.mutex);  // one preparation per key, also when two threads ask at once
   if (auto it = m.point_queries.find(key); it != m.point_queries.end()) return it->second;

@@ -189,3 +189,11 @@ def test_every_answer_carries_the_outward_normal_at_its_closest_point(sphere):
     r = sphere.distance(pts, tol=1e-6)
     expected = pts / np.linalg.norm(pts, axis=1)[:, None]
     assert np.abs(r.normal - expected).max() < 1e-4
+
+
+def test_a_tolerance_that_is_not_a_number_is_refused_after_a_good_call(sphere):
+    pts = sphere_points(5)
+    sphere.distance(pts, tol=1e-5)
+    for bad in (float("nan"), float("inf"), 0.0, -1e-5):
+        with pytest.raises(nurbsgl.RequestError, match="tolerance: .* is not a finite number from 1e-9 to 1"):
+            sphere.distance(pts, tol=bad)
