@@ -93,7 +93,6 @@ class Lines {
     if (!v.empty() && v.back() == '\r') v.remove_suffix(1);
     return v;
   }
-  size_t number() const { return number_; }
   std::string where() const { return fmt::format("line {}", number_); }
 
  private:
@@ -114,15 +113,6 @@ void split(std::string_view line, std::vector<std::string_view>& words) {
     while (i < line.size() && !separator(line[i])) ++i;
     if (i > b) words.push_back(line.substr(b, i - b));
   }
-}
-
-/// `word` as a number (a leading '+' allowed), or none when it is not one whole.
-std::optional<double> number(std::string_view word) {
-  if (!word.empty() && word.front() == '+') word.remove_prefix(1);
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
-  if (ec != std::errc() || end != word.data() + word.size()) return std::nullopt;
-  return v;
 }
 
 void check_point(const glm::dvec3& p, double limit, const std::string& name, const std::string& where) {
@@ -200,7 +190,8 @@ PointCloud read_text(Bytes& bytes, double limit) {
     split(l, words);
     if (first) {
       first = false;
-      const bool words_only = std::none_of(words.begin(), words.end(), [](std::string_view w) { return number(w); });
+      const bool words_only =
+          std::none_of(words.begin(), words.end(), [](std::string_view w) { return parse_number(w); });
       if (l.starts_with("//") || (!comment && words_only)) {  // a header naming the columns
         Columns header;
         for (size_t k = 0; k < words.size(); ++k)
@@ -219,7 +210,7 @@ PointCloud read_text(Bytes& bytes, double limit) {
         continue;  // a PTS point count
     }
     if (comment) continue;
-    if (!named && (words.size() < 3 || !number(words[0]) || !number(words[1]) || !number(words[2])))
+    if (!named && (words.size() < 3 || !parse_number(words[0]) || !parse_number(words[1]) || !parse_number(words[2])))
       (void)parse_point(std::string(l.substr(0, 200)), fmt::format("{}: {}", name, lines.where()), limit);
     if (int(words.size()) < needed)
       throw ReadError(
@@ -229,7 +220,7 @@ PointCloud read_text(Bytes& bytes, double limit) {
     for (size_t r = 0; r < 9; ++r) {
       if (cols.at[r] < 0) continue;
       const std::string_view w = words[size_t(cols.at[r])];
-      const auto x = number(w);
+      const auto x = parse_number(w);
       if (!x)
         throw ReadError(name, lines.where(),
                         fmt::format("column {} '{}' is not a number", cols.at[r] + 1, std::string(w.substr(0, 60))));
@@ -400,7 +391,7 @@ PointCloud read_ply(Bytes& bytes, double limit) {
       else
         throw ReadError(name, lines.where(), fmt::format("unknown format '{}'", std::string(words[1].substr(0, 60))));
     } else if (words[0] == "element") {
-      const auto count = words.size() == 3 ? number(words[2]) : std::nullopt;
+      const auto count = words.size() == 3 ? parse_number(words[2]) : std::nullopt;
       if (!count || *count < 0 || *count != std::floor(*count) || *count > 1e15)
         throw ReadError(name, lines.where(), "an element line is 'element NAME COUNT'");
       elements.push_back({std::string(words[1]), uint64_t(*count), {}});
@@ -461,7 +452,7 @@ PointCloud read_ply(Bytes& bytes, double limit) {
         for (size_t k = 0; k < e.properties.size(); ++k) {
           const PlyProperty& p = e.properties[k];
           auto value = [&]() {
-            const auto x = w < words.size() ? number(words[w]) : std::nullopt;
+            const auto x = w < words.size() ? parse_number(words[w]) : std::nullopt;
             if (!x)
               throw ReadError(name, lines.where(),
                               fmt::format("{}: property '{}' is missing or not a number", what, p.name));

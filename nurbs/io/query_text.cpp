@@ -27,12 +27,9 @@ bool line_numbers(std::string_view line, std::vector<double>& out, std::vector<s
     size_t j = i;
     while (j < line.size() && !separator(line[j])) ++j;
     words.push_back(line.substr(i, j - i));
-    std::string_view digits = words.back();
-    if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
-    double x = 0.0;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), x);
-    if (ec != std::errc() || end != digits.data() + digits.size()) return false;
-    out.push_back(x);
+    const std::optional<double> x = parse_number(words.back());
+    if (!x) return false;
+    out.push_back(*x);
     i = j;
   }
 }
@@ -58,6 +55,14 @@ void for_lines(std::string_view text, F&& line) {
 }
 
 }  // namespace
+
+std::optional<double> parse_number(std::string_view word) {
+  if (word.size() > 1 && word[0] == '+' && word[1] != '-') word.remove_prefix(1);
+  double x = 0.0;
+  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), x);
+  if (ec != std::errc() || end != word.data() + word.size()) return std::nullopt;
+  return x;
+}
 
 std::string beyond_limit(double limit) {
   return fmt::format("lies beyond {:.3g}, the coordinates double arithmetic carries for this model", limit);

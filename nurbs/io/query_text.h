@@ -5,6 +5,7 @@
 /// blank lines and lines starting with '#' are skipped. Every coordinate must be
 /// finite and of magnitude at most `limit` (nurbs::coordinate_limit of the model queried).
 #include <glm/vec3.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,9 @@ namespace nurbs::io {
 /// `text` as a point. Throws ReadError "NAME: '...' is not a point X,Y,Z of three finite numbers" or
 /// "NAME: '...' lies beyond LIMIT, ..." (NAME: "--point", or "FILE: line N").
 [[nodiscard]] glm::dvec3 parse_point(const std::string& text, const std::string& name, double limit);
+
+/// `word` as one whole number (std::from_chars; a leading '+' allowed, not before a '-'), or none.
+[[nodiscard]] std::optional<double> parse_number(std::string_view word);
 
 /// "lies beyond LIMIT, ...": the end of the message for a coordinate beyond the limit.
 [[nodiscard]] std::string beyond_limit(double limit);

@@ -2,13 +2,13 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string_view>
 #include <vector>
 
 #include "nurbs/io/input_file.h"
+#include "nurbs/io/query_text.h"
 #include "nurbs/io/read_error.h"
 
 namespace nurbs::io {
@@ -67,12 +67,10 @@ glm::dmat4 parse_transform(const std::string& text, const std::string& name) {
     }
     size_t j = i;
     while (j < text.size() && std::string_view(" \t\r\n,").find(text[j]) == std::string_view::npos) ++j;
-    double x = 0.0;
-    const char* b = text.data() + i + (text[i] == '+' ? 1 : 0);
-    const auto [end, ec] = std::from_chars(b, text.data() + j, x);
-    if (ec != std::errc() || end != text.data() + j)
+    const std::optional<double> x = parse_number(std::string_view(text).substr(i, j - i));
+    if (!x)
       throw ReadError(name, fmt::format("line {}", line), fmt::format("'{}' is not a number", text.substr(i, j - i)));
-    v.push_back(x);
+    v.push_back(*x);
     i = j;
   }
   return from_rows(v, name);
