@@ -69,7 +69,7 @@ void write_csv(const std::string& path, const queries::InspectResult& r) {
     fmt::format_to(out, "{},{},{},{}", k, p.x, p.y, p.z);
     if (d.found)
       fmt::format_to(out, ",{},{},{},{},{},{},{},{},{}", r.deviation[k], d.bound, d.point.x, d.point.y, d.point.z,
-                     r.normals[k].x, r.normals[k].y, r.normals[k].z, d.face);
+                     r.answers.normals[k].x, r.answers.normals[k].y, r.answers.normals[k].z, d.face);
     else
       fmt::format_to(out, ",,,,,,,,,-1");
     for (size_t b = 0; b < nb; ++b) fmt::format_to(out, ",{}", verdict_name(r.verdicts[k * nb + b]));

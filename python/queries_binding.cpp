@@ -160,7 +160,7 @@ py::dict inspect(ModelBinding& m, const py::handle& scan, const std::vector<doub
   for (size_t k = 0; k < n; ++k) reasons.append(r.answers.reason(k));
   py::dict d;
   d["points"] = array3(r.points), d["deviation"] = array1(r.deviation), d["bound"] = array1(bound);
-  d["closest"] = array3(closest), d["normal"] = array3(r.normals), d["face"] = array1(face);
+  d["closest"] = array3(closest), d["normal"] = array3(r.answers.normals), d["face"] = array1(face);
   d["outlier"] = bools(r.outlier), d["verdicts"] = verdicts, d["reasons"] = reasons;
   d["signed"] = r.signed_values, d["unsigned_reason"] = r.unsigned_reason, d["tolerance"] = r.tolerance;
   d["alignment"] = alignment, d["bands"] = bands, d["statistics"] = stats;

@@ -5,9 +5,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
 
 #include "nurbs/model_ops.h"
 #include "nurbs/request_error.h"
@@ -37,6 +37,11 @@ double median(std::vector<double> v) {
 }
 
 }  // namespace
+
+double tukey_reach(std::vector<double> residuals, double floor) {
+  for (double& r : residuals) r = std::abs(r);
+  return kTukey * std::max(kMadToSigma * median(std::move(residuals)), floor);
+}
 
 glm::dvec3 apply(const glm::dmat4& matrix, const glm::dvec3& p) { return glm::dvec3(matrix * glm::dvec4(p, 1.0)); }
 
@@ -133,7 +138,7 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
       const glm::dvec3 normal = r.normals[k];
       if (!(glm::length(normal) > 0.5)) continue;  // a degenerate point (a pole)
       pairs.push_back({moved[k], normal, glm::dot(moved[k] - d.point, normal)});
-      residual.push_back(std::abs(pairs.back().e));
+      residual.push_back(pairs.back().e);
     }
     if (pairs.size() < 6) {
       a.problem = fmt::format(
@@ -142,8 +147,7 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
           pairs.size(), n);
       break;
     }
-    const double scale = std::max(kMadToSigma * median(residual), tolerance);
-    const double c = kTukey * scale;
+    const double reach = tukey_reach(residual, tolerance);
     // Rotations about the pairs' centre: the equations stay well scaled far from the origin.
     glm::dvec3 centre(0.0);
     for (const Pair& q : pairs) centre += q.p / double(pairs.size());
@@ -152,9 +156,8 @@ Alignment best_fit(PointQuery& query, std::span<const glm::dvec3> scan, const Be
     double sw = 0.0, swe2 = 0.0;
     long long used = 0;
     for (const Pair& q : pairs) {
-      const double u = q.e / c;
-      if (std::abs(u) >= 1.0) continue;
-      const double w = (1.0 - u * u) * (1.0 - u * u);
+      const double w = tukey_weight(q.e, reach);
+      if (w == 0.0) continue;
       const glm::dvec3 pn = glm::cross(q.p - centre, q.normal);
       Eigen::Matrix<double, 6, 1> j;
       j << pn.x, pn.y, pn.z, q.normal.x, q.normal.y, q.normal.z;

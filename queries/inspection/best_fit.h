@@ -7,6 +7,7 @@
 /// planes (linearised rotation, 6 x 6 normal equations); points farther than `max_distance`
 /// rejected and the rest weighted by Tukey's biweight at 4.685 times the residuals' robust scale
 /// (1.4826 x their median absolute value), never below the query's tolerance.
+#include <cmath>
 #include <glm/mat4x4.hpp>
 #include <limits>
 #include <span>
@@ -44,6 +45,15 @@ struct Alignment {
   bool coarse_start = false;  ///< the fit began by matching the box centres
   std::string problem;        ///< why it did not converge (empty when it did)
 };
+
+/// Tukey's biweight, the fit's robust weight: its reach is 4.685 times the robust scale of
+/// `residuals` (1.4826 times the median of their absolute values), at least 4.685 x `floor`.
+[[nodiscard]] double tukey_reach(std::vector<double> residuals, double floor);
+/// The weight of residual `e` at that reach: (1 - (e / reach)^2)^2 within it, 0 beyond.
+[[nodiscard]] inline double tukey_weight(double e, double reach) {
+  const double u = e / reach;
+  return std::abs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+}
 
 /// `matrix` applied to `p` (a rigid motion: rotation and translation).
 [[nodiscard]] glm::dvec3 apply(const glm::dmat4& matrix, const glm::dvec3& p);

@@ -12,20 +12,13 @@
 namespace queries {
 namespace {
 
-/// The rms of `values` under Tukey's biweight at 4.685 times their robust scale (1.4826 x the median
-/// absolute value, at least `floor`).
-double robust_rms(std::vector<double> values, double floor) {
-  if (values.empty()) return 0.0;
-  for (double& v : values) v = std::abs(v);
-  std::vector<double> sorted = values;
-  const auto mid = sorted.begin() + long(sorted.size() / 2);
-  std::nth_element(sorted.begin(), mid, sorted.end());
-  const double c = 4.685 * std::max(1.4826 * *mid, floor);
+/// The rms of `values` under Tukey's biweight at their own reach (best_fit.h, at least 4.685 x
+/// `floor`).
+double robust_rms(const std::vector<double>& values, double floor) {
+  const double reach = tukey_reach(values, floor);
   double sw = 0.0, swe2 = 0.0;
   for (const double v : values) {
-    const double u = v / c;
-    if (u >= 1.0) continue;
-    const double w = (1.0 - u * u) * (1.0 - u * u);
+    const double w = tukey_weight(v, reach);
     sw += w, swe2 += w * v * v;
   }
   return sw > 0.0 ? std::sqrt(swe2 / sw) : 0.0;
@@ -135,7 +128,6 @@ InspectResult inspect(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, std::spa
   const PointQueryResult& r = out.answers;
   const size_t n = out.points.size(), nb = o.within.size();
   out.deviation.assign(n, std::nan(""));
-  out.normals.assign(n, glm::dvec3(0.0));
   out.outlier.assign(n, 0);
   out.verdicts.assign(n * nb, Verdict::NotFound);
   out.bands.resize(nb);
@@ -153,7 +145,6 @@ InspectResult inspect(gpgpu::Gpu& gpu, const nurbs::LoadedModel& model, std::spa
     }
     const double dev = out.signed_values ? r.signed_distance[k] : d.distance;
     out.deviation[k] = dev;
-    out.normals[k] = r.normals[k];
     if (d.distance > o.max_distance) {
       out.outlier[k] = 1, ++st.outliers;
       for (size_t b = 0; b < nb; ++b) out.verdicts[k * nb + b] = Verdict::Outlier;

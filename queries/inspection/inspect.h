@@ -69,13 +69,14 @@ enum class Verdict : char { Within, Outside, Undecided, Outlier, NotFound };
 
 struct InspectResult {
   std::vector<glm::dvec3> points;  ///< the scan in model coordinates
-  PointQueryResult answers;        ///< per point; answers.signed_distance when signed
+  /// Per point; answers.signed_distance when signed, answers.normals the outward normal at the
+  /// closest point.
+  PointQueryResult answers;
   bool signed_values = false;
-  std::string unsigned_reason;      ///< why the deviations are unsigned (the model's solids not closed)
-  std::vector<double> deviation;    ///< per point: signed distance, or distance (NaN where none)
-  std::vector<glm::dvec3> normals;  ///< per point, outward at the closest point (0 where none)
-  std::vector<char> outlier;        ///< per point
-  std::vector<Verdict> verdicts;    ///< per point and band: verdicts[k * bands + b]
+  std::string unsigned_reason;    ///< why the deviations are unsigned (the model's solids not closed)
+  std::vector<double> deviation;  ///< per point: signed distance, or distance (NaN where none)
+  std::vector<char> outlier;      ///< per point
+  std::vector<Verdict> verdicts;  ///< per point and band: verdicts[k * bands + b]
   bool aligned = false;
   /// The motion applied (transform, or the fit's); with the fit, its rms is that of every inlier's
   /// deviation under the fit's robust weights (Tukey's biweight at their own robust scale).
