@@ -184,7 +184,7 @@ void PointQuery::require_closed_solids(const nurbs::LoadedModel& model) {
 }
 
 void PointQuery::sign_answers(std::span<const glm::dvec3> points, PointQueryResult& out) {
-  const std::vector<SideAnswer> side = sides_->sides(points, out.answers);
+  const std::vector<SideAnswer> side = sides_->sides(points, out.answers, out.normals);
   out.sides = sides_->figures();
   out.signed_distance.assign(out.answers.size(), std::nan(""));
   for (size_t k = 0; k < out.answers.size(); ++k) {

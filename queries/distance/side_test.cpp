@@ -58,14 +58,13 @@ SideTest::SideTest(const std::vector<nurbs::TrimmedSurface>& faces, std::vector<
 }
 SideTest::~SideTest() = default;
 
-Side SideTest::by_normal(const glm::dvec3& p, const PointDistance& a) const {
+Side SideTest::by_normal(const glm::dvec3& p, const PointDistance& a, const glm::dvec3& n) const {
   if (!a.found || a.on_trim_edge || a.face < 0) return Side::Unsure;
   const nurbs::TrimmedSurface& f = faces_[size_t(a.face)];
   if (on_domain_edge(f.surface, a.uv)) return Side::Unsure;
   const glm::dvec3 v = p - a.point;
   const double d = glm::length(v);
   if (!(d > a.point_bound) || !(d > 0.0)) return Side::Unsure;
-  const glm::dvec3 n = nurbs::outward_normal(f, a.uv);
   const double c = glm::dot(v / d, n);
   if (!std::isfinite(c) || std::abs(c) < kNormalCone) return Side::Unsure;
   return c > 0.0 ? Side::Outside : Side::Inside;
@@ -122,11 +121,12 @@ std::vector<Side> SideTest::ask(const std::vector<Ask>& asks, bool both_ways, co
   return out;
 }
 
-std::vector<SideAnswer> SideTest::sides(std::span<const glm::dvec3> points, const std::vector<PointDistance>& answers) {
+std::vector<SideAnswer> SideTest::sides(std::span<const glm::dvec3> points, const std::vector<PointDistance>& answers,
+                                        std::span<const glm::dvec3> normals) {
   std::vector<SideAnswer> out(points.size());
   std::vector<Side> normal(points.size(), Side::Unsure);
   nurbs::for_shares(points.size(), nurbs::share_count(points.size(), 256), [&](size_t, size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) normal[i] = by_normal(points[i], answers[i]);
+    for (size_t i = begin; i < end; ++i) normal[i] = by_normal(points[i], answers[i], normals[i]);
   });
   // The solids each point still needs rays for: every solid whose box holds it, but the closest
   // face's where the normal put the point outside that one.

@@ -66,14 +66,16 @@ class SideTest {
 
   /// The side of every point with a found answer (Unsure where none), and whether its closest
   /// point may be hidden by another solid; the rays' scenes are built per solid on the first call
-  /// that needs them.
+  /// that needs them. `normals`: per answer, the outward normal at its closest point
+  /// (PointQueryResult::normals, nurbs::outward_normal).
   [[nodiscard]] std::vector<SideAnswer> sides(std::span<const glm::dvec3> points,
-                                              const std::vector<PointDistance>& answers);
+                                              const std::vector<PointDistance>& answers,
+                                              std::span<const glm::dvec3> normals);
   [[nodiscard]] const SideFigures& figures() const { return figures_; }
 
-  /// The side by the normal at a's closest point alone, within that face's solid (Unsure where
-  /// that does not decide).
-  [[nodiscard]] Side by_normal(const glm::dvec3& p, const PointDistance& a) const;
+  /// The side by the outward normal `n` at a's closest point alone, within that face's solid
+  /// (Unsure where that does not decide).
+  [[nodiscard]] Side by_normal(const glm::dvec3& p, const PointDistance& a, const glm::dvec3& n) const;
 
  private:
   struct Solid;

@@ -66,10 +66,11 @@ TEST_CASE("signed distance: where the normal cannot tell, the rays find the same
   o.tolerance = 1e-5;
   o.cache = false;
   queries::PointQuery q(test::gpu(), sphere, o);
-  std::vector<queries::PointDistance> answers = q.query(points).answers;
+  const queries::PointQueryResult r = q.query(points);
+  std::vector<queries::PointDistance> answers = r.answers;
   for (queries::PointDistance& a : answers) a.on_trim_edge = true;  // the normal then abstains
   queries::SideTest test(q.faces());
-  const std::vector<queries::SideAnswer> sides = test.sides(points, answers);
+  const std::vector<queries::SideAnswer> sides = test.sides(points, answers, r.normals);
   CHECK(test.figures().by_normal == 0);
   CHECK(test.figures().by_rays == points.size());
   for (size_t k = 0; k < points.size(); ++k) {
