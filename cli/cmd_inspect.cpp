@@ -154,7 +154,7 @@ void run(const GlobalOptions& global, Options o) {
       throw BadInput(std::string("--transform ") + e.what());
     }
   }
-  const nurbs::io::PointCloud scan = read_points_file(o.scan, "SCAN", limit);
+  o.inspect.check();  // the options and outputs before the scan is read
   if (!o.csv.empty()) check_output(o.csv, "--csv");
   if (!o.ply.empty()) check_output(o.ply, "--ply");
   if (!o.histogram.empty()) check_histogram_python();
@@ -167,7 +167,7 @@ void run(const GlobalOptions& global, Options o) {
       throw BadInput(fmt::format("--report draws the part with three.js: {} (apt install libjs-three)", e.what()));
     }
   }
-  o.inspect.check();
+  const nurbs::io::PointCloud scan = read_points_file(o.scan, "SCAN", limit);
   auto gpu = start_gpu(global);
   o.inspect.query.engine = queries::engine_choice(o.engine);
   o.inspect.query.accept_partial = global.accept_partial;
